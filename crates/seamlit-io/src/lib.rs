@@ -1,0 +1,1 @@
+//! seamlit-io (being written).

@@ -1,0 +1,150 @@
+//! The model types: a [`Model`] of named [`Object`]s, each an indexed triangle list.
+//!
+//! These types are both the input and the output of [`crate::fix`]: a fixed model is a
+//! model whose objects carry normals (and tangents, where they have UVs), with vertices split
+//! where a crease, a change of handedness or a tangent discontinuity needs two values at one
+//! position.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+/// Which way the V texture coordinate runs, which decides the sign of the bitangent.
+///
+/// The bitangent points toward the normal map's +Y (up the image). Where V runs up the image
+/// (OBJ, OpenGL) that is toward increasing V; where V runs down (glTF, whose texcoord origin is
+/// the top-left corner) it is toward decreasing V. See DESIGN.md section 4.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VAxis {
+    /// V = 0 at the bottom of the image (OBJ, OpenGL, Newell patches).
+    #[default]
+    Up,
+    /// V = 0 at the top of the image (glTF 2.0).
+    Down,
+}
+
+impl VAxis {
+    /// +1.0 for [`VAxis::Up`], -1.0 for [`VAxis::Down`]: the factor that turns dP/dV into the
+    /// bitangent direction.
+    #[must_use]
+    pub const fn bitangent_sign(self) -> f32 {
+        match self {
+            Self::Up => 1.0,
+            Self::Down => -1.0,
+        }
+    }
+}
+
+/// One object of a model: an indexed triangle list with its own vertices.
+///
+/// Vertices on a boundary with another object are duplicated in each object; that is the
+/// situation this crate exists for. All per-vertex arrays that are present have
+/// `positions.len()` entries.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Object {
+    /// The object's name, as the file gave it (OBJ `o`/`g`, glTF node or mesh name).
+    pub name: String,
+    /// Vertex positions in the object's local space.
+    pub positions: Vec<Vec3>,
+    /// Texture coordinates (TEXCOORD_0), if the object has them.
+    pub uvs: Option<Vec<Vec2>>,
+    /// Vertex normals in local space: as loaded (input), or as computed by [`crate::fix`].
+    pub normals: Option<Vec<Vec3>>,
+    /// Vertex tangents in local space, `w` = +1 or -1 so that
+    /// `B = cross(N, T.xyz) * T.w` (glTF convention).
+    pub tangents: Option<Vec<Vec4>>,
+    /// Triangles as three indices into the vertex arrays, counter-clockwise front faces.
+    pub triangles: Vec<[u32; 3]>,
+    /// Local-to-model transform; `None` is the identity.
+    pub transform: Option<Mat4>,
+    /// Index of the object's material in the file's material list, if any.
+    pub material: Option<usize>,
+}
+
+impl Object {
+    /// An object with positions and triangles only.
+    #[must_use]
+    pub fn new(name: impl Into<String>, positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Self {
+        Self { name: name.into(), positions, triangles, ..Self::default() }
+    }
+
+    /// Adds texture coordinates (builder style).
+    #[must_use]
+    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Self {
+        self.uvs = Some(uvs);
+        self
+    }
+
+    /// Sets the local-to-model transform (builder style).
+    #[must_use]
+    pub fn with_transform(mut self, transform: Mat4) -> Self {
+        self.transform = Some(transform);
+        self
+    }
+
+    /// Number of vertices.
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The local-to-model transform, the identity when there is none.
+    #[must_use]
+    pub fn model_transform(&self) -> Mat4 {
+        self.transform.unwrap_or(Mat4::IDENTITY)
+    }
+}
+
+/// A model: one visual surface delivered as several objects.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Model {
+    /// The objects, in file order.
+    pub objects: Vec<Object>,
+    /// Which way V runs in every object's UVs.
+    pub v_axis: VAxis,
+}
+
+impl Model {
+    /// A model of the given objects, with V running up (OBJ convention).
+    #[must_use]
+    pub fn new(objects: Vec<Object>) -> Self {
+        Self { objects, v_axis: VAxis::Up }
+    }
+
+    /// Total number of triangles over all objects.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(Object::triangle_count).sum()
+    }
+
+    /// Total number of vertices over all objects.
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.objects.iter().map(Object::vertex_count).sum()
+    }
+
+    /// The axis-aligned bounds of all positions in model space, or `None` for a model without
+    /// finite positions.
+    #[must_use]
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut min = Vec3::splat(f32::INFINITY);
+        let mut max = Vec3::splat(f32::NEG_INFINITY);
+        for object in &self.objects {
+            let m = object.model_transform();
+            for &p in &object.positions {
+                let q = m.transform_point3(p);
+                if q.is_finite() {
+                    min = min.min(q);
+                    max = max.max(q);
+                }
+            }
+        }
+        (min.x <= max.x).then_some((min, max))
+    }
+}

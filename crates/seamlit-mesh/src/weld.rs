@@ -1,0 +1,1 @@
+//! Welding: map every position of every object to a shared id.

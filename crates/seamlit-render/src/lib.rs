@@ -1,0 +1,1 @@
+//! seamlit-render (being written).

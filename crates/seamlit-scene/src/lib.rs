@@ -1,0 +1,1 @@
+//! seamlit-scene (being written).
