@@ -1,0 +1,139 @@
+//! What a loaded file holds: the model (geometry, in seamlit-mesh types) plus the materials
+//! and textures that lighting needs.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use seamlit_mesh::Model;
+
+/// A loaded model file: geometry plus materials and textures.
+///
+/// `model.objects[i].material` indexes [`Asset::materials`]; a material's texture references
+/// index [`Asset::textures`].
+#[derive(Clone, Debug, Default)]
+pub struct Asset {
+    /// The geometry: one object per OBJ group, glTF primitive instance or Bezier patch.
+    pub model: Model,
+    /// Materials, in file order.
+    pub materials: Vec<Material>,
+    /// Textures (images), in file order.
+    pub textures: Vec<Texture>,
+    /// Per object: the name of the node it came from and its parent chain, so writers can
+    /// rebuild a hierarchy. Empty when the format has none (OBJ, Newell patches).
+    pub nodes: Vec<Node>,
+    /// The file this asset was loaded from, if any.
+    pub source: Option<PathBuf>,
+    /// Problems that did not stop loading (a missing texture, an unsupported extension).
+    pub warnings: Vec<String>,
+}
+
+/// A node of the scene hierarchy (glTF): its name, local transform and parent.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// The node's name.
+    pub name: String,
+    /// Transform relative to the parent.
+    pub local_transform: glam::Mat4,
+    /// Index of the parent node in [`Asset::nodes`], `None` for a root.
+    pub parent: Option<usize>,
+    /// Indices of the objects (in `model.objects`) this node carries.
+    pub objects: Vec<usize>,
+}
+
+/// A material: what the renderer needs for per-pixel lighting with normal mapping.
+///
+/// Colours are linear RGB(A). Read from OBJ `.mtl` (Kd, Ks, Ns, d, map_Kd, map_Bump / bump /
+/// norm) and glTF (baseColor, normalTexture, metallic-roughness).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// The material's name.
+    pub name: String,
+    /// Base (diffuse) colour factor, linear RGBA.
+    pub base_color: [f32; 4],
+    /// Base colour texture (sRGB), multiplied by `base_color`.
+    pub base_color_texture: Option<TextureRef>,
+    /// Tangent-space normal map (linear data).
+    pub normal_texture: Option<TextureRef>,
+    /// Normal map strength (glTF `normalTexture.scale`, OBJ `-bm`).
+    pub normal_scale: f32,
+    /// Whether the normal map uses the DirectX convention (green down).
+    pub normal_green_down: bool,
+    /// Specular colour, linear RGB (OBJ `Ks`; derived from metallic-roughness for glTF).
+    pub specular: [f32; 3],
+    /// Blinn-Phong shininess exponent (OBJ `Ns`; derived from roughness for glTF).
+    pub shininess: f32,
+    /// glTF metallic factor, kept for conversion.
+    pub metallic: f32,
+    /// glTF roughness factor, kept for conversion.
+    pub roughness: f32,
+    /// Whether back faces are drawn.
+    pub double_sided: bool,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: String::new(),
+            base_color: [0.8, 0.8, 0.8, 1.0],
+            base_color_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            normal_green_down: false,
+            specular: [0.5, 0.5, 0.5],
+            shininess: 32.0,
+            metallic: 0.0,
+            roughness: 0.5,
+            double_sided: false,
+        }
+    }
+}
+
+/// A material's use of a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into [`Asset::textures`].
+    pub texture: usize,
+    /// Which texture coordinate set (only 0 is carried through the pipeline).
+    pub tex_coord: u32,
+    /// KHR_texture_transform, if present.
+    pub transform: Option<UvTransform>,
+}
+
+/// KHR_texture_transform: `uv' = T(offset) * R(rotation) * S(scale) * uv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// Translation.
+    pub offset: [f32; 2],
+    /// Rotation in radians, counter-clockwise.
+    pub rotation: f32,
+    /// Scale.
+    pub scale: [f32; 2],
+}
+
+/// An image used by materials.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    /// A name for messages (the file name, or the glTF image name).
+    pub name: String,
+    /// Where the encoded image came from.
+    pub source: TextureSource,
+    /// The decoded image, RGBA8; `None` if it could not be found or decoded (a warning says
+    /// why, and renderers use a neutral default).
+    pub image: Option<Arc<image::RgbaImage>>,
+}
+
+/// Where a texture's encoded bytes live.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TextureSource {
+    /// A file on disk (resolved, absolute or relative to the working directory).
+    File(PathBuf),
+    /// Bytes embedded in the model (GLB buffer view or data URI), with their MIME type.
+    Embedded {
+        /// `image/png` or `image/jpeg`.
+        mime_type: String,
+        /// The encoded image.
+        bytes: Arc<[u8]>,
+    },
+    /// Made in code (the demo's brick normal map); writers encode it as PNG.
+    Generated,
+}
