@@ -1,1 +1,54 @@
-//! seamlit-scene (being written).
+//! # seamlit-scene
+//!
+//! What seamlit renders, apart from the geometry: TOML scene files (models with transforms,
+//! processing options and material overrides, lights, named cameras), perspective cameras
+//! with an FPS and an orbit controller written as pure maths, the default three-light rig
+//! and camera a bare model gets, and the embedded demo scene (the Newell teapot with a brick
+//! normal map made in code). DESIGN.md section 7; the file format is in docs/scene.md.
+//!
+//! ```
+//! use std::path::Path;
+//! use seamlit_scene::Scene;
+//!
+//! let text = r#"
+//! [[model]]
+//! path = "teapot.obj"
+//! rotate = [-90, 0, 0]
+//!
+//! [[camera]]
+//! name = "front"
+//! position = [0, 2, 8]
+//! target = [0, 1, 0]
+//! "#;
+//! let scene = Scene::parse(text, Path::new("scenes"), Path::new("scenes/tea.toml"))?;
+//! assert_eq!(scene.models[0].path, Path::new("scenes/teapot.obj"));
+//! assert_eq!(scene.lights_or_default().len(), 3); // no [[light]]: the default rig
+//!
+//! // An unknown key is an error naming the file, the line and the key.
+//! let bad = Scene::parse("[[model]]\npath = \"a.obj\"\nsclae = 2\n", Path::new(""), Path::new("s.toml"));
+//! assert_eq!(
+//!     bad.unwrap_err().to_string().lines().next().unwrap().split(", expected").next().unwrap(),
+//!     "s.toml: line 3, column 1: unknown field `sclae`"
+//! );
+//! # Ok::<(), seamlit_scene::SceneError>(())
+//! ```
+#![deny(missing_docs)]
+
+mod assemble;
+mod bricks;
+pub mod camera;
+pub mod controller;
+pub mod demo;
+mod error;
+pub mod lights;
+mod scene;
+mod schema;
+
+pub use assemble::{
+    BRICKS_SIZE, BRICKS_STRENGTH, apply_overrides, bricks_texture, ensure_material, merge, place,
+};
+pub use bricks::{brick_height, brick_normal_map};
+pub use camera::{Bounds, Camera};
+pub use controller::{FpsController, FpsInput, OrbitController};
+pub use error::SceneError;
+pub use scene::{MaterialOverride, NormalTexture, Scene, SceneModel, is_scene_path};

@@ -1,0 +1,283 @@
+//! Putting a scene's models together: material overrides, placement by the scene's
+//! transform, and merging several assets into one for the renderer.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::Mat4;
+use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
+
+use crate::bricks::brick_normal_map;
+use crate::error::SceneError;
+use crate::scene::{MaterialOverride, NormalTexture};
+
+/// Side of the generated brick normal map, texels.
+pub const BRICKS_SIZE: u32 = 256;
+/// Relief of the generated brick normal map (see [`brick_normal_map`]).
+pub const BRICKS_STRENGTH: f32 = 6.0;
+
+/// The generated brick normal map as a texture.
+#[must_use]
+pub fn bricks_texture() -> Texture {
+    Texture {
+        name: "bricks (generated)".into(),
+        source: TextureSource::Generated,
+        image: Some(Arc::new(brick_normal_map(BRICKS_SIZE, BRICKS_STRENGTH))),
+    }
+}
+
+/// Applies material overrides to an asset loaded from `model_path`, in order. An override
+/// without a name changes every material; if the asset has no materials it first gets one
+/// default material, given to every object.
+///
+/// # Errors
+/// [`SceneError::UnknownMaterial`] when an override names a material the asset lacks,
+/// [`SceneError::Texture`] when a normal map file cannot be read.
+pub fn apply_overrides(
+    asset: &mut Asset,
+    overrides: &[MaterialOverride],
+    model_path: &Path,
+) -> Result<(), SceneError> {
+    for o in overrides {
+        let targets: Vec<usize> = match &o.name {
+            None => {
+                ensure_material(asset);
+                (0..asset.materials.len()).collect()
+            }
+            Some(name) => {
+                let found: Vec<usize> = (0..asset.materials.len())
+                    .filter(|&i| asset.materials[i].name == *name)
+                    .collect();
+                if found.is_empty() {
+                    let names: Vec<&str> =
+                        asset.materials.iter().map(|m| m.name.as_str()).collect();
+                    return Err(SceneError::UnknownMaterial {
+                        model: model_path.to_path_buf(),
+                        name: name.clone(),
+                        available: if names.is_empty() { "none".into() } else { names.join(", ") },
+                    });
+                }
+                found
+            }
+        };
+        let normal_texture = match &o.normal_texture {
+            None => None,
+            Some(t) => {
+                asset.textures.push(load_normal_texture(t)?);
+                Some(asset.textures.len() - 1)
+            }
+        };
+        for i in targets {
+            let m = &mut asset.materials[i];
+            if let Some(c) = o.base_color {
+                m.base_color = c;
+            }
+            if let Some(s) = o.specular {
+                m.specular = s;
+            }
+            if let Some(s) = o.shininess {
+                m.shininess = s;
+            }
+            if let Some(t) = normal_texture {
+                m.normal_texture = Some(TextureRef { texture: t, tex_coord: 0, transform: None });
+            }
+            if let Some(s) = o.normal_scale {
+                m.normal_scale = s;
+            }
+            if let Some(g) = o.normal_green_down {
+                m.normal_green_down = g;
+            }
+            if o.normal_mapping == Some(false) {
+                m.normal_texture = None;
+            }
+            if let Some(d) = o.double_sided {
+                m.double_sided = d;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Gives an asset without materials one default material, used by every object that has
+/// none.
+pub fn ensure_material(asset: &mut Asset) {
+    if asset.materials.is_empty() {
+        asset.materials.push(Material { name: "default".into(), ..Material::default() });
+    }
+    if asset.model.objects.iter().any(|o| o.material.is_none()) {
+        let default =
+            asset.materials.iter().position(|m| m.name == "default").unwrap_or_else(|| {
+                asset.materials.push(Material { name: "default".into(), ..Material::default() });
+                asset.materials.len() - 1
+            });
+        for object in &mut asset.model.objects {
+            object.material.get_or_insert(default);
+        }
+    }
+}
+
+fn load_normal_texture(t: &NormalTexture) -> Result<Texture, SceneError> {
+    match t {
+        NormalTexture::Bricks => Ok(bricks_texture()),
+        NormalTexture::File(path) => {
+            let image = image::open(path)
+                .map_err(|e| SceneError::Texture { path: path.clone(), message: e.to_string() })?;
+            Ok(Texture {
+                name: path
+                    .file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+                source: TextureSource::File(path.clone()),
+                image: Some(Arc::new(image.to_rgba8())),
+            })
+        }
+    }
+}
+
+/// Places an asset in the world: `transform` is applied after each object's own transform.
+pub fn place(asset: &mut Asset, transform: Mat4) {
+    if transform == Mat4::IDENTITY {
+        return;
+    }
+    for object in &mut asset.model.objects {
+        object.transform = Some(transform * object.model_transform());
+    }
+}
+
+/// Merges assets into one: objects, materials, textures and nodes are concatenated and their
+/// indices shifted. The first asset's V axis wins; assets whose V runs the other way have
+/// their UVs flipped (`v' = 1 - v`) and their tangent handedness kept, as a conversion
+/// between OBJ and glTF does.
+#[must_use]
+pub fn merge(parts: Vec<Asset>) -> Asset {
+    let mut parts = parts.into_iter();
+    let Some(mut out) = parts.next() else { return Asset::default() };
+    for mut part in parts {
+        let (objects, materials, textures, nodes) =
+            (out.model.objects.len(), out.materials.len(), out.textures.len(), out.nodes.len());
+        if part.model.v_axis != out.model.v_axis {
+            for object in &mut part.model.objects {
+                if let Some(uvs) = &mut object.uvs {
+                    for uv in uvs {
+                        uv.y = 1.0 - uv.y;
+                    }
+                }
+            }
+        }
+        for object in &mut part.model.objects {
+            object.material = object.material.map(|m| m + materials);
+        }
+        for material in &mut part.materials {
+            for t in [&mut material.base_color_texture, &mut material.normal_texture]
+                .into_iter()
+                .flatten()
+            {
+                t.texture += textures;
+            }
+        }
+        for node in &mut part.nodes {
+            node.parent = node.parent.map(|p| p + nodes);
+            for o in &mut node.objects {
+                *o += objects;
+            }
+        }
+        out.model.objects.append(&mut part.model.objects);
+        out.materials.append(&mut part.materials);
+        out.textures.append(&mut part.textures);
+        out.nodes.append(&mut part.nodes);
+        out.warnings.append(&mut part.warnings);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec2, Vec3};
+    use seamlit_mesh::{Model, Object, VAxis};
+
+    fn asset(name: &str, materials: usize) -> Asset {
+        let object = Object::new(name, vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]])
+            .with_uvs(vec![Vec2::ZERO, Vec2::X, Vec2::new(0.0, 0.25)]);
+        let mut a = Asset { model: Model::new(vec![object]), ..Asset::default() };
+        for i in 0..materials {
+            a.materials.push(Material { name: format!("{name}{i}"), ..Material::default() });
+        }
+        if materials > 0 {
+            a.model.objects[0].material = Some(materials - 1);
+        }
+        a
+    }
+
+    #[test]
+    fn an_unnamed_override_gives_a_bare_model_a_material_with_the_bricks() {
+        let mut a = asset("a", 0);
+        let o = MaterialOverride {
+            base_color: Some([1.0, 0.0, 0.0, 1.0]),
+            normal_texture: Some(NormalTexture::Bricks),
+            ..MaterialOverride::default()
+        };
+        apply_overrides(&mut a, &[o], Path::new("a.obj")).unwrap();
+        assert_eq!(a.materials.len(), 1);
+        assert_eq!(a.model.objects[0].material, Some(0));
+        assert_eq!(a.materials[0].base_color, [1.0, 0.0, 0.0, 1.0]);
+        let t = a.materials[0].normal_texture.as_ref().unwrap().texture;
+        assert_eq!(a.textures[t].source, TextureSource::Generated);
+        assert_eq!(a.textures[t].image.as_ref().unwrap().dimensions(), (BRICKS_SIZE, BRICKS_SIZE));
+    }
+
+    #[test]
+    fn a_named_override_changes_only_that_material_and_a_wrong_name_is_an_error() {
+        let mut a = asset("m", 2);
+        let o = MaterialOverride {
+            name: Some("m1".into()),
+            shininess: Some(7.0),
+            normal_mapping: Some(false),
+            ..MaterialOverride::default()
+        };
+        apply_overrides(&mut a, &[o], Path::new("a.obj")).unwrap();
+        assert_eq!(a.materials[1].shininess, 7.0);
+        assert_eq!(a.materials[0].shininess, Material::default().shininess);
+        let bad = MaterialOverride { name: Some("nope".into()), ..MaterialOverride::default() };
+        let e = apply_overrides(&mut a, &[bad], Path::new("dir/a.obj")).unwrap_err().to_string();
+        assert_eq!(e, "dir/a.obj: no material named \"nope\" (the model has: m0, m1)");
+    }
+
+    #[test]
+    fn a_missing_normal_map_file_names_the_file() {
+        let mut a = asset("a", 1);
+        let o = MaterialOverride {
+            normal_texture: Some(NormalTexture::File("/nonexistent/n.png".into())),
+            ..MaterialOverride::default()
+        };
+        let e = apply_overrides(&mut a, &[o], Path::new("a.obj")).unwrap_err().to_string();
+        assert!(e.starts_with("/nonexistent/n.png: cannot load the texture"), "{e}");
+    }
+
+    #[test]
+    fn placing_composes_with_the_object_transform() {
+        let mut a = asset("a", 0);
+        a.model.objects[0].transform = Some(Mat4::from_translation(Vec3::X));
+        place(&mut a, Mat4::from_scale(Vec3::splat(2.0)));
+        let p = a.model.objects[0].model_transform().transform_point3(Vec3::ZERO);
+        assert_eq!(p, Vec3::new(2.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn merging_shifts_indices_and_flips_v_of_the_other_convention() {
+        let mut a = asset("a", 1);
+        a.textures.push(bricks_texture());
+        let mut b = asset("b", 2);
+        b.model.v_axis = VAxis::Down;
+        b.textures.push(bricks_texture());
+        b.materials[1].normal_texture =
+            Some(TextureRef { texture: 0, tex_coord: 0, transform: None });
+        let m = merge(vec![a, b]);
+        assert_eq!(m.model.objects.len(), 2);
+        assert_eq!(m.model.objects[1].material, Some(2));
+        assert_eq!(m.materials[2].normal_texture.as_ref().unwrap().texture, 1);
+        assert_eq!(m.textures.len(), 2);
+        assert_eq!(m.model.v_axis, VAxis::Up);
+        assert_eq!(m.model.objects[1].uvs.as_ref().unwrap()[2], Vec2::new(0.0, 0.75));
+        assert_eq!(m.model.objects[0].uvs.as_ref().unwrap()[2], Vec2::new(0.0, 0.25));
+    }
+}
