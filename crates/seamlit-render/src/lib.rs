@@ -1,6 +1,70 @@
-//! seamlit-render: per-pixel lighting with normal mapping on wgpu (being written).
+//! # seamlit-render
+//!
+//! Per-pixel lighting with normal mapping on wgpu, headless (to an image) or into a window.
+//!
+//! The lighting equation is that of P. Mileff, "Per-pixel lighting for multi-object models"
+//! (2024), section 3: ambient plus, for every light, diffuse and specular, evaluated in one
+//! pass over a storage buffer of lights ([`Light`]: directional, point, spot), per pixel
+//! (Blinn-Phong, Phong, Lambert) or per vertex (Gouraud), see [`LightingModel`]. Normal maps
+//! are read in the tangent frame built in the vertex shader (section 5.3: Gram-Schmidt,
+//! `B = cross(N, T) * w`, times the sign of the transform's determinant). Shaders live in
+//! `src/mesh.wgsl`.
+//!
+//! The pieces:
+//! - [`GpuContext`]: the device. [`GpuContext::headless`] picks Vulkan, Metal or DX12 and falls
+//!   back to GL (on Linux without a GPU, Mesa's lavapipe: `apt-get install mesa-vulkan-drivers`);
+//!   [`GpuContext::for_surface`] for a window, whose device an egui-wgpu renderer can share.
+//! - [`GpuScene`]: a model with materials and textures on the GPU (mipmapped, 1x1 defaults for
+//!   missing textures); [`GpuScene::replace_model`] swaps the geometry after a re-fix.
+//! - [`Renderer`]: pipelines for one target format and MSAA sample count;
+//!   [`Renderer::render`] into a view (a window), [`Renderer::render_to_image`] to an image,
+//!   [`Renderer::time_frames`] for frame timing.
+//! - [`FrameSettings`]: lights, ambient, lighting model, normal mapping, strength, green flip,
+//!   [`DebugView`], TBN lines; [`CameraView`] the camera.
+//!
+//! ```no_run
+//! use glam::{Vec2, Vec3};
+//! use seamlit_io::Asset;
+//! use seamlit_mesh::{FixOptions, Model, Object, fix};
+//! use seamlit_render::{CameraView, FrameSettings, GpuContext, GpuScene, render_to_image};
+//!
+//! // A quad facing +Z; fix gives it normals and tangents.
+//! let quad = Object::new(
+//!     "quad",
+//!     vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)],
+//!     vec![[0, 1, 2], [0, 2, 3]],
+//! )
+//! .with_uvs(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
+//! let model = fix(&Model::new(vec![quad]), &FixOptions::default())?;
+//! let asset = Asset { model, ..Asset::default() };
+//!
+//! let ctx = GpuContext::headless()?;
+//! let scene = GpuScene::upload(&ctx, &asset)?;
+//! let camera = CameraView::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 45.0, 1.0, 0.1, 10.0);
+//! let image = render_to_image(&ctx, &scene, &camera, &FrameSettings::default(), 64, 64)?;
+//! assert_eq!(image.dimensions(), (64, 64));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! For a window: create the instance with [`GpuContext::new_instance`], the surface from it,
+//! then [`GpuContext::for_surface`]; make a [`Renderer`] for the surface's format and call
+//! [`Renderer::render`] (or [`Renderer::encode`] to share a command encoder with egui) with
+//! the surface texture's view every frame.
 #![deny(missing_docs)]
 
+mod context;
+mod error;
 mod light;
+mod pipeline;
+mod readback;
+mod renderer;
+mod scene;
+mod settings;
+mod texture;
 
-pub use light::{CameraView, DebugView, Light, LightingModel};
+pub use context::GpuContext;
+pub use error::RenderError;
+pub use light::{CameraView, DebugView, Light, LightRaw, LightingModel};
+pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameTimes, IMAGE_FORMAT, Renderer, render_to_image};
+pub use scene::GpuScene;
+pub use settings::FrameSettings;

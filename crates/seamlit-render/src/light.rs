@@ -1,6 +1,12 @@
 //! Lights, cameras and the frame's shading switches: the CPU-side description of what to draw.
-//! (GPU layouts are built from these by `to_raw()` functions elsewhere in this crate.)
+//! The GPU layout of a light is [`LightRaw`], built by [`Light::to_raw`].
+//!
+//! Attenuation follows KHR_lights_punctual: a point or spot light at distance `d` delivers
+//! `color * intensity * clamp(1 - (d / range)^4, 0, 1)^2 / d^2`, and a spot light is further
+//! scaled by `t^2` with `t = clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1)`,
+//! `a` the angle from the cone's axis. A `range` of zero or less means no cut-off.
 
+use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 /// A light source. Colours are linear RGB; `intensity` scales the colour.
@@ -46,6 +52,83 @@ pub enum Light {
     },
 }
 
+impl Light {
+    /// The light as the shader reads it: direction normalised, colour times intensity, cone
+    /// angles as cosines.
+    #[must_use]
+    pub fn to_raw(&self) -> LightRaw {
+        let unit = |d: Vec3| d.try_normalize().unwrap_or(Vec3::NEG_Y).to_array();
+        match *self {
+            Self::Directional { direction, color, intensity } => LightRaw {
+                kind: LightRaw::DIRECTIONAL,
+                direction: unit(direction),
+                color: (color * intensity).to_array(),
+                ..LightRaw::zeroed()
+            },
+            Self::Point { position, color, intensity, range } => LightRaw {
+                position: position.to_array(),
+                kind: LightRaw::POINT,
+                range,
+                color: (color * intensity).to_array(),
+                ..LightRaw::zeroed()
+            },
+            Self::Spot {
+                position,
+                direction,
+                color,
+                intensity,
+                range,
+                inner_cone_deg,
+                outer_cone_deg,
+            } => {
+                let outer = outer_cone_deg.clamp(0.0, 90.0);
+                let inner = inner_cone_deg.clamp(0.0, outer);
+                LightRaw {
+                    position: position.to_array(),
+                    kind: LightRaw::SPOT,
+                    direction: unit(direction),
+                    range,
+                    color: (color * intensity).to_array(),
+                    cos_inner: inner.to_radians().cos(),
+                    cos_outer: outer.to_radians().cos(),
+                    ..LightRaw::zeroed()
+                }
+            }
+        }
+    }
+}
+
+/// A light as the shaders read it from the light storage buffer (`Light` in `mesh.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightRaw {
+    /// World position (point and spot).
+    pub position: [f32; 3],
+    /// [`LightRaw::DIRECTIONAL`], [`LightRaw::POINT`] or [`LightRaw::SPOT`].
+    pub kind: u32,
+    /// Unit direction the light travels (directional and spot).
+    pub direction: [f32; 3],
+    /// Range (point and spot); zero or less: no cut-off.
+    pub range: f32,
+    /// Linear colour times intensity.
+    pub color: [f32; 3],
+    /// Cosine of the inner cone half-angle (spot).
+    pub cos_inner: f32,
+    /// Cosine of the outer cone half-angle (spot).
+    pub cos_outer: f32,
+    /// Padding to 64 bytes.
+    pub pad: [f32; 3],
+}
+
+impl LightRaw {
+    /// `kind` of a directional light.
+    pub const DIRECTIONAL: u32 = 0;
+    /// `kind` of a point light.
+    pub const POINT: u32 = 1;
+    /// `kind` of a spot light.
+    pub const SPOT: u32 = 2;
+}
+
 /// A camera as the renderer needs it: where the eye is and how it projects.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraView {
@@ -55,6 +138,65 @@ pub struct CameraView {
     pub projection: Mat4,
     /// Eye position in world space (for specular highlights).
     pub eye: Vec3,
+}
+
+impl CameraView {
+    /// A perspective camera at `eye` looking at `target`; `fov_y_deg` is the vertical field of
+    /// view in degrees, `aspect` width over height, `near` and `far` the clip distances.
+    #[must_use]
+    pub fn look_at(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        fov_y_deg: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Self {
+        Self {
+            view: glam::camera::rh::view::look_at_mat4(eye, target, up),
+            projection: glam::camera::rh::proj::directx::perspective(
+                fov_y_deg.to_radians(),
+                aspect,
+                near,
+                far,
+            ),
+            eye,
+        }
+    }
+
+    /// An orthographic camera at `eye` looking at `target`, showing `half_height` world units
+    /// above and below the centre (and `half_height * aspect` to each side).
+    #[must_use]
+    pub fn orthographic(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        half_height: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Self {
+        let w = half_height * aspect;
+        Self {
+            view: glam::camera::rh::view::look_at_mat4(eye, target, up),
+            projection: glam::camera::rh::proj::directx::orthographic(
+                -w,
+                w,
+                -half_height,
+                half_height,
+                near,
+                far,
+            ),
+            eye,
+        }
+    }
+
+    /// `projection * view`.
+    #[must_use]
+    pub fn view_projection(&self) -> Mat4 {
+        self.projection * self.view
+    }
 }
 
 /// The lighting equation evaluated per pixel (or per vertex, for Gouraud).
@@ -69,6 +211,19 @@ pub enum LightingModel {
     Lambert,
     /// Blinn-Phong evaluated per vertex and interpolated (the paper's Figure 3).
     Gouraud,
+}
+
+impl LightingModel {
+    /// The number the shader switches on.
+    #[must_use]
+    pub const fn to_raw(self) -> u32 {
+        match self {
+            Self::BlinnPhong => 0,
+            Self::Phong => 1,
+            Self::Lambert => 2,
+            Self::Gouraud => 3,
+        }
+    }
 }
 
 /// What the fragment shader outputs.
@@ -89,4 +244,46 @@ pub enum DebugView {
     ObjectIds,
     /// Lighting on a white material, no textures.
     LightingOnly,
+}
+
+impl DebugView {
+    /// The number the shader switches on.
+    #[must_use]
+    pub const fn to_raw(self) -> u32 {
+        match self {
+            Self::Lit => 0,
+            Self::Normals => 1,
+            Self::Tangents => 2,
+            Self::BitangentSign => 3,
+            Self::Uvs => 4,
+            Self::ObjectIds => 5,
+            Self::LightingOnly => 6,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_raw_is_64_bytes_and_normalises() {
+        assert_eq!(size_of::<LightRaw>(), 64);
+        let raw = Light::Spot {
+            position: Vec3::ONE,
+            direction: Vec3::new(0.0, 0.0, -2.0),
+            color: Vec3::new(1.0, 0.5, 0.25),
+            intensity: 2.0,
+            range: 10.0,
+            inner_cone_deg: 60.0,
+            outer_cone_deg: 30.0,
+        }
+        .to_raw();
+        assert_eq!(raw.kind, LightRaw::SPOT);
+        assert_eq!(raw.direction, [0.0, 0.0, -1.0]);
+        assert_eq!(raw.color, [2.0, 1.0, 0.5]);
+        // An inner cone wider than the outer one is clamped to the outer one.
+        assert_eq!(raw.cos_inner, raw.cos_outer);
+        assert!((raw.cos_outer - 30f32.to_radians().cos()).abs() < 1e-7);
+    }
 }

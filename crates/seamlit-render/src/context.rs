@@ -1,0 +1,256 @@
+//! The GPU context: instance, adapter, device and queue, headless or for a window surface,
+//! plus the bind group layouts that [`crate::GpuScene`] and [`crate::Renderer`] share.
+
+use crate::RenderError;
+
+/// Where the renderer runs: a wgpu device and queue (and the adapter they came from).
+///
+/// Create one with [`GpuContext::headless`] for offscreen rendering, or
+/// [`GpuContext::for_surface`] for a window; a viewer that also draws with egui-wgpu uses
+/// [`GpuContext::device`] and [`GpuContext::queue`] for its own renderer, so both share one
+/// device.
+pub struct GpuContext {
+    instance: wgpu::Instance,
+    adapter: wgpu::Adapter,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    pub(crate) layouts: Layouts,
+}
+
+impl std::fmt::Debug for GpuContext {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GpuContext")
+            .field("adapter", &self.adapter.get_info())
+            .finish_non_exhaustive()
+    }
+}
+
+/// The backends tried first: the native APIs. GL is the fallback.
+const PRIMARY: wgpu::Backends = wgpu::Backends::PRIMARY;
+
+impl GpuContext {
+    /// A context without a window: picks a Vulkan, Metal or DX12 adapter (a real GPU if there
+    /// is one, else a software one such as Mesa's lavapipe) and falls back to GL.
+    ///
+    /// The environment variable `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the choice.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::NoAdapter`] when no adapter exists (the message says what to install),
+    /// [`RenderError::RequestDevice`] when the adapter will not open a device.
+    pub fn headless() -> Result<Self, RenderError> {
+        let wanted = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+        let mut tried = Vec::new();
+        for backends in [wanted & PRIMARY, wanted & wgpu::Backends::GL] {
+            if backends.is_empty() {
+                continue;
+            }
+            tried.push(format!("{backends:?}"));
+            let instance = Self::instance_for(backends);
+            let options = wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                ..Default::default()
+            };
+            if let Ok(adapter) = pollster::block_on(instance.request_adapter(&options)) {
+                return Self::from_adapter(instance, adapter);
+            }
+        }
+        Err(RenderError::NoAdapter { tried: tried.join(", then ") })
+    }
+
+    /// A wgpu instance with every backend enabled (honouring `WGPU_BACKEND`), for a viewer to
+    /// create its window surface with before calling [`GpuContext::for_surface`].
+    #[must_use]
+    pub fn new_instance() -> wgpu::Instance {
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+        Self::instance_for(backends)
+    }
+
+    fn instance_for(backends: wgpu::Backends) -> wgpu::Instance {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = backends;
+        wgpu::Instance::new(desc)
+    }
+
+    /// A context whose adapter can present to `surface` (created from `instance`, usually
+    /// one from [`GpuContext::new_instance`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`GpuContext::headless`].
+    pub fn for_surface(
+        instance: wgpu::Instance,
+        surface: &wgpu::Surface<'_>,
+    ) -> Result<Self, RenderError> {
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: Some(surface),
+            ..Default::default()
+        };
+        let adapter = pollster::block_on(instance.request_adapter(&options)).map_err(|_| {
+            RenderError::NoAdapter { tried: "adapters compatible with the window".into() }
+        })?;
+        Self::from_adapter(instance, adapter)
+    }
+
+    /// Opens a device on `adapter` with the features and limits the renderer uses.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::RequestDevice`] when the adapter refuses.
+    pub fn from_adapter(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+    ) -> Result<Self, RenderError> {
+        let info = adapter.get_info();
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("seamlit"),
+            required_features: wgpu::Features::empty(),
+            // The adapter's own limits: big textures and buffers for million-triangle models.
+            required_limits: adapter.limits(),
+            ..Default::default()
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&desc)).map_err(|source| {
+                RenderError::RequestDevice {
+                    adapter: format!("{} ({:?})", info.name, info.backend),
+                    source,
+                }
+            })?;
+        let layouts = Layouts::new(&device);
+        Ok(Self { instance, adapter, device, queue, layouts })
+    }
+
+    /// The wgpu instance.
+    #[must_use]
+    pub fn instance(&self) -> &wgpu::Instance {
+        &self.instance
+    }
+
+    /// The adapter the device was opened on.
+    #[must_use]
+    pub fn adapter(&self) -> &wgpu::Adapter {
+        &self.adapter
+    }
+
+    /// The device: create surfaces' configurations and egui-wgpu renderers with it.
+    #[must_use]
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue.
+    #[must_use]
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// A one-line description of the adapter, e.g. `llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan, Cpu)`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+    }
+
+    /// The MSAA sample counts `format` supports as a render target on this adapter.
+    #[must_use]
+    pub fn supported_sample_counts(&self, format: wgpu::TextureFormat) -> Vec<u32> {
+        let flags = self.adapter.get_texture_format_features(format).flags;
+        [1, 2, 4, 8, 16]
+            .into_iter()
+            .filter(|&n| n == 1 || flags.sample_count_supported(n))
+            .collect()
+    }
+
+    /// Runs `f` inside a validation error scope and turns a captured error into
+    /// [`RenderError::Gpu`].
+    pub(crate) fn scoped<T>(
+        &self,
+        during: &'static str,
+        f: impl FnOnce() -> Result<T, RenderError>,
+    ) -> Result<T, RenderError> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = f();
+        let validation = pollster::block_on(validation.pop());
+        let oom = pollster::block_on(oom.pop());
+        if let Some(error) = validation.or(oom) {
+            return Err(RenderError::Gpu { during, message: error.to_string() });
+        }
+        result
+    }
+}
+
+/// Bind group layouts shared by the scene (which creates bind groups) and the renderer (whose
+/// pipelines use them).
+#[derive(Debug)]
+pub(crate) struct Layouts {
+    /// Group 0: frame uniforms and the light storage buffer.
+    pub frame: wgpu::BindGroupLayout,
+    /// Group 1: material uniforms, base colour and normal textures, sampler.
+    pub material: wgpu::BindGroupLayout,
+    /// Group 2: object uniforms and the object's vertices (read as storage for TBN lines).
+    pub object: wgpu::BindGroupLayout,
+}
+
+impl Layouts {
+    fn new(device: &wgpu::Device) -> Self {
+        use wgpu::ShaderStages as S;
+        let uniform = |binding, visibility| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let storage = |binding, visibility| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let texture = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: S::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("seamlit frame"),
+            entries: &[uniform(0, S::VERTEX_FRAGMENT), storage(1, S::VERTEX_FRAGMENT)],
+        });
+        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("seamlit material"),
+            entries: &[
+                uniform(0, S::VERTEX_FRAGMENT),
+                texture(1),
+                texture(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let object = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("seamlit object"),
+            entries: &[uniform(0, S::VERTEX_FRAGMENT), storage(1, S::VERTEX)],
+        });
+        Self { frame, material, object }
+    }
+}

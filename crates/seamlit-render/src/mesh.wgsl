@@ -1,0 +1,353 @@
+// Per-pixel lighting with normal mapping for seamlit.
+//
+// P. Mileff, "Per-pixel lighting for multi-object models" (2024): the lighting equation of
+// section 3 (ambient + sum over lights of diffuse + specular) evaluated in one pass over a
+// storage buffer of lights, and the tangent frame of section 5.3 built in the vertex shader
+// with Gram-Schmidt, B = cross(N, T) * w. Tangent-space normals decode as rgb * 2 - 1 (the
+// paper's encoding line has a sign typo). Lighting is in linear space; the target is sRGB.
+//
+// Entry points: vs_main / fs_main draw the meshes; vs_tbn / fs_tbn draw each vertex's
+// tangent, bitangent and normal as lines, reading the vertex buffer as storage.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    eye: vec3<f32>,
+    light_count: u32,
+    ambient: vec3<f32>,
+    lighting_model: u32,
+    debug_view: u32,
+    flags: u32,
+    normal_strength: f32,
+    tbn_length: f32,
+}
+
+struct Light {
+    position: vec3<f32>,
+    kind: u32,
+    direction: vec3<f32>,
+    range: f32,
+    color: vec3<f32>,
+    cos_inner: f32,
+    cos_outer: f32,
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
+}
+
+struct Material {
+    base_color: vec4<f32>,
+    specular: vec3<f32>,
+    shininess: f32,
+    base_uv: array<vec4<f32>, 2>,
+    normal_uv: array<vec4<f32>, 2>,
+    normal_scale: f32,
+    flags: u32,
+    pad0: f32,
+    pad1: f32,
+}
+
+struct Object {
+    model: mat4x4<f32>,
+    normal: mat4x4<f32>,
+    det_sign: f32,
+    object_id: u32,
+    flip_v: u32,
+    has_tangents: u32,
+}
+
+// Light kinds (LightRaw::DIRECTIONAL, POINT, SPOT).
+const LIGHT_DIRECTIONAL: u32 = 0u;
+const LIGHT_SPOT: u32 = 2u;
+
+// Lighting models (LightingModel::to_raw).
+const MODEL_BLINN_PHONG: u32 = 0u;
+const MODEL_PHONG: u32 = 1u;
+const MODEL_LAMBERT: u32 = 2u;
+const MODEL_GOURAUD: u32 = 3u;
+
+// Debug views (DebugView::to_raw).
+const VIEW_NORMALS: u32 = 1u;
+const VIEW_TANGENTS: u32 = 2u;
+const VIEW_BITANGENT_SIGN: u32 = 3u;
+const VIEW_UVS: u32 = 4u;
+const VIEW_OBJECT_IDS: u32 = 5u;
+const VIEW_LIGHTING_ONLY: u32 = 6u;
+
+// Frame flags (settings.rs).
+const FLAG_NORMAL_MAPPING: u32 = 1u;
+const FLAG_FLIP_GREEN: u32 = 2u;
+const FLAG_ENCODE_SRGB: u32 = 4u;
+
+// Material flags (scene.rs).
+const MAT_NORMAL_MAP: u32 = 1u;
+const MAT_GREEN_DOWN: u32 = 2u;
+const MAT_DOUBLE_SIDED: u32 = 4u;
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> lights: array<Light>;
+@group(1) @binding(0) var<uniform> material: Material;
+@group(1) @binding(1) var base_texture: texture_2d<f32>;
+@group(1) @binding(2) var normal_texture: texture_2d<f32>;
+@group(1) @binding(3) var material_sampler: sampler;
+@group(2) @binding(0) var<uniform> object: Object;
+@group(2) @binding(1) var<storage, read> vertex_data: array<f32>;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec4<f32>,
+    @location(3) uv: vec2<f32>,
+}
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec3<f32>,
+    @location(3) bitangent: vec3<f32>,
+    @location(4) uv: vec2<f32>,
+    @location(5) @interpolate(flat) handedness: f32,
+    @location(6) gouraud_diffuse: vec3<f32>,
+    @location(7) gouraud_specular: vec3<f32>,
+}
+
+fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let len2 = dot(v, v);
+    if len2 > 1e-20 {
+        return v * inverseSqrt(len2);
+    }
+    return fallback;
+}
+
+// The world-space frame of a vertex: normal, Gram-Schmidt tangent (zero when the vertex has
+// none) and bitangent B = cross(N, T) * w * sign(det(model)).
+struct Tbn {
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+}
+
+fn world_tbn(normal: vec3<f32>, tangent: vec4<f32>) -> Tbn {
+    var out: Tbn;
+    out.n = safe_normalize((object.normal * vec4<f32>(normal, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    let t = (object.model * vec4<f32>(tangent.xyz, 0.0)).xyz;
+    let t_ortho = t - dot(t, out.n) * out.n;
+    out.t = safe_normalize(t_ortho, vec3<f32>(0.0));
+    let w = select(1.0, -1.0, tangent.w < 0.0) * object.det_sign;
+    out.b = cross(out.n, out.t) * w;
+    return out;
+}
+
+struct Shade {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+// Sum over all lights of the diffuse and specular terms (without the material's colours) at
+// point p with unit normal n and unit view vector v.
+fn shade(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -> Shade {
+    var out: Shade;
+    out.diffuse = vec3<f32>(0.0);
+    out.specular = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i = i + 1u) {
+        let light = lights[i];
+        var l = -light.direction;
+        var attenuation = 1.0;
+        if light.kind != LIGHT_DIRECTIONAL {
+            let to_light = light.position - p;
+            let d2 = max(dot(to_light, to_light), 1e-12);
+            let d = sqrt(d2);
+            l = to_light / d;
+            attenuation = 1.0 / d2;
+            if light.range > 0.0 {
+                let r = d / light.range;
+                let fade = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+                attenuation = attenuation * fade * fade;
+            }
+            if light.kind == LIGHT_SPOT {
+                let cos_angle = dot(-l, light.direction);
+                let cone = clamp((cos_angle - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-4), 0.0, 1.0);
+                attenuation = attenuation * cone * cone;
+            }
+        }
+        let n_dot_l = dot(n, l);
+        if n_dot_l <= 0.0 || attenuation <= 0.0 {
+            continue;
+        }
+        let radiance = light.color * attenuation;
+        out.diffuse = out.diffuse + radiance * n_dot_l;
+        if model == MODEL_LAMBERT {
+            continue;
+        }
+        var s: f32;
+        if model == MODEL_PHONG {
+            s = pow(max(dot(reflect(-l, n), v), 0.0), shininess);
+        } else {
+            s = pow(max(dot(n, safe_normalize(l + v, n)), 0.0), shininess);
+        }
+        out.specular = out.specular + radiance * s;
+    }
+    return out;
+}
+
+@vertex
+fn vs_main(in: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    let world = object.model * vec4<f32>(in.position, 1.0);
+    let tbn = world_tbn(in.normal, in.tangent);
+    out.clip = frame.view_proj * world;
+    out.world = world.xyz;
+    out.normal = tbn.n;
+    out.tangent = tbn.t;
+    out.bitangent = tbn.b;
+    out.uv = in.uv;
+    out.handedness = select(1.0, -1.0, in.tangent.w < 0.0);
+    out.gouraud_diffuse = vec3<f32>(0.0);
+    out.gouraud_specular = vec3<f32>(0.0);
+    if frame.lighting_model == MODEL_GOURAUD {
+        // Per-vertex Blinn-Phong with the vertex normal (the paper's Figure 3).
+        let v = safe_normalize(frame.eye - world.xyz, tbn.n);
+        let s = shade(tbn.n, v, world.xyz, material.shininess, MODEL_BLINN_PHONG);
+        out.gouraud_diffuse = s.diffuse;
+        out.gouraud_specular = s.specular;
+    }
+    return out;
+}
+
+// uv through a material's 2x3 texture transform, then V flipped for V-up texcoords (the
+// texture's first row is the top of the image).
+fn material_uv(rows: array<vec4<f32>, 2>, uv: vec2<f32>) -> vec2<f32> {
+    let t = vec2<f32>(dot(rows[0].xyz, vec3<f32>(uv, 1.0)), dot(rows[1].xyz, vec3<f32>(uv, 1.0)));
+    if object.flip_v != 0u {
+        return vec2<f32>(t.x, 1.0 - t.y);
+    }
+    return t;
+}
+
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
+}
+
+fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
+    let l = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    return select(1.055 * pow(l, vec3<f32>(1.0 / 2.4)) - 0.055, l * 12.92, l <= vec3<f32>(0.0031308));
+}
+
+// A lit colour (linear) as the target wants it.
+fn out_linear(c: vec3<f32>) -> vec4<f32> {
+    if (frame.flags & FLAG_ENCODE_SRGB) != 0u {
+        return vec4<f32>(linear_to_srgb(c), 1.0);
+    }
+    return vec4<f32>(c, 1.0);
+}
+
+// A debug colour, meant to land in the image as these very values.
+fn out_display(c: vec3<f32>) -> vec4<f32> {
+    let d = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    if (frame.flags & FLAG_ENCODE_SRGB) != 0u {
+        return vec4<f32>(d, 1.0);
+    }
+    return vec4<f32>(srgb_to_linear(d), 1.0);
+}
+
+// A distinct colour per object id.
+fn id_color(id: u32) -> vec3<f32> {
+    let h = (id + 1u) * 2654435761u;
+    let c = vec3<f32>(f32(h & 255u), f32((h >> 8u) & 255u), f32((h >> 16u) & 255u)) / 255.0;
+    return 0.2 + 0.8 * c;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // Sample first: texture sampling must stay in uniform control flow.
+    let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv));
+    var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv)).xyz * 2.0 - 1.0;
+
+    var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
+    if !front && (material.flags & MAT_DOUBLE_SIDED) != 0u {
+        n = -n;
+    }
+    let t_len2 = dot(in.tangent, in.tangent);
+    let mapping = (frame.flags & FLAG_NORMAL_MAPPING) != 0u && (material.flags & MAT_NORMAL_MAP) != 0u;
+    if mapping && object.has_tangents != 0u && t_len2 > 1e-12 {
+        let flip = ((frame.flags & FLAG_FLIP_GREEN) != 0u) != ((material.flags & MAT_GREEN_DOWN) != 0u);
+        if flip {
+            tn.y = -tn.y;
+        }
+        let strength = material.normal_scale * frame.normal_strength;
+        tn = vec3<f32>(tn.xy * strength, tn.z);
+        // Re-orthonormalise the interpolated frame (Gram-Schmidt again, paper 5.3).
+        let t = safe_normalize(in.tangent - dot(in.tangent, n) * n, in.tangent);
+        let b = safe_normalize(in.bitangent, cross(n, t) * in.handedness);
+        n = safe_normalize(t * tn.x + b * tn.y + n * tn.z, n);
+    }
+
+    switch frame.debug_view {
+        case VIEW_NORMALS: {
+            return out_display(n * 0.5 + 0.5);
+        }
+        case VIEW_TANGENTS: {
+            return out_display(safe_normalize(in.tangent, vec3<f32>(0.0)) * 0.5 + 0.5);
+        }
+        case VIEW_BITANGENT_SIGN: {
+            return out_display(select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), in.handedness < 0.0));
+        }
+        case VIEW_UVS: {
+            return out_display(vec3<f32>(fract(in.uv), 0.0));
+        }
+        case VIEW_OBJECT_IDS: {
+            return out_display(id_color(object.object_id));
+        }
+        default: {}
+    }
+
+    var albedo = material.base_color.rgb * base_sample.rgb;
+    if frame.debug_view == VIEW_LIGHTING_ONLY {
+        albedo = vec3<f32>(1.0);
+    }
+    if frame.lighting_model == MODEL_GOURAUD {
+        return out_linear(albedo * (frame.ambient + in.gouraud_diffuse) + material.specular * in.gouraud_specular);
+    }
+    let v = safe_normalize(frame.eye - in.world, n);
+    let s = shade(n, v, in.world, material.shininess, frame.lighting_model);
+    return out_linear(albedo * (frame.ambient + s.diffuse) + material.specular * s.specular);
+}
+
+struct LineOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) color: vec3<f32>,
+}
+
+// Six vertices per mesh vertex: tangent (red), bitangent (green), normal (blue), each a line
+// from the vertex outward by frame.tbn_length. Reads the interleaved vertex buffer
+// (12 floats: position, normal, tangent, uv).
+@vertex
+fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
+    let vertex = index / 6u;
+    let axis = (index / 2u) % 3u;
+    let tip = f32(index % 2u);
+    let o = vertex * 12u;
+    let position = vec3<f32>(vertex_data[o], vertex_data[o + 1u], vertex_data[o + 2u]);
+    let normal = vec3<f32>(vertex_data[o + 3u], vertex_data[o + 4u], vertex_data[o + 5u]);
+    let tangent = vec4<f32>(vertex_data[o + 6u], vertex_data[o + 7u], vertex_data[o + 8u], vertex_data[o + 9u]);
+    let tbn = world_tbn(normal, tangent);
+    var dir = tbn.n;
+    var color = vec3<f32>(0.1, 0.3, 1.0);
+    if axis == 0u {
+        dir = tbn.t;
+        color = vec3<f32>(1.0, 0.1, 0.1);
+    } else if axis == 1u {
+        dir = tbn.b;
+        color = vec3<f32>(0.1, 1.0, 0.1);
+    }
+    let world = (object.model * vec4<f32>(position, 1.0)).xyz + dir * frame.tbn_length * tip;
+    var out: LineOut;
+    out.clip = frame.view_proj * vec4<f32>(world, 1.0);
+    out.color = color;
+    return out;
+}
+
+@fragment
+fn fs_tbn(in: LineOut) -> @location(0) vec4<f32> {
+    return out_display(in.color);
+}

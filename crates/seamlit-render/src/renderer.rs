@@ -1,0 +1,426 @@
+//! The renderer: records a frame into a target view, headless readback to an image, and
+//! repeated frames for timing.
+
+use std::time::{Duration, Instant};
+
+use image::RgbaImage;
+
+use crate::pipeline::{DEPTH_FORMAT, Pipelines};
+use crate::settings::FrameRaw;
+use crate::{CameraView, FrameSettings, GpuContext, GpuScene, LightRaw, RenderError};
+
+/// The format [`Renderer::render_to_image`] renders in and reads back.
+pub const IMAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// The default MSAA sample count.
+pub const DEFAULT_SAMPLE_COUNT: u32 = 4;
+
+/// Draws a [`GpuScene`] into a colour target of one format.
+///
+/// Holds the pipelines, the frame uniforms and light buffer, and the depth and multisampled
+/// colour attachments (re-created when the target size changes).
+#[derive(Debug)]
+pub struct Renderer {
+    format: wgpu::TextureFormat,
+    sample_count: u32,
+    pipelines: Pipelines,
+    frame_buffer: wgpu::Buffer,
+    light_buffer: wgpu::Buffer,
+    light_capacity: usize,
+    frame_bind_group: wgpu::BindGroup,
+    attachments: Option<Attachments>,
+}
+
+/// Depth (and, with MSAA, colour) attachments of one size.
+#[derive(Debug)]
+struct Attachments {
+    size: (u32, u32),
+    depth: wgpu::TextureView,
+    msaa: Option<wgpu::TextureView>,
+}
+
+/// Frame times measured by [`Renderer::time_frames`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameTimes {
+    /// Wall time of each frame, from recording to the GPU having finished it.
+    pub frames: Vec<Duration>,
+}
+
+impl FrameTimes {
+    /// The mean frame time (zero for no frames).
+    #[must_use]
+    pub fn mean(&self) -> Duration {
+        let n = u32::try_from(self.frames.len()).unwrap_or(u32::MAX).max(1);
+        self.frames.iter().sum::<Duration>() / n
+    }
+
+    /// The median frame time (zero for no frames).
+    #[must_use]
+    pub fn median(&self) -> Duration {
+        let mut sorted = self.frames.clone();
+        sorted.sort();
+        sorted.get(sorted.len() / 2).copied().unwrap_or_default()
+    }
+
+    /// The fastest frame (zero for no frames).
+    #[must_use]
+    pub fn min(&self) -> Duration {
+        self.frames.iter().min().copied().unwrap_or_default()
+    }
+}
+
+impl Renderer {
+    /// A renderer for targets of `format` with `sample_count` samples per pixel (1 = no MSAA,
+    /// [`DEFAULT_SAMPLE_COUNT`] = 4). An sRGB format is written in linear light and encoded by
+    /// the hardware; for other formats the shader encodes to sRGB itself.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::UnsupportedSampleCount`] when the adapter cannot multisample `format`
+    /// (or the depth format) that many times; [`RenderError::Gpu`].
+    pub fn new(
+        ctx: &GpuContext,
+        format: wgpu::TextureFormat,
+        sample_count: u32,
+    ) -> Result<Self, RenderError> {
+        let colour = ctx.supported_sample_counts(format);
+        let depth = ctx.supported_sample_counts(DEPTH_FORMAT);
+        if !colour.contains(&sample_count) || !depth.contains(&sample_count) {
+            let supported = colour.into_iter().filter(|n| depth.contains(n)).collect();
+            return Err(RenderError::UnsupportedSampleCount {
+                format,
+                count: sample_count,
+                supported,
+            });
+        }
+        ctx.scoped("creating the renderer", || {
+            let device = ctx.device();
+            let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("seamlit frame"),
+                size: size_of::<FrameRaw>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let light_capacity = 16;
+            let light_buffer = light_buffer(ctx, light_capacity);
+            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer);
+            Ok(Self {
+                format,
+                sample_count,
+                pipelines: Pipelines::new(ctx, format, sample_count),
+                frame_buffer,
+                light_buffer,
+                light_capacity,
+                frame_bind_group,
+                attachments: None,
+            })
+        })
+    }
+
+    /// The target format this renderer draws into.
+    #[must_use]
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.format
+    }
+
+    /// Samples per pixel.
+    #[must_use]
+    pub fn sample_count(&self) -> u32 {
+        self.sample_count
+    }
+
+    /// Renders one frame into `target` (a view of a texture of this renderer's format and of
+    /// `size` = (width, height) pixels, e.g. a window's surface texture) and submits it.
+    /// The target is cleared to [`FrameSettings::clear_color`] first.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::BadSize`], [`RenderError::Gpu`].
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        camera: &CameraView,
+        settings: &FrameSettings,
+        target: &wgpu::TextureView,
+        size: (u32, u32),
+    ) -> Result<(), RenderError> {
+        ctx.scoped("rendering", || {
+            let mut encoder =
+                ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("seamlit frame"),
+                });
+            self.encode(ctx, &mut encoder, scene, camera, settings, target, size)?;
+            ctx.queue().submit([encoder.finish()]);
+            Ok(())
+        })
+    }
+
+    /// Records one frame into `encoder` without submitting it, for callers that draw more
+    /// (an egui overlay) in the same command buffer. Uniforms are written through the queue,
+    /// so submit before the next call.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::BadSize`].
+    #[expect(clippy::too_many_arguments, reason = "a frame is all of these, and each is distinct")]
+    pub fn encode(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        camera: &CameraView,
+        settings: &FrameSettings,
+        target: &wgpu::TextureView,
+        size: (u32, u32),
+    ) -> Result<(), RenderError> {
+        check_size(ctx, size.0, size.1)?;
+        self.prepare(ctx, scene, camera, settings, size);
+        let Some(attachments) = &self.attachments else { return Ok(()) };
+        let [r, g, b, a] = settings.clear_color.map(f64::from);
+        let (view, resolve_target) = match &attachments.msaa {
+            Some(msaa) => (msaa, Some(target)),
+            None => (target, None),
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("seamlit scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                    store: if resolve_target.is_some() {
+                        wgpu::StoreOp::Discard
+                    } else {
+                        wgpu::StoreOp::Store
+                    },
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &attachments.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.frame_bind_group, &[]);
+        for mesh in &scene.meshes {
+            let material = &scene.materials[mesh.material];
+            pass.set_pipeline(self.pipelines.mesh(mesh.mirrored, material.double_sided));
+            pass.set_bind_group(1, &material.bind_group, &[]);
+            pass.set_bind_group(2, &mesh.bind_group, &[]);
+            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+        }
+        if settings.show_tbn {
+            pass.set_pipeline(&self.pipelines.tbn);
+            for mesh in &scene.meshes {
+                pass.set_bind_group(2, &mesh.bind_group, &[]);
+                pass.draw(0..mesh.tbn_vertex_count * 6, 0..1);
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the uniforms and lights, and makes the attachments fit `size`.
+    fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        camera: &CameraView,
+        settings: &FrameSettings,
+        size: (u32, u32),
+    ) {
+        let raw = settings.to_raw(camera, scene.default_tbn_length(), !self.format.is_srgb());
+        ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
+        if settings.lights.len() > self.light_capacity {
+            self.light_capacity = settings.lights.len().next_power_of_two();
+            self.light_buffer = light_buffer(ctx, self.light_capacity);
+            self.frame_bind_group = frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer);
+        }
+        if !settings.lights.is_empty() {
+            let lights: Vec<LightRaw> = settings.lights.iter().map(crate::Light::to_raw).collect();
+            ctx.queue().write_buffer(&self.light_buffer, 0, bytemuck::cast_slice(&lights));
+        }
+        if self.attachments.as_ref().is_none_or(|a| a.size != size) {
+            self.attachments = Some(self.create_attachments(ctx, size));
+        }
+    }
+
+    fn create_attachments(&self, ctx: &GpuContext, (width, height): (u32, u32)) -> Attachments {
+        let texture = |label, format| {
+            ctx.device()
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: self.sample_count,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
+        };
+        Attachments {
+            size: (width, height),
+            depth: texture("seamlit depth", DEPTH_FORMAT),
+            msaa: (self.sample_count > 1).then(|| texture("seamlit msaa colour", self.format)),
+        }
+    }
+
+    /// Renders one frame offscreen at `width` x `height` and reads it back as an sRGB RGBA
+    /// image. The renderer must have been created with [`IMAGE_FORMAT`].
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::BadSize`], [`RenderError::Gpu`] (also when the renderer's format is not
+    /// [`IMAGE_FORMAT`]), [`RenderError::Poll`], [`RenderError::Map`].
+    pub fn render_to_image(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        camera: &CameraView,
+        settings: &FrameSettings,
+        width: u32,
+        height: u32,
+    ) -> Result<RgbaImage, RenderError> {
+        check_size(ctx, width, height)?;
+        if self.format != IMAGE_FORMAT {
+            return Err(RenderError::Gpu {
+                during: "rendering to an image",
+                message: format!(
+                    "the renderer draws {:?}, images need {IMAGE_FORMAT:?}",
+                    self.format
+                ),
+            });
+        }
+        ctx.scoped("rendering to an image", || {
+            let target = ctx.device().create_texture(&wgpu::TextureDescriptor {
+                label: Some("seamlit image"),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: IMAGE_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let view = target.create_view(&wgpu::TextureViewDescriptor::default());
+            let mut encoder =
+                ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("seamlit image"),
+                });
+            self.encode(ctx, &mut encoder, scene, camera, settings, &view, (width, height))?;
+            crate::readback::read_texture(ctx, encoder, &target, width, height)
+        })
+    }
+
+    /// Renders `frames` frames offscreen at `width` x `height` (after one unmeasured warm-up
+    /// frame) and measures each from recording to the GPU having finished it (submit, then
+    /// wait). This is what `seamlit render --frames N` reports.
+    ///
+    /// # Errors
+    ///
+    /// As [`Renderer::render`], and [`RenderError::Poll`].
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a timed frame is all of these, and each is distinct"
+    )]
+    pub fn time_frames(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &GpuScene,
+        camera: &CameraView,
+        settings: &FrameSettings,
+        width: u32,
+        height: u32,
+        frames: usize,
+    ) -> Result<FrameTimes, RenderError> {
+        check_size(ctx, width, height)?;
+        let target = ctx.device().create_texture(&wgpu::TextureDescriptor {
+            label: Some("seamlit timing target"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: self.format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let view = target.create_view(&wgpu::TextureViewDescriptor::default());
+        let mut times = Vec::with_capacity(frames);
+        for i in 0..=frames {
+            let start = Instant::now();
+            self.render(ctx, scene, camera, settings, &view, (width, height))?;
+            ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
+            if i > 0 {
+                times.push(start.elapsed());
+            }
+        }
+        Ok(FrameTimes { frames: times })
+    }
+}
+
+fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
+    let max = ctx.device().limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(RenderError::BadSize { width, height, max });
+    }
+    Ok(())
+}
+
+fn light_buffer(ctx: &GpuContext, capacity: usize) -> wgpu::Buffer {
+    ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("seamlit lights"),
+        size: (capacity.max(1) * size_of::<LightRaw>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn frame_bind_group(
+    ctx: &GpuContext,
+    frame: &wgpu::Buffer,
+    lights: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("seamlit frame"),
+        layout: &ctx.layouts.frame,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
+        ],
+    })
+}
+
+/// Renders one image with a fresh [`Renderer`] ([`IMAGE_FORMAT`], 4x MSAA where the adapter
+/// supports it, else none). For many images, keep a [`Renderer`] and call
+/// [`Renderer::render_to_image`].
+///
+/// # Errors
+///
+/// As [`Renderer::new`] and [`Renderer::render_to_image`].
+pub fn render_to_image(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    camera: &CameraView,
+    settings: &FrameSettings,
+    width: u32,
+    height: u32,
+) -> Result<RgbaImage, RenderError> {
+    let samples = if ctx.supported_sample_counts(IMAGE_FORMAT).contains(&DEFAULT_SAMPLE_COUNT) {
+        DEFAULT_SAMPLE_COUNT
+    } else {
+        1
+    };
+    Renderer::new(ctx, IMAGE_FORMAT, samples)?
+        .render_to_image(ctx, scene, camera, settings, width, height)
+}

@@ -1,0 +1,424 @@
+//! A model on the GPU: one vertex and index buffer per object, materials with their textures.
+
+use std::collections::HashMap;
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use seamlit_io::{Asset, Material, Texture, TextureRef, UvTransform};
+use seamlit_mesh::{Model, Object, VAxis};
+use wgpu::util::DeviceExt;
+
+use crate::texture::{self, TexelKind};
+use crate::{GpuContext, RenderError};
+
+/// One vertex as the vertex shader reads it (48 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub(crate) struct VertexRaw {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub tangent: [f32; 4],
+    pub uv: [f32; 2],
+}
+
+impl VertexRaw {
+    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2];
+
+    pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: size_of::<Self>() as wgpu::BufferAddress,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
+/// Size of [`VertexRaw`] in bytes.
+const VERTEX_SIZE: u64 = size_of::<VertexRaw>() as u64;
+
+/// Per-object uniforms (`Object` in `mesh.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub(crate) struct ObjectRaw {
+    pub model: [[f32; 4]; 4],
+    pub normal: [[f32; 4]; 4],
+    pub det_sign: f32,
+    pub object_id: u32,
+    pub flip_v: u32,
+    pub has_tangents: u32,
+}
+
+/// Material flag: the material has a normal map.
+const MAT_NORMAL_MAP: u32 = 1;
+/// Material flag: the normal map is green-down (DirectX).
+const MAT_GREEN_DOWN: u32 = 2;
+/// Material flag: back faces are drawn and lit from behind.
+const MAT_DOUBLE_SIDED: u32 = 4;
+
+/// Material uniforms (`Material` in `mesh.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub(crate) struct MaterialRaw {
+    pub base_color: [f32; 4],
+    pub specular: [f32; 3],
+    pub shininess: f32,
+    pub base_uv: [[f32; 4]; 2],
+    pub normal_uv: [[f32; 4]; 2],
+    pub normal_scale: f32,
+    pub flags: u32,
+    pub pad: [f32; 2],
+}
+
+/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`.
+fn uv_rows(transform: Option<&UvTransform>) -> [[f32; 4]; 2] {
+    let Some(t) = transform else { return [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]] };
+    let (s, c) = t.rotation.sin_cos();
+    [
+        [c * t.scale[0], s * t.scale[1], t.offset[0], 0.0],
+        [-s * t.scale[0], c * t.scale[1], t.offset[1], 0.0],
+    ]
+}
+
+/// Builds a material's uniforms.
+pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
+    let mut flags = 0;
+    if material.normal_texture.is_some() {
+        flags |= MAT_NORMAL_MAP;
+    }
+    if material.normal_green_down {
+        flags |= MAT_GREEN_DOWN;
+    }
+    if material.double_sided {
+        flags |= MAT_DOUBLE_SIDED;
+    }
+    MaterialRaw {
+        base_color: material.base_color,
+        specular: material.specular,
+        shininess: material.shininess.max(0.0),
+        base_uv: uv_rows(material.base_color_texture.as_ref().and_then(|r| r.transform.as_ref())),
+        normal_uv: uv_rows(material.normal_texture.as_ref().and_then(|r| r.transform.as_ref())),
+        normal_scale: material.normal_scale,
+        flags,
+        pad: [0.0; 2],
+    }
+}
+
+/// One object on the GPU.
+#[derive(Debug)]
+pub(crate) struct GpuMesh {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub index_count: u32,
+    /// How many vertices the TBN line pass draws (all, unless the storage binding limit
+    /// is smaller than the buffer).
+    pub tbn_vertex_count: u32,
+    pub bind_group: wgpu::BindGroup,
+    /// Index into `GpuScene::materials`.
+    pub material: usize,
+    /// The transform has a negative determinant: front faces wind clockwise.
+    pub mirrored: bool,
+}
+
+/// A material on the GPU.
+#[derive(Debug)]
+pub(crate) struct GpuMaterial {
+    pub bind_group: wgpu::BindGroup,
+    pub double_sided: bool,
+}
+
+/// A model uploaded to the GPU: geometry, materials and textures, ready for
+/// [`crate::Renderer::render`].
+///
+/// Geometry can be replaced without re-uploading textures ([`GpuScene::replace_model`]), for
+/// a viewer that re-runs `seamlit_mesh::fix` when the user changes the mode.
+#[derive(Debug)]
+pub struct GpuScene {
+    pub(crate) meshes: Vec<GpuMesh>,
+    pub(crate) materials: Vec<GpuMaterial>,
+    material_count: usize,
+    bounds: Option<(Vec3, Vec3)>,
+    triangles: usize,
+}
+
+impl GpuScene {
+    /// Uploads an asset (its model, materials and textures). Every object must have normals
+    /// (run `seamlit_mesh::fix` first); missing tangents disable normal mapping on that object,
+    /// missing UVs read as (0, 0), missing textures use 1x1 defaults (white base colour, flat
+    /// normal), objects without a material use [`Material::default`].
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::MissingNormals`], [`RenderError::BadObject`] (array lengths or indices
+    /// that do not fit), [`RenderError::IndexOutOfRange`] (a material or texture index),
+    /// [`RenderError::TextureTooLarge`], [`RenderError::Gpu`].
+    pub fn upload(ctx: &GpuContext, asset: &Asset) -> Result<Self, RenderError> {
+        Self::upload_parts(ctx, &asset.model, &asset.materials, &asset.textures)
+    }
+
+    /// As [`GpuScene::upload`], from the parts of an asset.
+    ///
+    /// # Errors
+    ///
+    /// As [`GpuScene::upload`].
+    pub fn upload_parts(
+        ctx: &GpuContext,
+        model: &Model,
+        materials: &[Material],
+        textures: &[Texture],
+    ) -> Result<Self, RenderError> {
+        ctx.scoped("uploading the scene", || {
+            let gpu_materials = upload_materials(ctx, materials, textures)?;
+            let mut scene = Self {
+                meshes: Vec::new(),
+                materials: gpu_materials,
+                material_count: materials.len(),
+                bounds: None,
+                triangles: 0,
+            };
+            scene.set_model(ctx, model)?;
+            Ok(scene)
+        })
+    }
+
+    /// Replaces the geometry (for instance after re-running `seamlit_mesh::fix` in another
+    /// mode), keeping materials and textures. Material indices must fit the materials the
+    /// scene was uploaded with.
+    ///
+    /// # Errors
+    ///
+    /// As [`GpuScene::upload`]; on error the scene keeps its old geometry.
+    pub fn replace_model(&mut self, ctx: &GpuContext, model: &Model) -> Result<(), RenderError> {
+        ctx.scoped("replacing the geometry", || self.set_model(ctx, model))
+    }
+
+    fn set_model(&mut self, ctx: &GpuContext, model: &Model) -> Result<(), RenderError> {
+        let flip_v = model.v_axis == VAxis::Up;
+        let meshes = model
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| !o.triangles.is_empty())
+            .map(|(i, o)| {
+                upload_object(
+                    ctx,
+                    o,
+                    u32::try_from(i).unwrap_or(u32::MAX),
+                    flip_v,
+                    self.material_count,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        self.meshes = meshes;
+        self.bounds = model.bounds();
+        self.triangles = model.triangle_count();
+        Ok(())
+    }
+
+    /// The axis-aligned bounds of the geometry in world space, `None` when empty.
+    #[must_use]
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.bounds
+    }
+
+    /// Number of triangles uploaded.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.triangles
+    }
+
+    /// Number of objects uploaded (objects without triangles are skipped).
+    #[must_use]
+    pub fn object_count(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// The length of the TBN lines when the frame does not set one: 2% of the bounding
+    /// diagonal.
+    pub(crate) fn default_tbn_length(&self) -> f32 {
+        self.bounds.map_or(0.05, |(lo, hi)| (hi - lo).length() * 0.02)
+    }
+}
+
+fn upload_materials(
+    ctx: &GpuContext,
+    materials: &[Material],
+    textures: &[Texture],
+) -> Result<Vec<GpuMaterial>, RenderError> {
+    let white = texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?;
+    let flat = texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?;
+    let sampler = texture::sampler(ctx);
+    let mut cache: HashMap<(usize, TexelKind), wgpu::TextureView> = HashMap::new();
+    let default = Material::default();
+    let mut out = Vec::with_capacity(materials.len() + 1);
+    for material in materials.iter().chain(std::iter::once(&default)) {
+        let mut view = |r: Option<&TextureRef>,
+                        kind: TexelKind|
+         -> Result<Option<wgpu::TextureView>, RenderError> {
+            let Some(r) = r else { return Ok(None) };
+            let tex = textures.get(r.texture).ok_or_else(|| RenderError::IndexOutOfRange {
+                what: format!("texture (of material {:?})", material.name),
+                index: r.texture,
+                count: textures.len(),
+            })?;
+            let Some(image) = tex.image.as_deref() else { return Ok(None) };
+            if let Some(v) = cache.get(&(r.texture, kind)) {
+                return Ok(Some(v.clone()));
+            }
+            let v = texture::upload(ctx, &tex.name, image, kind)?;
+            cache.insert((r.texture, kind), v.clone());
+            Ok(Some(v))
+        };
+        let base = view(material.base_color_texture.as_ref(), TexelKind::Color)?;
+        let normal = view(material.normal_texture.as_ref(), TexelKind::Normal)?;
+        let mut raw = material_to_raw(material);
+        if normal.is_none() {
+            // A normal map that could not be loaded is no normal map.
+            raw.flags &= !MAT_NORMAL_MAP;
+        }
+        let uniform = ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("seamlit material"),
+            contents: bytemuck::bytes_of(&raw),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&material.name),
+            layout: &ctx.layouts.material,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(base.as_ref().unwrap_or(&white)),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(normal.as_ref().unwrap_or(&flat)),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+            ],
+        });
+        out.push(GpuMaterial { bind_group, double_sided: material.double_sided });
+    }
+    Ok(out)
+}
+
+/// Checks an object's arrays and indices and interleaves its vertices.
+pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError> {
+    let n = object.positions.len();
+    let bad = |what: String| RenderError::BadObject { object: object.name.clone(), what };
+    let normals = object
+        .normals
+        .as_ref()
+        .ok_or_else(|| RenderError::MissingNormals { object: object.name.clone() })?;
+    let check = |name: &str, len: usize| {
+        if len == n { Ok(()) } else { Err(bad(format!("{len} {name} for {n} positions"))) }
+    };
+    check("normals", normals.len())?;
+    if let Some(t) = &object.tangents {
+        check("tangents", t.len())?;
+    }
+    if let Some(uv) = &object.uvs {
+        check("uvs", uv.len())?;
+    }
+    if let Some((t, &i)) = object
+        .triangles
+        .iter()
+        .enumerate()
+        .find_map(|(t, tri)| tri.iter().find(|&&i| i as usize >= n).map(|i| (t, i)))
+    {
+        return Err(bad(format!("triangle {t} uses vertex {i}, but there are {n}")));
+    }
+    Ok((0..n)
+        .map(|i| VertexRaw {
+            position: object.positions[i].to_array(),
+            normal: normals[i].to_array(),
+            tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
+            uv: object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array()),
+        })
+        .collect())
+}
+
+fn upload_object(
+    ctx: &GpuContext,
+    object: &Object,
+    id: u32,
+    flip_v: bool,
+    material_count: usize,
+) -> Result<GpuMesh, RenderError> {
+    let vertices = interleave(object)?;
+    let material = match object.material {
+        Some(m) if m >= material_count => {
+            return Err(RenderError::IndexOutOfRange {
+                what: format!("material (of object {:?})", object.name),
+                index: m,
+                count: material_count,
+            });
+        }
+        Some(m) => m,
+        None => material_count,
+    };
+    let model: Mat4 = object.model_transform();
+    let det = model.determinant();
+    let raw = ObjectRaw {
+        model: model.to_cols_array_2d(),
+        normal: model.inverse().transpose().to_cols_array_2d(),
+        det_sign: if det < 0.0 { -1.0 } else { 1.0 },
+        object_id: id,
+        flip_v: u32::from(flip_v),
+        has_tangents: u32::from(object.tangents.is_some()),
+    };
+    let device = ctx.device();
+    // The TBN lines read the vertices as a storage buffer, which may be smaller than the
+    // vertex buffer on some adapters: lines are drawn for the vertices that fit.
+    let max_storage = device.limits().max_storage_buffer_binding_size;
+    let tbn_vertices =
+        usize::try_from(max_storage / VERTEX_SIZE).unwrap_or(usize::MAX).min(vertices.len()).max(1);
+    let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&object.name),
+        contents: bytemuck::cast_slice(&vertices),
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+    });
+    let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&object.name),
+        contents: bytemuck::cast_slice(&object.triangles),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&object.name),
+        contents: bytemuck::bytes_of(&raw),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(&object.name),
+        layout: &ctx.layouts.object,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &vertex_buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(tbn_vertices as u64 * VERTEX_SIZE),
+                }),
+            },
+        ],
+    });
+    let too_many = |what: &str| RenderError::BadObject {
+        object: object.name.clone(),
+        what: format!("too many {what} for 32-bit indices"),
+    };
+    Ok(GpuMesh {
+        index_count: u32::try_from(object.triangles.len() * 3)
+            .map_err(|_| too_many("triangles"))?,
+        tbn_vertex_count: u32::try_from(tbn_vertices.min(vertices.len()))
+            .map_err(|_| too_many("vertices"))?,
+        vertices: vertex_buffer,
+        indices: index_buffer,
+        bind_group,
+        material,
+        mirrored: det < 0.0,
+    })
+}

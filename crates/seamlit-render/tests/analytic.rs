@@ -1,0 +1,212 @@
+//! Analytic checks: a lit plane's pixels equal the lighting equation computed here, in f64,
+//! within 2/255 (lavapipe in CI: real rendering).
+
+mod common;
+
+use common::{
+    assert_pixel, asset, ctx, decode, ortho_camera, pixel_world, plane, save, srgb, tex_ref,
+    texture,
+};
+use glam::Vec3;
+use image::RgbaImage;
+use seamlit_io::Material;
+use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel, render_to_image};
+
+const SIZE: u32 = 64;
+const HALF: f32 = 1.0;
+const EYE: [f64; 3] = [0.0, 0.0, 5.0];
+
+fn normalize(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / l, v[1] / l, v[2] / l]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// A plane with one uniform normal-map texel everywhere.
+fn normal_mapped_plane(texel: [u8; 3], material: Material) -> seamlit_io::Asset {
+    let img = RgbaImage::from_pixel(4, 4, image::Rgba([texel[0], texel[1], texel[2], 255]));
+    asset(
+        plane(1.5),
+        Material { normal_texture: tex_ref(0), ..material },
+        vec![texture("normal", img)],
+    )
+}
+
+/// The tangent-space normal of a texel in world space for the plane (T = +X, B = +Y, N = +Z).
+fn texel_normal(texel: [u8; 3]) -> [f64; 3] {
+    normalize([decode(texel[0]), decode(texel[1]), decode(texel[2])])
+}
+
+#[test]
+fn directional_light_on_a_flat_normal_map_matches_blinn_phong() {
+    let ctx = ctx();
+    let material = Material {
+        base_color: [0.8, 0.6, 0.4, 1.0],
+        specular: [0.5, 0.5, 0.5],
+        shininess: 16.0,
+        ..Material::default()
+    };
+    let texel = [128, 128, 255];
+    let scene =
+        GpuScene::upload(&ctx, &normal_mapped_plane(texel, material.clone())).expect("upload");
+    let dir = [-0.3, -0.2, -1.0];
+    let light_color = [1.0, 0.9, 0.8];
+    let intensity = 0.9;
+    let ambient = 0.05;
+    let settings = FrameSettings {
+        lights: vec![Light::Directional {
+            direction: Vec3::new(-0.3, -0.2, -1.0),
+            color: Vec3::new(1.0, 0.9, 0.8),
+            intensity: 0.9,
+        }],
+        ambient: Vec3::splat(0.05),
+        ..FrameSettings::default()
+    };
+    let image =
+        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    save("analytic_flat", &image);
+
+    let n = texel_normal(texel);
+    let l = normalize(dir.map(|d: f64| -d));
+    for (x, y) in [(32, 32), (5, 7), (60, 50), (20, 58)] {
+        let p = pixel_world(x, y, SIZE, HALF);
+        let v = normalize([EYE[0] - p[0], EYE[1] - p[1], EYE[2] - p[2]]);
+        let h = normalize([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+        let n_dot_l = dot(n, l).max(0.0);
+        let spec = dot(n, h).max(0.0).powf(f64::from(material.shininess));
+        let expected: [f64; 3] = std::array::from_fn(|c| {
+            let albedo = f64::from(material.base_color[c]);
+            let radiance = light_color[c] * intensity;
+            srgb(
+                albedo * (ambient + radiance * n_dot_l)
+                    + f64::from(material.specular[c]) * radiance * spec,
+            )
+        });
+        assert_pixel(&image, x, y, expected, 2.0, "flat normal map, Blinn-Phong");
+    }
+}
+
+#[test]
+fn a_normal_map_texel_tilted_45_degrees_is_darker_by_the_cosine() {
+    let ctx = ctx();
+    let material =
+        Material { base_color: [0.9, 0.9, 0.9, 1.0], specular: [0.0; 3], ..Material::default() };
+    // n = (sin 45, 0, cos 45): tilted toward +T = +X.
+    let t = (std::f64::consts::FRAC_1_SQRT_2 * 0.5 + 0.5) * 255.0;
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "218.2 fits a byte"
+    )]
+    let tilted = [t.round() as u8, 128, t.round() as u8];
+    let flat = [128, 128, 255];
+    let lambert = |direction: Vec3| FrameSettings {
+        lights: vec![Light::Directional { direction, color: Vec3::ONE, intensity: 1.0 }],
+        ambient: Vec3::splat(0.02),
+        lighting_model: LightingModel::Lambert,
+        ..FrameSettings::default()
+    };
+    let camera = ortho_camera(HALF);
+    let render = |texel: [u8; 3], direction: Vec3, name: &str| {
+        let scene =
+            GpuScene::upload(&ctx, &normal_mapped_plane(texel, material.clone())).expect("upload");
+        let image = render_to_image(&ctx, &scene, &camera, &lambert(direction), SIZE, SIZE)
+            .expect("render");
+        save(name, &image);
+        image
+    };
+    let expect = |texel: [u8; 3], l: [f64; 3]| -> [f64; 3] {
+        let n_dot_l = dot(texel_normal(texel), normalize(l)).max(0.0);
+        [srgb(0.9 * (0.02 + n_dot_l)); 3]
+    };
+
+    // Light straight down: the flat texel gets cos 0, the tilted one cos 45.
+    let down = Vec3::NEG_Z;
+    let flat_img = render(flat, down, "analytic_flat_down");
+    let tilted_img = render(tilted, down, "analytic_tilted_down");
+    assert_pixel(
+        &flat_img,
+        32,
+        32,
+        expect(flat, [0.0, 0.0, 1.0]),
+        2.0,
+        "flat texel, light from above",
+    );
+    assert_pixel(
+        &tilted_img,
+        32,
+        32,
+        expect(tilted, [0.0, 0.0, 1.0]),
+        2.0,
+        "tilted texel, light from above",
+    );
+    let expected_tilted = expect(tilted, [0.0, 0.0, 1.0])[0];
+    assert!(
+        expected_tilted < expect(flat, [0.0, 0.0, 1.0])[0] - 20.0,
+        "the tilted texel must be clearly darker"
+    );
+
+    // Light from 45 degrees on the +X side: the tilted texel faces it (full light); from the
+    // -X side it faces away (ambient only). This fixes the direction of the tangent.
+    let from_plus_x = render(tilted, Vec3::new(-1.0, 0.0, -1.0), "analytic_tilted_plus_x");
+    let from_minus_x = render(tilted, Vec3::new(1.0, 0.0, -1.0), "analytic_tilted_minus_x");
+    assert_pixel(
+        &from_plus_x,
+        32,
+        32,
+        expect(tilted, [1.0, 0.0, 1.0]),
+        2.0,
+        "tilted texel, light from +X",
+    );
+    assert_pixel(
+        &from_minus_x,
+        32,
+        32,
+        expect(tilted, [-1.0, 0.0, 1.0]),
+        2.0,
+        "tilted texel, light from -X",
+    );
+}
+
+#[test]
+fn point_light_falls_off_with_distance_as_specified() {
+    let ctx = ctx();
+    let material =
+        Material { base_color: [1.0, 1.0, 1.0, 1.0], specular: [0.0; 3], ..Material::default() };
+    let scene = GpuScene::upload(&ctx, &asset(plane(1.5), material, vec![])).expect("upload");
+    let (height, range, intensity) = (1.0, 3.0, 0.8);
+    let settings = FrameSettings {
+        lights: vec![Light::Point {
+            position: Vec3::new(0.0, 0.0, 1.0),
+            color: Vec3::ONE,
+            intensity: 0.8,
+            range: 3.0,
+        }],
+        ambient: Vec3::ZERO,
+        lighting_model: LightingModel::Lambert,
+        ..FrameSettings::default()
+    };
+    let image =
+        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    save("analytic_point", &image);
+    // KHR_lights_punctual: clamp(1 - (d / range)^4, 0, 1)^2 / d^2, times N.L.
+    let expected = |x: u32, y: u32| {
+        let p = pixel_world(x, y, SIZE, HALF);
+        let to_light = [-p[0], -p[1], height - p[2]];
+        let d = dot(to_light, to_light).sqrt();
+        let fade = (1.0 - (d / range).powi(4)).clamp(0.0, 1.0);
+        let value = intensity * fade * fade / (d * d) * (to_light[2] / d);
+        [srgb(value); 3]
+    };
+    // Near: right under the light (d ~ 1); far: 0.9 to the side (d ~ 1.35).
+    let (near, far) = ((32, 32), (61, 32));
+    assert_pixel(&image, near.0, near.1, expected(near.0, near.1), 2.0, "point light, near");
+    assert_pixel(&image, far.0, far.1, expected(far.0, far.1), 2.0, "point light, far");
+    assert!(
+        expected(far.0, far.1)[0] < expected(near.0, near.1)[0] - 30.0,
+        "the far pixel must be clearly darker"
+    );
+}
