@@ -20,7 +20,9 @@ pub enum MeshError {
         value: [f32; 3],
     },
     /// A UV is NaN or infinite.
-    #[error("object {object} ({name:?}): vertex {vertex} has a non-finite texture coordinate {value:?}")]
+    #[error(
+        "object {object} ({name:?}): vertex {vertex} has a non-finite texture coordinate {value:?}"
+    )]
     NonFiniteUv {
         /// Index of the object in the model.
         object: usize,

@@ -1,1 +1,87 @@
-//! (in progress)
+//! Finishing a tangent frame (the paper's sections 5.3 and 5.4) and moving it between model
+//! space and an object's local space.
+//!
+//! `T = normalize(T - N dot(N, T))` (Gram-Schmidt), and `w = sign(dot(cross(N, T), B))` so
+//! that the renderer rebuilds `B = cross(N, T) * w` (glTF convention). Every step has a
+//! fallback, so no input, however degenerate, gives a NaN.
+
+use glam::{Mat3, Vec3, Vec4, Vec4Swizzles};
+
+/// Normalises the summed normal, orthogonalises the summed tangent against it and takes the
+/// handedness from the summed bitangent. `fallback` is used when the normal sum vanishes.
+#[must_use]
+pub(crate) fn finish(n_sum: Vec3, fallback: Vec3, t_sum: Vec3, b_sum: Vec3) -> (Vec3, Vec4) {
+    let n = n_sum.try_normalize().or_else(|| fallback.try_normalize()).unwrap_or(Vec3::Z);
+    let t =
+        (t_sum - n * n.dot(t_sum)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+    let w = if n.cross(t).dot(b_sum) < 0.0 { -1.0 } else { 1.0 };
+    (n, t.extend(w))
+}
+
+/// A transform's linear part and what is derived from it, for moving frames.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Linear {
+    m: Mat3,
+    inverse: Mat3,
+}
+
+impl Linear {
+    pub fn new(m: Mat3) -> Self {
+        Self { m, inverse: m.inverse() }
+    }
+
+    /// Model-space frame -> local space: `N_l ~ M^T N`, `T_l ~ M^-1 T`, `B_l ~ M^-1 B`.
+    #[must_use]
+    pub fn frame_to_local(&self, n: Vec3, t: Vec4) -> (Vec3, Vec4) {
+        let b = n.cross(t.xyz()) * t.w;
+        reframe(self.m.transpose() * n, self.inverse * t.xyz(), self.inverse * b, n, t)
+    }
+
+    /// Local-space frame -> model space: `N_m ~ M^-T N`, `T_m ~ M T`, `B_m ~ M B`.
+    #[must_use]
+    pub fn frame_to_model(&self, n: Vec3, t: Vec4) -> (Vec3, Vec4) {
+        let b = n.cross(t.xyz()) * t.w;
+        reframe(self.inverse.transpose() * n, self.m * t.xyz(), self.m * b, n, t)
+    }
+
+    /// A normal only, local -> model.
+    #[must_use]
+    pub fn normal_to_model(&self, n: Vec3) -> Vec3 {
+        (self.inverse.transpose() * n).try_normalize().unwrap_or(n)
+    }
+}
+
+fn reframe(n: Vec3, t: Vec3, b: Vec3, n0: Vec3, t0: Vec4) -> (Vec3, Vec4) {
+    let n = n.try_normalize().unwrap_or(n0);
+    let t = t.try_normalize().unwrap_or(t0.xyz());
+    let w = if n.cross(t).dot(b) < 0.0 { -1.0 } else { 1.0 };
+    (n, t.extend(w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finish_orthogonalises_and_signs() {
+        let (n, t) = finish(Vec3::new(0.0, 0.0, 2.0), Vec3::Y, Vec3::new(1.0, 0.0, 1.0), -Vec3::Y);
+        assert_eq!(n, Vec3::Z);
+        assert_eq!(t, Vec4::new(1.0, 0.0, 0.0, -1.0));
+    }
+
+    #[test]
+    fn finish_never_gives_nan() {
+        let (n, t) = finish(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        assert!(n.is_finite() && t.is_finite());
+        assert!((n.length() - 1.0).abs() < 1e-6 && n.dot(t.xyz()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn local_model_round_trip_with_mirror() {
+        let l = Linear::new(Mat3::from_diagonal(Vec3::new(-2.0, 1.0, 3.0)));
+        let (n, t) = (Vec3::new(0.0, 0.6, 0.8), Vec4::new(1.0, 0.0, 0.0, 1.0));
+        let (nm, tm) = l.frame_to_model(n, t);
+        let (nl, tl) = l.frame_to_local(nm, tm);
+        assert!(nl.abs_diff_eq(n, 1e-6) && tl.abs_diff_eq(t, 1e-6), "{nl} {tl}");
+    }
+}

@@ -53,7 +53,7 @@ pub mod weld;
 pub use error::MeshError;
 pub use fix::fix;
 pub use model::{Model, Object, VAxis};
-pub use options::{FixOptions, Mode, TangentMethod, WeldTolerance, Weighting};
+pub use options::{FixOptions, Mode, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
 
 /// The largest number of vertices (and of triangle corners) a model may have: indices are

@@ -1,0 +1,41 @@
+//! Quick timing of `fix` modes on the teapot at one tessellation (median of N runs), for
+//! profiling; the criterion benchmark is the reference measurement.
+//!
+//! `cargo run --release -p seamlit-mesh --example time_fix -- 125 9`
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::Instant;
+
+use seamlit_mesh::{FixOptions, Mode, TangentMethod, fix};
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let n: u32 = args.next().and_then(|a| a.parse().ok()).unwrap_or(125);
+    let runs: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(7);
+    let model = common::teapot(n);
+    println!("teapot n={n}: {} triangles, {} objects", model.triangle_count(), model.objects.len());
+    let cases = [
+        ("model", FixOptions::DEFAULT),
+        ("model-normals-only", FixOptions { tangents: TangentMethod::None, ..FixOptions::DEFAULT }),
+        ("object", FixOptions::DEFAULT.with_mode(Mode::Object)),
+        ("flat", FixOptions::DEFAULT.with_mode(Mode::Flat)),
+        ("mikktspace", FixOptions { tangents: TangentMethod::Mikktspace, ..FixOptions::DEFAULT }),
+    ];
+    for (name, opts) in cases {
+        let mut t: Vec<f64> = (0..runs)
+            .map(|_| {
+                let s = Instant::now();
+                std::hint::black_box(fix(&model, &opts).expect("valid"));
+                s.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        t.sort_by(f64::total_cmp);
+        let med = t[runs / 2];
+        println!(
+            "{name:>20}: median {med:8.1} ms  ({:.2} M triangles/s)",
+            model.triangle_count() as f64 / med / 1e3
+        );
+    }
+}

@@ -1,0 +1,153 @@
+//! Test meshes: a UV sphere, a torus, the Newell teapot's patches, and a splitter that cuts a
+//! mesh into objects along its edges, duplicating boundary vertices as artists' files do.
+#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+
+use glam::{Vec2, Vec3};
+use seamlit_mesh::{Model, Object};
+
+/// A UV sphere of radius 1: `rings` x `segments` quads, a UV seam at u = 0/1 (duplicated
+/// column), poles collapsed (their triangles are degenerate ones, kept on purpose).
+pub fn uv_sphere(rings: u32, segments: u32) -> Object {
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    for r in 0..=rings {
+        let v = r as f32 / rings as f32;
+        let theta = v * std::f32::consts::PI;
+        for s in 0..=segments {
+            let u = s as f32 / segments as f32;
+            let phi = u * std::f32::consts::TAU;
+            // Exact duplicates at the seam: s == segments reuses s == 0's angle.
+            let phi = if s == segments { 0.0 } else { phi };
+            positions.push(Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            ));
+            uvs.push(Vec2::new(u, 1.0 - v));
+        }
+    }
+    Object::new("sphere", positions, grid_triangles(rings, segments)).with_uvs(uvs)
+}
+
+/// A torus (major radius 1, minor 0.35): UV seams in both directions.
+pub fn torus(rings: u32, segments: u32) -> Object {
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    for r in 0..=rings {
+        let v = r as f32 / rings as f32;
+        let a = if r == rings { 0.0 } else { v * std::f32::consts::TAU };
+        for s in 0..=segments {
+            let u = s as f32 / segments as f32;
+            let b = if s == segments { 0.0 } else { u * std::f32::consts::TAU };
+            let ring = 1.0 + 0.35 * a.cos();
+            positions.push(Vec3::new(ring * b.cos(), 0.35 * a.sin(), -ring * b.sin()));
+            uvs.push(Vec2::new(u, v));
+        }
+    }
+    Object::new("torus", positions, grid_triangles(rings, segments)).with_uvs(uvs)
+}
+
+/// Triangles of a (rows + 1) x (cols + 1) vertex grid, counter-clockwise seen from outside.
+pub fn grid_triangles(rows: u32, cols: u32) -> Vec<[u32; 3]> {
+    let w = cols + 1;
+    let mut tris = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            let a = r * w + c;
+            let (b, d, e) = (a + 1, a + w, a + w + 1);
+            tris.push([a, d, e]);
+            tris.push([a, e, b]);
+        }
+    }
+    tris
+}
+
+/// Cuts `object` into `assignment.iter().max() + 1` objects: triangle `t` goes to object
+/// `assignment[t % assignment.len()]`. Each object gets its own copy of every vertex it uses,
+/// moved by `noise(copy_number)` (a vector per copy). Returns the model and, per object, the
+/// original index of each of its triangles.
+pub fn split(
+    object: &Object,
+    assignment: &[usize],
+    mut noise: impl FnMut() -> Vec3,
+) -> (Model, Vec<Vec<usize>>) {
+    let k = assignment.iter().max().map_or(1, |m| m + 1);
+    let mut objects = Vec::new();
+    let mut origin = Vec::new();
+    for o in 0..k {
+        let mut map = vec![u32::MAX; object.positions.len()];
+        let mut positions = Vec::new();
+        let mut uvs = Vec::new();
+        let mut tris = Vec::new();
+        let mut from = Vec::new();
+        for (t, tri) in object.triangles.iter().enumerate() {
+            if assignment[t % assignment.len()] != o {
+                continue;
+            }
+            let local = tri.map(|v| {
+                if map[v as usize] == u32::MAX {
+                    map[v as usize] = positions.len() as u32;
+                    positions.push(object.positions[v as usize] + noise());
+                    uvs.push(object.uvs.as_ref().map_or(Vec2::ZERO, |u| u[v as usize]));
+                }
+                map[v as usize]
+            });
+            tris.push(local);
+            from.push(t);
+        }
+        if tris.is_empty() {
+            continue;
+        }
+        let mut obj = Object::new(format!("part{o}"), positions, tris);
+        if object.uvs.is_some() {
+            obj = obj.with_uvs(uvs);
+        }
+        objects.push(obj);
+        origin.push(from);
+    }
+    (Model::new(objects), origin)
+}
+
+/// The Newell teapot's 32 patches, each tessellated at `n` x `n` into its own object with the
+/// patch's (u, v) as UVs. Reads ../shared/models/newell_teaset/teapot.
+pub fn teapot(n: u32) -> Model {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/newell_teaset/teapot");
+    let text = std::fs::read_to_string(path).expect("the shared teapot model");
+    let mut tokens = text.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty());
+    let mut next = || tokens.next().expect("token").parse::<f32>().expect("number");
+    let patches = next() as usize;
+    let indices: Vec<[usize; 16]> =
+        (0..patches).map(|_| std::array::from_fn(|_| next() as usize - 1)).collect();
+    let points = next() as usize;
+    let cps: Vec<Vec3> = (0..points).map(|_| Vec3::new(next(), next(), next())).collect();
+    let bernstein = |t: f32| {
+        let s = 1.0 - t;
+        [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
+    };
+    let objects = indices
+        .iter()
+        .enumerate()
+        .map(|(i, patch)| {
+            let mut positions = Vec::new();
+            let mut uvs = Vec::new();
+            for r in 0..=n {
+                let v = r as f32 / n as f32;
+                for c in 0..=n {
+                    let u = c as f32 / n as f32;
+                    let (bu, bv) = (bernstein(u), bernstein(v));
+                    let mut p = Vec3::ZERO;
+                    for a in 0..4 {
+                        for b in 0..4 {
+                            p += cps[patch[a * 4 + b]] * bv[a] * bu[b];
+                        }
+                    }
+                    // Newell's data is Z-up; seamlit is Y-up.
+                    positions.push(Vec3::new(p.x, p.z, -p.y));
+                    uvs.push(Vec2::new(u, v));
+                }
+            }
+            Object::new(format!("patch{i}"), positions, grid_triangles(n, n)).with_uvs(uvs)
+        })
+        .collect();
+    Model::new(objects)
+}
