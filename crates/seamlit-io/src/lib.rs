@@ -1,6 +1,176 @@
-//! seamlit-io: model files in and out (being written).
+//! # seamlit-io
+//!
+//! Model files in and out for seamlit: Wavefront OBJ (+ MTL) through tobj, glTF 2.0 and GLB
+//! through the gltf crate, Newell's Bezier patch files, and textures through the image crate.
+//! Every file becomes an [`Asset`]: a [`seamlit_mesh::Model`] of named objects plus the
+//! materials and textures that lighting needs.
+//!
+//! ```
+//! use seamlit_io::{LoadOptions, newell};
+//!
+//! // One bicubic patch: a flat 4 x 4 grid of control points (16 indices, 16 points).
+//! let mut text = String::from("1\n1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16\n16\n");
+//! for j in 0..4 {
+//!     for i in 0..4 {
+//!         text.push_str(&format!("{i},{j},0\n"));
+//!     }
+//! }
+//! let asset = newell::parse(&text, "square", 4)?;
+//! let object = &asset.model.objects[0];
+//! assert_eq!(object.name, "square_patch00");
+//! assert_eq!(object.triangle_count(), 2 * 4 * 4);
+//! assert_eq!(object.vertex_count(), 5 * 5);
+//! # Ok::<(), seamlit_io::IoError>(())
+//! ```
+//!
+//! Loading dispatches on the extension: [`load`]. Writing too: [`save`], always to a
+//! temporary file in the destination folder that is then renamed over the destination.
 #![deny(missing_docs)]
 
 mod asset;
+mod atomic;
+mod error;
+pub mod gltf;
+mod gltf_write;
+pub mod newell;
+pub mod obj;
+mod obj_write;
+mod options;
+mod texture;
+
+use std::path::Path;
 
 pub use asset::{Asset, Material, Node, Texture, TextureRef, TextureSource, UvTransform};
+pub use error::IoError;
+pub use options::{LoadOptions, SaveOptions};
+
+/// A model file format this crate reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ.
+    Obj,
+    /// glTF 2.0, JSON.
+    Gltf,
+    /// glTF 2.0, binary container.
+    Glb,
+    /// Newell's Bezier patch text.
+    Newell,
+}
+
+impl Format {
+    /// The format of `path`, from its extension (case-insensitive): `.obj`, `.gltf`, `.glb`,
+    /// and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
+    /// extension is a Newell patch file if its first token is an integer (the patch count).
+    ///
+    /// Returns `None` for anything else (and for an extension-less file that cannot be read).
+    #[must_use]
+    pub fn of(path: &Path) -> Option<Self> {
+        let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match extension.as_deref() {
+            Some("obj") => Some(Self::Obj),
+            Some("gltf") => Some(Self::Gltf),
+            Some("glb") => Some(Self::Glb),
+            Some("bpt" | "patch" | "patches" | "newell") => Some(Self::Newell),
+            None => {
+                let mut head = [0u8; 64];
+                let n =
+                    std::io::Read::read(&mut std::fs::File::open(path).ok()?, &mut head).ok()?;
+                let text = String::from_utf8_lossy(&head[..n]);
+                let first =
+                    text.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
+                first.parse::<u64>().is_ok().then_some(Self::Newell)
+            }
+            Some(_) => None,
+        }
+    }
+}
+
+/// Loads a model file, choosing the reader by [`Format::of`].
+///
+/// # Errors
+///
+/// [`IoError::UnknownFormat`] for an extension no reader handles, and the errors of
+/// [`obj::load`], [`gltf::load`] and [`newell::load`].
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    match Format::of(path) {
+        Some(Format::Obj) => obj::load(path, options),
+        Some(Format::Gltf | Format::Glb) => gltf::load(path, options),
+        Some(Format::Newell) => newell::load(path, options),
+        None if !path.exists() => {
+            Err(IoError::io(path, std::io::Error::from(std::io::ErrorKind::NotFound)))
+        }
+        None => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+    }
+}
+
+/// Writes an asset, choosing the writer by the extension of `path`: `.gltf` (JSON, with a
+/// `.bin` buffer and the textures beside it), `.glb` (one binary file, textures embedded) or
+/// `.obj` (with a `.mtl` and the textures beside it).
+///
+/// Each file is written to a temporary name in the destination folder, then renamed.
+///
+/// # Errors
+///
+/// [`IoError::WouldOverwriteInput`] when `path` is the asset's own source and
+/// `options.overwrite_input` is not set; [`IoError::UnknownFormat`] for another extension;
+/// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
+/// inconsistent; [`IoError::Io`] when writing fails.
+pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<(), IoError> {
+    if !options.overwrite_input
+        && asset.source.as_deref().is_some_and(|source| same_file(source, path))
+    {
+        return Err(IoError::WouldOverwriteInput { path: path.to_path_buf() });
+    }
+    let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match extension.as_deref() {
+        Some("gltf") => gltf_write::save(asset, path, false),
+        Some("glb") => gltf_write::save(asset, path, true),
+        Some("obj") => obj_write::save(asset, path),
+        _ => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+    }
+}
+
+/// Whether two paths name the same file (by canonical path when both exist).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Reads a file whole, refusing files over `options.max_file_bytes`.
+fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
+    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
+    if size > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: size,
+        });
+    }
+    std::fs::read(path).map_err(|e| IoError::io(path, e))
+}
+
+/// Reads a text file whole (invalid UTF-8 replaced), refusing files over the size limit.
+fn read_text(path: &Path, options: &LoadOptions) -> Result<String, IoError> {
+    let bytes = read_bytes(path, options)?;
+    Ok(match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(err) => String::from_utf8_lossy(err.as_bytes()).into_owned(),
+    })
+}
+
+/// Blinn-Phong shininess to glTF roughness: `sqrt(2 / (Ns + 2))`, the usual mapping
+/// (Ns 0 -> 1, Ns 32 -> 0.24, Ns 1000 -> 0.045).
+#[must_use]
+pub fn shininess_to_roughness(shininess: f32) -> f32 {
+    (2.0 / (shininess.max(0.0) + 2.0)).sqrt()
+}
+
+/// glTF roughness to Blinn-Phong shininess, the inverse of [`shininess_to_roughness`]:
+/// `2 / r^2 - 2`, capped at 2048 for roughness near 0.
+#[must_use]
+pub fn roughness_to_shininess(roughness: f32) -> f32 {
+    let r = roughness.clamp(0.03, 1.0);
+    (2.0 / (r * r) - 2.0).min(2048.0)
+}

@@ -1,0 +1,3 @@
+//! Loading benchmarks (written later).
+
+fn main() {}

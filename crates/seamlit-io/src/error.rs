@@ -1,0 +1,266 @@
+//! The one error type of this crate: every variant names the file and the place in it.
+
+use std::path::PathBuf;
+
+/// Why a file could not be read or written.
+///
+/// Every variant names the file (`path`) and, where the format has one, the place in it: the
+/// line of an OBJ or Newell file, the accessor, buffer or JSON path of a glTF file.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum IoError {
+    /// Reading or writing the file failed at the operating-system level.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+
+    /// The file's extension (or, for extension-less files, its first token) names no format
+    /// this crate reads or writes.
+    #[error("{}: unknown model format (expected .obj, .gltf, .glb or a Newell patch file)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+
+    /// The file is larger than [`crate::LoadOptions::max_file_bytes`].
+    #[error("{}: file is {actual} bytes, more than the limit of {limit}", path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// The limit in bytes.
+        limit: u64,
+        /// The file's size in bytes.
+        actual: u64,
+    },
+
+    /// A line of a text format (OBJ, MTL, Newell) could not be parsed.
+    #[error("{}:{line}: {reason}", path.display())]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// What is wrong, with the expected and the actual text.
+        reason: String,
+    },
+
+    /// A value in a text format is NaN or infinite.
+    #[error("{}:{line}: {what} is not a finite number: {text:?}", path.display())]
+    NotFinite {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// What the number is (for example `vertex position`).
+        what: &'static str,
+        /// The offending text.
+        text: String,
+    },
+
+    /// An OBJ face or a Newell patch refers to an element that does not exist.
+    #[error("{}:{line}: {what} index {index} is out of range: {count} defined so far", path.display())]
+    ReferenceOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// What the index refers to (`vertex`, `texture coordinate`, `normal`, `control point`).
+        what: &'static str,
+        /// The index as written in the file.
+        index: i64,
+        /// How many such elements exist.
+        count: usize,
+    },
+
+    /// A count declared in the file is larger than the file can hold or than the limits allow.
+    #[error("{}:{line}: declares {declared} {what}, but {reason}", path.display())]
+    BadCount {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number of the declaration.
+        line: usize,
+        /// What is counted.
+        what: &'static str,
+        /// The declared count.
+        declared: u64,
+        /// Why it cannot be right (for example `the file holds only 3 more lines`).
+        reason: String,
+    },
+
+    /// A file the model refers to (an `.mtl` library, a texture, a glTF buffer) is missing.
+    /// Returned only where the reference is essential (glTF buffers) or
+    /// [`crate::LoadOptions::strict`] is set; otherwise a warning.
+    #[error("{}: {what} {} not found{}", path.display(), missing.display(), line.map(|l| format!(" (referenced at line {l})")).unwrap_or_default())]
+    MissingFile {
+        /// The file that refers to the missing one.
+        path: PathBuf,
+        /// What the missing file is (`material library`, `texture`, `buffer 0`).
+        what: String,
+        /// The missing file, resolved.
+        missing: PathBuf,
+        /// The referring line, for text formats.
+        line: Option<usize>,
+    },
+
+    /// The OBJ reader (tobj) rejected the file for a reason the diagnostic pass could not
+    /// pin to a line.
+    #[error("{}: OBJ error: {reason}", path.display())]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// tobj's description.
+        reason: String,
+    },
+
+    /// The glTF container or JSON could not be parsed, or failed the gltf crate's validation.
+    #[error("{}: glTF {place}: {reason}", path.display())]
+    Gltf {
+        /// The file.
+        path: PathBuf,
+        /// Where: `GLB header`, `JSON`, or the JSON path of the invalid field.
+        place: String,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// A glTF buffer is shorter than its declared `byteLength`.
+    #[error("{}: glTF buffer {buffer}: expected {expected} bytes, found {actual}", path.display())]
+    BufferLength {
+        /// The file.
+        path: PathBuf,
+        /// Buffer index.
+        buffer: usize,
+        /// Declared length.
+        expected: u64,
+        /// Available length.
+        actual: u64,
+    },
+
+    /// A glTF accessor (or its buffer view) reaches past the end of the data it points into.
+    #[error("{}: glTF accessor {accessor} (buffer view {view}): needs bytes up to {needed}, but only {available} are available", path.display())]
+    AccessorOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// Accessor index.
+        accessor: usize,
+        /// Buffer view index.
+        view: usize,
+        /// One past the last byte the accessor reads (relative to the buffer view for
+        /// accessors, to the buffer for buffer views).
+        needed: u64,
+        /// Bytes available.
+        available: u64,
+    },
+
+    /// A glTF accessor has a layout this reader does not accept (wrong type for the
+    /// attribute, a sparse accessor without data, a count that does not match the others).
+    #[error("{}: glTF accessor {accessor}: {reason}", path.display())]
+    BadAccessor {
+        /// The file.
+        path: PathBuf,
+        /// Accessor index.
+        accessor: usize,
+        /// What is wrong, with expected and actual.
+        reason: String,
+    },
+
+    /// A vertex index in a glTF primitive is not below the vertex count.
+    #[error("{}: glTF mesh {mesh} primitive {primitive}: index accessor {accessor} holds index {index}, but the primitive has {vertex_count} vertices", path.display())]
+    IndexOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// Mesh index.
+        mesh: usize,
+        /// Primitive index within the mesh.
+        primitive: usize,
+        /// Index accessor.
+        accessor: usize,
+        /// The offending index value.
+        index: u32,
+        /// Number of vertices (POSITION count).
+        vertex_count: usize,
+    },
+
+    /// A glTF vertex attribute holds NaN or infinity.
+    #[error("{}: glTF accessor {accessor} ({attribute}): element {element} is not finite", path.display())]
+    AccessorNotFinite {
+        /// The file.
+        path: PathBuf,
+        /// Accessor index.
+        accessor: usize,
+        /// The attribute (`POSITION`, `NORMAL`, ...).
+        attribute: &'static str,
+        /// Index of the first non-finite element.
+        element: usize,
+    },
+
+    /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme
+    /// other than a relative file or a `data:` URI.
+    #[error("{}: {what} URI {uri:?} is refused: {reason}", path.display())]
+    BadUri {
+        /// The file.
+        path: PathBuf,
+        /// What the URI is for (`buffer 0`, `image 2`).
+        what: String,
+        /// The URI as written.
+        uri: String,
+        /// Why it is refused.
+        reason: &'static str,
+    },
+
+    /// The model has more vertices or triangles than [`crate::LoadOptions::max_elements`]
+    /// allows, or than 32-bit indices can address.
+    #[error("{}: {what} has {actual} elements, more than the limit of {limit}", path.display())]
+    TooManyElements {
+        /// The file.
+        path: PathBuf,
+        /// Where (object name or accessor).
+        what: String,
+        /// The limit.
+        limit: usize,
+        /// The count.
+        actual: usize,
+    },
+
+    /// The output path is the file the asset was loaded from and
+    /// [`crate::SaveOptions::overwrite_input`] is not set.
+    #[error("{}: refusing to overwrite the model's own source file (set overwrite_input to allow it)", path.display())]
+    WouldOverwriteInput {
+        /// The output path.
+        path: PathBuf,
+    },
+
+    /// The asset cannot be written as it is (inconsistent attribute lengths, an index out of
+    /// range, a texture without image data).
+    #[error("{}: cannot write object {object:?}: {reason}", path.display())]
+    InvalidAsset {
+        /// The output path.
+        path: PathBuf,
+        /// The object's name (or the material or texture concerned).
+        object: String,
+        /// What is wrong.
+        reason: String,
+    },
+
+    /// Encoding an image for output failed.
+    #[error("{}: cannot encode texture {texture:?}: {reason}", path.display())]
+    Image {
+        /// The output path.
+        path: PathBuf,
+        /// The texture's name.
+        texture: String,
+        /// What the image crate said.
+        reason: String,
+    },
+}
+
+impl IoError {
+    /// An [`IoError::Io`] for `path`.
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Self::Io { path: path.into(), source }
+    }
+}

@@ -1,0 +1,62 @@
+//! Options for loading and saving.
+
+/// How to load a model file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Newell patches: each patch becomes an N x N grid of quads (2 N^2 triangles).
+    /// Clamped to 1..=1024.
+    pub tessellation: u32,
+    /// Whether to read and decode textures (in parallel). When `false` textures are listed
+    /// with `image: None` and no warning.
+    pub load_textures: bool,
+    /// Files larger than this are refused with [`crate::IoError::TooLarge`] before being
+    /// read (the model file itself and each external buffer).
+    pub max_file_bytes: u64,
+    /// The largest number of vertices or triangles one object may have.
+    pub max_elements: usize,
+    /// When set, a missing material library or texture is an error
+    /// ([`crate::IoError::MissingFile`]) instead of a warning.
+    pub strict: bool,
+}
+
+impl LoadOptions {
+    /// The defaults: tessellation 16, textures loaded, 4 GiB files, 2^28 elements per
+    /// object, missing side files are warnings.
+    pub const DEFAULT: Self = Self {
+        tessellation: 16,
+        load_textures: true,
+        max_file_bytes: 4 << 30,
+        max_elements: 1 << 28,
+        strict: false,
+    };
+
+    /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).
+    pub const GEOMETRY: Self = Self { load_textures: false, ..Self::DEFAULT };
+
+    /// Sets the Newell tessellation (builder style).
+    #[must_use]
+    pub const fn with_tessellation(mut self, tessellation: u32) -> Self {
+        self.tessellation = tessellation;
+        self
+    }
+
+    /// Sets [`LoadOptions::strict`] (builder style).
+    #[must_use]
+    pub const fn with_strict(mut self, strict: bool) -> Self {
+        self.strict = strict;
+        self
+    }
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// How to save a model file.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SaveOptions {
+    /// Allow writing over the file the asset was loaded from ([`crate::Asset::source`]).
+    pub overwrite_input: bool,
+}

@@ -1,0 +1,81 @@
+//! Helpers shared by the integration tests: model paths and an independent OBJ counter.
+
+#![allow(dead_code, reason = "each test binary uses a different subset")]
+
+use std::collections::{HashMap, HashSet};
+use std::path::PathBuf;
+
+use seamlit_mesh::Model;
+
+/// A file under ../shared/models.
+pub fn model(relative: &str) -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/")).join(relative)
+}
+
+/// What an OBJ file holds, counted with plain string handling (not the loader): per object
+/// (a run of faces after an `o` or `g` line), its name, its triangle count (a face of n
+/// corners is n - 2 triangles) and the bit patterns of the positions its faces use.
+pub struct ObjCount {
+    pub objects: Vec<(String, usize, HashSet<[u32; 3]>)>,
+}
+
+impl ObjCount {
+    pub fn of_text(text: &str) -> Self {
+        let mut positions: Vec<[u32; 3]> = Vec::new();
+        let mut objects: Vec<(String, usize, HashSet<[u32; 3]>)> = Vec::new();
+        let mut name = "unnamed_object".to_owned();
+        let mut open = false; // whether the current name already has an entry
+        for line in text.lines() {
+            let line = line.trim();
+            if let Some(rest) = line.strip_prefix("v ") {
+                let v: Vec<f32> =
+                    rest.split_whitespace().take(3).map(|t| t.parse().unwrap()).collect();
+                positions.push([v[0].to_bits(), v[1].to_bits(), v[2].to_bits()]);
+            } else if let Some(rest) = line.strip_prefix("o ").or_else(|| line.strip_prefix("g ")) {
+                name = rest.trim().to_owned();
+                open = false;
+            } else if let Some(rest) = line.strip_prefix("f ") {
+                if !open {
+                    objects.push((name.clone(), 0, HashSet::new()));
+                    open = true;
+                }
+                let corners: Vec<&str> = rest.split_whitespace().collect();
+                let entry = objects.last_mut().unwrap();
+                entry.1 += corners.len() - 2;
+                for c in corners {
+                    let i: i64 = c.split('/').next().unwrap().parse().unwrap();
+                    let i = if i < 0 { positions.len() as i64 + i } else { i - 1 };
+                    entry.2.insert(positions[i as usize]);
+                }
+            }
+        }
+        Self { objects }
+    }
+
+    pub fn of_file(relative: &str) -> Self {
+        Self::of_text(&std::fs::read_to_string(model(relative)).unwrap())
+    }
+
+    /// Distinct positions used by two or more objects.
+    pub fn shared_positions(&self) -> usize {
+        shared(self.objects.iter().map(|(_, _, p)| p.clone()))
+    }
+}
+
+/// Distinct positions (bit patterns, model space) that appear in two or more objects.
+pub fn shared_positions(model: &Model) -> usize {
+    shared(model.objects.iter().map(|o| {
+        let m = o.model_transform();
+        o.positions.iter().map(|&p| m.transform_point3(p).to_array().map(f32::to_bits)).collect()
+    }))
+}
+
+fn shared(sets: impl Iterator<Item = HashSet<[u32; 3]>>) -> usize {
+    let mut users: HashMap<[u32; 3], usize> = HashMap::new();
+    for set in sets {
+        for p in set {
+            *users.entry(p).or_default() += 1;
+        }
+    }
+    users.values().filter(|&&n| n >= 2).count()
+}

@@ -1,0 +1,103 @@
+//! OBJ loading: objects, triangles and shared positions of every OBJ in ../shared/models,
+//! checked against counts made from the file text by independent code (tests/common), plus
+//! hand-counted figures from SOURCES.md and the files themselves.
+
+mod common;
+
+use common::{ObjCount, model, shared_positions};
+use seamlit_io::{IoError, LoadOptions, TextureSource};
+
+fn check(relative: &str) -> seamlit_io::Asset {
+    let expected = ObjCount::of_file(relative);
+    let asset = seamlit_io::load(&model(relative), &LoadOptions::default()).unwrap();
+    let got: Vec<(&str, usize)> =
+        asset.model.objects.iter().map(|o| (o.name.as_str(), o.triangle_count())).collect();
+    let want: Vec<(&str, usize)> =
+        expected.objects.iter().map(|(n, t, _)| (n.as_str(), *t)).collect();
+    assert_eq!(got, want, "{relative}");
+    assert_eq!(shared_positions(&asset.model), expected.shared_positions(), "{relative}");
+    assert_eq!(asset.model.v_axis, seamlit_mesh::VAxis::Up);
+    asset
+}
+
+#[test]
+fn cornell_box() {
+    let asset = check("cornell_box/cornell_box.obj");
+    // By hand: 9 `o` statements, but front_wall's only face is commented out: 8 objects
+    // (SOURCES.md). floor 3 quads, light/ceiling/back/green/red 1 quad each, blocks 5 quads
+    // each: (3 + 5 + 10) quads = 36 triangles.
+    assert_eq!(asset.model.objects.len(), 8);
+    assert_eq!(asset.model.triangle_count(), 36);
+    // SOURCES.md: the walls share 16 positions.
+    assert_eq!(shared_positions(&asset.model), 16);
+    // The .mtl defines white and red; cornell_box2.mtl is missing (a warning, not an error),
+    // and red's textures (names with spaces) are missing files: warnings, no images.
+    let names: Vec<&str> = asset.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["white", "red"]);
+    let red = &asset.materials[1];
+    assert_eq!(red.base_color, [1.0, 0.0, 0.0, 1.0]);
+    let diffuse = &asset.textures[red.base_color_texture.as_ref().unwrap().texture];
+    assert_eq!(
+        diffuse.source,
+        TextureSource::File(model("cornell_box/this diffuse texture has spaces.jpg"))
+    );
+    assert!(diffuse.image.is_none());
+    assert!(red.normal_texture.is_some());
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("cornell_box2.mtl") && w.contains(":9:")),
+        "{:?}",
+        asset.warnings
+    );
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("this diffuse texture has spaces.jpg")),
+        "{:?}",
+        asset.warnings
+    );
+    let floor = &asset.model.objects[0];
+    assert_eq!(floor.material, Some(0));
+    // `usemtl light` names no loaded material.
+    assert_eq!(asset.model.objects[1].material, None);
+}
+
+#[test]
+fn cornell_box_strict_refuses_the_missing_library() {
+    let err = seamlit_io::load(
+        &model("cornell_box/cornell_box.obj"),
+        &LoadOptions::default().with_strict(true),
+    )
+    .unwrap_err();
+    match &err {
+        IoError::MissingFile { line: Some(9), missing, .. } => {
+            assert!(missing.ends_with("cornell_box2.mtl"));
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn groups() {
+    let asset = check("groups.obj");
+    // SOURCES.md: 14 `g` groups plus one `o`, 2,308 triangles; every face has `vn`.
+    assert_eq!(asset.model.objects.len(), 15);
+    assert_eq!(asset.model.triangle_count(), 2308);
+    assert_eq!(asset.model.objects[14].name, "something!");
+    assert!(asset.model.objects.iter().all(|o| o.normals.is_some() && o.uvs.is_none()));
+}
+
+#[test]
+fn spot() {
+    for file in ["spot/spot_triangulated.obj", "spot/spot_quadrangulated.obj"] {
+        let asset = check(file);
+        assert_eq!(asset.model.objects.len(), 1);
+        // 5,856 triangles = 2,928 quads x 2 (counted with `grep -c '^f'`).
+        assert_eq!(asset.model.triangle_count(), 5856, "{file}");
+        assert!(asset.model.objects[0].uvs.is_some());
+    }
+}
+
+#[test]
+fn large() {
+    // `grep -c '^f'`: 69,451 and 99,938 triangles.
+    assert_eq!(check("large/stanford-bunny.obj").model.triangle_count(), 69_451);
+    assert_eq!(check("large/nefertiti.obj").model.triangle_count(), 99_938);
+}
