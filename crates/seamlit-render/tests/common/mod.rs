@@ -126,3 +126,5 @@ pub fn luminance(p: &image::Rgba<u8>) -> f64 {
     };
     0.2126 * lin(p[0]) + 0.7152 * lin(p[1]) + 0.0722 * lin(p[2])
 }
+
+pub mod shapes;
