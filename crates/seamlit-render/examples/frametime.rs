@@ -1,0 +1,111 @@
+//! Frame time of the renderer over repeated frames: 1 and 16 lights at about 100k and 1M
+//! triangles, normal mapping on, 4x MSAA, offscreen.
+//!
+//! ```text
+//! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20] [--samples 4]
+//! ```
+//!
+//! Each frame is recorded, submitted and waited for (`Renderer::time_frames`); the table gives
+//! the median and the fastest of N frames after one warm-up frame.
+
+#[path = "../tests/common/shapes.rs"]
+mod shapes;
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
+use seamlit_mesh::Model;
+use seamlit_render::{
+    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, Renderer,
+};
+
+fn arg(name: &str) -> Option<String> {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter().position(|a| a == name).and_then(|i| args.get(i + 1).cloned())
+}
+
+/// `count` lights: one directional, then point and spot lights around the model.
+fn lights(count: usize) -> Vec<Light> {
+    (0..count)
+        .map(|i| {
+            let a = i as f32 / count as f32 * std::f32::consts::TAU;
+            let position = Vec3::new(a.cos() * 2.5, 1.0 + (i % 3) as f32 * 0.5, a.sin() * 2.5);
+            let color = Vec3::new(0.5 + 0.5 * a.cos(), 0.6, 0.5 + 0.5 * a.sin());
+            match i % 3 {
+                0 => Light::Directional { direction: -position, color, intensity: 0.3 },
+                1 => Light::Point { position, color, intensity: 2.0, range: 6.0 },
+                _ => Light::Spot {
+                    position,
+                    direction: -position,
+                    color,
+                    intensity: 4.0,
+                    range: 8.0,
+                    inner_cone_deg: 15.0,
+                    outer_cone_deg: 30.0,
+                },
+            }
+        })
+        .collect()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let size = arg("--size").unwrap_or_else(|| "1280x720".into());
+    let (w, h) = size.split_once('x').ok_or("--size WxH")?;
+    let (width, height): (u32, u32) = (w.parse()?, h.parse()?);
+    let frames: usize = arg("--frames").map_or(Ok(20), |f| f.parse())?;
+    let samples: u32 = arg("--samples").map_or(Ok(4), |f| f.parse())?;
+
+    let ctx = GpuContext::headless()?;
+    println!("adapter: {}", ctx.describe());
+    println!(
+        "{width}x{height}, {samples}x MSAA, normal mapping on, median (min) of {frames} frames\n"
+    );
+    println!("| triangles | lights | median frame | fastest frame |");
+    println!("|---:|---:|---:|---:|");
+    let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples)?;
+    for side in [224u32, 708] {
+        let mut sphere = shapes::sphere("sphere", 1.0, side, side, 0.0, 1.0);
+        sphere.material = Some(0);
+        let tex = |name: &str, image| Texture {
+            name: name.into(),
+            source: TextureSource::Generated,
+            image: Some(Arc::new(image)),
+        };
+        let asset = Asset {
+            model: Model::new(vec![sphere]),
+            materials: vec![Material {
+                base_color_texture: Some(TextureRef { texture: 0, tex_coord: 0, transform: None }),
+                normal_texture: Some(TextureRef { texture: 1, tex_coord: 0, transform: None }),
+                ..Material::default()
+            }],
+            textures: vec![
+                tex("checker", shapes::checker(512)),
+                tex("bricks", shapes::brick_normal_map(512)),
+            ],
+            ..Asset::default()
+        };
+        let scene = GpuScene::upload(&ctx, &asset)?;
+        let camera = CameraView::look_at(
+            Vec3::new(0.0, 0.5, 3.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            45.0,
+            width as f32 / height as f32,
+            0.1,
+            20.0,
+        );
+        for count in [1, 16] {
+            let settings = FrameSettings { lights: lights(count), ..FrameSettings::default() };
+            let times =
+                renderer.time_frames(&ctx, &scene, &camera, &settings, width, height, frames)?;
+            println!(
+                "| {} | {count} | {:.2} ms | {:.2} ms |",
+                scene.triangle_count(),
+                times.median().as_secs_f64() * 1e3,
+                times.min().as_secs_f64() * 1e3
+            );
+        }
+    }
+    Ok(())
+}
