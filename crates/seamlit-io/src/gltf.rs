@@ -1,13 +1,703 @@
-//! glTF 2.0 and GLB in.
-use std::path::Path;
+//! glTF 2.0 and GLB in, through the gltf crate.
+//!
+//! The JSON (and GLB container) is parsed and validated by `gltf::Gltf::from_slice`; buffers
+//! and images are resolved here, so that this reader decides what a URI may point to and
+//! names the place of every problem:
+//!
+//! - buffers and images come from the GLB `BIN` chunk, `data:` URIs (base64) or files beside
+//!   the model; a URI that leaves the model's folder (`../`, an absolute path) or names
+//!   another scheme is refused;
+//! - every accessor a primitive uses is checked against its buffer view, and every view
+//!   against its buffer, before a byte is read; every index against the vertex count; every
+//!   attribute for NaN and infinity.
+//!
+//! Every primitive of every mesh instance in the default scene (or the first scene) becomes an
+//! object, its transform the composition of the node transforms above it (a mesh used by two
+//! nodes is two objects). An object is named after its node (else its mesh, else
+//! `mesh{index}`), with `.{primitive}` appended when the mesh has several primitives.
 
-use crate::{Asset, IoError, LoadOptions};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Reads a glTF or GLB file.
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+use seamlit_mesh::{Object, VAxis};
+
+use crate::{
+    Asset, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+};
+
+/// Reads a glTF (`.gltf`, with its buffers and images) or GLB file.
 ///
 /// # Errors
 ///
-/// Not yet.
-pub fn load(path: &Path, _options: &LoadOptions) -> Result<Asset, IoError> {
-    Err(IoError::UnknownFormat { path: path.to_path_buf() })
+/// [`IoError::Gltf`] for a malformed container, JSON or a document the gltf crate rejects
+/// (with the JSON path); [`IoError::BufferLength`], [`IoError::AccessorOutOfRange`],
+/// [`IoError::BadAccessor`], [`IoError::IndexOutOfRange`], [`IoError::AccessorNotFinite`]
+/// for bad geometry data; [`IoError::BadUri`] for a URI outside the model's folder;
+/// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    let bytes = crate::read_bytes(path, options)?;
+    let mut asset = parse(&bytes, path, options)?;
+    asset.source = Some(path.to_path_buf());
+    Ok(asset)
+}
+
+/// Parses glTF or GLB bytes; `path` names the file in errors and its folder resolves
+/// relative URIs.
+///
+/// # Errors
+///
+/// As [`load`].
+pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    if bytes.starts_with(b"glTF") {
+        check_glb_container(bytes, path)?;
+    }
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
+    let reader = Reader { path, folder: path.parent().unwrap_or(Path::new("")), options };
+    let buffers = reader.buffers(&document, blob)?;
+    reader.check_views(&document, &buffers)?;
+
+    let mut asset = Asset::default();
+    let mut warnings = Vec::new();
+    asset.textures = reader.images(&document, &buffers)?;
+    asset.materials = document.materials().map(|m| material(&m)).collect();
+
+    // Decoded primitives by (mesh, primitive), shared by the nodes that instance a mesh.
+    let mut decoded: HashMap<(usize, usize), Object> = HashMap::new();
+    let scene = document.default_scene().or_else(|| document.scenes().next());
+    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
+        Some(scene) => scene
+            .nodes()
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+            .map(|n| (n, None, Mat4::IDENTITY))
+            .collect(),
+        None => Vec::new(),
+    };
+    if scene.is_none() && document.meshes().len() > 0 {
+        warnings.push(format!("{}: no scene; nothing is placed", path.display()));
+    }
+    let mut visited = vec![false; document.nodes().len()];
+    while let Some((node, parent, parent_global)) = stack.pop() {
+        if std::mem::replace(&mut visited[node.index()], true) {
+            return Err(IoError::Gltf {
+                path: path.to_path_buf(),
+                place: format!("nodes[{}]", node.index()),
+                reason: "the node is reached twice: the node graph has a cycle or a node with two parents".to_owned(),
+            });
+        }
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let global = parent_global * local;
+        let node_index = asset.nodes.len();
+        let node_name = node.name().filter(|n| !n.is_empty()).map(str::to_owned);
+        let mut objects = Vec::new();
+        if let Some(mesh) = node.mesh() {
+            let primitive_count = mesh.primitives().len();
+            for primitive in mesh.primitives() {
+                if primitive.mode() != Mode::Triangles {
+                    warnings.push(format!(
+                        "{}: mesh {} primitive {}: mode {:?} skipped (only triangles are read)",
+                        path.display(),
+                        mesh.index(),
+                        primitive.index(),
+                        primitive.mode()
+                    ));
+                    continue;
+                }
+                let key = (mesh.index(), primitive.index());
+                let object = match decoded.get(&key) {
+                    Some(object) => object.clone(),
+                    None => {
+                        let Some(object) =
+                            reader.primitive(&mesh, &primitive, &buffers, &mut warnings)?
+                        else {
+                            continue;
+                        };
+                        decoded.insert(key, object.clone());
+                        object
+                    }
+                };
+                let base = node_name
+                    .clone()
+                    .or_else(|| mesh.name().filter(|n| !n.is_empty()).map(str::to_owned))
+                    .unwrap_or_else(|| format!("mesh{}", mesh.index()));
+                let name = if primitive_count > 1 {
+                    format!("{base}.{}", primitive.index())
+                } else {
+                    base
+                };
+                objects.push(asset.model.objects.len());
+                asset.model.objects.push(Object {
+                    name,
+                    transform: (global != Mat4::IDENTITY).then_some(global),
+                    ..object
+                });
+            }
+        }
+        asset.nodes.push(Node {
+            name: node_name.unwrap_or_else(|| format!("node{}", node.index())),
+            local_transform: local,
+            parent,
+            objects,
+        });
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, Some(node_index), global));
+        }
+    }
+    asset.model.v_axis = VAxis::Down;
+    warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
+    asset.warnings = warnings;
+    Ok(asset)
+}
+
+/// Checks the 12-byte GLB header and the chunk headers against the file's length, so a
+/// truncated file gets a message that says how much is missing.
+fn check_glb_container(bytes: &[u8], path: &Path) -> Result<(), IoError> {
+    let err = |reason: String| IoError::Gltf {
+        path: path.to_path_buf(),
+        place: "GLB container".to_owned(),
+        reason,
+    };
+    let word = |at: usize| -> Option<u32> {
+        bytes.get(at..at + 4).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes)
+    };
+    let (Some(version), Some(declared)) = (word(4), word(8)) else {
+        return Err(err(format!("truncated: {} bytes, the header alone needs 12", bytes.len())));
+    };
+    if version != 2 {
+        return Err(err(format!("version {version}, expected 2")));
+    }
+    let declared = declared as usize;
+    if declared > bytes.len() {
+        return Err(err(format!(
+            "truncated: the header declares {declared} bytes, the file has {}",
+            bytes.len()
+        )));
+    }
+    let mut at = 12;
+    let mut chunk = 0;
+    while at < declared {
+        let (Some(length), Some(kind)) = (word(at), word(at + 4)) else {
+            return Err(err(format!("truncated: chunk {chunk} header at byte {at} is incomplete")));
+        };
+        let end = at as u64 + 8 + u64::from(length);
+        if end > declared as u64 {
+            return Err(err(format!(
+                "truncated: chunk {chunk} ({}) declares {length} bytes from byte {}, but the file ends at {declared}",
+                String::from_utf8_lossy(&kind.to_le_bytes()),
+                at + 8
+            )));
+        }
+        at = end as usize;
+        chunk += 1;
+    }
+    if chunk == 0 {
+        return Err(err("no JSON chunk".to_owned()));
+    }
+    Ok(())
+}
+
+fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
+    let (place, reason) = match error {
+        gltf::Error::Validation(errors) => {
+            let (place, reason) = errors.first().map_or_else(
+                || ("document".to_owned(), "invalid".to_owned()),
+                |(p, e)| (p.to_string(), e.to_string()),
+            );
+            let more = errors.len().saturating_sub(1);
+            let reason =
+                if more > 0 { format!("{reason} (and {more} more problems)") } else { reason };
+            (place, reason)
+        }
+        gltf::Error::Deserialize(e) => {
+            (format!("JSON line {} column {}", e.line(), e.column()), e.to_string())
+        }
+        gltf::Error::Binary(e) => ("GLB container".to_owned(), e.to_string()),
+        other => ("document".to_owned(), other.to_string()),
+    };
+    IoError::Gltf { path: path.to_path_buf(), place, reason }
+}
+
+/// What a URI resolved to.
+enum Resolved {
+    /// Decoded `data:` bytes, with the MIME type the URI declared.
+    Data(Vec<u8>, String),
+    /// A file inside the model's folder.
+    File(PathBuf),
+}
+
+struct Reader<'a> {
+    path: &'a Path,
+    folder: &'a Path,
+    options: &'a LoadOptions,
+}
+
+impl Reader<'_> {
+    fn bad_uri(&self, what: &str, uri: &str, reason: &'static str) -> IoError {
+        IoError::BadUri {
+            path: self.path.to_path_buf(),
+            what: what.to_owned(),
+            uri: uri.to_owned(),
+            reason,
+        }
+    }
+
+    /// Resolves a URI: `data:` URIs are decoded, relative paths are percent-decoded and
+    /// joined to the model's folder; anything that would leave the folder is refused.
+    fn resolve(&self, uri: &str, what: &str) -> Result<Resolved, IoError> {
+        if let Some(data) = uri.strip_prefix("data:") {
+            let Some((header, payload)) = data.split_once(',') else {
+                return Err(self.bad_uri(
+                    what,
+                    uri,
+                    "a data: URI needs a comma before its payload",
+                ));
+            };
+            let Some(mime) = header.strip_suffix(";base64") else {
+                return Err(self.bad_uri(what, uri, "only base64 data: URIs are supported"));
+            };
+            let bytes = base64::decode(payload)
+                .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?;
+            return Ok(Resolved::Data(bytes, mime.to_owned()));
+        }
+        if uri.contains("://") || uri.split_once(':').is_some_and(|(s, _)| s.len() > 1) {
+            return Err(self.bad_uri(
+                what,
+                uri,
+                "only relative file paths and data: URIs are read",
+            ));
+        }
+        let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
+        if decoded.starts_with('/') || decoded.starts_with('\\') || decoded.contains(':') {
+            return Err(self.bad_uri(what, uri, "an absolute path leaves the model's folder"));
+        }
+        let mut parts: Vec<&str> = Vec::new();
+        for part in decoded.split(['/', '\\']) {
+            match part {
+                "" | "." => {}
+                ".." => {
+                    if parts.pop().is_none() {
+                        return Err(self.bad_uri(what, uri, "it leaves the model's folder"));
+                    }
+                }
+                part => parts.push(part),
+            }
+        }
+        if parts.is_empty() {
+            return Err(self.bad_uri(what, uri, "it names no file"));
+        }
+        Ok(Resolved::File(parts.iter().fold(self.folder.to_path_buf(), |p, part| p.join(part))))
+    }
+
+    fn buffers(
+        &self,
+        document: &gltf::Document,
+        mut blob: Option<Vec<u8>>,
+    ) -> Result<Vec<Vec<u8>>, IoError> {
+        let mut buffers = Vec::with_capacity(document.buffers().len());
+        for buffer in document.buffers() {
+            let what = format!("buffer {}", buffer.index());
+            let data = match buffer.source() {
+                gltf::buffer::Source::Bin => blob.take().ok_or_else(|| IoError::Gltf {
+                    path: self.path.to_path_buf(),
+                    place: format!("buffers[{}]", buffer.index()),
+                    reason: "refers to the GLB BIN chunk, which is missing (or used twice)"
+                        .to_owned(),
+                })?,
+                gltf::buffer::Source::Uri(uri) => match self.resolve(uri, &what)? {
+                    Resolved::Data(bytes, _) => bytes,
+                    Resolved::File(file) => match crate::read_bytes(&file, self.options) {
+                        Err(IoError::Io { source, .. })
+                            if source.kind() == std::io::ErrorKind::NotFound =>
+                        {
+                            return Err(IoError::MissingFile {
+                                path: self.path.to_path_buf(),
+                                what,
+                                missing: file,
+                                line: None,
+                            });
+                        }
+                        other => other?,
+                    },
+                },
+            };
+            if (data.len() as u64) < buffer.length() as u64 {
+                return Err(IoError::BufferLength {
+                    path: self.path.to_path_buf(),
+                    buffer: buffer.index(),
+                    expected: buffer.length() as u64,
+                    actual: data.len() as u64,
+                });
+            }
+            buffers.push(data);
+        }
+        Ok(buffers)
+    }
+
+    /// Every buffer view must lie inside its buffer.
+    fn check_views(&self, document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), IoError> {
+        for view in document.views() {
+            let end = view.offset() as u64 + view.length() as u64;
+            let available = buffers.get(view.buffer().index()).map_or(0, Vec::len) as u64;
+            if end > available {
+                return Err(IoError::Gltf {
+                    path: self.path.to_path_buf(),
+                    place: format!("bufferViews[{}]", view.index()),
+                    reason: format!(
+                        "reaches byte {end} of buffer {}, which has {available}",
+                        view.buffer().index()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks an accessor's type and that every element lies inside its buffer view.
+    fn check_accessor(
+        &self,
+        accessor: &gltf::Accessor<'_>,
+        dimensions: Dimensions,
+        types: &[DataType],
+        attribute: &str,
+    ) -> Result<(), IoError> {
+        let bad = |reason: String| IoError::BadAccessor {
+            path: self.path.to_path_buf(),
+            accessor: accessor.index(),
+            reason,
+        };
+        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+            return Err(bad(format!(
+                "{attribute} must be {dimensions:?} of {types:?}, found {:?} of {:?}",
+                accessor.dimensions(),
+                accessor.data_type()
+            )));
+        }
+        let count = accessor.count() as u64;
+        if count > self.options.max_elements as u64 {
+            return Err(IoError::TooManyElements {
+                path: self.path.to_path_buf(),
+                what: format!("accessor {} ({attribute})", accessor.index()),
+                limit: self.options.max_elements,
+                actual: accessor.count(),
+            });
+        }
+        let element = accessor.size() as u64;
+        let check = |view: gltf::buffer::View<'_>, offset: u64, count: u64, element: u64| {
+            let stride = view.stride().map_or(element, |s| s as u64);
+            let needed = if count == 0 { 0 } else { offset + stride * (count - 1) + element };
+            if needed > view.length() as u64 {
+                return Err(IoError::AccessorOutOfRange {
+                    path: self.path.to_path_buf(),
+                    accessor: accessor.index(),
+                    view: view.index(),
+                    needed,
+                    available: view.length() as u64,
+                });
+            }
+            Ok(())
+        };
+        match (accessor.view(), accessor.sparse()) {
+            (Some(view), _) => check(view, accessor.offset() as u64, count, element)?,
+            (None, None) => {
+                return Err(bad(format!("{attribute} has neither a buffer view nor sparse data")));
+            }
+            (None, Some(_)) => {}
+        }
+        if let Some(sparse) = accessor.sparse() {
+            let n = sparse.count() as u64;
+            if n > count {
+                return Err(bad(format!("sparse count {n} exceeds the accessor count {count}")));
+            }
+            let indices = sparse.indices();
+            check(indices.view(), indices.offset() as u64, n, indices.index_type().size() as u64)?;
+            let values = sparse.values();
+            check(values.view(), values.offset() as u64, n, element)?;
+        }
+        Ok(())
+    }
+
+    /// Decodes one triangle primitive into an object (name and transform set by the caller).
+    fn primitive(
+        &self,
+        mesh: &gltf::Mesh<'_>,
+        primitive: &gltf::Primitive<'_>,
+        buffers: &[Vec<u8>],
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<Object>, IoError> {
+        let Some(position_accessor) = primitive.get(&gltf::Semantic::Positions) else {
+            warnings.push(format!(
+                "{}: mesh {} primitive {} has no POSITION; skipped",
+                self.path.display(),
+                mesh.index(),
+                primitive.index()
+            ));
+            return Ok(None);
+        };
+        let vertex_count = position_accessor.count();
+        let f32_only = [DataType::F32];
+        self.check_accessor(&position_accessor, Dimensions::Vec3, &f32_only, "POSITION")?;
+        let attributes = [
+            (gltf::Semantic::Normals, Dimensions::Vec3, &f32_only[..], "NORMAL"),
+            (gltf::Semantic::Tangents, Dimensions::Vec4, &f32_only[..], "TANGENT"),
+            (
+                gltf::Semantic::TexCoords(0),
+                Dimensions::Vec2,
+                &[DataType::F32, DataType::U8, DataType::U16][..],
+                "TEXCOORD_0",
+            ),
+        ];
+        for (semantic, dimensions, types, name) in attributes {
+            if let Some(accessor) = primitive.get(&semantic) {
+                self.check_accessor(&accessor, dimensions, types, name)?;
+                if accessor.count() != vertex_count {
+                    return Err(IoError::BadAccessor {
+                        path: self.path.to_path_buf(),
+                        accessor: accessor.index(),
+                        reason: format!(
+                            "{name} has {} elements, POSITION has {vertex_count}",
+                            accessor.count()
+                        ),
+                    });
+                }
+            }
+        }
+        let index_accessor = primitive.indices();
+        if let Some(accessor) = &index_accessor {
+            self.check_accessor(
+                accessor,
+                Dimensions::Scalar,
+                &[DataType::U8, DataType::U16, DataType::U32],
+                "indices",
+            )?;
+            if accessor.count() % 3 != 0 {
+                return Err(IoError::BadAccessor {
+                    path: self.path.to_path_buf(),
+                    accessor: accessor.index(),
+                    reason: format!(
+                        "a triangle list needs a multiple of 3 indices, found {}",
+                        accessor.count()
+                    ),
+                });
+            }
+        } else if vertex_count % 3 != 0 {
+            return Err(IoError::BadAccessor {
+                path: self.path.to_path_buf(),
+                accessor: position_accessor.index(),
+                reason: format!(
+                    "a non-indexed triangle list needs a multiple of 3 vertices, found {vertex_count}"
+                ),
+            });
+        }
+
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let positions: Vec<Vec3> = reader
+            .read_positions()
+            .map(|it| it.map(Vec3::from_array).collect())
+            .unwrap_or_default();
+        let short = |accessor: &gltf::Accessor<'_>, got: usize| IoError::BadAccessor {
+            path: self.path.to_path_buf(),
+            accessor: accessor.index(),
+            reason: format!("expected {} elements, read {got}", accessor.count()),
+        };
+        if positions.len() != vertex_count {
+            return Err(short(&position_accessor, positions.len()));
+        }
+        let finite = |accessor: Option<gltf::Accessor<'_>>,
+                      attribute: &'static str,
+                      ok: &dyn Fn(usize) -> bool,
+                      len: usize| {
+            match (0..len).find(|&i| !ok(i)) {
+                Some(element) => Err(IoError::AccessorNotFinite {
+                    path: self.path.to_path_buf(),
+                    accessor: accessor.map_or(0, |a| a.index()),
+                    attribute,
+                    element,
+                }),
+                None => Ok(()),
+            }
+        };
+        finite(
+            Some(position_accessor.clone()),
+            "POSITION",
+            &|i| positions[i].is_finite(),
+            vertex_count,
+        )?;
+        let normals: Option<Vec<Vec3>> =
+            reader.read_normals().map(|it| it.map(Vec3::from_array).collect());
+        let tangents: Option<Vec<Vec4>> =
+            reader.read_tangents().map(|it| it.map(Vec4::from_array).collect());
+        let uvs: Option<Vec<Vec2>> =
+            reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect());
+        if let Some(n) = &normals {
+            let accessor = primitive.get(&gltf::Semantic::Normals);
+            if n.len() != vertex_count {
+                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), n.len()));
+            }
+            finite(accessor, "NORMAL", &|i| n[i].is_finite(), vertex_count)?;
+        }
+        if let Some(t) = &tangents {
+            let accessor = primitive.get(&gltf::Semantic::Tangents);
+            if t.len() != vertex_count {
+                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), t.len()));
+            }
+            finite(accessor, "TANGENT", &|i| t[i].is_finite(), vertex_count)?;
+        }
+        if let Some(t) = &uvs {
+            let accessor = primitive.get(&gltf::Semantic::TexCoords(0));
+            if t.len() != vertex_count {
+                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), t.len()));
+            }
+            finite(accessor, "TEXCOORD_0", &|i| t[i].is_finite(), vertex_count)?;
+        }
+        let indices: Vec<u32> = match (&index_accessor, reader.read_indices()) {
+            (Some(accessor), Some(read)) => {
+                let indices: Vec<u32> = read.into_u32().collect();
+                if indices.len() != accessor.count() {
+                    return Err(short(accessor, indices.len()));
+                }
+                if let Some(&index) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                    return Err(IoError::IndexOutOfRange {
+                        path: self.path.to_path_buf(),
+                        mesh: mesh.index(),
+                        primitive: primitive.index(),
+                        accessor: accessor.index(),
+                        index,
+                        vertex_count,
+                    });
+                }
+                indices
+            }
+            _ => (0..vertex_count as u32).collect(),
+        };
+        let triangles = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        Ok(Some(Object {
+            name: String::new(),
+            positions,
+            uvs,
+            normals,
+            tangents,
+            triangles,
+            transform: None,
+            material: primitive.material().index(),
+        }))
+    }
+
+    /// The images, as textures; `data:` and buffer-view images are embedded bytes, files are
+    /// resolved (and refused if they leave the model's folder). Nothing is decoded here.
+    fn images(
+        &self,
+        document: &gltf::Document,
+        buffers: &[Vec<u8>],
+    ) -> Result<Vec<Texture>, IoError> {
+        document
+            .images()
+            .map(|image| {
+                let what = format!("image {}", image.index());
+                let fallback = || image.name().map_or_else(|| what.clone(), str::to_owned);
+                let (name, source) = match image.source() {
+                    gltf::image::Source::View { view, mime_type } => {
+                        let start = view.offset();
+                        let bytes = buffers
+                            .get(view.buffer().index())
+                            .and_then(|b| b.get(start..start + view.length()))
+                            .unwrap_or_default();
+                        let source = TextureSource::Embedded {
+                            mime_type: mime_type.to_owned(),
+                            bytes: Arc::from(bytes),
+                        };
+                        (fallback(), source)
+                    }
+                    gltf::image::Source::Uri { uri, mime_type } => {
+                        match self.resolve(uri, &what)? {
+                            Resolved::Data(bytes, declared) => {
+                                let mime_type = mime_type.map_or(declared, str::to_owned);
+                                (
+                                    fallback(),
+                                    TextureSource::Embedded { mime_type, bytes: bytes.into() },
+                                )
+                            }
+                            Resolved::File(file) => {
+                                let name = image.name().map(str::to_owned).unwrap_or_else(|| {
+                                    file.file_name().map_or_else(
+                                        || uri.to_owned(),
+                                        |n| n.to_string_lossy().into_owned(),
+                                    )
+                                });
+                                (name, TextureSource::File(file))
+                            }
+                        }
+                    }
+                };
+                Ok(Texture { name, source, image: None })
+            })
+            .collect()
+    }
+}
+
+/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]).
+fn texture_ref(
+    texture: &gltf::Texture<'_>,
+    tex_coord: u32,
+    transform: Option<UvTransform>,
+) -> Option<TextureRef> {
+    Some(TextureRef { texture: texture.source().index(), tex_coord, transform })
+}
+
+fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> UvTransform {
+    UvTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale() }
+}
+
+/// KHR_texture_transform from raw extension JSON (the gltf crate does not type it on
+/// normal textures).
+fn uv_transform_json(value: &serde_json::Value) -> UvTransform {
+    let pair = |key: &str, default: [f32; 2]| -> [f32; 2] {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
+            .unwrap_or(default)
+    };
+    UvTransform {
+        offset: pair("offset", [0.0, 0.0]),
+        rotation: value.get("rotation").and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32,
+        scale: pair("scale", [1.0, 1.0]),
+    }
+}
+
+fn material(m: &gltf::Material<'_>) -> Material {
+    let pbr = m.pbr_metallic_roughness();
+    let base_color_texture = pbr.base_color_texture().and_then(|info| {
+        let transform = info.texture_transform().map(|t| uv_transform(&t));
+        texture_ref(&info.texture(), info.tex_coord(), transform)
+    });
+    let normal = m.normal_texture();
+    let normal_texture = normal.as_ref().and_then(|n| {
+        let transform = n.extension_value("KHR_texture_transform").map(uv_transform_json);
+        texture_ref(&n.texture(), n.tex_coord(), transform)
+    });
+    let base = pbr.base_color_factor();
+    let metallic = pbr.metallic_factor();
+    let roughness = pbr.roughness_factor();
+    // Specular colour: 4 % for dielectrics, the base colour for metals (the usual
+    // metallic-roughness to specular-glossiness conversion).
+    let specular = std::array::from_fn(|i| 0.04 + (base[i] - 0.04) * metallic);
+    Material {
+        name: m.name().map_or_else(|| format!("material{}", m.index().unwrap_or(0)), str::to_owned),
+        base_color: base,
+        base_color_texture,
+        normal_texture,
+        normal_scale: normal.as_ref().map_or(1.0, gltf::material::NormalTexture::scale),
+        normal_green_down: false,
+        specular,
+        shininess: crate::roughness_to_shininess(roughness),
+        metallic,
+        roughness,
+        double_sided: m.double_sided(),
+    }
 }

@@ -1,8 +1,652 @@
-//! glTF 2.0 and GLB out.
+//! glTF 2.0 and GLB out, through gltf-json.
+//!
+//! Each object becomes a mesh of one triangle primitive (POSITION with min/max, NORMAL,
+//! TANGENT, TEXCOORD_0, indices as u16 where every index fits below 65535, else u32) named
+//! after the object. The node hierarchy of the asset is rebuilt when it is consistent with
+//! the objects' transforms (a node carrying several objects gets one child node per object);
+//! otherwise each object gets a root node with its transform. Materials and the textures
+//! they use are carried through: embedded in a GLB, written beside a `.gltf` (whose buffer
+//! goes to `NAME.bin` beside it too).
+//!
+//! The glTF validator rejects non-unit normals and tangents and tangent signs other than
+//! +-1: such values (only such) are normalised on the way out, a zero vector becoming +Z
+//! (normal) or +X (tangent). Texture coordinates are flipped (`v' = 1 - v`) when the model's V
+//! runs up (OBJ, Newell), since glTF's runs down.
+
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use crate::{Asset, IoError};
+use glam::{Mat4, Quat, Vec3, Vec4};
+use gltf_json as json;
+use json::validation::{Checked, USize64};
+use seamlit_mesh::{Object, VAxis};
 
-pub(crate) fn save(_asset: &Asset, path: &Path, _binary: bool) -> Result<(), IoError> {
-    Err(IoError::UnknownFormat { path: path.to_path_buf() })
+use crate::{Asset, IoError, Material, TextureRef, TextureSource, UvTransform};
+
+/// Writes `asset` as `.glb` (`binary`) or `.gltf` (+ `.bin` and images beside it).
+pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoError> {
+    for object in &asset.model.objects {
+        check_object(object, path)?;
+    }
+    let stem =
+        path.file_stem().map_or_else(|| "model".to_owned(), |s| safe_name(&s.to_string_lossy()));
+    let mut writer = Writer {
+        root: json::Root::default(),
+        bin: Vec::new(),
+        side_files: Vec::new(),
+        path,
+        binary,
+        stem,
+    };
+    writer.root.asset = json::Asset {
+        generator: Some("seamlit".to_owned()),
+        version: "2.0".to_owned(),
+        ..Default::default()
+    };
+
+    let textures = writer.textures(asset)?;
+    for material in &asset.materials {
+        let m = writer.material(material, &textures);
+        writer.root.push(m);
+    }
+    let meshes: Vec<json::Index<json::Mesh>> = asset
+        .model
+        .objects
+        .iter()
+        .map(|o| writer.mesh(o, asset.model.v_axis, asset.materials.len()))
+        .collect();
+    writer.nodes(asset, &meshes);
+
+    if !writer.bin.is_empty() {
+        let uri = (!binary).then(|| format!("{}.bin", writer.stem));
+        let buffer = json::Buffer {
+            byte_length: USize64::from(writer.bin.len()),
+            name: None,
+            uri: uri.clone(),
+            extensions: None,
+            extras: Default::default(),
+        };
+        writer.root.push(buffer);
+        if let Some(uri) = uri {
+            let bin = std::mem::take(&mut writer.bin);
+            writer.side_files.push((uri, bin));
+        }
+    }
+    let json_bytes =
+        serde_json::to_vec_pretty(&writer.root).map_err(|e| IoError::InvalidAsset {
+            path: path.to_path_buf(),
+            object: String::new(),
+            reason: format!("JSON serialisation failed: {e}"),
+        })?;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    for (name, bytes) in &writer.side_files {
+        crate::atomic::write(&folder.join(name), bytes)?;
+    }
+    if binary {
+        let mut bin = std::mem::take(&mut writer.bin);
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let glb = gltf::binary::Glb {
+            header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
+            json: json_padded(json_bytes).into(),
+            bin: (!bin.is_empty()).then(|| bin.into()),
+        };
+        let bytes = glb.to_vec().map_err(|e| IoError::InvalidAsset {
+            path: path.to_path_buf(),
+            object: String::new(),
+            reason: format!("GLB container: {e}"),
+        })?;
+        crate::atomic::write(path, &bytes)
+    } else {
+        crate::atomic::write(path, &json_bytes)
+    }
+}
+
+/// JSON chunk padded with spaces to a multiple of four bytes, as GLB requires.
+fn json_padded(mut json: Vec<u8>) -> Vec<u8> {
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    json
+}
+
+/// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
+fn safe_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(
+            |c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' },
+        )
+        .collect();
+    if s.is_empty() || s.starts_with('.') { format!("model{s}") } else { s }
+}
+
+/// Attribute arrays must match the vertex count and indices must be in range.
+pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> {
+    let n = object.positions.len();
+    let invalid = |reason: String| IoError::InvalidAsset {
+        path: path.to_path_buf(),
+        object: object.name.clone(),
+        reason,
+    };
+    let lengths = [
+        ("uvs", object.uvs.as_ref().map(Vec::len)),
+        ("normals", object.normals.as_ref().map(Vec::len)),
+        ("tangents", object.tangents.as_ref().map(Vec::len)),
+    ];
+    for (what, len) in lengths {
+        if let Some(len) = len.filter(|&len| len != n) {
+            return Err(invalid(format!("{len} {what} for {n} positions")));
+        }
+    }
+    if n >= u32::MAX as usize {
+        return Err(invalid(format!("{n} vertices do not fit 32-bit indices")));
+    }
+    if let Some(t) = object.triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
+        return Err(invalid(format!("triangle {t:?} refers past the {n} vertices")));
+    }
+    if !object.positions.iter().all(|p| p.is_finite()) {
+        return Err(invalid("a position is not finite".to_owned()));
+    }
+    Ok(())
+}
+
+/// A normal for the validator: unit length (only non-unit ones are touched).
+fn unit_normal(n: Vec3) -> Vec3 {
+    if (n.length_squared() - 1.0).abs() <= 1e-5 { n } else { n.try_normalize().unwrap_or(Vec3::Z) }
+}
+
+/// A tangent for the validator: unit xyz, w exactly +-1.
+fn unit_tangent(t: Vec4) -> Vec4 {
+    let xyz = t.truncate();
+    let xyz = if (xyz.length_squared() - 1.0).abs() <= 1e-5 {
+        xyz
+    } else {
+        xyz.try_normalize().unwrap_or(Vec3::X)
+    };
+    xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 })
+}
+
+struct Writer<'a> {
+    root: json::Root,
+    bin: Vec<u8>,
+    /// Files to write beside a `.gltf`: (file name, bytes).
+    side_files: Vec<(String, Vec<u8>)>,
+    path: &'a Path,
+    binary: bool,
+    stem: String,
+}
+
+impl Writer<'_> {
+    /// Appends bytes to the binary buffer (4-byte aligned) as a buffer view.
+    fn view(
+        &mut self,
+        bytes: &[u8],
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        self.root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64::from(bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            name: None,
+            target: target.map(Checked::Valid),
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        component: json::accessor::ComponentType,
+        type_: json::accessor::Type,
+        target: json::buffer::Target,
+        min_max: Option<(Vec<f32>, Vec<f32>)>,
+    ) -> json::Index<json::Accessor> {
+        let view = self.view(bytes, Some(target));
+        let (min, max) = match min_max {
+            Some((min, max)) => (
+                Some(json::Value::from(min.iter().map(|&x| f64::from(x)).collect::<Vec<_>>())),
+                Some(json::Value::from(max.iter().map(|&x| f64::from(x)).collect::<Vec<_>>())),
+            ),
+            None => (None, None),
+        };
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(count),
+            component_type: Checked::Valid(json::accessor::GenericComponentType(component)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Checked::Valid(type_),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+
+    fn float_accessor<const N: usize>(
+        &mut self,
+        values: &[[f32; N]],
+        type_: json::accessor::Type,
+        bounds: bool,
+    ) -> json::Index<json::Accessor> {
+        let bytes: Vec<u8> =
+            values.iter().flat_map(|v| v.iter().flat_map(|x| x.to_le_bytes())).collect();
+        let min_max = bounds.then(|| {
+            let mut min = [f32::INFINITY; N];
+            let mut max = [f32::NEG_INFINITY; N];
+            for v in values {
+                for k in 0..N {
+                    min[k] = min[k].min(v[k]);
+                    max[k] = max[k].max(v[k]);
+                }
+            }
+            (min.to_vec(), max.to_vec())
+        });
+        self.accessor(
+            &bytes,
+            values.len(),
+            json::accessor::ComponentType::F32,
+            type_,
+            json::buffer::Target::ArrayBuffer,
+            min_max,
+        )
+    }
+
+    fn mesh(
+        &mut self,
+        object: &Object,
+        v_axis: VAxis,
+        material_count: usize,
+    ) -> json::Index<json::Mesh> {
+        use json::accessor::Type;
+        use json::mesh::Semantic;
+        let mut attributes = BTreeMap::new();
+        let positions: Vec<[f32; 3]> = object.positions.iter().map(|p| p.to_array()).collect();
+        attributes.insert(
+            Checked::Valid(Semantic::Positions),
+            self.float_accessor(&positions, Type::Vec3, true),
+        );
+        if let Some(normals) = &object.normals {
+            let normals: Vec<[f32; 3]> =
+                normals.iter().map(|&n| unit_normal(n).to_array()).collect();
+            attributes.insert(
+                Checked::Valid(Semantic::Normals),
+                self.float_accessor(&normals, Type::Vec3, false),
+            );
+            // TANGENT requires NORMAL.
+            if let Some(tangents) = &object.tangents {
+                let tangents: Vec<[f32; 4]> =
+                    tangents.iter().map(|&t| unit_tangent(t).to_array()).collect();
+                attributes.insert(
+                    Checked::Valid(Semantic::Tangents),
+                    self.float_accessor(&tangents, Type::Vec4, false),
+                );
+            }
+        }
+        if let Some(uvs) = &object.uvs {
+            let uvs: Vec<[f32; 2]> = match v_axis {
+                VAxis::Down => uvs.iter().map(|t| t.to_array()).collect(),
+                VAxis::Up => uvs.iter().map(|t| [t.x, 1.0 - t.y]).collect(),
+            };
+            attributes.insert(
+                Checked::Valid(Semantic::TexCoords(0)),
+                self.float_accessor(&uvs, Type::Vec2, false),
+            );
+        }
+        let count = object.triangles.len() * 3;
+        let flat = object.triangles.iter().flatten();
+        let indices = if object.positions.len() <= usize::from(u16::MAX) {
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "every index is below 65535, checked above"
+            )]
+            let bytes: Vec<u8> = flat.flat_map(|&i| (i as u16).to_le_bytes()).collect();
+            self.accessor(
+                &bytes,
+                count,
+                json::accessor::ComponentType::U16,
+                Type::Scalar,
+                json::buffer::Target::ElementArrayBuffer,
+                None,
+            )
+        } else {
+            let bytes: Vec<u8> = flat.flat_map(|&i| i.to_le_bytes()).collect();
+            self.accessor(
+                &bytes,
+                count,
+                json::accessor::ComponentType::U32,
+                Type::Scalar,
+                json::buffer::Target::ElementArrayBuffer,
+                None,
+            )
+        };
+        let primitive = json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(indices),
+            material: object
+                .material
+                .filter(|&m| m < material_count)
+                .map(|m| json::Index::new(m as u32)),
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        };
+        self.root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: Some(object.name.clone()),
+            primitives: vec![primitive],
+            weights: None,
+        })
+    }
+
+    /// The node hierarchy: the asset's own when it matches the objects, else flat.
+    fn nodes(&mut self, asset: &Asset, meshes: &[json::Index<json::Mesh>]) {
+        let mut roots = Vec::new();
+        if hierarchy_matches(asset) {
+            let base = self.root.nodes.len();
+            for node in &asset.nodes {
+                let mut json_node = node_with_transform(node.local_transform);
+                json_node.name = Some(node.name.clone());
+                if let [object] = node.objects[..] {
+                    json_node.mesh = Some(meshes[object]);
+                }
+                self.root.push(json_node);
+            }
+            let mut children: Vec<Vec<json::Index<json::Node>>> =
+                vec![Vec::new(); asset.nodes.len()];
+            for (i, node) in asset.nodes.iter().enumerate() {
+                let index = json::Index::new((base + i) as u32);
+                match node.parent {
+                    Some(parent) => children[parent].push(index),
+                    None => roots.push(index),
+                }
+                if node.objects.len() > 1 {
+                    for &object in &node.objects {
+                        let mut child = node_with_transform(Mat4::IDENTITY);
+                        child.name = Some(asset.model.objects[object].name.clone());
+                        child.mesh = Some(meshes[object]);
+                        children[i].push(self.root.push(child));
+                    }
+                }
+            }
+            for (i, list) in children.into_iter().enumerate() {
+                if !list.is_empty() {
+                    self.root.nodes[base + i].children = Some(list);
+                }
+            }
+        } else {
+            for (object, &mesh) in asset.model.objects.iter().zip(meshes) {
+                let mut node = node_with_transform(object.model_transform());
+                node.name = Some(object.name.clone());
+                node.mesh = Some(mesh);
+                roots.push(self.root.push(node));
+            }
+        }
+        let scene = self.root.push(json::Scene {
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            nodes: roots,
+        });
+        self.root.scene = Some(scene);
+    }
+
+    /// Images, textures and one sampler for the textures that materials use and whose bytes
+    /// are available; returns, per asset texture, its glTF texture index.
+    fn textures(
+        &mut self,
+        asset: &Asset,
+    ) -> Result<Vec<Option<json::Index<json::Texture>>>, IoError> {
+        let used: Vec<bool> = (0..asset.textures.len())
+            .map(|i| {
+                asset.materials.iter().any(|m| {
+                    [&m.base_color_texture, &m.normal_texture]
+                        .into_iter()
+                        .flatten()
+                        .any(|r| r.texture == i)
+                })
+            })
+            .collect();
+        let mut out = vec![None; asset.textures.len()];
+        let mut sampler = None;
+        let mut names: HashMap<String, usize> = HashMap::new();
+        for (i, texture) in asset.textures.iter().enumerate() {
+            if !used[i] {
+                continue;
+            }
+            let Some((bytes, mime)) = encoded(texture, self.path)? else { continue };
+            let image = if self.binary {
+                let view = self.view(&bytes, None);
+                json::Image {
+                    buffer_view: Some(view),
+                    mime_type: Some(json::image::MimeType(mime.to_owned())),
+                    name: Some(texture.name.clone()),
+                    uri: None,
+                    extensions: None,
+                    extras: Default::default(),
+                }
+            } else {
+                let extension = if mime == "image/png" { "png" } else { "jpg" };
+                let base = Path::new(&texture.name)
+                    .file_stem()
+                    .map_or_else(|| format!("texture{i}"), |s| s.to_string_lossy().into_owned());
+                let base = format!("{}_{}", self.stem, safe_name(&base));
+                let n = names.entry(base.clone()).or_default();
+                let file = if *n == 0 {
+                    format!("{base}.{extension}")
+                } else {
+                    format!("{base}_{n}.{extension}")
+                };
+                *n += 1;
+                self.side_files.push((file.clone(), bytes));
+                json::Image {
+                    buffer_view: None,
+                    mime_type: None,
+                    name: Some(texture.name.clone()),
+                    uri: Some(file),
+                    extensions: None,
+                    extras: Default::default(),
+                }
+            };
+            let image = self.root.push(image);
+            let sampler = *sampler.get_or_insert_with(|| {
+                self.root.push(json::texture::Sampler {
+                    mag_filter: Some(Checked::Valid(json::texture::MagFilter::Linear)),
+                    min_filter: Some(Checked::Valid(json::texture::MinFilter::LinearMipmapLinear)),
+                    ..Default::default()
+                })
+            });
+            out[i] = Some(self.root.push(json::Texture {
+                name: None,
+                sampler: Some(sampler),
+                source: image,
+                extensions: None,
+                extras: Default::default(),
+            }));
+        }
+        Ok(out)
+    }
+
+    fn material(
+        &mut self,
+        m: &Material,
+        textures: &[Option<json::Index<json::Texture>>],
+    ) -> json::Material {
+        fn lookup<'r>(
+            r: &'r Option<TextureRef>,
+            textures: &[Option<json::Index<json::Texture>>],
+        ) -> Option<(json::Index<json::Texture>, &'r TextureRef)> {
+            r.as_ref().and_then(|r| textures.get(r.texture).copied().flatten().map(|t| (t, r)))
+        }
+        let base_color_texture = lookup(&m.base_color_texture, textures).map(|(index, r)| {
+            let extensions = r.transform.map(|t| {
+                self.use_extension("KHR_texture_transform");
+                json::extensions::texture::Info {
+                    texture_transform: Some(texture_transform(t)),
+                    others: Default::default(),
+                }
+            });
+            json::texture::Info {
+                index,
+                tex_coord: r.tex_coord,
+                extensions,
+                extras: Default::default(),
+            }
+        });
+        let normal_texture = lookup(&m.normal_texture, textures).map(|(index, r)| {
+            let extensions = r.transform.map(|t| {
+                self.use_extension("KHR_texture_transform");
+                let mut others = serde_json::Map::new();
+                others.insert("KHR_texture_transform".to_owned(), serde_json::json!({ "offset": t.offset, "rotation": t.rotation, "scale": t.scale }));
+                json::extensions::material::NormalTexture { others }
+            });
+            json::material::NormalTexture { index, scale: m.normal_scale, tex_coord: r.tex_coord, extensions, extras: Default::default() }
+        });
+        let alpha = m.base_color[3];
+        json::Material {
+            alpha_mode: Checked::Valid(if alpha < 1.0 {
+                json::material::AlphaMode::Blend
+            } else {
+                json::material::AlphaMode::Opaque
+            }),
+            double_sided: m.double_sided,
+            name: Some(m.name.clone()),
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor(
+                    m.base_color.map(|c| c.clamp(0.0, 1.0)),
+                ),
+                base_color_texture,
+                metallic_factor: json::material::StrengthFactor(m.metallic.clamp(0.0, 1.0)),
+                roughness_factor: json::material::StrengthFactor(m.roughness.clamp(0.0, 1.0)),
+                ..Default::default()
+            },
+            normal_texture,
+            ..Default::default()
+        }
+    }
+
+    fn use_extension(&mut self, name: &str) {
+        if !self.root.extensions_used.iter().any(|e| e == name) {
+            self.root.extensions_used.push(name.to_owned());
+        }
+    }
+}
+
+fn texture_transform(t: UvTransform) -> json::extensions::texture::TextureTransform {
+    json::extensions::texture::TextureTransform {
+        offset: json::extensions::texture::TextureTransformOffset(t.offset),
+        rotation: json::extensions::texture::TextureTransformRotation(t.rotation),
+        scale: json::extensions::texture::TextureTransformScale(t.scale),
+        tex_coord: None,
+        extras: Default::default(),
+    }
+}
+
+/// A texture's encoded bytes and MIME type (PNG or JPEG): the original bytes where they are
+/// PNG or JPEG, else the decoded image encoded as PNG; `None` when neither is available.
+pub(crate) fn encoded(
+    texture: &crate::Texture,
+    path: &Path,
+) -> Result<Option<(Vec<u8>, &'static str)>, IoError> {
+    let sniff = |bytes: &[u8]| -> Option<&'static str> {
+        if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+            Some("image/png")
+        } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+            Some("image/jpeg")
+        } else {
+            None
+        }
+    };
+    let original = match &texture.source {
+        TextureSource::File(file) => std::fs::read(file).ok(),
+        TextureSource::Embedded { bytes, .. } => Some(bytes.to_vec()),
+        TextureSource::Generated => None,
+    };
+    if let Some(bytes) = original
+        && let Some(mime) = sniff(&bytes)
+    {
+        return Ok(Some((bytes, mime)));
+    }
+    let Some(image) = &texture.image else { return Ok(None) };
+    let mut png = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| {
+        IoError::Image {
+            path: path.to_path_buf(),
+            texture: texture.name.clone(),
+            reason: e.to_string(),
+        }
+    })?;
+    Ok(Some((png, "image/png")))
+}
+
+/// A node with the transform as translation / rotation / scale where it decomposes, else as
+/// a matrix; the identity writes nothing.
+fn node_with_transform(m: Mat4) -> json::Node {
+    let mut node = json::Node::default();
+    if m == Mat4::IDENTITY {
+        return node;
+    }
+    let (s, r, t) = m.to_scale_rotation_translation();
+    let r = r.normalize();
+    let tolerance = 1e-5 * m.to_cols_array().iter().fold(1.0f32, |a, &x| a.max(x.abs()));
+    if Mat4::from_scale_rotation_translation(s, r, t).abs_diff_eq(m, tolerance)
+        && s.is_finite()
+        && r.is_finite()
+    {
+        if t != Vec3::ZERO {
+            node.translation = Some(t.to_array());
+        }
+        if r != Quat::IDENTITY {
+            node.rotation = Some(json::scene::UnitQuaternion(r.to_array()));
+        }
+        if s != Vec3::ONE {
+            node.scale = Some(s.to_array());
+        }
+    } else {
+        node.matrix = Some(m.to_cols_array());
+    }
+    node
+}
+
+/// Whether the asset's nodes describe its objects: every object carried by exactly one node,
+/// parents before children, and each object's transform the composition of its node chain.
+fn hierarchy_matches(asset: &Asset) -> bool {
+    if asset.nodes.is_empty() {
+        return false;
+    }
+    let mut carried = vec![0usize; asset.model.objects.len()];
+    let mut globals: Vec<Mat4> = Vec::with_capacity(asset.nodes.len());
+    for (i, node) in asset.nodes.iter().enumerate() {
+        let parent = match node.parent {
+            Some(p) if p < i => globals[p],
+            Some(_) => return false,
+            None => Mat4::IDENTITY,
+        };
+        let global = parent * node.local_transform;
+        globals.push(global);
+        for &object in &node.objects {
+            let Some(o) = asset.model.objects.get(object) else { return false };
+            carried[object] += 1;
+            let tolerance =
+                1e-5 * global.to_cols_array().iter().fold(1.0f32, |a, &x| a.max(x.abs()));
+            if !o.model_transform().abs_diff_eq(global, tolerance) {
+                return false;
+            }
+        }
+    }
+    carried.iter().all(|&n| n == 1)
 }
