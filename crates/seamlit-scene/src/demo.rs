@@ -3,7 +3,7 @@
 //! three lights and a camera.
 
 use glam::Vec3;
-use seamlit_io::Material;
+use seamlit_io::{Asset, IoError, Material};
 use seamlit_render::Light;
 
 use crate::camera::Camera;
@@ -49,7 +49,7 @@ pub fn camera() -> Camera {
     c
 }
 
-/// The demo material: terracotta with a strong specular and the brick normal map (texture
+/// The demo material: terracotta with a strong specular and a shallow brick normal map (texture
 /// index 0 of the demo asset).
 #[must_use]
 pub fn material() -> Material {
@@ -57,8 +57,18 @@ pub fn material() -> Material {
         name: "terracotta bricks".into(),
         base_color: [0.75, 0.36, 0.22, 1.0],
         base_color_texture: None,
-        normal_texture: Some(seamlit_io::TextureRef { texture: 0, tex_coord: 0, transform: None }),
-        normal_scale: 1.0,
+        // Half the texture per patch: 2 x 4 large bricks, whose smooth faces show the shading.
+        normal_texture: Some(seamlit_io::TextureRef {
+            texture: 0,
+            tex_coord: 0,
+            transform: Some(seamlit_io::UvTransform {
+                offset: [0.0, 0.0],
+                rotation: 0.0,
+                scale: [0.5, 0.5],
+            }),
+        }),
+        // Shallow bricks: the smooth shading, and so the seams, stay visible under them.
+        normal_scale: 0.5,
         specular: [0.6, 0.6, 0.6],
         shininess: 48.0,
         ..Material::default()
@@ -71,6 +81,24 @@ pub fn teapot_transform() -> glam::Mat4 {
     glam::Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2)
 }
 
+/// The demo teapot: the embedded patches tessellated into 32 objects of `tessellation` x
+/// `tessellation` quads each (UVs = patch parameters), turned Y up, with the demo
+/// [`material`] and the generated brick normal map as texture 0.
+///
+/// # Errors
+/// None in practice: the embedded text is valid (a test checks it); the error is
+/// [`seamlit_io::newell::parse`]'s.
+pub fn teapot_asset(tessellation: u32) -> Result<Asset, IoError> {
+    let mut asset = seamlit_io::newell::parse(TEAPOT, "teapot", tessellation)?;
+    asset.materials = vec![material()];
+    asset.textures = vec![crate::assemble::bricks_texture()];
+    for object in &mut asset.model.objects {
+        object.material = Some(0);
+    }
+    crate::assemble::place(&mut asset, teapot_transform());
+    Ok(asset)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,6 +109,21 @@ mod tests {
         assert_eq!(lines.next().map(str::trim), Some("32"));
         // 32 patch lines, then the vertex count.
         assert_eq!(lines.nth(32).map(str::trim), Some("306"));
+    }
+
+    #[test]
+    fn the_demo_teapot_is_32_textured_objects_standing_y_up() {
+        let asset = teapot_asset(4).unwrap();
+        assert_eq!(asset.model.objects.len(), 32);
+        assert!(asset.model.objects.iter().all(|o| o.material == Some(0) && o.uvs.is_some()));
+        assert_eq!(asset.model.triangle_count(), 32 * 2 * 4 * 4);
+        let (min, max) = asset.model.bounds().unwrap();
+        // The Newell teapot is about 6.4 units wide (spout to handle) and 3.15 tall (Z in
+        // the file, Y here), standing on 0.
+        assert!(min.y.abs() < 1e-4 && (max.y - 3.15).abs() < 0.01, "{min} {max}");
+        assert!((max.x - min.x) > 5.5 && (max.x - min.x) < 6.5, "{min} {max}");
+        let normal = asset.materials[0].normal_texture.as_ref().unwrap();
+        assert!(asset.textures[normal.texture].image.is_some());
     }
 
     #[test]

@@ -1,0 +1,468 @@
+//! The command line, as clap reads it (DESIGN.md section 8).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use seamlit_mesh::{FixOptions, Mode, TangentMethod, Weighting, WeldTolerance};
+use seamlit_render::{DebugView, LightingModel};
+
+/// seamlit makes multi-object 3D models light correctly: it welds positions across all
+/// objects of a model and computes normals and tangents across the weld, so per-pixel
+/// lighting with normal mapping shows no seam where one object meets the next.
+///
+/// Exit status: 0 success, 1 processing failure (no GPU, a write failed), 2 bad input or
+/// usage (a malformed or missing file, a bad option).
+#[derive(Debug, Parser)]
+#[command(name = "seamlit", version, max_term_width = 100)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render the embedded demo: the Newell teapot as 32 objects with a brick normal map, in
+    /// the three modes side by side (the paper's Figures 9, 11 and 12), plus the seam report
+    /// before and after. Needs no files.
+    Demo(DemoArgs),
+    /// Compute seam-free normals and tangents and write the model out (glTF, GLB or OBJ).
+    /// A folder in gives a folder out.
+    Fix(FixArgs),
+    /// Print the seam report of a model as loaded and after each mode: how well normals and
+    /// tangents agree where objects meet.
+    Inspect(InspectArgs),
+    /// Render a scene or model to a PNG (headless).
+    Render(RenderArgs),
+    /// Render the three modes (flat, object, model) side by side, labelled, into one PNG.
+    Compare(CompareArgs),
+    /// Open a window: fly or orbit the camera, switch mode, lighting, normal mapping, lights
+    /// and debug views live.
+    View(ViewArgs),
+}
+
+/// `seamlit demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Folder for flat.png, object.png, model.png, compare.png and teapot-fixed.glb (created
+    /// if missing).
+    #[arg(long, short, value_name = "DIR", default_value = "demo-out")]
+    pub out: PathBuf,
+    /// Size of each rendered view, WIDTHxHEIGHT pixels.
+    #[arg(long, value_name = "WxH", default_value = "640x480", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Quads per patch side when tessellating the 32 Bezier patches.
+    #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub tessellation: u32,
+}
+
+/// `seamlit fix`.
+#[derive(Debug, Args)]
+pub struct FixArgs {
+    /// The model (.obj, .gltf, .glb or a Newell patch file), or a folder of models.
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+    /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
+    /// missing) that receives one file per model.
+    #[arg(long, short, value_name = "OUTPUT")]
+    pub output: PathBuf,
+    /// Output format for a folder INPUT (for a file, the OUTPUT extension decides).
+    #[arg(long, value_enum, value_name = "FORMAT", default_value_t = OutFormat::Glb)]
+    pub format: OutFormat,
+    /// Which faces are averaged into a vertex's normal and tangent.
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = ModeArg::Model)]
+    pub mode: ModeArg,
+    /// Replace an existing OUTPUT file that is the INPUT itself.
+    #[arg(long)]
+    pub overwrite_input: bool,
+    #[command(flatten)]
+    pub fix: FixFlags,
+    #[command(flatten)]
+    pub load: LoadFlags,
+}
+
+/// `seamlit inspect`.
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// The model (.obj, .gltf, .glb or a Newell patch file).
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+    /// Print JSON instead of a table: { "file", "as_loaded", "flat", "object", "model" },
+    /// each a full seam report.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub fix: FixFlags,
+    #[command(flatten)]
+    pub load: LoadFlags,
+}
+
+/// `seamlit render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// A scene file (.toml, see docs/scene.md) or a model file.
+    #[arg(value_name = "SCENE_OR_MODEL")]
+    pub input: PathBuf,
+    /// The PNG to write.
+    #[arg(long, short, value_name = "OUT.png")]
+    pub output: PathBuf,
+    /// Replace every model's mode from the scene.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub mode: Option<ModeArg>,
+    /// Render this many extra frames offscreen and print their timing (after one warm-up).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<usize>,
+    #[command(flatten)]
+    pub view: ViewFlags,
+    #[command(flatten)]
+    pub fix: FixFlags,
+    #[command(flatten)]
+    pub load: LoadFlags,
+}
+
+/// `seamlit compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// A scene file (.toml, see docs/scene.md) or a model file.
+    #[arg(value_name = "SCENE_OR_MODEL")]
+    pub input: PathBuf,
+    /// The PNG to write: the flat, object and model renderings side by side, labelled.
+    #[arg(long, short, value_name = "GRID.png")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub view: ViewFlags,
+    #[command(flatten)]
+    pub fix: FixFlags,
+    #[command(flatten)]
+    pub load: LoadFlags,
+}
+
+/// `seamlit view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// A scene file (.toml, see docs/scene.md) or a model file.
+    #[arg(value_name = "SCENE_OR_MODEL")]
+    pub input: PathBuf,
+    /// Start in this mode (the panel changes it).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub mode: Option<ModeArg>,
+    /// Save a screenshot of the window to this PNG (with --exit-after-frames: once that many
+    /// frames have been drawn; otherwise F12 saves to it).
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<PathBuf>,
+    /// Close the window after this many frames (for tests and scripts).
+    #[arg(long, value_name = "N")]
+    pub exit_after_frames: Option<u64>,
+    #[command(flatten)]
+    pub view: ViewFlags,
+    #[command(flatten)]
+    pub fix: FixFlags,
+    #[command(flatten)]
+    pub load: LoadFlags,
+}
+
+/// How normals and tangents are computed; each flag replaces the scene's value.
+#[derive(Debug, Args, Clone, Default)]
+pub struct FixFlags {
+    /// Crease angle in degrees: faces meeting at a sharper angle keep separate normals
+    /// (default 60; 180 smooths everything, as the paper does).
+    #[arg(long, value_name = "DEG", value_parser = parse_angle)]
+    pub crease: Option<f32>,
+    /// How close positions must be to be welded: a distance in model units, `rel:F` for a
+    /// fraction F of the bounding-box diagonal (default rel:1e-6), or `exact` (equal bits,
+    /// as the paper; the same as 0).
+    #[arg(long, value_name = "X", value_parser = parse_tolerance)]
+    pub weld_tolerance: Option<WeldTolerance>,
+    /// How face normals are weighted in the average at a vertex (default angle).
+    #[arg(long, value_enum, value_name = "W")]
+    pub weighting: Option<WeightingArg>,
+    /// Tangent generator (default seamlit; mikktspace matches maps baked by Blender,
+    /// Substance or xNormal; none drops tangents).
+    #[arg(long, value_enum, value_name = "T")]
+    pub tangents: Option<TangentsArg>,
+}
+
+impl FixFlags {
+    /// `base` with every flag that was given applied.
+    #[must_use]
+    pub fn apply(&self, base: FixOptions) -> FixOptions {
+        let mut o = base;
+        if let Some(c) = self.crease {
+            o.crease_angle_deg = c;
+        }
+        if let Some(t) = self.weld_tolerance {
+            o.weld_tolerance = t;
+        }
+        if let Some(w) = self.weighting {
+            o.weighting = w.into();
+        }
+        if let Some(t) = self.tangents {
+            o.tangents = t.into();
+        }
+        o
+    }
+}
+
+/// How model files are read.
+#[derive(Debug, Args, Clone)]
+pub struct LoadFlags {
+    /// Quads per patch side for Newell patch files.
+    #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub tessellation: u32,
+}
+
+/// What the picture shows.
+#[derive(Debug, Args, Clone)]
+pub struct ViewFlags {
+    /// Image (or window) size, WIDTHxHEIGHT pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// The scene camera to look through (default: the first, or one framing the model).
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
+    /// What each pixel shows: lit, or a debug view of the attributes.
+    #[arg(long, value_enum, value_name = "VIEW", default_value_t = ViewArg::Lit)]
+    pub view: ViewArg,
+    /// The lighting equation.
+    #[arg(long, value_enum, value_name = "MODEL", default_value_t = LightingArg::BlinnPhong)]
+    pub lighting: LightingArg,
+    /// Switch normal mapping off.
+    #[arg(long)]
+    pub no_normal_map: bool,
+    /// Draw each vertex's tangent (red), bitangent (green) and normal (blue) as lines.
+    #[arg(long)]
+    pub tbn: bool,
+}
+
+/// `--mode`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Face normals and tangents (the paper's Figure 9).
+    Flat,
+    /// Smooth within each object: seams stay (Figure 11).
+    Object,
+    /// Smooth across all objects: seams go (Figure 12).
+    Model,
+}
+
+impl From<ModeArg> for Mode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Flat => Self::Flat,
+            ModeArg::Object => Self::Object,
+            ModeArg::Model => Self::Model,
+        }
+    }
+}
+
+/// `--weighting`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WeightingArg {
+    /// By the corner angle at the vertex (independent of tessellation).
+    Angle,
+    /// By face area.
+    Area,
+    /// By corner angle times area.
+    AngleArea,
+    /// Every face once (the paper's plain average).
+    Uniform,
+}
+
+impl From<WeightingArg> for Weighting {
+    fn from(w: WeightingArg) -> Self {
+        match w {
+            WeightingArg::Angle => Self::Angle,
+            WeightingArg::Area => Self::Area,
+            WeightingArg::AngleArea => Self::AngleArea,
+            WeightingArg::Uniform => Self::Uniform,
+        }
+    }
+}
+
+impl From<Weighting> for WeightingArg {
+    fn from(w: Weighting) -> Self {
+        match w {
+            Weighting::Angle => Self::Angle,
+            Weighting::Area => Self::Area,
+            Weighting::AngleArea => Self::AngleArea,
+            Weighting::Uniform => Self::Uniform,
+        }
+    }
+}
+
+/// `--tangents`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TangentsArg {
+    /// seamlit's own, smoothed across objects like the normals.
+    Seamlit,
+    /// MikkTSpace over the whole model.
+    Mikktspace,
+    /// No tangents.
+    None,
+}
+
+impl From<TangentsArg> for TangentMethod {
+    fn from(t: TangentsArg) -> Self {
+        match t {
+            TangentsArg::Seamlit => Self::Seamlit,
+            TangentsArg::Mikktspace => Self::Mikktspace,
+            TangentsArg::None => Self::None,
+        }
+    }
+}
+
+/// `--format` of `fix` with a folder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OutFormat {
+    /// Binary glTF, textures embedded.
+    Glb,
+    /// glTF JSON with a .bin and the textures beside it.
+    Gltf,
+    /// Wavefront OBJ with a .mtl.
+    Obj,
+}
+
+impl OutFormat {
+    /// The file extension.
+    #[must_use]
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::Glb => "glb",
+            Self::Gltf => "gltf",
+            Self::Obj => "obj",
+        }
+    }
+}
+
+/// `--view`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ViewArg {
+    /// Lit and textured.
+    Lit,
+    /// World-space normals as colour.
+    Normals,
+    /// World-space tangents as colour.
+    Tangents,
+    /// Bitangent sign: green +1, red -1.
+    BitangentSign,
+    /// Texture coordinates as red and green.
+    Uv,
+    /// A flat colour per object: where the seams are.
+    Objects,
+    /// Lighting on a white material.
+    Lighting,
+}
+
+impl From<ViewArg> for DebugView {
+    fn from(v: ViewArg) -> Self {
+        match v {
+            ViewArg::Lit => Self::Lit,
+            ViewArg::Normals => Self::Normals,
+            ViewArg::Tangents => Self::Tangents,
+            ViewArg::BitangentSign => Self::BitangentSign,
+            ViewArg::Uv => Self::Uvs,
+            ViewArg::Objects => Self::ObjectIds,
+            ViewArg::Lighting => Self::LightingOnly,
+        }
+    }
+}
+
+/// `--lighting`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LightingArg {
+    /// Per-pixel Blinn-Phong.
+    BlinnPhong,
+    /// Per-pixel Phong.
+    Phong,
+    /// Per-pixel diffuse only.
+    Lambert,
+    /// Blinn-Phong per vertex (the paper's Figure 3).
+    Gouraud,
+}
+
+impl From<LightingArg> for LightingModel {
+    fn from(l: LightingArg) -> Self {
+        match l {
+            LightingArg::BlinnPhong => Self::BlinnPhong,
+            LightingArg::Phong => Self::Phong,
+            LightingArg::Lambert => Self::Lambert,
+            LightingArg::Gouraud => Self::Gouraud,
+        }
+    }
+}
+
+/// `WIDTHxHEIGHT`, each 1..=16384.
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT (e.g. 800x600)"))?;
+    let dim = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (1..=16384).contains(v))
+            .ok_or_else(|| format!("{t:?} in {s:?} is not a size in pixels (1 to 16384)"))
+    };
+    Ok((dim(w)?, dim(h)?))
+}
+
+/// An angle in degrees, 0..=180.
+fn parse_angle(s: &str) -> Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|a| (0.0..=180.0).contains(a))
+        .ok_or_else(|| format!("{s:?} is not an angle between 0 and 180 degrees"))
+}
+
+/// `exact`, `rel:F` or a distance.
+fn parse_tolerance(s: &str) -> Result<WeldTolerance, String> {
+    let bad = || format!("{s:?} is not a tolerance: use a distance >= 0, rel:FRACTION or exact");
+    if s.eq_ignore_ascii_case("exact") {
+        return Ok(WeldTolerance::Exact);
+    }
+    let number = |t: &str| t.parse::<f32>().ok().filter(|v| v.is_finite() && *v >= 0.0);
+    if let Some(rest) = s.strip_prefix("rel:") {
+        return number(rest).map(WeldTolerance::Relative).ok_or_else(bad);
+    }
+    match number(s) {
+        Some(0.0) => Ok(WeldTolerance::Exact),
+        Some(d) => Ok(WeldTolerance::Absolute(d)),
+        None => Err(bad()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_tolerances_and_angles_parse_and_bad_ones_say_why() {
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert_eq!(parse_size("64X32"), Ok((64, 32)));
+        assert!(parse_size("800").unwrap_err().contains("WIDTHxHEIGHT"));
+        assert!(parse_size("0x10").unwrap_err().contains("1 to 16384"));
+        assert_eq!(parse_tolerance("exact"), Ok(WeldTolerance::Exact));
+        assert_eq!(parse_tolerance("0"), Ok(WeldTolerance::Exact));
+        assert_eq!(parse_tolerance("0.001"), Ok(WeldTolerance::Absolute(0.001)));
+        assert_eq!(parse_tolerance("rel:1e-5"), Ok(WeldTolerance::Relative(1e-5)));
+        assert!(parse_tolerance("-1").is_err() && parse_tolerance("rel:x").is_err());
+        assert_eq!(parse_angle("60"), Ok(60.0));
+        assert!(parse_angle("200").is_err() && parse_angle("NaN").is_err());
+    }
+
+    #[test]
+    fn flags_replace_only_what_they_name() {
+        let flags = FixFlags { crease: Some(30.0), ..FixFlags::default() };
+        let o = flags.apply(FixOptions::PAPER);
+        assert_eq!(o.crease_angle_deg, 30.0);
+        assert_eq!(o.weighting, FixOptions::PAPER.weighting);
+        assert_eq!(o.weld_tolerance, FixOptions::PAPER.weld_tolerance);
+    }
+
+    #[test]
+    fn the_command_line_is_well_formed() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,166 @@
+//! `seamlit fix`: load, fix, write. A folder in gives a folder out, with a progress bar; a
+//! file that fails is reported and the others go on.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use seamlit_io::{Asset, Format, IoError, LoadOptions, SaveOptions};
+use seamlit_mesh::{FixOptions, ReportOptions};
+
+use crate::cli::FixArgs;
+use crate::failure::{Classify, Failure};
+
+/// Runs `seamlit fix`.
+///
+/// # Errors
+/// The first failure for a file; for a folder, a summary failure when any file failed
+/// (bad input if any file was bad input).
+pub fn run(args: &FixArgs) -> Result<(), Failure> {
+    let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
+    let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::DEFAULT };
+    let save = SaveOptions { overwrite_input: args.overwrite_input };
+    if args.input.is_dir() {
+        return run_folder(args, &options, &load, &save);
+    }
+    check_output_extension(&args.output)?;
+    let line = fix_file(&args.input, &args.output, &options, &load, &save)?;
+    println!("{line}");
+    Ok(())
+}
+
+fn check_output_extension(output: &Path) -> Result<(), Failure> {
+    let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("glb" | "gltf" | "obj") => Ok(()),
+        _ => Err(Failure::input(format!(
+            "{}: unknown output format (expected a .glb, .gltf or .obj file name)",
+            output.display()
+        ))),
+    }
+}
+
+/// Loads, fixes and writes one model; returns a one-line summary.
+fn fix_file(
+    input: &Path,
+    output: &Path,
+    options: &FixOptions,
+    load: &LoadOptions,
+    save: &SaveOptions,
+) -> Result<String, Failure> {
+    if !input.exists() {
+        return Err(Failure::input(format!("{}: no such file", input.display())));
+    }
+    let asset = seamlit_io::load(input, load).bad_input()?;
+    for warning in &asset.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let fixed = seamlit_mesh::fix(&asset.model, options)
+        .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
+    let report = seamlit_mesh::report(&fixed, &ReportOptions::from(options))
+        .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
+    let out = Asset { model: fixed, ..asset };
+    seamlit_io::save(&out, output, save).map_err(classify_save)?;
+    let seams = report
+        .cross_object
+        .max_normal_angle_deg
+        .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
+    Ok(format!(
+        "wrote {}: {} objects, {} triangles, {} positions shared by 2+ objects{seams}",
+        output.display(),
+        report.objects,
+        report.triangles,
+        report.shared_positions
+    ))
+}
+
+/// Writing fails through bad input (an output that is the input, an unknown extension) or
+/// through the machine (a full disk).
+fn classify_save(e: IoError) -> Failure {
+    match e {
+        IoError::WouldOverwriteInput { .. } | IoError::UnknownFormat { .. } => {
+            Failure::BadInput(e.into())
+        }
+        other => Failure::Processing(other.into()),
+    }
+}
+
+fn run_folder(
+    args: &FixArgs,
+    options: &FixOptions,
+    load: &LoadOptions,
+    save: &SaveOptions,
+) -> Result<(), Failure> {
+    let inputs = model_files(&args.input)?;
+    if args.output.exists() && !args.output.is_dir() {
+        return Err(Failure::input(format!(
+            "{}: is a file; with a folder INPUT, OUTPUT must be a folder",
+            args.output.display()
+        )));
+    }
+    std::fs::create_dir_all(&args.output).map_err(|e| {
+        Failure::processing(format!("{}: cannot create the folder: {e}", args.output.display()))
+    })?;
+    let bar = ProgressBar::new(inputs.len() as u64);
+    if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {wide_msg}") {
+        bar.set_style(style);
+    }
+    let mut used = HashSet::new();
+    let (mut failed, mut bad_input) = (0usize, false);
+    for input in &inputs {
+        bar.set_message(
+            input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+        );
+        let output = output_name(input, &args.output, args.format.extension(), &mut used);
+        match fix_file(input, &output, options, load, save) {
+            Ok(line) => bar.suspend(|| println!("{line}")),
+            Err(f) => {
+                failed += 1;
+                bad_input |= f.is_bad_input();
+                bar.suspend(|| eprintln!("error: {f}"));
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let total = inputs.len();
+    println!("fixed {} of {total} models into {}", total - failed, args.output.display());
+    match (failed, bad_input) {
+        (0, _) => Ok(()),
+        (n, true) => Err(Failure::input(format!("{n} of {total} models failed"))),
+        (n, false) => Err(Failure::processing(format!("{n} of {total} models failed"))),
+    }
+}
+
+/// The model files directly in `dir`, sorted.
+fn model_files(dir: &Path) -> Result<Vec<PathBuf>, Failure> {
+    let entries = std::fs::read_dir(dir)
+        .map_err(|e| Failure::input(format!("{}: cannot read the folder: {e}", dir.display())))?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.is_file() && Format::of(p).is_some())
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Failure::input(format!(
+            "{}: no model files (.obj, .gltf, .glb, Newell patches) in this folder",
+            dir.display()
+        )));
+    }
+    Ok(files)
+}
+
+/// `out/stem.ext`, or `out/stem-srcext.ext` when two inputs share a stem.
+fn output_name(input: &Path, out: &Path, ext: &str, used: &mut HashSet<PathBuf>) -> PathBuf {
+    let stem =
+        input.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
+    let mut path = out.join(format!("{stem}.{ext}"));
+    if used.contains(&path) {
+        let src =
+            input.extension().map_or_else(String::new, |e| format!("-{}", e.to_string_lossy()));
+        path = out.join(format!("{stem}{src}.{ext}"));
+    }
+    used.insert(path.clone());
+    path
+}

@@ -1,0 +1,95 @@
+//! `seamlit inspect`: the seam report of a model as loaded and after each mode.
+
+use std::path::Path;
+
+use seamlit_io::LoadOptions;
+use seamlit_mesh::{FixOptions, Mode, Model, ReportOptions, SeamReport};
+
+use crate::cli::InspectArgs;
+use crate::failure::{Classify, Failure};
+use crate::table::report_table;
+
+/// The model's reports: as loaded, then after `fix` in each mode.
+pub struct Reports {
+    /// The model as the file gave it.
+    pub as_loaded: SeamReport,
+    /// After each mode, in the order flat, object, model.
+    pub modes: [(Mode, SeamReport); 3],
+}
+
+impl Reports {
+    /// Measures `model` with `options` (its mode is replaced by each mode in turn).
+    ///
+    /// # Errors
+    /// [`Failure::BadInput`] naming `file` when the geometry is bad.
+    pub fn measure(model: &Model, options: &FixOptions, file: &Path) -> Result<Self, Failure> {
+        let report_options = ReportOptions::from(options);
+        let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
+        let as_loaded = seamlit_mesh::report(model, &report_options).map_err(bad)?;
+        let one = |mode: Mode| -> Result<(Mode, SeamReport), Failure> {
+            let fixed = seamlit_mesh::fix(model, &options.with_mode(mode)).map_err(bad)?;
+            Ok((mode, seamlit_mesh::report(&fixed, &report_options).map_err(bad)?))
+        };
+        Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
+    }
+
+    /// The readable table.
+    #[must_use]
+    pub fn table(&self) -> String {
+        let [(_, flat), (_, object), (_, model)] = &self.modes;
+        report_table(&[
+            ("as loaded", &self.as_loaded),
+            ("flat", flat),
+            ("object", object),
+            ("model", model),
+        ])
+    }
+
+    /// The JSON document `inspect --json` prints.
+    #[must_use]
+    pub fn json(&self, file: &Path, options: &FixOptions) -> serde_json::Value {
+        let [(_, flat), (_, object), (_, model)] = &self.modes;
+        serde_json::json!({
+            "file": file.display().to_string(),
+            "options": options,
+            "as_loaded": self.as_loaded,
+            "flat": flat,
+            "object": object,
+            "model": model,
+        })
+    }
+}
+
+/// Runs `seamlit inspect`.
+///
+/// # Errors
+/// [`Failure::BadInput`] for a missing or malformed model.
+pub fn run(args: &InspectArgs) -> Result<(), Failure> {
+    if !args.input.is_file() {
+        let what =
+            if args.input.is_dir() { "is a folder, expected a model file" } else { "no such file" };
+        return Err(Failure::input(format!("{}: {what}", args.input.display())));
+    }
+    let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::GEOMETRY };
+    let asset = seamlit_io::load(&args.input, &load).bad_input()?;
+    for warning in &asset.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let options = args.fix.apply(FixOptions::DEFAULT);
+    let reports = Reports::measure(&asset.model, &options, &args.input)?;
+    if args.json {
+        let text =
+            serde_json::to_string_pretty(&reports.json(&args.input, &options)).processing()?;
+        println!("{text}");
+    } else {
+        println!(
+            "{}: seam report (crease {}°, weld tolerance {:?}, weighting {:?})\n",
+            args.input.display(),
+            options.crease_angle_deg,
+            options.weld_tolerance,
+            options.weighting
+        );
+        print!("{}", reports.table());
+    }
+    Ok(())
+}

@@ -1,0 +1,55 @@
+//! `seamlit render`: a scene or model to a PNG, and with `--frames N` the frame timing.
+
+use crate::cli::RenderArgs;
+use crate::draw::{Gpu, check_png, frame_settings};
+use crate::failure::{Classify, Failure};
+use crate::picture::save_png;
+use crate::prepare::{FixOverride, bounds_of, load, load_options, pick_camera};
+
+/// Runs `seamlit render`.
+///
+/// # Errors
+/// Bad input (files, camera name) before any GPU work; processing failures after.
+pub fn run(args: &RenderArgs) -> Result<(), Failure> {
+    check_png(&args.output)?;
+    let loaded = load(&args.input, &load_options(&args.load))?;
+    let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.fix.clone() };
+    let asset = loaded.build(&fix)?;
+    let bounds = bounds_of(&asset);
+    let size = args.view.size;
+    let aspect = size.0 as f32 / size.1 as f32;
+    let cameras = loaded.cameras(bounds, aspect);
+    let camera = pick_camera(&cameras, args.view.camera.as_deref(), &args.input)?;
+    let settings = frame_settings(&args.view, loaded.lights());
+    let mut gpu = Gpu::open()?;
+    let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
+    save_png(&image, &args.output).processing()?;
+    println!(
+        "wrote {} ({}x{}, camera {:?}, {} objects, {} triangles)",
+        args.output.display(),
+        size.0,
+        size.1,
+        camera.name,
+        asset.model.objects.len(),
+        asset.model.triangle_count()
+    );
+    if let Some(frames) = args.frames.filter(|n| *n > 0) {
+        let view = camera.view(aspect, Some(bounds));
+        let times = gpu
+            .renderer
+            .time_frames(&gpu.ctx, &scene, &view, &settings, size.0, size.1, frames)
+            .processing()?;
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        println!(
+            "{frames} frames at {}x{} on {}: mean {:.2} ms, median {:.2} ms, min {:.2} ms ({:.1} frames/s)",
+            size.0,
+            size.1,
+            gpu.ctx.describe(),
+            ms(times.mean()),
+            ms(times.median()),
+            ms(times.min()),
+            1e3 / ms(times.mean()).max(1e-9)
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,163 @@
+//! Pictures on disk: PNGs written to a temporary name and renamed, and labelled grids of
+//! renderings (the `compare` and `demo` outputs), with text drawn from an embedded font
+//! (Hack, from egui's default fonts).
+
+use std::io::BufWriter;
+use std::path::Path;
+
+use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
+use image::{Rgba, RgbaImage};
+
+/// Writes `image` as a PNG to `path`: first to a temporary file in the same folder, then
+/// renamed over `path`, so that a failure never leaves a half-written file.
+///
+/// # Errors
+/// The I/O or encoding error, with the path.
+pub fn save_png(image: &RgbaImage, path: &Path) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let write = || -> anyhow::Result<()> {
+        let mut tmp =
+            tempfile::Builder::new().prefix(".seamlit-").suffix(".png.tmp").tempfile_in(dir)?;
+        {
+            let mut w = BufWriter::new(tmp.as_file_mut());
+            image.write_to(&mut w, image::ImageFormat::Png)?;
+            std::io::Write::flush(&mut w)?;
+        }
+        tmp.persist(path)?;
+        Ok(())
+    };
+    write().map_err(|e| anyhow::anyhow!("{}: cannot write the image: {e}", path.display()))
+}
+
+/// The label font.
+fn font() -> FontRef<'static> {
+    #[expect(clippy::expect_used, reason = "the font is compiled in; a test parses it")]
+    FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR).expect("the embedded font parses")
+}
+
+/// Width in pixels of `text` at `size` pixels.
+#[must_use]
+pub fn text_width(text: &str, size: f32) -> f32 {
+    let font = font();
+    let scaled = font.as_scaled(PxScale::from(size));
+    text.chars().map(|c| scaled.h_advance(font.glyph_id(c))).sum()
+}
+
+/// Draws `text` with its top-left corner at `(x, y)`, `size` pixels tall, blending `color`
+/// over the image.
+pub fn draw_text(image: &mut RgbaImage, text: &str, x: f32, y: f32, size: f32, color: [u8; 3]) {
+    let font = font();
+    let scaled = font.as_scaled(PxScale::from(size));
+    let mut caret = x;
+    let baseline = y + scaled.ascent();
+    for c in text.chars() {
+        let glyph = scaled.scaled_glyph(c);
+        let id = glyph.id;
+        let mut positioned = glyph;
+        positioned.position = ab_glyph::point(caret, baseline);
+        caret += scaled.h_advance(id);
+        let Some(outline) = font.outline_glyph(positioned) else { continue };
+        let b = outline.px_bounds();
+        outline.draw(|gx, gy, coverage| {
+            let px = b.min.x as i64 + i64::from(gx);
+            let py = b.min.y as i64 + i64::from(gy);
+            let (Ok(px), Ok(py)) = (u32::try_from(px), u32::try_from(py)) else { return };
+            if px >= image.width() || py >= image.height() {
+                return;
+            }
+            let a = coverage.clamp(0.0, 1.0);
+            let p = image.get_pixel_mut(px, py);
+            for (channel, ink) in p.0.iter_mut().zip(color) {
+                *channel = (f32::from(*channel) * (1.0 - a) + f32::from(ink) * a).round() as u8;
+            }
+        });
+    }
+}
+
+/// Height of the label band above each panel, pixels.
+pub const LABEL_BAND: u32 = 44;
+
+/// Places panels side by side, each under a band with its title (and a smaller subtitle),
+/// on a dark background.
+#[must_use]
+pub fn labelled_row(panels: &[(RgbaImage, String, String)]) -> RgbaImage {
+    let gap = 4;
+    let height = panels.iter().map(|(p, ..)| p.height()).max().unwrap_or(1) + LABEL_BAND;
+    let count = u32::try_from(panels.len()).unwrap_or(u32::MAX);
+    let width = panels.iter().map(|(p, ..)| p.width()).sum::<u32>() + gap * count.saturating_sub(1);
+    let mut out = RgbaImage::from_pixel(width.max(1), height, Rgba([18, 18, 22, 255]));
+    let mut x0 = 0;
+    for (panel, title, subtitle) in panels {
+        image::imageops::replace(&mut out, panel, i64::from(x0), i64::from(LABEL_BAND));
+        let centre =
+            |t: &str, size: f32| x0 as f32 + (panel.width() as f32 - text_width(t, size)) / 2.0;
+        draw_text(
+            &mut out,
+            title,
+            centre(title, 20.0).max(x0 as f32 + 4.0),
+            3.0,
+            20.0,
+            [240, 240, 240],
+        );
+        draw_text(
+            &mut out,
+            subtitle,
+            centre(subtitle, 13.0).max(x0 as f32 + 4.0),
+            26.0,
+            13.0,
+            [170, 170, 180],
+        );
+        x0 += panel.width() + gap;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_puts_ink_inside_its_box_and_nowhere_else() {
+        let mut img = RgbaImage::from_pixel(120, 40, Rgba([0, 0, 0, 255]));
+        let w = text_width("model", 20.0);
+        assert!(w > 30.0 && w < 100.0, "{w}");
+        draw_text(&mut img, "model", 10.0, 5.0, 20.0, [255, 255, 255]);
+        let mut inked = 0;
+        for (x, y, p) in img.enumerate_pixels() {
+            if p.0[0] > 0 {
+                inked += 1;
+                assert!(
+                    (9..=11 + w as u32).contains(&x) && (4..=30).contains(&y),
+                    "ink at {x},{y}"
+                );
+            }
+        }
+        assert!(inked > 50, "{inked} pixels inked");
+    }
+
+    #[test]
+    fn a_row_puts_panels_side_by_side_under_their_labels() {
+        let a = RgbaImage::from_pixel(50, 30, Rgba([255, 0, 0, 255]));
+        let b = RgbaImage::from_pixel(50, 30, Rgba([0, 0, 255, 255]));
+        let row = labelled_row(&[(a, "a".into(), "".into()), (b, "b".into(), "".into())]);
+        assert_eq!(row.dimensions(), (104, 30 + LABEL_BAND));
+        assert_eq!(row.get_pixel(10, LABEL_BAND + 5).0, [255, 0, 0, 255]);
+        assert_eq!(row.get_pixel(60, LABEL_BAND + 5).0, [0, 0, 255, 255]);
+    }
+
+    #[test]
+    fn a_png_is_written_whole_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.png");
+        save_png(&RgbaImage::new(4, 4), &path).unwrap();
+        assert_eq!(image::open(&path).unwrap().width(), 4);
+        let bad = dir.path().join("missing-folder/x.png");
+        let e = save_png(&RgbaImage::new(4, 4), &bad).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{}: cannot write", bad.display())), "{e}");
+        // Nothing but x.png is left in the folder.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+}

@@ -1,0 +1,131 @@
+//! From a path on the command line to an asset ready to render: read the scene (or wrap a
+//! model path in one), load each model, apply its material overrides, fix it with its
+//! options (and the command line's), place it, and merge everything into one asset.
+
+use std::path::Path;
+
+use seamlit_io::{Asset, LoadOptions};
+use seamlit_mesh::{FixOptions, Mode};
+use seamlit_render::Light;
+use seamlit_scene::{
+    Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
+};
+
+use crate::cli::{FixFlags, LoadFlags};
+use crate::failure::{Classify, Failure};
+
+/// A scene with its models loaded but not yet fixed, so that they can be fixed again with
+/// other options (the viewer does, live).
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// Each model of the scene with its loaded asset (materials overridden, not placed).
+    pub parts: Vec<(SceneModel, Asset)>,
+}
+
+/// How the command line changes the scene's processing options.
+#[derive(Clone, Debug, Default)]
+pub struct FixOverride {
+    /// Replaces every model's mode.
+    pub mode: Option<Mode>,
+    /// Replace other options.
+    pub flags: FixFlags,
+}
+
+impl FixOverride {
+    /// The options for a model whose scene gives `base`.
+    #[must_use]
+    pub fn apply(&self, base: FixOptions) -> FixOptions {
+        let o = self.flags.apply(base);
+        match self.mode {
+            Some(m) => o.with_mode(m),
+            None => o,
+        }
+    }
+}
+
+/// The load options the command line asks for.
+#[must_use]
+pub fn load_options(flags: &LoadFlags) -> LoadOptions {
+    LoadOptions { tessellation: flags.tessellation, ..LoadOptions::DEFAULT }
+}
+
+/// Reads a scene file or a model file and loads every model.
+///
+/// # Errors
+/// [`Failure::BadInput`] naming the file for a missing or malformed scene or model.
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, Failure> {
+    if !path.exists() {
+        return Err(Failure::input(format!("{}: no such file", path.display())));
+    }
+    if path.is_dir() {
+        return Err(Failure::input(format!(
+            "{}: is a folder, expected a scene or model file",
+            path.display()
+        )));
+    }
+    let scene = Scene::open(path).bad_input()?;
+    let mut parts = Vec::with_capacity(scene.models.len());
+    for model in &scene.models {
+        let mut asset = seamlit_io::load(&model.path, options).bad_input()?;
+        for warning in &asset.warnings {
+            eprintln!("warning: {warning}");
+        }
+        apply_overrides(&mut asset, &model.materials, &model.path).bad_input()?;
+        ensure_material(&mut asset);
+        parts.push((model.clone(), asset));
+    }
+    Ok(Loaded { scene, parts })
+}
+
+impl Loaded {
+    /// Fixes every model with its options changed by `fix`, places it and merges them.
+    ///
+    /// # Errors
+    /// [`Failure::BadInput`] when a model has bad geometry (NaN positions, indices out of
+    /// range), naming the model file.
+    pub fn build(&self, fix: &FixOverride) -> Result<Asset, Failure> {
+        let mut assets = Vec::with_capacity(self.parts.len());
+        for (model, asset) in &self.parts {
+            let options = fix.apply(model.fix);
+            let fixed = seamlit_mesh::fix(&asset.model, &options)
+                .map_err(|e| Failure::input(format!("{}: {e}", model.path.display())))?;
+            let mut out = Asset { model: fixed, ..asset.clone() };
+            place(&mut out, model.transform);
+            assets.push(out);
+        }
+        Ok(merge(assets))
+    }
+
+    /// The scene's lights, or the default rig.
+    #[must_use]
+    pub fn lights(&self) -> Vec<Light> {
+        self.scene.lights_or_default()
+    }
+
+    /// The scene's cameras, or one framing `bounds` at this aspect ratio.
+    #[must_use]
+    pub fn cameras(&self, bounds: Bounds, aspect: f32) -> Vec<Camera> {
+        self.scene.cameras_or_default(bounds, aspect)
+    }
+}
+
+/// The bounds of an asset's model, or a unit cube around the origin for an empty one.
+#[must_use]
+pub fn bounds_of(asset: &Asset) -> Bounds {
+    asset.model.bounds().unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::ONE))
+}
+
+/// Picks the camera called `name` (or the first).
+///
+/// # Errors
+/// [`Failure::BadInput`] listing the cameras there are.
+pub fn pick_camera(
+    cameras: &[Camera],
+    name: Option<&str>,
+    input: &Path,
+) -> Result<Camera, Failure> {
+    Scene::find_camera(cameras, name)
+        .cloned()
+        .map_err(|e| Failure::input(format!("{}: {e}", input.display())))
+}

@@ -1,0 +1,263 @@
+//! The viewer's egui panel: processing options (which re-run the fix), shading switches,
+//! lights, cameras, and the frame time.
+
+use egui::{ComboBox, DragValue, Slider, Ui};
+use glam::Vec3;
+use seamlit_mesh::{Mode, Weighting};
+use seamlit_render::{DebugView, Light, LightingModel};
+
+/// Which controller moves the camera.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Controller {
+    /// Drag to orbit the target, scroll to zoom, middle-drag to pan.
+    Orbit,
+    /// WASD to move, right-drag to look, Shift to go faster.
+    Fps,
+}
+
+/// Everything the panel edits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Processing mode.
+    pub mode: Mode,
+    /// Crease angle, degrees.
+    pub crease_deg: f32,
+    /// Normal weighting.
+    pub weighting: Weighting,
+    /// Lighting equation.
+    pub lighting: LightingModel,
+    /// Normal mapping on or off.
+    pub normal_mapping: bool,
+    /// What the pixels show.
+    pub debug_view: DebugView,
+    /// TBN lines.
+    pub show_tbn: bool,
+    /// The lights.
+    pub lights: Vec<Light>,
+    /// Index of the camera in use.
+    pub camera: usize,
+    /// Which controller moves it.
+    pub controller: Controller,
+}
+
+impl Settings {
+    /// The part of the settings that needs a new fix when it changes.
+    #[must_use]
+    pub fn fix_key(&self) -> (Mode, u32, Weighting) {
+        (self.mode, self.crease_deg.to_bits(), self.weighting)
+    }
+}
+
+/// What the panel shows but does not edit.
+pub struct Readout<'a> {
+    /// Camera names.
+    pub cameras: &'a [String],
+    /// Smoothed frame time, milliseconds.
+    pub frame_ms: f32,
+    /// Time of the last fix, milliseconds.
+    pub fix_ms: f32,
+    /// Objects and triangles of the model.
+    pub objects: usize,
+    /// Triangles of the model.
+    pub triangles: usize,
+    /// The adapter.
+    pub adapter: &'a str,
+    /// The last message (an error of the last fix, a screenshot written).
+    pub status: &'a str,
+}
+
+/// What the user asked for with a button.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Actions {
+    /// Save a screenshot.
+    pub screenshot: bool,
+    /// Put the camera back where the scene had it.
+    pub reset_camera: bool,
+}
+
+/// Draws the panel into `ui`, editing `s`.
+pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
+    let mut actions = Actions::default();
+    ui.heading("seamlit");
+    ui.label(format!("{} objects, {} triangles", r.objects, r.triangles));
+    ui.label(format!(
+        "frame {:.2} ms ({:.0} fps), fix {:.0} ms",
+        r.frame_ms,
+        1000.0 / r.frame_ms.max(1e-3),
+        r.fix_ms
+    ));
+    ui.small(r.adapter);
+    ui.separator();
+
+    ui.strong("Processing");
+    ComboBox::from_label("mode").selected_text(mode_name(s.mode)).show_ui(ui, |ui| {
+        for m in [Mode::Flat, Mode::Object, Mode::Model] {
+            ui.selectable_value(&mut s.mode, m, mode_name(m));
+        }
+    });
+    ui.add(Slider::new(&mut s.crease_deg, 0.0..=180.0).text("crease °"));
+    ComboBox::from_label("weighting").selected_text(format!("{:?}", s.weighting)).show_ui(
+        ui,
+        |ui| {
+            for w in [Weighting::Angle, Weighting::Area, Weighting::AngleArea, Weighting::Uniform] {
+                ui.selectable_value(&mut s.weighting, w, format!("{w:?}"));
+            }
+        },
+    );
+    ui.separator();
+
+    ui.strong("Shading");
+    ComboBox::from_label("lighting").selected_text(format!("{:?}", s.lighting)).show_ui(ui, |ui| {
+        for l in [
+            LightingModel::BlinnPhong,
+            LightingModel::Phong,
+            LightingModel::Lambert,
+            LightingModel::Gouraud,
+        ] {
+            ui.selectable_value(&mut s.lighting, l, format!("{l:?}"));
+        }
+    });
+    ui.checkbox(&mut s.normal_mapping, "normal mapping");
+    ComboBox::from_label("view").selected_text(format!("{:?}", s.debug_view)).show_ui(ui, |ui| {
+        for v in [
+            DebugView::Lit,
+            DebugView::Normals,
+            DebugView::Tangents,
+            DebugView::BitangentSign,
+            DebugView::Uvs,
+            DebugView::ObjectIds,
+            DebugView::LightingOnly,
+        ] {
+            ui.selectable_value(&mut s.debug_view, v, format!("{v:?}"));
+        }
+    });
+    ui.checkbox(&mut s.show_tbn, "TBN lines");
+    ui.separator();
+
+    ui.strong("Camera");
+    ComboBox::from_label("camera")
+        .selected_text(r.cameras.get(s.camera).map_or("-", String::as_str))
+        .show_ui(ui, |ui| {
+            for (i, name) in r.cameras.iter().enumerate() {
+                ui.selectable_value(&mut s.camera, i, name);
+            }
+        });
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut s.controller, Controller::Orbit, "orbit");
+        ui.radio_value(&mut s.controller, Controller::Fps, "FPS");
+        if ui.button("reset").clicked() {
+            actions.reset_camera = true;
+        }
+    });
+    ui.small(match s.controller {
+        Controller::Orbit => "drag: orbit · scroll: zoom · middle-drag: pan · Tab: FPS",
+        Controller::Fps => {
+            "WASD: move · E/Q: up/down · right-drag: look · Shift: fast · Tab: orbit"
+        }
+    });
+    ui.separator();
+
+    ui.strong("Lights");
+    let mut remove = None;
+    for (i, light) in s.lights.iter_mut().enumerate() {
+        ui.push_id(i, |ui| {
+            ui.horizontal(|ui| {
+                ui.label(format!("{} {}", i + 1, light_kind(light)));
+                if ui.small_button("remove").clicked() {
+                    remove = Some(i);
+                }
+            });
+            edit_light(ui, light);
+        });
+    }
+    if let Some(i) = remove {
+        s.lights.remove(i);
+    }
+    ui.horizontal(|ui| {
+        if ui.button("+ directional").clicked() {
+            s.lights.push(Light::Directional {
+                direction: Vec3::new(0.0, -1.0, -1.0),
+                color: Vec3::ONE,
+                intensity: 0.5,
+            });
+        }
+        if ui.button("+ point").clicked() {
+            s.lights.push(Light::Point {
+                position: Vec3::new(0.0, 3.0, 3.0),
+                color: Vec3::ONE,
+                intensity: 0.8,
+                range: 50.0,
+            });
+        }
+    });
+    ui.separator();
+    if ui.button("screenshot (F12)").clicked() {
+        actions.screenshot = true;
+    }
+    if !r.status.is_empty() {
+        ui.label(r.status);
+    }
+    actions
+}
+
+fn mode_name(m: Mode) -> &'static str {
+    match m {
+        Mode::Flat => "flat (Fig. 9)",
+        Mode::Object => "object (Fig. 11)",
+        Mode::Model => "model (Fig. 12)",
+    }
+}
+
+fn light_kind(l: &Light) -> &'static str {
+    match l {
+        Light::Directional { .. } => "directional",
+        Light::Point { .. } => "point",
+        Light::Spot { .. } => "spot",
+    }
+}
+
+fn vec3(ui: &mut Ui, label: &str, v: &mut Vec3, speed: f64) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.add(DragValue::new(&mut v.x).speed(speed));
+        ui.add(DragValue::new(&mut v.y).speed(speed));
+        ui.add(DragValue::new(&mut v.z).speed(speed));
+    });
+}
+
+fn edit_light(ui: &mut Ui, light: &mut Light) {
+    let (color, intensity) = match light {
+        Light::Directional { direction, color, intensity } => {
+            vec3(ui, "dir", direction, 0.02);
+            (color, intensity)
+        }
+        Light::Point { position, color, intensity, range } => {
+            vec3(ui, "pos", position, 0.05);
+            ui.add(Slider::new(range, 0.1..=1000.0).logarithmic(true).text("range"));
+            (color, intensity)
+        }
+        Light::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+            inner_cone_deg,
+            outer_cone_deg,
+        } => {
+            vec3(ui, "pos", position, 0.05);
+            vec3(ui, "dir", direction, 0.02);
+            ui.add(Slider::new(range, 0.1..=1000.0).logarithmic(true).text("range"));
+            ui.add(Slider::new(outer_cone_deg, 1.0..=89.0).text("outer °"));
+            ui.add(Slider::new(inner_cone_deg, 0.0..=*outer_cone_deg).text("inner °"));
+            (color, intensity)
+        }
+    };
+    ui.horizontal(|ui| {
+        let mut rgb = color.to_array();
+        if ui.color_edit_button_rgb(&mut rgb).changed() {
+            *color = Vec3::from(rgb);
+        }
+        ui.add(Slider::new(intensity, 0.0..=3.0).text("intensity"));
+    });
+}
