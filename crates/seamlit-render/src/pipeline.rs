@@ -29,11 +29,6 @@ impl Pipelines {
             ],
             immediate_size: 0,
         });
-        let tbn_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("seamlit tbn lines"),
-            bind_group_layouts: &[Some(&layouts.frame), None, Some(&layouts.object)],
-            immediate_size: 0,
-        });
         let depth = || wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(true),
@@ -83,7 +78,9 @@ impl Pipelines {
         let mesh = [mesh_pipeline(0), mesh_pipeline(1), mesh_pipeline(2), mesh_pipeline(3)];
         let tbn = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("seamlit tbn lines"),
-            layout: Some(&tbn_layout),
+            // The mesh layout, material group included though the lines do not read it: a gap
+            // in the layout (None) misplaced the object group on lavapipe.
+            layout: Some(&mesh_layout),
             vertex: wgpu::VertexState {
                 module: &module,
                 entry_point: Some("vs_tbn"),

@@ -222,6 +222,7 @@ impl Renderer {
         if settings.show_tbn {
             pass.set_pipeline(&self.pipelines.tbn);
             for mesh in &scene.meshes {
+                pass.set_bind_group(1, &scene.materials[mesh.material].bind_group, &[]);
                 pass.set_bind_group(2, &mesh.bind_group, &[]);
                 pass.draw(0..mesh.tbn_vertex_count * 6, 0..1);
             }
@@ -277,12 +278,13 @@ impl Renderer {
     }
 
     /// Renders one frame offscreen at `width` x `height` and reads it back as an sRGB RGBA
-    /// image. The renderer must have been created with [`IMAGE_FORMAT`].
+    /// image. The renderer's format must be [`IMAGE_FORMAT`] (the hardware encodes sRGB) or
+    /// `Rgba8Unorm` (the shader encodes, as for a window surface without an sRGB format).
     ///
     /// # Errors
     ///
-    /// [`RenderError::BadSize`], [`RenderError::Gpu`] (also when the renderer's format is not
-    /// [`IMAGE_FORMAT`]), [`RenderError::Poll`], [`RenderError::Map`].
+    /// [`RenderError::BadSize`], [`RenderError::Gpu`] (also for another format),
+    /// [`RenderError::Poll`], [`RenderError::Map`].
     pub fn render_to_image(
         &mut self,
         ctx: &GpuContext,
@@ -293,11 +295,11 @@ impl Renderer {
         height: u32,
     ) -> Result<RgbaImage, RenderError> {
         check_size(ctx, width, height)?;
-        if self.format != IMAGE_FORMAT {
+        if !matches!(self.format, IMAGE_FORMAT | wgpu::TextureFormat::Rgba8Unorm) {
             return Err(RenderError::Gpu {
                 during: "rendering to an image",
                 message: format!(
-                    "the renderer draws {:?}, images need {IMAGE_FORMAT:?}",
+                    "the renderer draws {:?}, images need {IMAGE_FORMAT:?} or Rgba8Unorm",
                     self.format
                 ),
             });
@@ -309,7 +311,7 @@ impl Renderer {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: IMAGE_FORMAT,
+                format: self.format,
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             });

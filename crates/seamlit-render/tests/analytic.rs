@@ -210,3 +210,224 @@ fn point_light_falls_off_with_distance_as_specified() {
         "the far pixel must be clearly darker"
     );
 }
+
+#[test]
+fn spot_light_is_full_inside_the_inner_cone_and_dark_outside_the_outer() {
+    let ctx = ctx();
+    let material =
+        Material { base_color: [1.0, 1.0, 1.0, 1.0], specular: [0.0; 3], ..Material::default() };
+    let scene = GpuScene::upload(&ctx, &asset(plane(1.5), material, vec![])).expect("upload");
+    let (height, inner, outer) = (1.0f64, 20.0f64, 35.0f64);
+    let settings = FrameSettings {
+        lights: vec![Light::Spot {
+            position: Vec3::new(0.0, 0.0, 1.0),
+            direction: Vec3::NEG_Z,
+            color: Vec3::ONE,
+            intensity: 0.7,
+            range: 0.0,
+            inner_cone_deg: 20.0,
+            outer_cone_deg: 35.0,
+        }],
+        ambient: Vec3::ZERO,
+        lighting_model: LightingModel::Lambert,
+        ..FrameSettings::default()
+    };
+    let image =
+        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    save("analytic_spot", &image);
+    // No range cut-off (range 0): 1 / d^2, times N.L, times the cone factor t^2 with
+    // t = clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1).
+    let expected = |x: u32, y: u32| {
+        let p = pixel_world(x, y, SIZE, HALF);
+        let to_light = [-p[0], -p[1], height - p[2]];
+        let d = dot(to_light, to_light).sqrt();
+        let cos_a = to_light[2] / d;
+        let (ci, co) = (inner.to_radians().cos(), outer.to_radians().cos());
+        let t = ((cos_a - co) / (ci - co)).clamp(0.0, 1.0);
+        [srgb(0.7 / (d * d) * cos_a * t * t); 3]
+    };
+    // Centre (inside the inner cone), x = 0.5 (26.6 degrees: in the fade), x = 0.9 (42
+    // degrees: outside, black).
+    for x in [32, 48, 60] {
+        assert_pixel(&image, x, 32, expected(x, 32), 2.0, "spot light");
+    }
+    assert!(
+        expected(60, 32)[0] < 0.5
+            && expected(48, 32)[0] > 20.0
+            && expected(48, 32)[0] < expected(32, 32)[0] - 20.0
+    );
+}
+
+#[test]
+fn phong_and_gouraud_match_their_equations_on_a_plane() {
+    let ctx = ctx();
+    let material = Material {
+        base_color: [0.6, 0.6, 0.6, 1.0],
+        specular: [0.4; 3],
+        shininess: 8.0,
+        ..Material::default()
+    };
+    let scene = GpuScene::upload(&ctx, &asset(plane(1.5), material, vec![])).expect("upload");
+    let dir = [0.4, 0.1, -1.0];
+    let l = normalize(dir.map(|d: f64| -d));
+    let n = [0.0, 0.0, 1.0];
+    let base = FrameSettings {
+        lights: vec![Light::Directional {
+            direction: Vec3::new(0.4, 0.1, -1.0),
+            color: Vec3::ONE,
+            intensity: 0.8,
+        }],
+        ambient: Vec3::splat(0.03),
+        ..FrameSettings::default()
+    };
+    // Phong: specular from the reflection vector R = 2 (N.L) N - L.
+    let phong = render_to_image(
+        &ctx,
+        &scene,
+        &ortho_camera(HALF),
+        &FrameSettings { lighting_model: LightingModel::Phong, ..base.clone() },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    save("analytic_phong", &phong);
+    for (x, y) in [(32, 32), (10, 50)] {
+        let p = pixel_world(x, y, SIZE, HALF);
+        let v = normalize([EYE[0] - p[0], EYE[1] - p[1], EYE[2] - p[2]]);
+        let nl = dot(n, l);
+        let r = [2.0 * nl * n[0] - l[0], 2.0 * nl * n[1] - l[1], 2.0 * nl * n[2] - l[2]];
+        let value = 0.6 * (0.03 + 0.8 * nl) + 0.4 * 0.8 * dot(r, v).max(0.0).powf(8.0);
+        assert_pixel(&phong, x, y, [srgb(value); 3], 2.0, "Phong");
+    }
+    // Gouraud: Blinn-Phong at the four corners, interpolated. With a directional light the
+    // diffuse term is the same everywhere; the specular term varies slowly, so the centre is
+    // close to the average of the corner values. The diffuse part is checked exactly by
+    // turning specular off in a second render.
+    let gouraud = render_to_image(
+        &ctx,
+        &scene,
+        &ortho_camera(HALF),
+        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base.clone() },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    save("analytic_gouraud", &gouraud);
+    let diffuse_only = GpuScene::upload(
+        &ctx,
+        &asset(
+            plane(1.5),
+            Material {
+                base_color: [0.6, 0.6, 0.6, 1.0],
+                specular: [0.0; 3],
+                ..Material::default()
+            },
+            vec![],
+        ),
+    )
+    .expect("upload");
+    let g = render_to_image(
+        &ctx,
+        &diffuse_only,
+        &ortho_camera(HALF),
+        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    assert_pixel(&g, 20, 40, [srgb(0.6 * (0.03 + 0.8 * dot(n, l))); 3], 2.0, "Gouraud diffuse");
+    // The per-vertex specular at the plane's corners (+-1.5) interpolated bilinearly-ish across
+    // two triangles: at the centre it lies between the smallest and largest corner value.
+    let corner_spec = |cx: f64, cy: f64| {
+        let v = normalize([EYE[0] - cx, EYE[1] - cy, EYE[2]]);
+        let h = normalize([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+        0.4 * 0.8 * dot(n, h).max(0.0).powf(8.0)
+    };
+    let corners = [
+        corner_spec(-1.5, -1.5),
+        corner_spec(1.5, -1.5),
+        corner_spec(1.5, 1.5),
+        corner_spec(-1.5, 1.5),
+    ];
+    let lo = corners.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = corners.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let diffuse = 0.6 * (0.03 + 0.8 * dot(n, l));
+    let centre = f64::from(gouraud.get_pixel(32, 32)[0]);
+    assert!(
+        centre >= srgb(diffuse + lo) - 2.0 && centre <= srgb(diffuse + hi) + 2.0,
+        "Gouraud centre {centre} outside [{}, {}]",
+        srgb(diffuse + lo),
+        srgb(diffuse + hi)
+    );
+}
+
+#[test]
+fn green_flip_and_normal_mapping_switches() {
+    let ctx = ctx();
+    let material =
+        Material { base_color: [0.9, 0.9, 0.9, 1.0], specular: [0.0; 3], ..Material::default() };
+    // n = (0, sin 45, cos 45): tilted toward +B = +Y (OpenGL convention, green up).
+    let t = ((std::f64::consts::FRAC_1_SQRT_2 * 0.5 + 0.5) * 255.0).round();
+    #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "218 fits a byte")]
+    let texel = [128, t as u8, t as u8];
+    let scene =
+        GpuScene::upload(&ctx, &normal_mapped_plane(texel, material.clone())).expect("upload");
+    // Light from +Y at 45 degrees.
+    let settings = FrameSettings {
+        lights: vec![Light::Directional {
+            direction: Vec3::new(0.0, -1.0, -1.0),
+            color: Vec3::ONE,
+            intensity: 1.0,
+        }],
+        ambient: Vec3::splat(0.02),
+        lighting_model: LightingModel::Lambert,
+        ..FrameSettings::default()
+    };
+    let camera = ortho_camera(HALF);
+    let value = |n: [f64; 3]| {
+        [srgb(0.9 * (0.02 + dot(normalize(n), normalize([0.0, 1.0, 1.0])).max(0.0))); 3]
+    };
+    let (x, y, z) = (decode(texel[0]), decode(texel[1]), decode(texel[2]));
+    let up = render_to_image(&ctx, &scene, &camera, &settings, SIZE, SIZE).expect("render");
+    assert_pixel(&up, 32, 32, value([x, y, z]), 2.0, "green up faces the light");
+    let flipped = render_to_image(
+        &ctx,
+        &scene,
+        &camera,
+        &FrameSettings { flip_green: true, ..settings.clone() },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    assert_pixel(&flipped, 32, 32, value([x, -y, z]), 2.0, "frame green flip faces away");
+    // The material's own DirectX flag flips too, and the frame flip flips it back.
+    let dx = GpuScene::upload(
+        &ctx,
+        &normal_mapped_plane(texel, Material { normal_green_down: true, ..material.clone() }),
+    )
+    .expect("upload");
+    let dx_img = render_to_image(&ctx, &dx, &camera, &settings, SIZE, SIZE).expect("render");
+    assert_pixel(&dx_img, 32, 32, value([x, -y, z]), 2.0, "material green-down flips");
+    // Strength 0.5 halves the tangent-space x and y.
+    let half = render_to_image(
+        &ctx,
+        &scene,
+        &camera,
+        &FrameSettings { normal_strength: 0.5, ..settings.clone() },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    assert_pixel(&half, 32, 32, value([x * 0.5, y * 0.5, z]), 2.0, "strength 0.5");
+    // Normal mapping off for the frame: the geometric normal.
+    let off = render_to_image(
+        &ctx,
+        &scene,
+        &camera,
+        &FrameSettings { normal_mapping: false, ..settings },
+        SIZE,
+        SIZE,
+    )
+    .expect("render");
+    assert_pixel(&off, 32, 32, value([0.0, 0.0, 1.0]), 2.0, "normal mapping off");
+}

@@ -34,11 +34,14 @@ fn teapot(mode: Mode) -> Asset {
     asset
 }
 
+/// Two adjacent pixels on either side of a patch boundary.
+type Pair = ((u32, u32), (u32, u32));
+
 /// The discontinuity across each boundary pair (p, q), q = p + d: how much the luminance step
 /// from p to q exceeds the steps just before and after it (p - d to p, q to q + d). Smooth
 /// shading changes at about the same rate on both sides; a seam adds a step. Returns the
 /// median and the mean over the pairs.
-fn seam_steps(image: &RgbaImage, pairs: &[((u32, u32), (u32, u32))]) -> (f64, f64) {
+fn seam_steps(image: &RgbaImage, pairs: &[Pair]) -> (f64, f64) {
     let lum = |x: u32, y: u32| luminance(image.get_pixel(x, y));
     let mut steps: Vec<f64> = pairs
         .iter()
