@@ -362,6 +362,8 @@ impl Writer<'_> {
                 let mut json_node = node_with_transform(node.local_transform);
                 json_node.name = Some(node.name.clone());
                 if let [object] = node.objects[..] {
+                    // Named after the object, so that it reads back under the same name.
+                    json_node.name = Some(asset.model.objects[object].name.clone());
                     json_node.mesh = Some(meshes[object]);
                 }
                 self.root.push(json_node);

@@ -1,0 +1,307 @@
+//! Malformed glTF and GLB files made by the test: each gets the precise error (file, and the
+//! accessor, buffer, view or JSON place) and no panic.
+
+use std::path::{Path, PathBuf};
+
+use seamlit_io::{IoError, LoadOptions, SaveOptions};
+use serde_json::{Value, json};
+
+/// A valid one-triangle glTF document: buffer 0 is a data URI holding 3 positions
+/// (36 bytes) and 3 u16 indices (6 bytes + 2 padding).
+fn triangle(positions: [f32; 9], indices: [u16; 3]) -> Value {
+    let mut bytes: Vec<u8> = positions.iter().flat_map(|x| x.to_le_bytes()).collect();
+    bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    bytes.extend([0, 0]);
+    json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "name": "tri", "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "indices": 1 }] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+              "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0] },
+            { "bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR" }
+        ],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": 36 },
+            { "buffer": 0, "byteOffset": 36, "byteLength": 6 }
+        ],
+        "buffers": [{ "byteLength": 44, "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&bytes)) }]
+    })
+}
+
+const POSITIONS: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+fn write(dir: &Path, name: &str, document: &Value) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, serde_json::to_vec(document).unwrap()).unwrap();
+    path
+}
+
+fn load(path: &Path) -> IoError {
+    seamlit_io::load(path, &LoadOptions::default()).unwrap_err()
+}
+
+#[test]
+fn the_fixture_itself_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let asset = seamlit_io::load(
+        &write(dir.path(), "ok.gltf", &triangle(POSITIONS, [0, 1, 2])),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(asset.model.objects.len(), 1);
+    assert_eq!(asset.model.objects[0].name, "tri");
+    assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
+}
+
+#[test]
+fn truncated_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let asset = seamlit_io::load(
+        &write(dir.path(), "ok.gltf", &triangle(POSITIONS, [0, 1, 2])),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let glb = dir.path().join("whole.glb");
+    seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+    let bytes = std::fs::read(&glb).unwrap();
+    for cut in [0, 7, 12, 30, bytes.len() / 2, bytes.len() - 1] {
+        let path = dir.path().join(format!("cut{cut}.glb"));
+        std::fs::write(&path, &bytes[..cut]).unwrap();
+        let err = load(&path);
+        match &err {
+            IoError::Gltf { path: p, place, reason } => {
+                assert_eq!(p, &path);
+                if cut >= 4 {
+                    assert_eq!(place, "GLB container", "{err}");
+                    assert!(reason.contains("truncated"), "{err}");
+                }
+            }
+            other => panic!("cut at {cut}: unexpected {other}"),
+        }
+    }
+    // The header's own length says how much is missing.
+    let err = load(&dir.path().join(format!("cut{}.glb", bytes.len() - 1)));
+    assert!(
+        err.to_string().contains(&format!(
+            "declares {} bytes, the file has {}",
+            bytes.len(),
+            bytes.len() - 1
+        )),
+        "{err}"
+    );
+}
+
+#[test]
+fn accessor_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["accessors"][0]["count"] = json!(4);
+    let err = load(&write(dir.path(), "acc.gltf", &doc));
+    assert!(
+        matches!(
+            err,
+            IoError::AccessorOutOfRange { accessor: 0, view: 0, needed: 48, available: 36, .. }
+        ),
+        "{err}"
+    );
+    // An offset pushing the index accessor past its view.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["accessors"][1]["byteOffset"] = json!(2);
+    let err = load(&write(dir.path(), "offset.gltf", &doc));
+    assert!(
+        matches!(
+            err,
+            IoError::AccessorOutOfRange { accessor: 1, view: 1, needed: 8, available: 6, .. }
+        ),
+        "{err}"
+    );
+    // A view past its buffer.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["bufferViews"][1]["byteLength"] = json!(600);
+    let err = load(&write(dir.path(), "view.gltf", &doc));
+    match &err {
+        IoError::Gltf { place, reason, .. } => {
+            assert_eq!(place, "bufferViews[1]");
+            assert!(reason.contains("636") && reason.contains("44"), "{err}");
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
+#[test]
+fn index_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = load(&write(dir.path(), "index.gltf", &triangle(POSITIONS, [0, 1, 7])));
+    assert!(
+        matches!(
+            err,
+            IoError::IndexOutOfRange {
+                mesh: 0,
+                primitive: 0,
+                accessor: 1,
+                index: 7,
+                vertex_count: 3,
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn huge_declared_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["accessors"][0]["count"] = json!(4_000_000_000u64);
+    let err = load(&write(dir.path(), "count.gltf", &doc));
+    assert!(matches!(err, IoError::TooManyElements { actual: 4_000_000_000, .. }), "{err}");
+    // Below the element limit, the accessor still has to fit its view.
+    let options = LoadOptions { max_elements: usize::MAX, ..LoadOptions::default() };
+    let err = seamlit_io::load(&dir.path().join("count.gltf"), &options).unwrap_err();
+    assert!(matches!(err, IoError::AccessorOutOfRange { accessor: 0, available: 36, .. }), "{err}");
+    // A buffer that declares more bytes than it holds.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["buffers"][0]["byteLength"] = json!(1u64 << 40);
+    let err = load(&write(dir.path(), "buffer.gltf", &doc));
+    assert!(
+        matches!(
+            err,
+            IoError::BufferLength { buffer: 0, expected: 1_099_511_627_776, actual: 44, .. }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn nan_positions() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut positions = POSITIONS;
+    positions[4] = f32::NAN;
+    let err = load(&write(dir.path(), "nan.gltf", &triangle(positions, [0, 1, 2])));
+    assert!(
+        matches!(
+            err,
+            IoError::AccessorNotFinite { accessor: 0, attribute: "POSITION", element: 1, .. }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn uris_outside_the_folder_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("model")).unwrap();
+    std::fs::write(dir.path().join("secret.bin"), [0u8; 44]).unwrap();
+    for (uri, reason) in [
+        ("../secret.bin", "leaves the model's folder"),
+        ("sub/../../secret.bin", "leaves the model's folder"),
+        ("%2E%2E/secret.bin", "leaves the model's folder"),
+        ("/etc/passwd", "absolute path"),
+        ("C:/Windows/win.ini", "absolute path"),
+        ("https://example.invalid/x.bin", "only relative file paths"),
+    ] {
+        let mut doc = triangle(POSITIONS, [0, 1, 2]);
+        doc["buffers"][0]["uri"] = json!(uri);
+        let err = load(&write(&dir.path().join("model"), "uri.gltf", &doc));
+        match &err {
+            IoError::BadUri { what, uri: u, reason: r, .. } => {
+                assert_eq!(what, "buffer 0");
+                assert_eq!(u, uri);
+                assert!(r.contains(reason), "{uri}: {err}");
+            }
+            other => panic!("{uri}: unexpected {other}"),
+        }
+    }
+    // An image URI too.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["images"] = json!([{ "uri": "../albedo.png" }]);
+    let err = load(&write(&dir.path().join("model"), "image.gltf", &doc));
+    assert!(matches!(&err, IoError::BadUri { what, .. } if what == "image 0"), "{err}");
+}
+
+#[test]
+fn missing_buffer_file_and_missing_texture() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["buffers"][0]["uri"] = json!("nowhere.bin");
+    let err = load(&write(dir.path(), "buf.gltf", &doc));
+    assert!(
+        matches!(&err, IoError::MissingFile { missing, what, .. } if missing.ends_with("nowhere.bin") && what == "buffer 0"),
+        "{err}"
+    );
+    // A missing image is a warning and a neutral default, never a crash.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["images"] = json!([{ "uri": "albedo.png" }]);
+    doc["textures"] = json!([{ "source": 0 }]);
+    doc["materials"] = json!([{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }]);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    let asset =
+        seamlit_io::load(&write(dir.path(), "tex.gltf", &doc), &LoadOptions::default()).unwrap();
+    assert!(asset.textures[0].image.is_none());
+    assert_eq!(asset.warnings.len(), 1);
+    assert!(asset.warnings[0].contains("albedo.png"), "{:?}", asset.warnings);
+}
+
+#[test]
+fn invalid_documents_name_the_json_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["meshes"][0]["primitives"][0]["indices"] = json!(99);
+    let err = load(&write(dir.path(), "ref.gltf", &doc));
+    assert!(
+        matches!(&err, IoError::Gltf { place, .. } if place.contains("meshes[0].primitives[0].indices")),
+        "{err}"
+    );
+    // Broken JSON names the line and column.
+    let path = dir.path().join("broken.gltf");
+    std::fs::write(&path, "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"nodes\": [,]\n}").unwrap();
+    let err = load(&path);
+    assert!(
+        matches!(&err, IoError::Gltf { place, .. } if place.starts_with("JSON line 3")),
+        "{err}"
+    );
+    // A node that is its own child.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["nodes"][0]["children"] = json!([0]);
+    let err = load(&write(dir.path(), "cycle.gltf", &doc));
+    assert!(matches!(&err, IoError::Gltf { place, .. } if place == "nodes[0]"), "{err}");
+    // A POSITION accessor of the wrong type.
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["accessors"][0]["type"] = json!("VEC2");
+    let err = load(&write(dir.path(), "type.gltf", &doc));
+    assert!(
+        matches!(err, IoError::BadAccessor { accessor: 0, .. } | IoError::Gltf { .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_mesh_used_by_two_nodes_is_two_objects() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = triangle(POSITIONS, [0, 1, 2]);
+    doc["nodes"] = json!([
+        { "name": "root", "children": [1, 2], "translation": [0.0, 0.0, 5.0] },
+        { "name": "left", "mesh": 0, "translation": [-2.0, 0.0, 0.0] },
+        { "name": "right", "mesh": 0, "scale": [2.0, 2.0, 2.0] }
+    ]);
+    let asset =
+        seamlit_io::load(&write(dir.path(), "two.gltf", &doc), &LoadOptions::default()).unwrap();
+    let names: Vec<&str> = asset.model.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["left", "right"]);
+    // Transforms composed by hand: root (0,0,5) then left (-2,0,0); root then scale 2.
+    let left = asset.model.objects[0].model_transform();
+    assert_eq!(
+        left.transform_point3(glam::Vec3::new(1.0, 0.0, 0.0)),
+        glam::Vec3::new(-1.0, 0.0, 5.0)
+    );
+    let right = asset.model.objects[1].model_transform();
+    assert_eq!(
+        right.transform_point3(glam::Vec3::new(1.0, 0.0, 0.0)),
+        glam::Vec3::new(2.0, 0.0, 5.0)
+    );
+    assert_eq!(asset.nodes.len(), 3);
+    assert_eq!(asset.nodes[1].parent, Some(0));
+}
