@@ -1,7 +1,7 @@
 //! Quick timing of `fix` modes on the teapot at one tessellation (median of N runs), for
 //! profiling; the criterion benchmark is the reference measurement.
 //!
-//! `cargo run --release -p seamlit-mesh --example time_fix -- 125 9`
+//! `cargo run --release -p seamlit-mesh --example time_fix -- 125 9 [MODE]`
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -14,6 +14,7 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let n: u32 = args.next().and_then(|a| a.parse().ok()).unwrap_or(125);
     let runs: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(7);
+    let only = args.next();
     let model = common::teapot(n);
     println!("teapot n={n}: {} triangles, {} objects", model.triangle_count(), model.objects.len());
     let cases = [
@@ -24,6 +25,9 @@ fn main() {
         ("mikktspace", FixOptions { tangents: TangentMethod::Mikktspace, ..FixOptions::DEFAULT }),
     ];
     for (name, opts) in cases {
+        if only.as_deref().is_some_and(|o| o != name) {
+            continue;
+        }
         let mut t: Vec<f64> = (0..runs)
             .map(|_| {
                 let s = Instant::now();

@@ -1,12 +1,10 @@
 //! The fix pipeline: validate and flatten, weld, per-face frames, group and average, then
 //! write each object back with its vertices split where one position needs several values.
 
-use std::collections::HashMap;
-
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::face::{self, Face};
+use crate::face;
 use crate::frame::{Linear, finish};
 use crate::group::{self, Frame, Rules};
 use crate::validate::{self, Flat};
@@ -32,21 +30,29 @@ use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 /// indices out of range, a non-finite or singular transform, non-finite positions (after the
 /// transform) or UVs, or more than [`crate::MAX_ELEMENTS`] vertices or corners.
 pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
-    let flat = validate::flatten(model)?;
-    let faces = face::faces(&flat, model.v_axis);
+    let mut flat = validate::flatten(model)?;
     let want_tangents = options.tangents != TangentMethod::None;
 
-    let corner_frame: CornerFrames<'_> = if options.mode == Mode::Flat {
-        CornerFrames::Flat(&faces)
+    let corner_frame = if options.mode == Mode::Flat {
+        let faces = face::faces(&flat, model.v_axis);
+        CornerFrames::Flat(
+            faces
+                .par_iter()
+                .map(|f| {
+                    let (normal, tangent) = finish(f.normal, f.normal, f.tangent, f.bitangent);
+                    Frame { normal, tangent }
+                })
+                .collect(),
+        )
     } else {
         let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
         let weld = weld_for_mode(&flat, tolerance, options.mode);
-        let corner_positions: Vec<u32> =
-            flat.triangles.par_iter().flat_map_iter(|t| t.map(|v| weld.ids[v as usize])).collect();
+        weld.snap(&mut flat.positions);
+        let faces = face::faces(&flat, model.v_axis);
         let face_positions: Vec<[u32; 3]> =
             flat.triangles.par_iter().map(|t| t.map(|v| weld.ids[v as usize])).collect();
         let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
-        let groups = group::group(&corner_positions, &face_positions, weld.count, &faces, rules);
+        let groups = group::group(&face_positions, weld.count, &faces, rules);
         CornerFrames::Groups(groups)
     };
 
@@ -115,19 +121,18 @@ pub(crate) fn weld_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Weld {
     Weld { ids, count }
 }
 
-enum CornerFrames<'a> {
-    Flat(&'a [Face]),
+/// Where each corner's frame comes from.
+enum CornerFrames {
+    /// Per face (flat mode).
+    Flat(Vec<Frame>),
+    /// Per smoothing group.
     Groups(group::Groups),
 }
 
-impl CornerFrames<'_> {
+impl CornerFrames {
     fn get(&self, corner: usize) -> Frame {
         match self {
-            Self::Flat(faces) => {
-                let f = &faces[corner / 3];
-                let (normal, tangent) = finish(f.normal, f.normal, f.tangent, f.bitangent);
-                Frame { normal, tangent }
-            }
+            Self::Flat(faces) => faces[corner / 3],
             Self::Groups(g) => g.frames[g.corner_group[corner] as usize],
         }
     }
@@ -154,7 +159,8 @@ fn write_object(
     let mut normals = vec![Vec3::ZERO; n];
     let mut out_tangents = vec![Vec4::ZERO; n];
     let mut set = vec![false; n];
-    let mut extra: HashMap<(u32, [u32; 7]), u32> = HashMap::new();
+    // Vertices split off vertex v form a chain: next[v] -> ... -> u32::MAX.
+    let mut next: Vec<u32> = vec![u32::MAX; n];
     let mut triangles = Vec::with_capacity(object.triangles.len());
     for (t, tri) in object.triangles.iter().enumerate() {
         let mut out = [0u32; 3];
@@ -168,23 +174,32 @@ fn write_object(
                 tangent = Vec4::ZERO;
             }
             let vi = v as usize;
-            out[k] = if !set[vi] {
+            out[k] = if set[vi] {
+                let key = bits(normal, tangent);
+                let mut at = vi;
+                loop {
+                    if bits(normals[at], out_tangents[at]) == key {
+                        break at as u32;
+                    }
+                    if next[at] == u32::MAX {
+                        let new = positions.len();
+                        positions.push(object.positions[vi]);
+                        if let Some(uvs) = &mut uvs {
+                            uvs.push(uvs[vi]);
+                        }
+                        normals.push(normal);
+                        out_tangents.push(tangent);
+                        next.push(u32::MAX);
+                        next[at] = new as u32;
+                        break new as u32;
+                    }
+                    at = next[at] as usize;
+                }
+            } else {
                 set[vi] = true;
                 normals[vi] = normal;
                 out_tangents[vi] = tangent;
                 v
-            } else if bits(normals[vi], out_tangents[vi]) == bits(normal, tangent) {
-                v
-            } else {
-                *extra.entry((v, bits(normal, tangent))).or_insert_with(|| {
-                    positions.push(object.positions[vi]);
-                    if let Some(uvs) = &mut uvs {
-                        uvs.push(uvs[vi]);
-                    }
-                    normals.push(normal);
-                    out_tangents.push(tangent);
-                    (positions.len() - 1) as u32
-                })
             };
         }
         triangles.push(out);

@@ -8,8 +8,14 @@
 //! within the crease angle; a crease angle of 180 degrees or more joins every face at the
 //! position, as the paper does. Within a normal group, faces join the same *tangent group* when
 //! they are edge-adjacent, have the same UV handedness (unless that split is off) and tangents
-//! within the tangent angle. Faces whose UVs are degenerate take the tangent of the first
-//! usable tangent group of their normal group and contribute nothing to it.
+//! within the tangent angle. Corners of faces whose UVs are degenerate form one more tangent
+//! group per normal group, whose tangent is the average over all the normal group's usable
+//! faces; they contribute nothing to the others.
+
+#![expect(
+    clippy::needless_range_loop,
+    reason = "corners are local indices into several parallel scratch arrays at once"
+)]
 
 use std::ops::Range;
 
@@ -117,11 +123,27 @@ pub(crate) fn weight(weighting: Weighting, f: &Face, k: usize) -> f32 {
 /// Positions handled per parallel task.
 const CHUNK: usize = 4096;
 
+#[derive(Default)]
 struct Scratch {
     normal_parent: Vec<u32>,
     tangent_parent: Vec<u32>,
     /// Per local corner: index into the chunk's frames.
     local_group: Vec<u32>,
+    /// `(other position, local corner)` for the two edges through the position of each corner.
+    edges: Vec<(u32, u32)>,
+    /// Pairs of local corners whose faces share an edge through the position.
+    adjacent: Vec<(u32, u32)>,
+    /// Per local corner (as a group root): sums and first usable members.
+    n_sum: Vec<Vec3>,
+    t_sum: Vec<Vec3>,
+    b_sum: Vec<Vec3>,
+    w_sum: Vec<f32>,
+    group_t: Vec<Vec3>,
+    group_b: Vec<Vec3>,
+    first_unusable: Vec<u32>,
+    fallback: Vec<Vec3>,
+    first_usable: Vec<u32>,
+    frame_of_root: Vec<u32>,
 }
 
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
@@ -141,55 +163,48 @@ fn union(parent: &mut [u32], a: u32, b: u32) {
     }
 }
 
-/// Whether faces `fa` and `fb`, both touching position `p`, share an edge through it.
-fn share_edge(face_positions: &[[u32; 3]], fa: usize, fb: usize, p: u32) -> bool {
-    let a = face_positions[fa];
-    let b = face_positions[fb];
-    a.iter().any(|&q| q != p && b.contains(&q))
+/// Points every entry at its root.
+fn flatten(parent: &mut [u32]) {
+    for a in 0..parent.len() {
+        // Roots are the smallest members, so `parent[a] <= a` and one pass suffices.
+        parent[a] = parent[parent[a] as usize];
+    }
 }
 
 /// Groups the corners at every position and averages their frames.
 ///
-/// `corner_positions[c]` is the position id of corner `c`; `face_positions[f]` the position ids
-/// of face `f`'s corners.
+/// `face_positions[f]` holds the position ids of face `f`'s corners.
 pub(crate) fn group(
-    corner_positions: &[u32],
     face_positions: &[[u32; 3]],
     position_count: usize,
     faces: &[Face],
     rules: Rules,
 ) -> Groups {
+    let corner_positions = face_positions.as_flattened();
     let incidence = Incidence::new(corner_positions, position_count);
     let chunks: Vec<Range<usize>> =
         (0..position_count).step_by(CHUNK).map(|s| s..(s + CHUNK).min(position_count)).collect();
     let parts: Vec<(Vec<u32>, Vec<Frame>)> = chunks
         .into_par_iter()
-        .map_init(
-            || Scratch {
-                normal_parent: Vec::new(),
-                tangent_parent: Vec::new(),
-                local_group: Vec::new(),
-            },
-            |scratch, positions| {
-                let slots = incidence.range(positions.clone());
-                let mut groups = Vec::with_capacity(slots.len());
-                let mut frames = Vec::with_capacity(positions.len() + positions.len() / 8);
-                for p in positions {
-                    let corners = incidence.at(p);
-                    group_position(
-                        p as u32,
-                        corners,
-                        face_positions,
-                        faces,
-                        rules,
-                        scratch,
-                        &mut frames,
-                    );
-                    groups.extend_from_slice(&scratch.local_group);
-                }
-                (groups, frames)
-            },
-        )
+        .map_init(Scratch::default, |scratch, positions| {
+            let slots = incidence.range(positions.clone());
+            let mut groups = Vec::with_capacity(slots.len());
+            let mut frames = Vec::with_capacity(positions.len() + positions.len() / 8);
+            for p in positions {
+                let corners = incidence.at(p);
+                group_position(
+                    p as u32,
+                    corners,
+                    face_positions,
+                    faces,
+                    rules,
+                    scratch,
+                    &mut frames,
+                );
+                groups.extend_from_slice(&scratch.local_group);
+            }
+            (groups, frames)
+        })
         .collect();
 
     let mut corner_group = vec![0u32; corner_positions.len()];
@@ -208,155 +223,215 @@ pub(crate) fn group(
 
 /// Groups the corners at one position; pushes one frame per tangent group onto `frames` and
 /// leaves in `scratch.local_group` each corner's frame index (chunk-local).
+///
+/// Linear in the number of corners except for the edge matching, which compares position ids
+/// in a small contiguous list.
+#[inline(never)]
 fn group_position(
     p: u32,
     corners: &[u32],
     face_positions: &[[u32; 3]],
     faces: &[Face],
     rules: Rules,
-    scratch: &mut Scratch,
+    s: &mut Scratch,
     frames: &mut Vec<Frame>,
 ) {
     let k = corners.len();
-    let face_of = |i: usize| corners[i] as usize / 3;
-    let np = &mut scratch.normal_parent;
-    np.clear();
-    np.extend(0..k as u32);
+    let face_of = |a: usize| corners[a] as usize / 3;
+    let usable = |a: usize| !faces[face_of(a)].is(DEGENERATE_UV | DEGENERATE);
 
-    // Normal groups.
-    match rules.crease_cos {
-        None => np.iter_mut().for_each(|x| *x = 0),
-        Some(cos) => {
-            for a in 0..k {
-                let fa = face_of(a);
-                let na = &faces[fa];
-                for b in a + 1..k {
-                    let fb = face_of(b);
-                    let nb = &faces[fb];
-                    let join = fa == fb
-                        || (!na.is(DEGENERATE)
-                            && !nb.is(DEGENERATE)
-                            && na.normal.dot(nb.normal) >= cos
-                            && share_edge(face_positions, fa, fb, p));
-                    if join {
-                        union(np, a as u32, b as u32);
+    // Edge adjacency: corners whose faces share an edge (p, q) through this position.
+    let need_adjacency =
+        rules.crease_cos.is_some() || (rules.tangents && !rules.tangents_unconditional());
+    s.adjacent.clear();
+    if need_adjacency {
+        s.edges.clear();
+        for a in 0..k {
+            let c = corners[a] as usize;
+            let fp = face_positions[c / 3];
+            let (qn, qp) = (fp[(c + 1) % 3], fp[(c + 2) % 3]);
+            let seen = s.edges.len();
+            for q in [qn, qp] {
+                if q == p {
+                    continue;
+                }
+                for &(q2, b) in &s.edges[..seen] {
+                    if q2 == q && face_of(b as usize) != face_of(a) {
+                        s.adjacent.push((b, a as u32));
                     }
                 }
             }
-            for a in 0..k {
-                np[a] = find(np, a as u32);
-            }
+            s.edges.push((qn, a as u32));
+            s.edges.push((qp, a as u32));
         }
     }
 
-    // Tangent groups, within normal groups.
-    let tp = &mut scratch.tangent_parent;
+    // Normal groups.
+    let np = &mut s.normal_parent;
+    np.clear();
+    match rules.crease_cos {
+        None => np.resize(k, 0),
+        Some(cos) => {
+            np.extend(0..k as u32);
+            for a in 1..k {
+                if face_of(a) == face_of(a - 1) {
+                    union(np, a as u32 - 1, a as u32);
+                }
+            }
+            for &(a, b) in &s.adjacent {
+                let (fa, fb) = (&faces[face_of(a as usize)], &faces[face_of(b as usize)]);
+                if !fa.is(DEGENERATE) && !fb.is(DEGENERATE) && fa.normal.dot(fb.normal) >= cos {
+                    union(np, a, b);
+                }
+            }
+            flatten(np);
+        }
+    }
+
+    // Per normal group: the weighted normal sum, a fallback normal, the first usable corner.
+    s.n_sum.clear();
+    s.n_sum.resize(k, Vec3::ZERO);
+    s.fallback.clear();
+    s.fallback.resize(k, Vec3::ZERO);
+    s.first_usable.clear();
+    s.first_usable.resize(k, u32::MAX);
+    for a in 0..k {
+        let c = corners[a] as usize;
+        let f = &faces[c / 3];
+        let g = np[a] as usize;
+        s.n_sum[g] += f.normal * weight(rules.weighting, f, c % 3);
+        if s.fallback[g] == Vec3::ZERO {
+            s.fallback[g] = f.normal;
+        }
+        if s.first_usable[g] == u32::MAX && usable(a) {
+            s.first_usable[g] = a as u32;
+        }
+    }
+
+    // Tangent groups, within normal groups. Unusable corners (degenerate UVs) form one group
+    // per normal group, whose tangent is the sum over all the normal group's usable corners:
+    // a value that does not depend on the order of the corners (so not on how the model is
+    // cut into objects), and equal to the usable group's where there is only one.
+    let tp = &mut s.tangent_parent;
     tp.clear();
     if !rules.tangents {
         tp.extend_from_slice(np);
     } else {
         tp.extend(0..k as u32);
-        let unconditional = rules.tangents_unconditional() && rules.crease_cos.is_none();
-        let usable = |i: usize| !faces[face_of(i)].is(DEGENERATE_UV | DEGENERATE);
+        s.first_unusable.clear();
+        s.first_unusable.resize(k, u32::MAX);
         for a in 0..k {
-            if !usable(a) {
-                continue;
+            let g = np[a] as usize;
+            if usable(a) {
+                if rules.tangents_unconditional() {
+                    union(tp, a as u32, s.first_usable[g]);
+                }
+            } else if s.first_unusable[g] == u32::MAX {
+                s.first_unusable[g] = a as u32;
+            } else {
+                union(tp, a as u32, s.first_unusable[g]);
             }
-            let fa = face_of(a);
-            let ta = &faces[fa];
-            for b in a + 1..k {
-                if np[a] != np[b] || !usable(b) {
+        }
+        if !rules.tangents_unconditional() {
+            for a in 1..k {
+                if face_of(a) == face_of(a - 1) && usable(a) {
+                    union(tp, a as u32 - 1, a as u32);
+                }
+            }
+            for &(a, b) in &s.adjacent {
+                let (ua, ub) = (a as usize, b as usize);
+                if np[ua] != np[ub] || !usable(ua) || !usable(ub) {
                     continue;
                 }
-                let fb = face_of(b);
-                let tb = &faces[fb];
-                let join = unconditional
-                    || fa == fb
-                    || ((!rules.split_mirrored || ta.sign() == tb.sign())
-                        && rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c)
-                        && (rules.tangents_unconditional()
-                            || share_edge(face_positions, fa, fb, p)));
+                let (ta, tb) = (&faces[face_of(ua)], &faces[face_of(ub)]);
+                let join = (!rules.split_mirrored || ta.sign() == tb.sign())
+                    && rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
                 if join {
-                    union(tp, a as u32, b as u32);
+                    union(tp, a, b);
                 }
             }
         }
-        // Unusable corners join the first usable tangent group of their normal group, or, if
-        // there is none, the first unusable corner of it.
+        flatten(tp);
+    }
+
+    // Sums: per tangent group over its usable corners; per normal group over all its usable
+    // corners (for the unusable group), or over its unusable ones where none is usable.
+    // Degenerate faces never count.
+    for v in [&mut s.t_sum, &mut s.b_sum, &mut s.group_t, &mut s.group_b] {
+        v.clear();
+        v.resize(k, Vec3::ZERO);
+    }
+    s.w_sum.clear();
+    s.w_sum.resize(k, 0.0);
+    let (mut position_t, mut position_b) = (Vec3::ZERO, Vec3::ZERO);
+    if rules.tangents {
         for a in 0..k {
-            if usable(a) {
+            let c = corners[a] as usize;
+            let f = &faces[c / 3];
+            if f.is(DEGENERATE) {
                 continue;
             }
-            let target = (0..k)
-                .find(|&b| np[b] == np[a] && usable(b))
-                .or_else(|| (0..k).find(|&b| np[b] == np[a]))
-                .unwrap_or(a);
-            union(tp, a as u32, target as u32);
+            let g = np[a] as usize;
+            if usable(a) {
+                let w = weight(rules.weighting, f, c % 3);
+                let root = tp[a] as usize;
+                s.t_sum[root] += f.tangent * w;
+                s.b_sum[root] += f.bitangent * w;
+                s.w_sum[root] += w;
+                s.group_t[g] += f.tangent * w;
+                s.group_b[g] += f.bitangent * w;
+                position_t += f.tangent * w;
+                position_b += f.bitangent * w;
+            } else if s.first_usable[g] == u32::MAX {
+                let root = tp[a] as usize;
+                s.t_sum[root] += f.tangent;
+                s.b_sum[root] += f.bitangent;
+            }
         }
         for a in 0..k {
-            tp[a] = find(tp, a as u32);
+            let g = np[a] as usize;
+            if tp[a] as usize == a && !usable(a) && s.first_usable[g] != u32::MAX {
+                s.t_sum[a] = s.group_t[g];
+                s.b_sum[a] = s.group_b[g];
+            }
         }
     }
 
-    // One frame per tangent group.
-    let lg = &mut scratch.local_group;
-    lg.clear();
-    lg.resize(k, u32::MAX);
+    // One frame per tangent group, in order of first corner.
+    s.frame_of_root.clear();
+    s.frame_of_root.resize(k, u32::MAX);
+    s.local_group.clear();
     let mut position_normal: Option<Vec3> = None;
     for a in 0..k {
-        let root = tp[a] as usize;
-        if lg[root] != u32::MAX {
-            lg[a] = lg[root];
+        let root = s.tangent_parent[a] as usize;
+        // A group whose tangents cancel (a fan around a pole, chained through neighbours each
+        // within the tangent angle) has no meaningful average: each corner keeps its face's
+        // tangent. The test depends on the group as a set, not on the order of its corners.
+        let incoherent = rules.tangents
+            && s.w_sum[root] > 0.0
+            && rules.tangent_cos.is_some_and(|c| s.t_sum[root].length() < c * s.w_sum[root]);
+        if incoherent {
+            let c = corners[a] as usize;
+            let f = &faces[c / 3];
+            let g = s.normal_parent[a] as usize;
+            let (normal, tangent) = finish(s.n_sum[g], s.fallback[g], f.tangent, f.bitangent);
+            s.local_group.push(frames.len() as u32);
+            frames.push(Frame { normal, tangent });
             continue;
         }
-        // A new tangent group rooted at `root` (== a, the smallest member).
-        let ng = np[a];
-        let mut n_sum = Vec3::ZERO;
-        let (mut t_sum, mut b_sum) = (Vec3::ZERO, Vec3::ZERO);
-        let (mut t_any, mut b_any) = (Vec3::ZERO, Vec3::ZERO);
-        let mut fallback = Vec3::ZERO;
-        for b in 0..k {
-            if np[b] != ng {
-                continue;
+        if s.frame_of_root[root] == u32::MAX {
+            let g = s.normal_parent[a] as usize;
+            let mut n_sum = s.n_sum[g];
+            let (mut t_sum, mut b_sum) = (s.t_sum[root], s.b_sum[root]);
+            if n_sum == Vec3::ZERO && s.fallback[g] == Vec3::ZERO {
+                // Only degenerate faces in this group: use the whole position's frame.
+                n_sum = *position_normal.get_or_insert_with(|| s.n_sum.iter().sum());
+                (t_sum, b_sum) = (position_t, position_b);
             }
-            let c = corners[b] as usize;
-            let f = &faces[c / 3];
-            let w = weight(rules.weighting, f, c % 3);
-            n_sum += f.normal * w;
-            if fallback == Vec3::ZERO {
-                fallback = f.normal;
-            }
-            if tp[b] as usize == root {
-                if f.is(DEGENERATE) {
-                    // No area: no say in the tangent either.
-                } else if f.is(DEGENERATE_UV) {
-                    t_any += f.tangent;
-                    b_any += f.bitangent;
-                } else {
-                    t_sum += f.tangent * w;
-                    b_sum += f.bitangent * w;
-                }
-            }
+            let (normal, tangent) = finish(n_sum, s.fallback[g], t_sum, b_sum);
+            s.frame_of_root[root] = frames.len() as u32;
+            frames.push(Frame { normal, tangent });
         }
-        if n_sum == Vec3::ZERO && fallback == Vec3::ZERO {
-            // Only degenerate faces in this group: use the whole position's normal.
-            let pn = *position_normal.get_or_insert_with(|| {
-                corners
-                    .iter()
-                    .map(|&c| {
-                        let f = &faces[c as usize / 3];
-                        f.normal * weight(rules.weighting, f, c as usize % 3)
-                    })
-                    .sum()
-            });
-            n_sum = pn;
-        }
-        if t_sum == Vec3::ZERO && b_sum == Vec3::ZERO {
-            t_sum = t_any;
-            b_sum = b_any;
-        }
-        let (normal, tangent) = finish(n_sum, fallback, t_sum, b_sum);
-        lg[a] = frames.len() as u32;
-        frames.push(Frame { normal, tangent });
+        s.local_group.push(s.frame_of_root[root]);
     }
 }

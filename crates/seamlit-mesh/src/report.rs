@@ -116,10 +116,12 @@ pub struct SeamReport {
 ///
 /// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
 pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, MeshError> {
-    let flat = validate::flatten(model)?;
-    let faces = crate::face::faces(&flat, model.v_axis);
+    let mut flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
     let weld = weld::weld(&flat.positions, tolerance);
+    let near_miss_positions = weld.near_misses(&flat.positions);
+    weld.snap(&mut flat.positions);
+    let faces = crate::face::faces(&flat, model.v_axis);
     let vertex_objects = flat.vertex_objects();
 
     let mut first_object = vec![u32::MAX; weld.count];
@@ -143,7 +145,7 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
         welded_positions: weld.count,
         weld_tolerance: tolerance,
         shared_positions: shared.iter().filter(|&&s| s).count(),
-        near_miss_positions: weld.near_misses(&flat.positions),
+        near_miss_positions,
         degenerate_triangles: faces.iter().filter(|f| f.is(DEGENERATE)).count(),
         degenerate_uv_triangles: faces
             .iter()

@@ -51,6 +51,18 @@ impl Weld {
         reps
     }
 
+    /// Moves every position onto its id's representative (its first position), so that
+    /// geometry computed afterwards sees welded positions as one point: a sliver between two
+    /// positions closer than the tolerance becomes a degenerate triangle, not a face with a
+    /// random normal.
+    pub fn snap(&self, positions: &mut [Vec3]) {
+        let reps = self.representatives();
+        for (i, &id) in self.ids.iter().enumerate() {
+            // The representative is the smallest index of its id, already final here.
+            positions[i] = positions[reps[id as usize] as usize];
+        }
+    }
+
     /// Number of ids whose positions are not all bit-equal (with `-0.0 == 0.0`): welds that
     /// only the tolerance made.
     #[must_use]

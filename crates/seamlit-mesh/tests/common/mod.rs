@@ -63,9 +63,10 @@ pub fn grid_triangles(rows: u32, cols: u32) -> Vec<[u32; 3]> {
 }
 
 /// Cuts `object` into `assignment.iter().max() + 1` objects: triangle `t` goes to object
-/// `assignment[t % assignment.len()]`. Each object gets its own copy of every vertex it uses,
-/// moved by `noise(copy_number)` (a vector per copy). Returns the model and, per object, the
-/// original index of each of its triangles.
+/// `assignment[t % assignment.len()]`. Each object gets its own copy of every vertex it uses;
+/// every copy after the first is moved by `noise()`, as an exporter's rounding moves the
+/// duplicated boundary of one object against the other's. Returns the model and, per object,
+/// the original index of each of its triangles.
 pub fn split(
     object: &Object,
     assignment: &[usize],
@@ -74,6 +75,7 @@ pub fn split(
     let k = assignment.iter().max().map_or(1, |m| m + 1);
     let mut objects = Vec::new();
     let mut origin = Vec::new();
+    let mut copied = vec![false; object.positions.len()];
     for o in 0..k {
         let mut map = vec![u32::MAX; object.positions.len()];
         let mut positions = Vec::new();
@@ -87,7 +89,9 @@ pub fn split(
             let local = tri.map(|v| {
                 if map[v as usize] == u32::MAX {
                     map[v as usize] = positions.len() as u32;
-                    positions.push(object.positions[v as usize] + noise());
+                    let offset = if copied[v as usize] { noise() } else { Vec3::ZERO };
+                    copied[v as usize] = true;
+                    positions.push(object.positions[v as usize] + offset);
                     uvs.push(object.uvs.as_ref().map_or(Vec2::ZERO, |u| u[v as usize]));
                 }
                 map[v as usize]
