@@ -70,6 +70,7 @@ pub struct Viewer {
     fix_ms: f32,
     status: String,
     screenshot_requested: bool,
+    pending_textures: egui::TexturesDelta,
     /// Set when the viewer stopped because something failed.
     pub failure: Option<Failure>,
 }
@@ -117,6 +118,7 @@ impl Viewer {
             fix_ms,
             status: String::new(),
             screenshot_requested: false,
+            pending_textures: egui::TexturesDelta::default(),
             failure: None,
         })
     }
@@ -290,17 +292,23 @@ impl Viewer {
             status: &self.status,
         };
         let mut actions = Actions::default();
+        let mut panel_right = 0.0;
         let output = egui_ctx.run_ui(raw, |ui| {
-            egui::Panel::left("settings").resizable(false).default_size(270.0).show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    actions = panel::draw(ui, &mut settings, &readout);
+            let shown =
+                egui::Panel::left("settings").resizable(false).default_size(270.0).show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        actions = panel::draw(ui, &mut settings, &readout);
+                    });
                 });
-            });
+            panel_right = shown.response.rect.max.x;
         });
         gfx.egui_state.handle_platform_output(&gfx.window, output.platform_output);
         let pointer_free = !egui_ctx.egui_wants_pointer_input() && !egui_ctx.is_pointer_over_egui();
         let paint = egui_ctx.tessellate(output.shapes, output.pixels_per_point);
-        let textures = output.textures_delta;
+        // Kept until a frame is drawn: a frame skipped below must not lose the font atlas.
+        let mut textures = output.textures_delta;
+        self.pending_textures.append(std::mem::take(&mut textures));
+        let panel_px = panel_right * output.pixels_per_point;
         let ppp = output.pixels_per_point;
 
         if settings.camera != self.settings.camera {
@@ -321,7 +329,15 @@ impl Viewer {
         let frame_settings = self.frame_settings();
         let Some(gfx) = self.gfx.as_mut() else { return Ok(None) };
         let (width, height) = (gfx.config.width, gfx.config.height);
-        let view = self.current.view(width as f32 / height as f32, Some(self.bounds));
+        // The panel covers the left of the window: centre the picture in what is left of it.
+        let visible = (width as f32 - panel_px).max(1.0);
+        let mut view = self.current.view(visible / height as f32, Some(self.bounds));
+        view.projection = glam::Mat4::from_scale(glam::Vec3::new(visible / width as f32, 1.0, 1.0))
+            * view.projection;
+        view.projection =
+            glam::Mat4::from_translation(glam::Vec3::new(panel_px / width as f32, 0.0, 0.0))
+                * view.projection;
+
         let frame = match gfx.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
@@ -331,6 +347,8 @@ impl Viewer {
             }
             _ => return Ok(None),
         };
+        let texture_sets: Vec<_> = self.pending_textures.set.drain().collect();
+        let texture_frees: Vec<_> = self.pending_textures.free.drain().collect();
         let target = frame.texture.create_view(&wgpu::TextureViewDescriptor::default());
         let device = gfx.ctx.device();
         let queue = gfx.ctx.queue();
@@ -348,7 +366,7 @@ impl Viewer {
                 (width, height),
             )
             .processing()?;
-        for (id, deltas) in &textures.set {
+        for (id, deltas) in &texture_sets {
             for delta in deltas {
                 gfx.egui_renderer.update_texture(device, queue, *id, delta);
             }
@@ -382,7 +400,7 @@ impl Viewer {
         });
         queue.submit(extra.into_iter().chain([encoder.finish()]));
         queue.present(frame);
-        for id in &textures.free {
+        for id in &texture_frees {
             gfx.egui_renderer.free_texture(id);
         }
         self.frames += 1;
@@ -423,6 +441,13 @@ fn fix_override(base: &FixOverride, s: &Settings) -> FixOverride {
     o.flags.crease = Some(s.crease_deg);
     o.flags.weighting = Some(s.weighting.into());
     o
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        // Textures egui asked for after the last frame drawn are of no use now.
+        self.pending_textures.clear();
+    }
 }
 
 impl ApplicationHandler for Viewer {
