@@ -2,7 +2,8 @@
 //! triangles, normal mapping on, 4x MSAA, offscreen.
 //!
 //! ```text
-//! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20] [--samples 4]
+//! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20]
+//!     [--samples 4] [--sides 224,708] [--lights 1,16]
 //! ```
 //!
 //! Each frame is recorded, submitted and waited for (`Renderer::time_frames`); the table gives
@@ -55,6 +56,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (width, height): (u32, u32) = (w.parse()?, h.parse()?);
     let frames: usize = arg("--frames").map_or(Ok(20), |f| f.parse())?;
     let samples: u32 = arg("--samples").map_or(Ok(4), |f| f.parse())?;
+    // Sphere resolutions: 224 x 224 quads = 100,352 triangles, 708 x 708 = 1,002,528.
+    let sides: Vec<u32> = arg("--sides")
+        .unwrap_or_else(|| "224,708".into())
+        .split(',')
+        .map(str::parse)
+        .collect::<Result<_, _>>()?;
+    let light_counts: Vec<usize> = arg("--lights")
+        .unwrap_or_else(|| "1,16".into())
+        .split(',')
+        .map(str::parse)
+        .collect::<Result<_, _>>()?;
 
     let ctx = GpuContext::headless()?;
     println!("adapter: {}", ctx.describe());
@@ -64,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| triangles | lights | median frame | fastest frame |");
     println!("|---:|---:|---:|---:|");
     let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples)?;
-    for side in [224u32, 708] {
+    for &side in &sides {
         let mut sphere = shapes::sphere("sphere", 1.0, side, side, 0.0, 1.0);
         sphere.material = Some(0);
         let tex = |name: &str, image| Texture {
@@ -95,7 +107,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             0.1,
             20.0,
         );
-        for count in [1, 16] {
+        for &count in &light_counts {
             let settings = FrameSettings { lights: lights(count), ..FrameSettings::default() };
             let times =
                 renderer.time_frames(&ctx, &scene, &camera, &settings, width, height, frames)?;

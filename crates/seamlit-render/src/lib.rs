@@ -68,5 +68,6 @@ pub use light::{CameraView, DebugView, Light, LightRaw, LightingModel};
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameTimes, IMAGE_FORMAT, Renderer, render_to_image};
 pub use scene::GpuScene;
 pub use settings::FrameSettings;
+pub use texture::TextureOptions;
 /// The wgpu this crate is built on, for creating surfaces and sharing the device.
 pub use wgpu;

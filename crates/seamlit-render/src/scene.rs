@@ -8,7 +8,7 @@ use seamlit_io::{Asset, Material, Texture, TextureRef, UvTransform};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
-use crate::texture::{self, TexelKind};
+use crate::texture::{self, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
 /// One vertex as the vertex shader reads it (48 bytes).
@@ -95,7 +95,8 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
-        shininess: material.shininess.max(0.0),
+        // pow(0, 0) is undefined in WGSL: keep the exponent positive.
+        shininess: material.shininess.max(1e-3),
         base_uv: uv_rows(material.base_color_texture.as_ref().and_then(|r| r.transform.as_ref())),
         normal_uv: uv_rows(material.normal_texture.as_ref().and_then(|r| r.transform.as_ref())),
         normal_scale: material.normal_scale,
@@ -153,10 +154,16 @@ impl GpuScene {
     /// that do not fit), [`RenderError::IndexOutOfRange`] (a material or texture index),
     /// [`RenderError::TextureTooLarge`], [`RenderError::Gpu`].
     pub fn upload(ctx: &GpuContext, asset: &Asset) -> Result<Self, RenderError> {
-        Self::upload_parts(ctx, &asset.model, &asset.materials, &asset.textures)
+        Self::upload_parts(
+            ctx,
+            &asset.model,
+            &asset.materials,
+            &asset.textures,
+            &TextureOptions::DEFAULT,
+        )
     }
 
-    /// As [`GpuScene::upload`], from the parts of an asset.
+    /// As [`GpuScene::upload`], from the parts of an asset, with texture options.
     ///
     /// # Errors
     ///
@@ -166,9 +173,10 @@ impl GpuScene {
         model: &Model,
         materials: &[Material],
         textures: &[Texture],
+        options: &TextureOptions,
     ) -> Result<Self, RenderError> {
         ctx.scoped("uploading the scene", || {
-            let gpu_materials = upload_materials(ctx, materials, textures)?;
+            let gpu_materials = upload_materials(ctx, materials, textures, options)?;
             let mut scene = Self {
                 meshes: Vec::new(),
                 materials: gpu_materials,
@@ -244,10 +252,11 @@ fn upload_materials(
     ctx: &GpuContext,
     materials: &[Material],
     textures: &[Texture],
+    options: &TextureOptions,
 ) -> Result<Vec<GpuMaterial>, RenderError> {
     let white = texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?;
     let flat = texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?;
-    let sampler = texture::sampler(ctx);
+    let sampler = texture::sampler(ctx, options);
     let mut cache: HashMap<(usize, TexelKind), wgpu::TextureView> = HashMap::new();
     let default = Material::default();
     let mut out = Vec::with_capacity(materials.len() + 1);
@@ -265,7 +274,7 @@ fn upload_materials(
             if let Some(v) = cache.get(&(r.texture, kind)) {
                 return Ok(Some(v.clone()));
             }
-            let v = texture::upload(ctx, &tex.name, image, kind)?;
+            let v = texture::upload(ctx, &tex.name, image, kind, options.mipmaps)?;
             cache.insert((r.texture, kind), v.clone());
             Ok(Some(v))
         };

@@ -6,6 +6,28 @@ use wgpu::util::DeviceExt;
 
 use crate::{GpuContext, RenderError};
 
+/// How material textures are uploaded and sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TextureOptions {
+    /// Build a full mip chain on the CPU (colour averaged in linear light, normals
+    /// renormalised). Default `true`.
+    pub mipmaps: bool,
+    /// Largest anisotropic filtering ratio, 1 to 16 (1 = off). Default 16. On lavapipe
+    /// anisotropic filtering is a large part of the frame time.
+    pub anisotropy: u16,
+}
+
+impl TextureOptions {
+    /// Mipmaps and 16x anisotropic filtering.
+    pub const DEFAULT: Self = Self { mipmaps: true, anisotropy: 16 };
+}
+
+impl Default for TextureOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 /// How a texture's texels are to be read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) enum TexelKind {
@@ -83,12 +105,13 @@ pub(crate) fn downsample(src: &RgbaImage, kind: TexelKind) -> RgbaImage {
     })
 }
 
-/// Uploads `image` with its full mip chain and returns a view of it.
+/// Uploads `image`, with its full mip chain if `mipmaps`, and returns a view of it.
 pub(crate) fn upload(
     ctx: &GpuContext,
     name: &str,
     image: &RgbaImage,
     kind: TexelKind,
+    mipmaps: bool,
 ) -> Result<wgpu::TextureView, RenderError> {
     let (width, height) = image.dimensions();
     let max = ctx.device().limits().max_texture_dimension_2d;
@@ -96,7 +119,7 @@ pub(crate) fn upload(
         return Err(RenderError::TextureTooLarge { name: name.to_owned(), width, height, max });
     }
     let mut levels = vec![image.clone()];
-    while let Some(last) = levels.last().filter(|l| l.width() > 1 || l.height() > 1) {
+    while let Some(last) = levels.last().filter(|l| mipmaps && (l.width() > 1 || l.height() > 1)) {
         let next = downsample(last, kind);
         levels.push(next);
     }
@@ -126,11 +149,11 @@ pub(crate) fn solid(
     texel: [u8; 4],
     kind: TexelKind,
 ) -> Result<wgpu::TextureView, RenderError> {
-    upload(ctx, name, &RgbaImage::from_pixel(1, 1, image::Rgba(texel)), kind)
+    upload(ctx, name, &RgbaImage::from_pixel(1, 1, image::Rgba(texel)), kind, false)
 }
 
-/// The material sampler: repeat, trilinear, 16x anisotropic.
-pub(crate) fn sampler(ctx: &GpuContext) -> wgpu::Sampler {
+/// The material sampler: repeat, trilinear, anisotropic as `options` say.
+pub(crate) fn sampler(ctx: &GpuContext, options: &TextureOptions) -> wgpu::Sampler {
     ctx.device().create_sampler(&wgpu::SamplerDescriptor {
         label: Some("seamlit material sampler"),
         address_mode_u: wgpu::AddressMode::Repeat,
@@ -139,7 +162,7 @@ pub(crate) fn sampler(ctx: &GpuContext) -> wgpu::Sampler {
         mag_filter: wgpu::FilterMode::Linear,
         min_filter: wgpu::FilterMode::Linear,
         mipmap_filter: wgpu::MipmapFilterMode::Linear,
-        anisotropy_clamp: 16,
+        anisotropy_clamp: options.anisotropy.clamp(1, 16),
         ..Default::default()
     })
 }

@@ -6,7 +6,9 @@ mod common;
 use common::{asset, ctx, ortho_camera, plane, save, tex_ref, texture};
 use glam::{Mat4, Vec3};
 use seamlit_io::Material;
-use seamlit_render::{FrameSettings, GpuScene, IMAGE_FORMAT, RenderError, Renderer};
+use seamlit_render::{
+    FrameSettings, GpuScene, IMAGE_FORMAT, RenderError, Renderer, TextureOptions,
+};
 
 #[test]
 fn objects_without_normals_or_with_bad_indices_are_refused_by_name() {
@@ -169,4 +171,86 @@ fn tbn_lines_are_drawn_in_their_colours() {
     let green = brightest([(47, 8), (48, 8)], 1);
     assert!(red[0] > 120 && red[1] < 80, "no red tangent line at (55, 15..=16): {red:?}");
     assert!(green[1] > 120 && green[0] < 80, "no green bitangent line at (47..=48, 8): {green:?}");
+}
+
+#[test]
+fn minified_textures_use_mipmaps_averaged_in_linear_light() {
+    let ctx = ctx();
+    // A one-texel black and white checker, 256 x 256, seen at about 7 texels per pixel.
+    let checker = image::RgbaImage::from_fn(256, 256, |x, y| {
+        if (x + y) % 2 == 0 { image::Rgba([0, 0, 0, 255]) } else { image::Rgba([255; 4]) }
+    });
+    let a = asset(
+        plane(1.0),
+        Material {
+            base_color: [1.0; 4],
+            base_color_texture: tex_ref(0),
+            specular: [0.0; 3],
+            ..Material::default()
+        },
+        vec![texture("checker", checker)],
+    );
+    // No lights, ambient 1: the pixel is the texture's colour. 7.2 texels per pixel: pixel
+    // centres fall at varying places within the texels.
+    let settings = FrameSettings { lights: vec![], ambient: Vec3::ONE, ..FrameSettings::default() };
+    let render = |options: TextureOptions, name: &str| {
+        let scene = GpuScene::upload_parts(&ctx, &a.model, &a.materials, &a.textures, &options)
+            .expect("upload");
+        let image =
+            seamlit_render::render_to_image(&ctx, &scene, &ortho_camera(0.9), &settings, 32, 32)
+                .expect("render");
+        save(name, &image);
+        let reds: Vec<u8> = (2..30)
+            .flat_map(|y| (2..30).map(move |x| (x, y)))
+            .map(|(x, y)| image.get_pixel(x, y)[0])
+            .collect();
+        reds
+    };
+    // With mipmaps (anisotropy off, so only the mip chain averages): every pixel is 50% linear
+    // grey, sRGB 188.
+    let with = render(TextureOptions { mipmaps: true, anisotropy: 1 }, "api_mipmaps_on");
+    assert!(
+        with.iter().all(|r| r.abs_diff(188) <= 6),
+        "with mipmaps: {:?}",
+        with.iter().filter(|r| r.abs_diff(188) > 6).collect::<Vec<_>>()
+    );
+    // Without mipmaps the full-size level aliases: pixels spread far from grey. (This shows
+    // the check above can fail.)
+    let without = render(TextureOptions { mipmaps: false, anisotropy: 1 }, "api_mipmaps_off");
+    assert!(
+        without.iter().filter(|r| r.abs_diff(188) > 20).count() > 50,
+        "without mipmaps the checker should alias"
+    );
+}
+
+#[test]
+fn replacing_the_geometry_keeps_materials_and_refuses_bad_models() {
+    let ctx = ctx();
+    let material =
+        Material { base_color: [1.0, 0.0, 0.0, 1.0], specular: [0.0; 3], ..Material::default() };
+    let mut scene = GpuScene::upload(&ctx, &asset(plane(0.25), material, vec![])).expect("upload");
+    let settings = FrameSettings {
+        lights: vec![],
+        ambient: Vec3::ONE,
+        clear_color: [0.0, 0.0, 0.0, 1.0],
+        ..FrameSettings::default()
+    };
+    let camera = ortho_camera(1.0);
+    let corner = |scene: &GpuScene| {
+        seamlit_render::render_to_image(&ctx, scene, &camera, &settings, 32, 32)
+            .expect("render")
+            .get_pixel(4, 4)
+            .0
+    };
+    assert_eq!(corner(&scene), [0, 0, 0, 255], "the small plane does not reach the corner");
+    // A bigger plane with the same material: the corner turns red.
+    let mut bigger = asset(plane(1.0), Material::default(), vec![]).model;
+    scene.replace_model(&ctx, &bigger).expect("replace");
+    assert_eq!(corner(&scene), [255, 0, 0, 255], "the replaced geometry keeps the red material");
+    assert_eq!(scene.triangle_count(), 2);
+    // A material index the scene does not have: refused, the geometry stays.
+    bigger.objects[0].material = Some(5);
+    let err = scene.replace_model(&ctx, &bigger).expect_err("bad material");
+    assert!(matches!(err, RenderError::IndexOutOfRange { index: 5, count: 1, .. }), "{err}");
+    assert_eq!(corner(&scene), [255, 0, 0, 255]);
 }

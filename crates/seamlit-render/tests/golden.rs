@@ -162,6 +162,9 @@ fn golden_views_match() {
         ),
         ("gouraud", FrameSettings { lighting_model: LightingModel::Gouraud, ..settings() }),
         ("bitangent_sign", FrameSettings { debug_view: DebugView::BitangentSign, ..settings() }),
+        ("tangents", FrameSettings { debug_view: DebugView::Tangents, ..settings() }),
+        ("lighting_only", FrameSettings { debug_view: DebugView::LightingOnly, ..settings() }),
+        ("no_normal_map", FrameSettings { normal_mapping: false, ..settings() }),
     ];
     for (name, settings) in views {
         let image = renderer
