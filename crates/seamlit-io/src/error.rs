@@ -212,6 +212,20 @@ pub enum IoError {
         reason: &'static str,
     },
 
+    /// An OBJ `mtllib` or MTL texture path that leaves the model's folder (`../`, an absolute
+    /// path, a drive or scheme): refused, never read.
+    #[error("{}{}: {what} path {reference:?} is refused: it leaves the model's folder", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
+    PathEscapes {
+        /// The file that holds the path (the OBJ, or the MTL for a texture).
+        path: PathBuf,
+        /// The line of the statement, when known.
+        line: Option<usize>,
+        /// What the path is for (`material library`, `texture`).
+        what: &'static str,
+        /// The path as written.
+        reference: String,
+    },
+
     /// The model has more vertices or triangles than [`crate::LoadOptions::max_elements`]
     /// allows, or than 32-bit indices can address.
     #[error("{}: {what} has {actual} elements, more than the limit of {limit}", path.display())]

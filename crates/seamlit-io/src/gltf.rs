@@ -57,8 +57,10 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
     }
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
-    let reader = Reader { path, folder: path.parent().unwrap_or(Path::new("")), options };
+    let reader =
+        Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
     let buffers = reader.buffers(&document, blob)?;
+    let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(&document, &buffers)?;
 
     let mut asset = Asset::default();
@@ -235,6 +237,8 @@ struct Reader<'a> {
     path: &'a Path,
     folder: &'a Path,
     options: &'a LoadOptions,
+    /// The bytes of all buffers together: what the file can hold.
+    buffer_bytes: u64,
 }
 
 impl Reader<'_> {
@@ -342,7 +346,7 @@ impl Reader<'_> {
     /// Every buffer view must lie inside its buffer.
     fn check_views(&self, document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), IoError> {
         for view in document.views() {
-            let end = view.offset() as u64 + view.length() as u64;
+            let end = (view.offset() as u64).saturating_add(view.length() as u64);
             let available = buffers.get(view.buffer().index()).map_or(0, Vec::len) as u64;
             if end > available {
                 return Err(IoError::Gltf {
@@ -390,7 +394,12 @@ impl Reader<'_> {
         let element = accessor.size() as u64;
         let check = |view: gltf::buffer::View<'_>, offset: u64, count: u64, element: u64| {
             let stride = view.stride().map_or(element, |s| s as u64);
-            let needed = if count == 0 { 0 } else { offset + stride * (count - 1) + element };
+            // Saturating: offsets and strides come from the file and may be near u64::MAX.
+            let needed = if count == 0 {
+                0
+            } else {
+                offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
+            };
             if needed > view.length() as u64 {
                 return Err(IoError::AccessorOutOfRange {
                     path: self.path.to_path_buf(),
@@ -407,7 +416,16 @@ impl Reader<'_> {
             (None, None) => {
                 return Err(bad(format!("{attribute} has neither a buffer view nor sparse data")));
             }
-            (None, Some(_)) => {}
+            // A sparse accessor without a view is zeros plus its sparse values: its count
+            // costs memory that the file does not hold, so it may not exceed the file's bytes.
+            (None, Some(_)) => {
+                if count.saturating_mul(element) > self.buffer_bytes {
+                    return Err(bad(format!(
+                        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes can hold",
+                        self.buffer_bytes
+                    )));
+                }
+            }
         }
         if let Some(sparse) = accessor.sparse() {
             let n = sparse.count() as u64;

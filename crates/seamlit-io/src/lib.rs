@@ -36,6 +36,7 @@ pub mod newell;
 pub mod obj;
 mod obj_write;
 mod options;
+mod paths;
 mod texture;
 
 use std::path::Path;

@@ -14,6 +14,10 @@ pub struct LoadOptions {
     pub max_file_bytes: u64,
     /// The largest number of vertices or triangles one object may have.
     pub max_elements: usize,
+    /// The largest width or height of a texture; a larger image is not decoded (its header
+    /// is read, its pixels are not) and gets a warning, like an undecodable one. The image
+    /// crate's own 512 MiB allocation limit applies as well.
+    pub max_texture_size: u32,
     /// When set, a missing material library or texture is an error
     /// ([`crate::IoError::MissingFile`]) instead of a warning.
     pub strict: bool,
@@ -21,12 +25,13 @@ pub struct LoadOptions {
 
 impl LoadOptions {
     /// The defaults: tessellation 16, textures loaded, 4 GiB files, 2^28 elements per
-    /// object, missing side files are warnings.
+    /// object, textures up to 16384 x 16384, missing side files are warnings.
     pub const DEFAULT: Self = Self {
         tessellation: 16,
         load_textures: true,
         max_file_bytes: 4 << 30,
         max_elements: 1 << 28,
+        max_texture_size: 16384,
         strict: false,
     };
 

@@ -51,7 +51,7 @@ pub(crate) fn decode_all(
                 TextureSource::Embedded { bytes, .. } => Arc::clone(bytes),
                 TextureSource::Generated => return Ok(None),
             };
-            match image::load_from_memory(&bytes) {
+            match decode(&bytes, options.max_texture_size) {
                 Ok(image) => {
                     texture.image = Some(Arc::new(image.into_rgba8()));
                     Ok(None)
@@ -71,4 +71,15 @@ pub(crate) fn decode_all(
         }
     }
     Ok(warnings)
+}
+
+/// Decodes an image whose width and height are at most `max_size`: the header is read
+/// first, so an oversized image allocates nothing.
+fn decode(bytes: &[u8], max_size: u32) -> image::ImageResult<image::DynamicImage> {
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(max_size);
+    limits.max_image_height = Some(max_size);
+    reader.limits(limits);
+    reader.decode()
 }

@@ -1,0 +1,103 @@
+//! Every file under tests/regressions/ (hostile inputs made by hand, and inputs the fuzz
+//! targets in fuzz/ found) loads without a panic, either successfully or with an error of one
+//! line that names the file. Hand-made inputs also state what the error must say.
+
+use std::path::{Path, PathBuf};
+
+use seamlit_io::LoadOptions;
+
+const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/regressions");
+
+/// What the error of a hand-made input must contain (`None`: it must load).
+const EXPECTED: &[(&str, Option<&str>)] = &[
+    ("glb_chunk_length_lies.glb", Some("glb_chunk_length_lies.glb")),
+    ("glb_header_length_lies.glb", Some("glb_header_length_lies.glb")),
+    ("glb_truncated_header.glb", Some("glb_truncated_header.glb")),
+    ("gltf_accessor_count_4e9.gltf", Some("accessor 0")),
+    ("gltf_accessor_offset_near_u64_max.gltf", Some("accessor 0")),
+    ("gltf_buffer_length_u64_max.gltf", Some("buffer 0")),
+    ("gltf_buffer_uri_escapes.gltf", Some("leaves the model's folder")),
+    ("gltf_huge_stride.gltf", Some("bufferViews[0]")),
+    ("gltf_node_cycle.gltf", Some("nodes[0]")),
+    ("gltf_node_is_its_own_child.gltf", Some("nodes[0]")),
+    ("gltf_scene_lists_a_node_twice.gltf", Some("nodes[0]")),
+    ("gltf_scene_node_out_of_range.gltf", Some("scenes[0]")),
+    ("gltf_sparse_without_view_declares_1e8_positions.gltf", Some("without a buffer view")),
+    // An oversized texture is not decoded: a warning, and the model loads.
+    ("gltf_texture_declares_100000x100000.gltf", None),
+    ("gltf_view_offset_near_u64_max.gltf", Some("bufferViews[0]")),
+    ("newell_patch_count_u64_max.bpt", Some("newell_patch_count_u64_max.bpt:1:")),
+    ("newell_point_count_huge.bpt", Some("newell_point_count_huge.bpt:3:")),
+    ("obj_face_index_huge.obj", Some("obj_face_index_huge.obj:4:")),
+    ("obj_face_index_negative_huge.obj", Some("obj_face_index_negative_huge.obj:4:")),
+    ("obj_mtllib_escapes.obj", Some("leaves the model's folder")),
+    ("obj_only_statements_no_values.obj", Some("obj_only_statements_no_values.obj:1:")),
+];
+
+fn inputs() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(DIR)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    files
+}
+
+fn name(path: &Path) -> String {
+    path.file_name().unwrap().to_string_lossy().into_owned()
+}
+
+#[test]
+fn every_regression_input_loads_or_fails_cleanly() {
+    let options = LoadOptions::DEFAULT;
+    let mut problems = Vec::new();
+    for path in inputs() {
+        let file = name(&path);
+        let result = std::panic::catch_unwind(|| seamlit_io::load(&path, &options));
+        let expected = EXPECTED.iter().find(|(f, _)| *f == file).map(|(_, e)| *e);
+        match (result, expected) {
+            (Err(_), _) => problems.push(format!("{file}: panicked")),
+            (Ok(Ok(_)), None | Some(None)) => {}
+            (Ok(Ok(_)), Some(Some(want))) => {
+                problems.push(format!("{file}: loaded, expected an error with {want:?}"));
+            }
+            (Ok(Err(err)), expected) => {
+                let message = err.to_string();
+                eprintln!("{message}");
+                if message.contains('\n') || !message.contains(&file) {
+                    problems.push(format!("{file}: not one line naming the file: {message:?}"));
+                }
+                match expected {
+                    Some(None) => problems.push(format!("{file}: expected to load: {message}")),
+                    Some(Some(want)) if !message.contains(want) => {
+                        problems.push(format!("{file}: expected {want:?} in {message:?}"));
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn every_hand_made_input_is_present() {
+    let files: Vec<String> = inputs().iter().map(|p| name(p)).collect();
+    for (file, _) in EXPECTED {
+        assert!(files.iter().any(|f| f == file), "{file} is missing from {DIR}");
+    }
+}
+
+#[test]
+fn an_oversized_texture_is_not_decoded_and_gets_a_warning() {
+    let path = Path::new(DIR).join("gltf_texture_declares_100000x100000.gltf");
+    let asset = seamlit_io::load(&path, &LoadOptions::DEFAULT).unwrap();
+    assert_eq!(asset.textures.len(), 1);
+    assert!(asset.textures[0].image.is_none());
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("cannot be decoded") && w.contains("100000")),
+        "{:?}",
+        asset.warnings
+    );
+}
