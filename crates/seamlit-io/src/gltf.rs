@@ -56,7 +56,10 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
         check_glb_container(bytes, path)?;
     }
     let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
+    check_position_indices(document.as_json(), path)?;
+    let document =
+        gltf::Document::from_json(document.into_json()).map_err(|e| gltf_error(e, path))?;
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
     let buffers = reader.buffers(&document, blob)?;
@@ -155,6 +158,32 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
+}
+
+/// Every primitive's `POSITION` names an existing accessor. gltf-json 1.4.1's validation
+/// indexes the accessors with it unchecked and panics otherwise (found by the `gltf` fuzz
+/// target: regression input `tests/regressions/gltf_position_accessor_missing.gltf`), so this
+/// runs before it.
+fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
+    let semantic = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&semantic)
+                && index.value() >= root.accessors.len()
+            {
+                return Err(IoError::Gltf {
+                    path: path.to_path_buf(),
+                    place: format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    reason: format!(
+                        "accessor {} does not exist (the file has {})",
+                        index.value(),
+                        root.accessors.len()
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks the 12-byte GLB header and the chunk headers against the file's length, so a

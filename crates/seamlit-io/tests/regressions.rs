@@ -22,6 +22,8 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("gltf_huge_stride.gltf", Some("bufferViews[0]")),
     ("gltf_node_cycle.gltf", Some("nodes[0]")),
     ("gltf_node_is_its_own_child.gltf", Some("nodes[0]")),
+    // Found by the `gltf` fuzz target: gltf-json's validation indexed the accessors unchecked.
+    ("gltf_position_accessor_missing.gltf", Some("meshes[0].primitives[0].attributes.POSITION")),
     ("gltf_scene_lists_a_node_twice.gltf", Some("nodes[0]")),
     ("gltf_scene_node_out_of_range.gltf", Some("scenes[0]")),
     ("gltf_sparse_without_view_declares_1e8_positions.gltf", Some("without a buffer view")),
