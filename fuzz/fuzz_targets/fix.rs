@@ -8,8 +8,7 @@ use arbitrary::{Arbitrary, Unstructured};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use libfuzzer_sys::fuzz_target;
 use seamlit_mesh::{
-    FixOptions, Mode, Model, Object, ReportOptions, TangentMethod, VAxis, Weighting,
-    WeldTolerance,
+    FixOptions, Mode, Model, Object, ReportOptions, TangentMethod, VAxis, Weighting, WeldTolerance,
 };
 
 /// A float biased toward the values that break geometry code.
@@ -107,7 +106,11 @@ fn options(u: &mut Unstructured<'_>) -> arbitrary::Result<FixOptions> {
             Weighting::Uniform,
         ])?,
         crease_angle_deg: float(u)?,
-        tangents: *u.choose(&[TangentMethod::None, TangentMethod::Seamlit, TangentMethod::Mikktspace])?,
+        tangents: *u.choose(&[
+            TangentMethod::None,
+            TangentMethod::Seamlit,
+            TangentMethod::Mikktspace,
+        ])?,
         tangent_angle_deg: float(u)?,
         split_mirrored: u.arbitrary()?,
     })
