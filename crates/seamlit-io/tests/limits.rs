@@ -1,0 +1,123 @@
+//! Resource limits of the readers: the caps in `LoadOptions` (file size, elements, texture
+//! size) are enforced before the memory is spent, and node hierarchies of any depth are read
+//! without recursion.
+
+use std::path::{Path, PathBuf};
+
+use seamlit_io::{IoError, LoadOptions};
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+const TRIANGLE: &str =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n";
+
+/// A one-triangle glTF (positions in a data: URI) whose scene is a chain of `depth` nodes,
+/// each translated by +1 in x; the last one holds the mesh.
+fn chain(depth: usize) -> String {
+    let floats: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let bytes: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    let mut data = String::new();
+    for chunk in bytes.chunks(3) {
+        // base64 by hand, to keep the test free of another dependency
+        const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let n = chunk.iter().fold(0u32, |n, &b| n << 8 | u32::from(b)) << (8 * (3 - chunk.len()));
+        for i in 0..4 {
+            data.push(if i <= chunk.len() {
+                T[(n >> (18 - 6 * i) & 63) as usize] as char
+            } else {
+                '='
+            });
+        }
+    }
+    let mut nodes = Vec::with_capacity(depth);
+    for i in 0..depth {
+        let next = if i + 1 < depth {
+            format!(r#","children":[{}]"#, i + 1)
+        } else {
+            r#","mesh":0"#.to_owned()
+        };
+        nodes.push(format!(r#"{{"translation":[1,0,0]{next}}}"#));
+    }
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{data}"}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#,
+        nodes.join(",")
+    )
+}
+
+#[test]
+fn a_node_chain_100000_deep_loads_without_recursion_and_composes_every_transform() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "deep.gltf", chain(100_000).as_bytes());
+    // A small stack: a recursive walk would overflow it long before 100,000 levels.
+    let handle = std::thread::Builder::new()
+        .stack_size(256 * 1024)
+        .spawn(move || seamlit_io::load(&path, &LoadOptions::GEOMETRY))
+        .unwrap();
+    let asset = handle.join().expect("no stack overflow").unwrap();
+    assert_eq!(asset.nodes.len(), 100_000);
+    assert_eq!(asset.model.objects.len(), 1);
+    let transform = asset.model.objects[0].transform.unwrap();
+    assert_eq!(transform.w_axis.x, 100_000.0);
+}
+
+#[test]
+fn the_element_cap_refuses_a_larger_object_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let small = LoadOptions { max_elements: 2, ..LoadOptions::GEOMETRY };
+    let obj = write(dir.path(), "t.obj", format!("o tri\n{TRIANGLE}").as_bytes());
+    let err = seamlit_io::load(&obj, &small).unwrap_err();
+    assert!(
+        matches!(&err, IoError::TooManyElements { limit: 2, actual: 3, what, .. } if what.contains("tri")),
+        "{err}"
+    );
+    let gltf = write(dir.path(), "t.gltf", chain(1).as_bytes());
+    let err = seamlit_io::load(&gltf, &small).unwrap_err();
+    assert!(
+        matches!(&err, IoError::TooManyElements { limit: 2, actual: 3, what, .. } if what.contains("accessor 0")),
+        "{err}"
+    );
+    // At the cap, both load.
+    let exact = LoadOptions { max_elements: 3, ..LoadOptions::GEOMETRY };
+    assert!(seamlit_io::load(&obj, &exact).is_ok());
+    assert!(seamlit_io::load(&gltf, &exact).is_ok());
+}
+
+#[test]
+fn the_file_size_cap_refuses_before_reading() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", TRIANGLE.as_bytes());
+    let options = LoadOptions { max_file_bytes: 10, ..LoadOptions::GEOMETRY };
+    let err = seamlit_io::load(&obj, &options).unwrap_err();
+    let size = TRIANGLE.len() as u64;
+    assert!(matches!(err, IoError::TooLarge { limit: 10, actual, .. } if actual == size), "{err}");
+}
+
+#[test]
+fn a_texture_over_the_size_cap_is_not_decoded_and_gets_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbaImage::from_pixel(8, 4, image::Rgba([255, 0, 0, 255]))
+        .save(dir.path().join("albedo.png"))
+        .unwrap();
+    write(dir.path(), "t.mtl", b"newmtl m\nmap_Kd albedo.png\n");
+    let obj = write(dir.path(), "t.obj", format!("mtllib t.mtl\n{TRIANGLE}").as_bytes());
+    let capped = LoadOptions { max_texture_size: 7, ..LoadOptions::DEFAULT };
+    let asset = seamlit_io::load(&obj, &capped).unwrap();
+    assert!(asset.textures[0].image.is_none());
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("albedo.png") && w.contains("cannot be decoded")),
+        "{:?}",
+        asset.warnings
+    );
+    let fits = LoadOptions { max_texture_size: 8, ..LoadOptions::DEFAULT };
+    let asset = seamlit_io::load(&obj, &fits).unwrap();
+    let image = asset.textures[0].image.as_ref().expect("decoded");
+    assert_eq!(image.dimensions(), (8, 4));
+}
