@@ -226,8 +226,9 @@ pub enum IoError {
         reference: String,
     },
 
-    /// The model has more vertices or triangles than [`crate::LoadOptions::max_elements`]
-    /// allows, or than 32-bit indices can address.
+    /// An object has more vertices or triangles than [`crate::LoadOptions::max_elements`]
+    /// allows (or than 32-bit indices can address), or the model more triangles than
+    /// [`crate::LoadOptions::max_model_triangles`].
     #[error("{}: {what} has {actual} elements, more than the limit of {limit}", path.display())]
     TooManyElements {
         /// The file.

@@ -88,6 +88,7 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
         warnings.push(format!("{}: no scene; nothing is placed", path.display()));
     }
     let mut visited = vec![false; document.nodes().len()];
+    let mut triangles = 0usize;
     while let Some((node, parent, parent_global)) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
             return Err(IoError::Gltf {
@@ -127,6 +128,16 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
                         object
                     }
                 };
+                // Instancing multiplies triangles without costing file bytes: capped.
+                triangles = triangles.saturating_add(object.triangles.len());
+                if triangles > options.max_model_triangles {
+                    return Err(IoError::TooManyElements {
+                        path: path.to_path_buf(),
+                        what: format!("the model (mesh instances up to nodes[{}])", node.index()),
+                        limit: options.max_model_triangles,
+                        actual: triangles,
+                    });
+                }
                 let base = node_name
                     .clone()
                     .or_else(|| mesh.name().filter(|n| !n.is_empty()).map(str::to_owned))

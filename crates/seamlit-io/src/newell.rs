@@ -39,7 +39,8 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let text = crate::read_text(path, options)?;
     let name =
         path.file_stem().map_or_else(|| "patches".to_owned(), |s| s.to_string_lossy().into_owned());
-    let mut asset = parse_named(&text, &name, path, options.tessellation)?;
+    let mut asset =
+        parse_named(&text, &name, path, options.tessellation, options.max_model_triangles)?;
     asset.source = Some(path.to_path_buf());
     Ok(asset)
 }
@@ -53,12 +54,28 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// hold, [`IoError::ReferenceOutOfRange`] for a control-point index outside `1..=count`,
 /// [`IoError::NotFinite`] for a NaN or infinite coordinate.
 pub fn parse(text: &str, name: &str, tessellation: u32) -> Result<Asset, IoError> {
-    parse_named(text, name, Path::new(name), tessellation)
+    parse_named(text, name, Path::new(name), tessellation, usize::MAX)
 }
 
-fn parse_named(text: &str, name: &str, path: &Path, tessellation: u32) -> Result<Asset, IoError> {
+fn parse_named(
+    text: &str,
+    name: &str,
+    path: &Path,
+    tessellation: u32,
+    max_triangles: usize,
+) -> Result<Asset, IoError> {
     let patches = parse_patches(text, path)?;
     let n = tessellation.clamp(1, MAX_TESSELLATION);
+    // A 32-byte patch line becomes 2 n^2 triangles: checked before tessellating.
+    let triangles = patches.patches.len().saturating_mul(2 * (n as usize).pow(2));
+    if triangles > max_triangles {
+        return Err(IoError::TooManyElements {
+            path: path.to_path_buf(),
+            what: format!("{} patches at tessellation {n}", patches.patches.len()),
+            limit: max_triangles,
+            actual: triangles,
+        });
+    }
     let objects = patches
         .patches
         .iter()

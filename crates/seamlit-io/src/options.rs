@@ -14,6 +14,10 @@ pub struct LoadOptions {
     pub max_file_bytes: u64,
     /// The largest number of vertices or triangles one object may have.
     pub max_elements: usize,
+    /// The largest number of triangles the whole model may have, counted before they are
+    /// made: glTF mesh instances (one small mesh used by a million nodes) and Newell patches
+    /// times the tessellation cannot multiply a small file into gigabytes.
+    pub max_model_triangles: usize,
     /// The largest width or height of a texture; a larger image is not decoded (its header
     /// is read, its pixels are not) and gets a warning, like an undecodable one. The image
     /// crate's own 512 MiB allocation limit applies as well.
@@ -25,12 +29,13 @@ pub struct LoadOptions {
 
 impl LoadOptions {
     /// The defaults: tessellation 16, textures loaded, 4 GiB files, 2^28 elements per
-    /// object, textures up to 16384 x 16384, missing side files are warnings.
+    /// object, 2^26 triangles per model, textures up to 16384 x 16384, missing side files are warnings.
     pub const DEFAULT: Self = Self {
         tessellation: 16,
         load_textures: true,
         max_file_bytes: 4 << 30,
         max_elements: 1 << 28,
+        max_model_triangles: 1 << 26,
         max_texture_size: 16384,
         strict: false,
     };

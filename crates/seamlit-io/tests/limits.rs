@@ -121,3 +121,46 @@ fn a_texture_over_the_size_cap_is_not_decoded_and_gets_a_warning() {
     let image = asset.textures[0].image.as_ref().expect("decoded");
     assert_eq!(image.dimensions(), (8, 4));
 }
+
+/// A glTF whose scene holds `instances` sibling nodes, all instancing one triangle mesh.
+fn instances(instances: usize) -> String {
+    let one = chain(1);
+    let nodes = vec![r#"{"mesh":0}"#; instances].join(",");
+    let roots = (0..instances).map(|i| i.to_string()).collect::<Vec<_>>().join(",");
+    one.replace(r#""nodes":[{"translation":[1,0,0],"mesh":0}]"#, &format!(r#""nodes":[{nodes}]"#))
+        .replace(r#""scenes":[{"nodes":[0]}]"#, &format!(r#""scenes":[{{"nodes":[{roots}]}}]"#))
+}
+
+#[test]
+fn mesh_instancing_cannot_multiply_a_small_file_past_the_model_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "many.gltf", instances(1000).as_bytes());
+    let fits = LoadOptions { max_model_triangles: 1000, ..LoadOptions::GEOMETRY };
+    assert_eq!(seamlit_io::load(&path, &fits).unwrap().model.objects.len(), 1000);
+    let capped = LoadOptions { max_model_triangles: 999, ..LoadOptions::GEOMETRY };
+    let err = seamlit_io::load(&path, &capped).unwrap_err();
+    assert!(
+        matches!(&err, IoError::TooManyElements { limit: 999, actual: 1000, what, .. } if what.contains("nodes[999]")),
+        "{err}"
+    );
+}
+
+#[test]
+fn newell_patches_times_tessellation_are_capped_before_tessellating() {
+    let dir = tempfile::tempdir().unwrap();
+    // 1000 patches of 16 copies of one point: 32 bytes a patch, 2 * 16^2 triangles each.
+    let mut text = String::from("1000\n");
+    for _ in 0..1000 {
+        text.push_str("1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1\n");
+    }
+    text.push_str("1\n0,0,0\n");
+    let path = write(dir.path(), "many.bpt", text.as_bytes());
+    let fits = LoadOptions { max_model_triangles: 512_000, ..LoadOptions::GEOMETRY };
+    assert_eq!(seamlit_io::load(&path, &fits).unwrap().model.objects.len(), 1000);
+    let capped = LoadOptions { max_model_triangles: 511_999, ..LoadOptions::GEOMETRY };
+    let err = seamlit_io::load(&path, &capped).unwrap_err();
+    assert!(
+        matches!(&err, IoError::TooManyElements { limit: 511_999, actual: 512_000, .. }),
+        "{err}"
+    );
+}
