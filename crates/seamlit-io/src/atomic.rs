@@ -18,11 +18,12 @@ pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
         _ => Path::new("."),
     };
     let io = |e| IoError::io(path, e);
-    let mut file = tempfile::Builder::new()
-        .prefix(".seamlit-")
-        .suffix(".tmp")
-        .tempfile_in(folder)
-        .map_err(io)?;
+    let mut builder = tempfile::Builder::new();
+    // A finished output is an ordinary file (tempfile would leave it readable by its owner
+    // only).
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut file = builder.prefix(".seamlit-").suffix(".tmp").tempfile_in(folder).map_err(io)?;
     file.write_all(bytes).map_err(io)?;
     file.as_file().sync_all().map_err(io)?;
     file.persist(path).map_err(|e| io(e.error))?;

@@ -34,6 +34,7 @@ pub mod gltf;
 mod gltf_write;
 pub mod newell;
 pub mod obj;
+mod obj_parse;
 mod obj_write;
 mod options;
 mod paths;

@@ -1,35 +1,25 @@
-//! Wavefront OBJ (+ MTL) in, through tobj.
+//! Wavefront OBJ (+ MTL) in.
 //!
-//! Every `o` and `g` statement starts an object, keeping its name (tobj also starts one where
-//! `usemtl` changes the material inside an object: both parts keep the name). Faces are
+//! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
+//! changing the material inside an object also starts one: both parts keep the name). Faces are
 //! triangulated as fans; `vt` and `vn` are kept where every face of the object has them.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
 //!
-//! tobj reports errors without a line number; when it fails, a short diagnostic pass over the
-//! text finds the line and says what is wrong there.
+//! The geometry is read by this crate's parallel parser ([`crate::obj_parse`] explains why and
+//! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
+//! model's folder are refused. An index out of range is placed by a diagnostic pass over the
+//! text that names the line.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glam::{Vec2, Vec3};
 use seamlit_mesh::{Model, Object, VAxis};
 
 use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
 };
-
-/// A material library that could not be read: (referenced name, resolved path, error).
-type MtlFailure = (String, PathBuf, MtlProblem);
-
-#[derive(Debug)]
-enum MtlProblem {
-    Missing,
-    Unreadable(std::io::Error),
-    Syntax { line: usize, reason: String },
-}
 
 /// Reads an OBJ file and the material libraries and textures it refers to.
 ///
@@ -43,116 +33,103 @@ enum MtlProblem {
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let text = crate::read_text(path, options)?;
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let failures: RefCell<Vec<MtlFailure>> = RefCell::new(Vec::new());
-    // Material libraries, in the order they were read, with the folder their textures
-    // resolve against.
-    let libraries: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
-
-    let tobj_options = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
+    let parsed = match crate::obj_parse::parse(&text, path) {
+        Ok(parsed) => parsed,
+        Err(Some(err)) => return Err(err),
+        Err(None) => {
+            return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
+                path: path.to_path_buf(),
+                reason: "a face index is out of range".to_owned(),
+            }));
+        }
     };
-    let loader = |mtl: &Path| -> tobj::MTLLoadResult {
-        let resolved = folder.join(mtl);
-        let fail = |problem| {
-            failures.borrow_mut().push((
-                mtl.to_string_lossy().into_owned(),
-                resolved.clone(),
-                problem,
-            ));
-            Ok((Vec::new(), Default::default()))
-        };
+
+    // Material libraries, in order; a later definition of a name wins, as in tobj.
+    let mut warnings = Vec::new();
+    // Per material: the tobj material, its library file and that file's folder as parts
+    // below the model's folder (for resolving its texture paths).
+    let mut materials: Vec<(tobj::Material, PathBuf, Vec<String>)> = Vec::new();
+    let mut by_name: HashMap<String, usize> = HashMap::new();
+    for (name, line) in &parsed.libraries {
+        let parts = crate::paths::inside(&[], name).ok_or_else(|| IoError::PathEscapes {
+            path: path.to_path_buf(),
+            line: Some(*line),
+            what: "material library",
+            reference: name.clone(),
+        })?;
+        let resolved = parts.iter().fold(folder.clone(), |p, s| p.join(s));
+        let sub = parts[..parts.len().saturating_sub(1)].to_vec();
         let mtl_text = match std::fs::read(&resolved) {
             Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
             Err(err) if err.kind() == std::io::ErrorKind::NotFound => {
-                return fail(MtlProblem::Missing);
-            }
-            Err(err) => return fail(MtlProblem::Unreadable(err)),
-        };
-        match tobj::load_mtl_buf(&mut mtl_text.as_bytes()) {
-            Ok((materials, map)) => {
-                libraries.borrow_mut().push((
-                    resolved.parent().unwrap_or(Path::new("")).to_path_buf(),
-                    materials.len(),
+                if options.strict {
+                    return Err(IoError::MissingFile {
+                        path: path.to_path_buf(),
+                        what: "material library".to_owned(),
+                        missing: resolved,
+                        line: Some(*line),
+                    });
+                }
+                warnings.push(format!(
+                    "{}:{line}: material library {} not found; its materials get defaults",
+                    path.display(),
+                    resolved.display()
                 ));
-                Ok((materials, map))
+                continue;
             }
-            Err(err) => {
-                let (line, reason) = locate_mtl_error(&mtl_text).unwrap_or((0, err.to_string()));
-                fail(MtlProblem::Syntax { line, reason })
-            }
-        }
-    };
-    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        tobj::load_obj_buf(&mut text.as_bytes(), &tobj_options, loader)
-    }));
-    let (models, materials) = match loaded {
-        Ok(Ok(result)) => result,
-        Ok(Err(err)) => {
-            return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
-                path: path.to_path_buf(),
-                reason: err.to_string(),
-            }));
-        }
-        Err(_) => {
-            return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
-                path: path.to_path_buf(),
-                reason: "the OBJ reader failed".to_owned(),
-            }));
-        }
-    };
-    let materials = materials.unwrap_or_default();
-
-    let mut warnings = Vec::new();
-    for (name, resolved, problem) in failures.into_inner() {
-        let line = find_statement_line(&text, "mtllib", &name);
-        match problem {
-            MtlProblem::Missing if options.strict => {
-                return Err(IoError::MissingFile {
-                    path: path.to_path_buf(),
-                    what: "material library".to_owned(),
-                    missing: resolved,
-                    line,
-                });
-            }
-            MtlProblem::Missing => warnings.push(format!(
-                "{}{}: material library {} not found; its materials get defaults",
-                path.display(),
-                line.map(|l| format!(":{l}")).unwrap_or_default(),
-                resolved.display()
-            )),
-            MtlProblem::Unreadable(source) => return Err(IoError::io(resolved, source)),
-            MtlProblem::Syntax { line, reason } => {
-                return Err(IoError::Syntax { path: resolved, line, reason });
-            }
+            Err(err) => return Err(IoError::io(resolved, err)),
+        };
+        let (library, _) = read_mtl(&mtl_text).map_err(|err| {
+            let (line, reason) = locate_mtl_error(&mtl_text).unwrap_or((0, err.to_string()));
+            IoError::Syntax { path: resolved.clone(), line, reason }
+        })?;
+        for material in library {
+            by_name.insert(material.name.clone(), materials.len());
+            materials.push((material, resolved.clone(), sub.clone()));
         }
     }
 
-    let mut objects = Vec::with_capacity(models.len());
-    for model in models {
-        if let Some(object) = convert_model(model, materials.len(), path, options, &mut warnings)? {
-            objects.push(object);
+    let mut objects = Vec::new();
+    for parsed in parsed.into_objects(|name| by_name.get(name).copied()) {
+        let too_many = parsed.positions.len().max(parsed.triangles.len());
+        if too_many > options.max_elements {
+            return Err(IoError::TooManyElements {
+                path: path.to_path_buf(),
+                what: format!("object {:?}", parsed.name),
+                limit: options.max_elements,
+                actual: too_many,
+            });
         }
-    }
-    if let Some(err) = check_finite(&objects, path, &text) {
-        return Err(err);
+        for (mixed, what) in
+            [(parsed.mixed_uvs, "texture coordinates"), (parsed.mixed_normals, "normals")]
+        {
+            if mixed {
+                warnings.push(format!(
+                    "{}: object {:?}: some faces have {what} and some do not; {what} dropped",
+                    path.display(),
+                    parsed.name
+                ));
+            }
+        }
+        objects.push(Object {
+            name: parsed.name,
+            positions: parsed.positions,
+            uvs: parsed.uvs,
+            normals: parsed.normals,
+            tangents: None,
+            triangles: parsed.triangles,
+            transform: None,
+            material: parsed.material,
+        });
     }
 
     let mut asset = Asset { model: Model { objects, v_axis: VAxis::Up }, ..Asset::default() };
     let mut texture_index: HashMap<PathBuf, usize> = HashMap::new();
-    let libraries = libraries.into_inner();
-    let mut library_of =
-        libraries.iter().flat_map(|(folder, count)| std::iter::repeat_n(folder, *count));
-    for material in &materials {
-        let mtl_folder = library_of.next().cloned().unwrap_or_else(|| folder.clone());
-        asset.materials.push(convert_material(
-            material,
-            &mtl_folder,
-            &mut asset.textures,
-            &mut texture_index,
-        ));
+    for (material, file, sub) in &materials {
+        let library = Library { model_folder: &folder, file, sub };
+        let material =
+            convert_material(material, library, &mut asset.textures, &mut texture_index)?;
+        asset.materials.push(material);
     }
     asset.source = Some(path.to_path_buf());
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
@@ -160,110 +137,8 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     Ok(asset)
 }
 
-fn convert_model(
-    model: tobj::Model,
-    material_count: usize,
-    path: &Path,
-    options: &LoadOptions,
-    warnings: &mut Vec<String>,
-) -> Result<Option<Object>, IoError> {
-    let mesh = model.mesh;
-    if mesh.indices.len() < 3 {
-        return Ok(None);
-    }
-    let vertex_count = mesh.positions.len() / 3;
-    let triangle_count = mesh.indices.len() / 3;
-    let too_many = vertex_count.max(triangle_count);
-    if too_many > options.max_elements {
-        return Err(IoError::TooManyElements {
-            path: path.to_path_buf(),
-            what: format!("object {:?}", model.name),
-            limit: options.max_elements,
-            actual: too_many,
-        });
-    }
-    let positions: Vec<Vec3> =
-        mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
-    let uvs = match mesh.texcoords.len() {
-        0 => None,
-        n if n == vertex_count * 2 => {
-            Some(mesh.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])).collect())
-        }
-        _ => {
-            warnings.push(format!("{}: object {:?}: some faces have texture coordinates and some do not; texture coordinates dropped", path.display(), model.name));
-            None
-        }
-    };
-    let normals = match mesh.normals.len() {
-        0 => None,
-        n if n == vertex_count * 3 => {
-            Some(mesh.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2])).collect())
-        }
-        _ => {
-            warnings.push(format!(
-                "{}: object {:?}: some faces have normals and some do not; normals dropped",
-                path.display(),
-                model.name
-            ));
-            None
-        }
-    };
-    let triangles = mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-    Ok(Some(Object {
-        name: model.name,
-        positions,
-        uvs,
-        normals,
-        tangents: None,
-        triangles,
-        transform: None,
-        material: mesh.material_id.filter(|&m| m < material_count),
-    }))
-}
-
-/// The first non-finite `v`, `vt` or `vn` value, if any object holds one.
-fn check_finite(objects: &[Object], path: &Path, text: &str) -> Option<IoError> {
-    let finite = objects.iter().all(|o| {
-        o.positions.iter().all(|p| p.is_finite())
-            && o.uvs.as_ref().is_none_or(|uvs| uvs.iter().all(|t| t.is_finite()))
-            && o.normals.as_ref().is_none_or(|ns| ns.iter().all(|n| n.is_finite()))
-    });
-    if finite {
-        return None;
-    }
-    for (i, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        let what = match words.next() {
-            Some("v") => "vertex position",
-            Some("vt") => "texture coordinate",
-            Some("vn") => "vertex normal",
-            _ => continue,
-        };
-        if let Some(bad) = words.find(|w| w.parse::<f32>().is_ok_and(|x| !x.is_finite())) {
-            return Some(IoError::NotFinite {
-                path: path.to_path_buf(),
-                line: i + 1,
-                what,
-                text: bad.to_owned(),
-            });
-        }
-    }
-    Some(IoError::Obj {
-        path: path.to_path_buf(),
-        reason: "a vertex attribute is not finite".to_owned(),
-    })
-}
-
-/// The line of the first `keyword argument` statement.
-fn find_statement_line(text: &str, keyword: &str, argument: &str) -> Option<usize> {
-    text.lines()
-        .position(|l| {
-            l.trim_start().strip_prefix(keyword).is_some_and(|rest| rest.trim() == argument)
-        })
-        .map(|i| i + 1)
-}
-
-/// Finds the line of an OBJ file that tobj rejected and says what is wrong with it.
+/// Finds the first line of an OBJ file with a face index out of range (or another error)
+/// and says what is wrong with it.
 ///
 /// Mirrors tobj's rules: `v` needs 3 numbers, `vt` 2, `vn` 3; face indices are one-based,
 /// negative ones count back from the last element defined so far, and must refer to an
@@ -357,29 +232,78 @@ fn diagnose(path: &Path, text: &str) -> Option<IoError> {
 
 /// Finds the line of an MTL file that tobj rejects, by giving it each line alone.
 fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
+    if let Some(found) = short_colour(text) {
+        return Some(found);
+    }
     text.lines().enumerate().find_map(|(i, line)| {
         let probe = format!("newmtl probe\n{line}\n");
         let is_newmtl = line.split_whitespace().next() == Some("newmtl");
         let probe = if is_newmtl { format!("{line}\n") } else { probe };
-        tobj::load_mtl_buf(&mut probe.as_bytes())
+        read_mtl(&probe)
             .err()
             .map(|err| (i + 1, format!("{err}: {:?}", line.trim())))
     })
 }
 
-/// Converts a tobj material; texture paths resolve against `folder` (the `.mtl`'s).
+/// tobj's MTL reader, after a check for the lines it panics on.
+///
+/// tobj 4.0.5 unwraps a colour statement (`Ka`, `Kd`, `Ks`, `Ke`) of fewer than three numbers
+/// (`parse_float3`, found by the `obj` fuzz target: regression input
+/// `tests/regressions/obj_mtl_colour_with_two_numbers.obj`); such a line is an error here and
+/// tobj never sees it. Any other panic in tobj is caught and becomes an error too.
+fn read_mtl(text: &str) -> tobj::MTLLoadResult {
+    if short_colour(text).is_some() {
+        return Err(tobj::LoadError::MaterialParseError);
+    }
+    std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
+        .unwrap_or(Err(tobj::LoadError::MaterialParseError))
+}
+
+/// The first colour statement of fewer than three numbers: `(line, reason)`.
+fn short_colour(text: &str) -> Option<(usize, String)> {
+    text.lines().enumerate().find_map(|(i, line)| {
+        let mut words = line.split_whitespace();
+        let keyword = words.next()?;
+        let count = words.count();
+        (["Ka", "Kd", "Ks", "Ke"].contains(&keyword) && count < 3).then(|| {
+            (i + 1, format!("`{keyword}` needs 3 numbers, found {count}: {:?}", line.trim()))
+        })
+    })
+}
+
+/// Where a material came from: the `.mtl` file and its folder below the model's folder.
+struct Library<'a> {
+    model_folder: &'a Path,
+    file: &'a Path,
+    sub: &'a [String],
+}
+
+/// Converts a tobj material; texture paths resolve against the `.mtl`'s folder and may not
+/// leave the model's folder.
+///
+/// # Errors
+///
+/// [`IoError::PathEscapes`] for a texture path that leaves the model's folder.
 fn convert_material(
     m: &tobj::Material,
-    folder: &Path,
+    library: Library<'_>,
     textures: &mut Vec<Texture>,
     index: &mut HashMap<PathBuf, usize>,
-) -> Material {
-    let mut texture = |spec: &str| -> Option<(TextureRef, MapOptions)> {
+) -> Result<Material, IoError> {
+    let mut texture = |spec: &str| -> Result<Option<(TextureRef, MapOptions)>, IoError> {
         let options = MapOptions::parse(spec);
         if options.file.is_empty() {
-            return None;
+            return Ok(None);
         }
-        let file = folder.join(options.file.replace('\\', "/"));
+        let parts = crate::paths::inside(library.sub, &options.file).ok_or_else(|| {
+            IoError::PathEscapes {
+                path: library.file.to_path_buf(),
+                line: None,
+                what: "texture",
+                reference: options.file.clone(),
+            }
+        })?;
+        let file = parts.iter().fold(library.model_folder.to_path_buf(), |p, s| p.join(s));
         let texture = *index.entry(file.clone()).or_insert_with(|| {
             let name = file
                 .file_name()
@@ -387,15 +311,16 @@ fn convert_material(
             textures.push(Texture { name, source: TextureSource::File(file), image: None });
             textures.len() - 1
         });
-        Some((TextureRef { texture, tex_coord: 0, transform: options.transform() }, options))
+        Ok(Some((TextureRef { texture, tex_coord: 0, transform: options.transform() }, options)))
     };
     let diffuse = m.diffuse.unwrap_or([0.8, 0.8, 0.8]);
     let shininess = m.shininess.unwrap_or(32.0).max(0.0);
-    let base_color_texture = m.diffuse_texture.as_deref().and_then(&mut texture).map(|(t, _)| t);
+    let base_color_texture =
+        m.diffuse_texture.as_deref().map(&mut texture).transpose()?.flatten().map(|(t, _)| t);
     let normal_spec =
         m.normal_texture.as_deref().or_else(|| m.unknown_param.get("norm").map(String::as_str));
-    let normal = normal_spec.and_then(&mut texture);
-    Material {
+    let normal = normal_spec.map(&mut texture).transpose()?.flatten();
+    Ok(Material {
         name: m.name.clone(),
         base_color: [diffuse[0], diffuse[1], diffuse[2], m.dissolve.unwrap_or(1.0)],
         base_color_texture,
@@ -407,7 +332,7 @@ fn convert_material(
         metallic: 0.0,
         roughness: crate::shininess_to_roughness(shininess),
         double_sided: false,
-    }
+    })
 }
 
 /// The options of an MTL texture statement (`map_Kd -o 0.5 0.5 file.png`).

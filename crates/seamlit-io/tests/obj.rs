@@ -101,3 +101,39 @@ fn large() {
     assert_eq!(check("large/stanford-bunny.obj").model.triangle_count(), 69_451);
     assert_eq!(check("large/nefertiti.obj").model.triangle_count(), 99_938);
 }
+
+/// The geometry parser follows tobj's rules: on every shared OBJ, it gives what tobj gives
+/// (single index, triangulated): the same objects, names, vertex arrays and triangles.
+#[test]
+fn the_parser_agrees_with_tobj() {
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    for file in [
+        "cornell_box/cornell_box.obj",
+        "groups.obj",
+        "spot/spot_triangulated.obj",
+        "spot/spot_quadrangulated.obj",
+        "large/stanford-bunny.obj",
+    ] {
+        let (models, _) = tobj::load_obj(model(file), &options).unwrap();
+        let models: Vec<_> = models.into_iter().filter(|m| !m.mesh.indices.is_empty()).collect();
+        let asset = seamlit_io::load(&model(file), &LoadOptions::default()).unwrap();
+        assert_eq!(asset.model.objects.len(), models.len(), "{file}");
+        for (ours, theirs) in asset.model.objects.iter().zip(&models) {
+            assert_eq!(ours.name, theirs.name, "{file}");
+            let flat: Vec<f32> = ours.positions.iter().flat_map(|p| p.to_array()).collect();
+            assert_eq!(flat, theirs.mesh.positions, "{file} {}", ours.name);
+            let uvs: Vec<f32> = ours.uvs.iter().flatten().flat_map(|t| t.to_array()).collect();
+            assert_eq!(uvs, theirs.mesh.texcoords, "{file} {}", ours.name);
+            let normals: Vec<f32> =
+                ours.normals.iter().flatten().flat_map(|n| n.to_array()).collect();
+            assert_eq!(normals, theirs.mesh.normals, "{file} {}", ours.name);
+            let indices: Vec<u32> = ours.triangles.iter().flatten().copied().collect();
+            assert_eq!(indices, theirs.mesh.indices, "{file} {}", ours.name);
+        }
+    }
+}
