@@ -49,10 +49,10 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         let weld = weld_for_mode(&flat, tolerance, options.mode);
         weld.snap(&mut flat.positions);
         let faces = face::faces(&flat, model.v_axis);
-        let face_positions: Vec<[u32; 3]> =
-            flat.triangles.par_iter().map(|t| t.map(|v| weld.ids[v as usize])).collect();
+        let corner_positions: Vec<u32> =
+            flat.triangles.as_flattened().par_iter().map(|&v| weld.ids[v as usize]).collect();
         let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
-        let groups = group::group(&face_positions, weld.count, &faces, rules);
+        let groups = group::group(&corner_positions, weld.count, &faces, rules);
         CornerFrames::Groups(groups)
     };
 

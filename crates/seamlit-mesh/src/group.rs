@@ -3,15 +3,18 @@
 //!
 //! The corners at one position are gathered from a compressed incidence list (counting sort of
 //! corners by position id, so each list is in corner order and the sums do not depend on the
-//! number of threads). Around a position, two faces join the same *normal group* when they are
-//! edge-adjacent (they share a second welded position, in any object) and their normals are
-//! within the crease angle; a crease angle of 180 degrees or more joins every face at the
-//! position, as the paper does. Within a normal group, faces join the same *tangent group* when
-//! they are edge-adjacent, have the same UV handedness (unless that split is off) and tangents
-//! within the tangent angle. Corners of faces whose UVs are degenerate form one more tangent
-//! group per normal group, whose tangent is the average over all the normal group's usable
-//! faces; they contribute nothing to the others.
-
+//! number of threads). Around a position, faces whose normals are within the crease angle of
+//! each other join the same *normal group* (connected components of that relation); a crease
+//! angle of 180 degrees or more joins every face at the position, as the paper does. Within a
+//! normal group, faces join the same *tangent group* when their UV handedness agrees (unless
+//! that split is off) and their tangents are within the tangent angle. Corners of faces whose
+//! UVs are degenerate form one more tangent group per normal group, whose tangent is the
+//! average over all the normal group's usable faces; they contribute nothing to the others.
+//! A tangent group whose members cancel out (a fan around a pole) keeps per-face tangents.
+//!
+//! Most positions (inside a smooth, consistently mapped surface) form a single group; a fast
+//! path recognises them in one pass: every face within half the crease angle of the first is
+//! within the crease angle of every other, so they form one component.
 #![expect(
     clippy::needless_range_loop,
     reason = "corners are local indices into several parallel scratch arrays at once"
@@ -84,6 +87,9 @@ pub(crate) struct Rules {
     pub crease_cos: Option<f32>,
     /// Cosine of the tangent angle; `None` = no limit.
     pub tangent_cos: Option<f32>,
+    /// Cosines of half the crease and tangent angles, for the single-group fast path.
+    pub crease_half_cos: Option<f32>,
+    pub tangent_half_cos: Option<f32>,
     pub split_mirrored: bool,
     /// Whether tangents are averaged at all (otherwise tangent groups = normal groups).
     pub tangents: bool,
@@ -95,7 +101,9 @@ impl Rules {
         Self {
             weighting: options.weighting,
             crease_cos: cos(options.crease_angle_deg),
+            crease_half_cos: cos(options.crease_angle_deg * 0.5),
             tangent_cos: cos(options.tangent_angle_deg),
+            tangent_half_cos: cos(options.tangent_angle_deg * 0.5),
             split_mirrored: options.split_mirrored,
             tangents,
         }
@@ -129,10 +137,6 @@ struct Scratch {
     tangent_parent: Vec<u32>,
     /// Per local corner: index into the chunk's frames.
     local_group: Vec<u32>,
-    /// `(other position, local corner)` for the two edges through the position of each corner.
-    edges: Vec<(u32, u32)>,
-    /// Pairs of local corners whose faces share an edge through the position.
-    adjacent: Vec<(u32, u32)>,
     /// Per local corner (as a group root): sums and first usable members.
     n_sum: Vec<Vec3>,
     t_sum: Vec<Vec3>,
@@ -173,14 +177,13 @@ fn flatten(parent: &mut [u32]) {
 
 /// Groups the corners at every position and averages their frames.
 ///
-/// `face_positions[f]` holds the position ids of face `f`'s corners.
+/// `corner_positions[c]` is the position id of corner `c` (`triangle * 3 + k`).
 pub(crate) fn group(
-    face_positions: &[[u32; 3]],
+    corner_positions: &[u32],
     position_count: usize,
     faces: &[Face],
     rules: Rules,
 ) -> Groups {
-    let corner_positions = face_positions.as_flattened();
     let incidence = Incidence::new(corner_positions, position_count);
     let chunks: Vec<Range<usize>> =
         (0..position_count).step_by(CHUNK).map(|s| s..(s + CHUNK).min(position_count)).collect();
@@ -192,15 +195,7 @@ pub(crate) fn group(
             let mut frames = Vec::with_capacity(positions.len() + positions.len() / 8);
             for p in positions {
                 let corners = incidence.at(p);
-                group_position(
-                    p as u32,
-                    corners,
-                    face_positions,
-                    faces,
-                    rules,
-                    scratch,
-                    &mut frames,
-                );
+                group_position(corners, faces, rules, scratch, &mut frames);
                 groups.extend_from_slice(&scratch.local_group);
             }
             (groups, frames)
@@ -224,13 +219,10 @@ pub(crate) fn group(
 /// Groups the corners at one position; pushes one frame per tangent group onto `frames` and
 /// leaves in `scratch.local_group` each corner's frame index (chunk-local).
 ///
-/// Linear in the number of corners except for the edge matching, which compares position ids
-/// in a small contiguous list.
+/// Quadratic in the number of corners where the fast path does not apply.
 #[inline(never)]
 fn group_position(
-    p: u32,
     corners: &[u32],
-    face_positions: &[[u32; 3]],
     faces: &[Face],
     rules: Rules,
     s: &mut Scratch,
@@ -240,30 +232,8 @@ fn group_position(
     let face_of = |a: usize| corners[a] as usize / 3;
     let usable = |a: usize| !faces[face_of(a)].is(DEGENERATE_UV | DEGENERATE);
 
-    // Edge adjacency: corners whose faces share an edge (p, q) through this position.
-    let need_adjacency =
-        rules.crease_cos.is_some() || (rules.tangents && !rules.tangents_unconditional());
-    s.adjacent.clear();
-    if need_adjacency {
-        s.edges.clear();
-        for a in 0..k {
-            let c = corners[a] as usize;
-            let fp = face_positions[c / 3];
-            let (qn, qp) = (fp[(c + 1) % 3], fp[(c + 2) % 3]);
-            let seen = s.edges.len();
-            for q in [qn, qp] {
-                if q == p {
-                    continue;
-                }
-                for &(q2, b) in &s.edges[..seen] {
-                    if q2 == q && face_of(b as usize) != face_of(a) {
-                        s.adjacent.push((b, a as u32));
-                    }
-                }
-            }
-            s.edges.push((qn, a as u32));
-            s.edges.push((qp, a as u32));
-        }
+    if single_group(corners, faces, rules, s, frames) {
+        return;
     }
 
     // Normal groups.
@@ -278,10 +248,16 @@ fn group_position(
                     union(np, a as u32 - 1, a as u32);
                 }
             }
-            for &(a, b) in &s.adjacent {
-                let (fa, fb) = (&faces[face_of(a as usize)], &faces[face_of(b as usize)]);
-                if !fa.is(DEGENERATE) && !fb.is(DEGENERATE) && fa.normal.dot(fb.normal) >= cos {
-                    union(np, a, b);
+            for a in 0..k {
+                let fa = &faces[face_of(a)];
+                if fa.is(DEGENERATE) {
+                    continue;
+                }
+                for b in a + 1..k {
+                    let fb = &faces[face_of(b)];
+                    if !fb.is(DEGENERATE) && fa.normal.dot(fb.normal) >= cos {
+                        union(np, a as u32, b as u32);
+                    }
                 }
             }
             flatten(np);
@@ -338,16 +314,21 @@ fn group_position(
                     union(tp, a as u32 - 1, a as u32);
                 }
             }
-            for &(a, b) in &s.adjacent {
-                let (ua, ub) = (a as usize, b as usize);
-                if np[ua] != np[ub] || !usable(ua) || !usable(ub) {
+            for a in 0..k {
+                if !usable(a) {
                     continue;
                 }
-                let (ta, tb) = (&faces[face_of(ua)], &faces[face_of(ub)]);
-                let join = (!rules.split_mirrored || ta.sign() == tb.sign())
-                    && rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
-                if join {
-                    union(tp, a, b);
+                let ta = &faces[face_of(a)];
+                for b in a + 1..k {
+                    if np[a] != np[b] || !usable(b) {
+                        continue;
+                    }
+                    let tb = &faces[face_of(b)];
+                    let join = (!rules.split_mirrored || ta.sign() == tb.sign())
+                        && rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
+                    if join {
+                        union(tp, a as u32, b as u32);
+                    }
                 }
             }
         }
@@ -434,4 +415,42 @@ fn group_position(
         }
         s.local_group.push(s.frame_of_root[root]);
     }
+}
+
+/// The fast path: if every corner's face is usable and within half the crease angle (and its
+/// tangent within half the tangent angle, with the same handedness) of the first corner's,
+/// all corners form one normal group and one tangent group. Pushes its frame and returns
+/// `true`; returns `false`, having changed nothing, when the general path is needed.
+fn single_group(
+    corners: &[u32],
+    faces: &[Face],
+    rules: Rules,
+    s: &mut Scratch,
+    frames: &mut Vec<Frame>,
+) -> bool {
+    let Some(&c0) = corners.first() else { return true };
+    let f0 = &faces[c0 as usize / 3];
+    let unusable = DEGENERATE | if rules.tangents { DEGENERATE_UV } else { 0 };
+    let (mut n_sum, mut t_sum, mut b_sum) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    for &c in corners {
+        let c = c as usize;
+        let f = &faces[c / 3];
+        if f.is(unusable)
+            || rules.crease_half_cos.is_some_and(|h| f.normal.dot(f0.normal) < h)
+            || (rules.tangents
+                && ((rules.split_mirrored && f.sign() != f0.sign())
+                    || rules.tangent_half_cos.is_some_and(|h| f.tangent.dot(f0.tangent) < h)))
+        {
+            return false;
+        }
+        let w = weight(rules.weighting, f, c % 3);
+        n_sum += f.normal * w;
+        t_sum += f.tangent * w;
+        b_sum += f.bitangent * w;
+    }
+    let (normal, tangent) = finish(n_sum, f0.normal, t_sum, b_sum);
+    s.local_group.clear();
+    s.local_group.resize(corners.len(), frames.len() as u32);
+    frames.push(Frame { normal, tangent });
+    true
 }
