@@ -26,6 +26,12 @@ pub fn save_png(image: &RgbaImage, path: &Path) -> anyhow::Result<()> {
             image.write_to(&mut w, image::ImageFormat::Png)?;
             std::io::Write::flush(&mut w)?;
         }
+        // Temporary files are private (0600); the picture gets the usual permissions.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt as _;
+            tmp.as_file().set_permissions(std::fs::Permissions::from_mode(0o644))?;
+        }
         tmp.persist(path)?;
         Ok(())
     };
@@ -154,6 +160,12 @@ mod tests {
         let path = dir.path().join("x.png");
         save_png(&RgbaImage::new(4, 4), &path).unwrap();
         assert_eq!(image::open(&path).unwrap().width(), 4);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt as _;
+            let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+            assert_eq!(mode & 0o777, 0o644, "{mode:o}");
+        }
         let bad = dir.path().join("missing-folder/x.png");
         let e = save_png(&RgbaImage::new(4, 4), &bad).unwrap_err().to_string();
         assert!(e.starts_with(&format!("{}: cannot write", bad.display())), "{e}");

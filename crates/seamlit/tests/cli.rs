@@ -217,6 +217,10 @@ fn fix_refuses_bad_input_and_leaves_no_output() {
     let txt = dir.path().join("out.txt").display().to_string();
     assert_bad_input(&seamlit(&["fix", &teapot(), "-o", &txt]), &["out.txt", "output format"]);
     assert_eq!(listing(dir.path()), ["bad.obj"]);
+    // The output may not be the input itself.
+    let good = write(dir.path(), "good.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert_bad_input(&seamlit(&["fix", &good, "-o", &good]), &["good.obj", "overwrite"]);
+    assert_eq!(std::fs::read_to_string(&good).unwrap(), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
 }
 
 #[test]
