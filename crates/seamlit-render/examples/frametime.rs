@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20]
-//!     [--samples 4] [--sides 224,708] [--lights 1,16]
+//!     [--samples 4] [--anisotropy 16] [--sides 224,708] [--lights 1,16]
 //! ```
 //!
 //! Each frame is recorded, submitted and waited for (`Renderer::time_frames`); the table gives
@@ -18,7 +18,7 @@ use glam::Vec3;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, Renderer,
+    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, Renderer, TextureOptions,
 };
 
 fn arg(name: &str) -> Option<String> {
@@ -56,6 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (width, height): (u32, u32) = (w.parse()?, h.parse()?);
     let frames: usize = arg("--frames").map_or(Ok(20), |f| f.parse())?;
     let samples: u32 = arg("--samples").map_or(Ok(4), |f| f.parse())?;
+    let anisotropy: u16 = arg("--anisotropy").map_or(Ok(16), |f| f.parse())?;
     // Sphere resolutions: 224 x 224 quads = 100,352 triangles, 708 x 708 = 1,002,528.
     let sides: Vec<u32> = arg("--sides")
         .unwrap_or_else(|| "224,708".into())
@@ -71,7 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = GpuContext::headless()?;
     println!("adapter: {}", ctx.describe());
     println!(
-        "{width}x{height}, {samples}x MSAA, normal mapping on, median (min) of {frames} frames\n"
+        "{width}x{height}, {samples}x MSAA, {anisotropy}x anisotropic, normal mapping on, median (min) of {frames} frames\n"
     );
     println!("| triangles | lights | median frame | fastest frame |");
     println!("|---:|---:|---:|---:|");
@@ -97,7 +98,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ],
             ..Asset::default()
         };
-        let scene = GpuScene::upload(&ctx, &asset)?;
+        let options = TextureOptions { anisotropy, ..TextureOptions::DEFAULT };
+        let scene = GpuScene::upload_parts(
+            &ctx,
+            &asset.model,
+            &asset.materials,
+            &asset.textures,
+            &options,
+        )?;
         let camera = CameraView::look_at(
             Vec3::new(0.0, 0.5, 3.0),
             Vec3::ZERO,
