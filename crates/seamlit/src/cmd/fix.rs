@@ -51,12 +51,16 @@ fn fix_file(
     if !input.exists() {
         return Err(Failure::input(format!("{}: no such file", input.display())));
     }
-    let asset = seamlit_io::load(input, load).bad_input()?;
+    let mut asset = seamlit_io::load(input, load).bad_input()?;
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");
     }
-    let fixed = seamlit_mesh::fix(&asset.model, options)
+    // The input geometry is freed as soon as the fixed one exists: it is the largest thing
+    // alive while the report runs and the file is written.
+    let loaded = std::mem::take(&mut asset.model);
+    let fixed = seamlit_mesh::fix(&loaded, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
+    drop(loaded);
     let report = seamlit_mesh::report(&fixed, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
     let out = Asset { model: fixed, ..asset };
