@@ -15,14 +15,15 @@
 //!   back to GL (on Linux without a GPU, Mesa's lavapipe: `apt-get install mesa-vulkan-drivers`);
 //!   [`GpuContext::for_surface`] for a window, whose device an egui-wgpu renderer can share.
 //! - [`GpuScene`]: a model with materials and textures on the GPU (mipmapped, 1x1 defaults for
-//!   missing textures); [`GpuScene::replace_model`] swaps the geometry after a re-fix.
+//!   missing textures; [`TextureOptions`] for mipmaps and anisotropy);
+//!   [`GpuScene::replace_model`] swaps the geometry after a re-fix.
 //! - [`Renderer`]: pipelines for one target format and MSAA sample count;
 //!   [`Renderer::render`] into a view (a window), [`Renderer::render_to_image`] to an image,
 //!   [`Renderer::time_frames`] for frame timing.
 //! - [`FrameSettings`]: lights, ambient, lighting model, normal mapping, strength, green flip,
 //!   [`DebugView`], TBN lines; [`CameraView`] the camera.
 //!
-//! ```no_run
+//! ```
 //! use glam::{Vec2, Vec3};
 //! use seamlit_io::Asset;
 //! use seamlit_mesh::{FixOptions, Model, Object, fix};
@@ -45,6 +46,8 @@
 //! assert_eq!(image.dimensions(), (64, 64));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! Errors are [`RenderError`]s that name the object, material or texture at fault.
 //!
 //! For a window: create the instance with [`GpuContext::new_instance`], the surface from it,
 //! then [`GpuContext::for_surface`]; make a [`Renderer`] for the surface's format and call

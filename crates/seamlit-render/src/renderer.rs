@@ -255,23 +255,20 @@ impl Renderer {
         }
     }
 
-    fn create_attachments(&self, ctx: &GpuContext, (width, height): (u32, u32)) -> Attachments {
+    fn create_attachments(&self, ctx: &GpuContext, size: (u32, u32)) -> Attachments {
         let texture = |label, format| {
-            ctx.device()
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: self.sample_count,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
-                .create_view(&wgpu::TextureViewDescriptor::default())
+            texture_2d(
+                ctx,
+                label,
+                size,
+                format,
+                self.sample_count,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&wgpu::TextureViewDescriptor::default())
         };
         Attachments {
-            size: (width, height),
+            size,
             depth: texture("seamlit depth", DEPTH_FORMAT),
             msaa: (self.sample_count > 1).then(|| texture("seamlit msaa colour", self.format)),
         }
@@ -305,16 +302,14 @@ impl Renderer {
             });
         }
         ctx.scoped("rendering to an image", || {
-            let target = ctx.device().create_texture(&wgpu::TextureDescriptor {
-                label: Some("seamlit image"),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: self.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+            let target = texture_2d(
+                ctx,
+                "seamlit image",
+                (width, height),
+                self.format,
+                1,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
             let view = target.create_view(&wgpu::TextureViewDescriptor::default());
             let mut encoder =
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -347,16 +342,14 @@ impl Renderer {
         frames: usize,
     ) -> Result<FrameTimes, RenderError> {
         check_size(ctx, width, height)?;
-        let target = ctx.device().create_texture(&wgpu::TextureDescriptor {
-            label: Some("seamlit timing target"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: self.format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
+        let target = texture_2d(
+            ctx,
+            "seamlit timing target",
+            (width, height),
+            self.format,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
         let view = target.create_view(&wgpu::TextureViewDescriptor::default());
         let mut times = Vec::with_capacity(frames);
         for i in 0..=frames {
@@ -369,6 +362,27 @@ impl Renderer {
         }
         Ok(FrameTimes { frames: times })
     }
+}
+
+/// A single-level 2D texture.
+fn texture_2d(
+    ctx: &GpuContext,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    sample_count: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
