@@ -239,9 +239,7 @@ fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
         let probe = format!("newmtl probe\n{line}\n");
         let is_newmtl = line.split_whitespace().next() == Some("newmtl");
         let probe = if is_newmtl { format!("{line}\n") } else { probe };
-        read_mtl(&probe)
-            .err()
-            .map(|err| (i + 1, format!("{err}: {:?}", line.trim())))
+        read_mtl(&probe).err().map(|err| (i + 1, format!("{err}: {:?}", line.trim())))
     })
 }
 

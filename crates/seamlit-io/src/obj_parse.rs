@@ -337,8 +337,8 @@ fn parse_chunk(text: &str) -> Result<Chunk, (usize, ChunkError)> {
             "v" => {
                 let [x, y, z] = numbers::<3>(&mut words, "v", "vertex position").map_err(fail)?;
                 let mut p = Vec3::new(x, y, z);
-                let extra: Vec<&str> = words.take(4).collect();
-                if let [w] = extra[..] {
+                // `v x y z w`: divide by w; `v x y z r g b`: colours, ignored.
+                if let (Some(w), None) = (words.next(), words.next()) {
                     let w: f32 = w.parse().map_err(|_| {
                         fail(ChunkError::Syntax(format!("`v`: expected w, found {w:?}")))
                     })?;
@@ -394,14 +394,29 @@ fn parse_chunk(text: &str) -> Result<Chunk, (usize, ChunkError)> {
 /// Parses a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`.
 fn corner(word: &str, chunk: &Chunk) -> Result<Corner, ChunkError> {
     let mut c = Corner { index: [i64::from(MISSING); 3], relative: 0 };
-    let counts = [chunk.positions.len(), chunk.uvs.len(), chunk.normals.len()];
-    for (slot, field) in word.split('/').enumerate() {
+    // A fourth slot only to report a corner of four indices.
+    let counts = [chunk.positions.len(), chunk.uvs.len(), chunk.normals.len(), 0];
+    let mut rest = word;
+    for (slot, &count) in counts.iter().enumerate() {
+        if rest.is_empty() && slot > 0 {
+            break;
+        }
+        let (field, tail) = match rest.as_bytes().iter().position(|&b| b == b'/') {
+            Some(at) => (&rest[..at], &rest[at + 1..]),
+            None => (rest, ""),
+        };
+        // `v/vt/` or `v//`: a trailing separator with nothing after it.
+        let ends = tail.is_empty() && field.len() < rest.len();
+        rest = tail;
         if slot > 2 {
             return Err(ChunkError::Syntax(format!(
                 "face corner {word:?} has more than three indices"
             )));
         }
         if field.is_empty() && slot > 0 {
+            if ends {
+                break;
+            }
             continue;
         }
         let index: i64 = field.parse().map_err(|_| {
@@ -413,7 +428,7 @@ fn corner(word: &str, chunk: &Chunk) -> Result<Corner, ChunkError> {
             i if i > 0 => i - 1,
             i => {
                 c.relative |= 1 << slot;
-                counts[slot] as i64 + i
+                count as i64 + i
             }
         };
         // An index equal to the sentinel, or absurdly large, is out of range too.
