@@ -428,7 +428,11 @@ fn single_group(
     s: &mut Scratch,
     frames: &mut Vec<Frame>,
 ) -> bool {
-    let Some(&c0) = corners.first() else { return true };
+    let Some(&c0) = corners.first() else {
+        // A position no triangle uses: no groups (not the previous position's, left over).
+        s.local_group.clear();
+        return true;
+    };
     let f0 = &faces[c0 as usize / 3];
     let unusable = DEGENERATE | if rules.tangents { DEGENERATE_UV } else { 0 };
     let (mut n_sum, mut t_sum, mut b_sum) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
