@@ -300,6 +300,32 @@ fn render_debug_views_and_a_bare_model_with_the_default_camera() {
 }
 
 #[test]
+fn render_a_scene_of_two_placed_models_with_their_own_options() {
+    // examples/spot.toml: the cow twice, the second scaled, turned, moved, processed per
+    // object with MikkTSpace tangents; no lights (the default rig). Seen from above, both
+    // cows show: ink on the left and on the right half of the picture.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("top.png");
+    let o = seamlit(&[
+        "render",
+        &example("spot.toml"),
+        "-o",
+        &out.display().to_string(),
+        "--size",
+        "160x120",
+        "--camera",
+        "top",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).contains("camera \"top\""), "{}", stdout(&o));
+    let img = image::open(&out).unwrap().to_rgba8();
+    let left = image::imageops::crop_imm(&img, 0, 0, 80, 120).to_image();
+    let right = image::imageops::crop_imm(&img, 80, 0, 80, 120).to_image();
+    let (l, r) = (foreground_fraction(&left, 0), foreground_fraction(&right, 0));
+    assert!(l > 0.05 && r > 0.02, "left {l}, right {r}");
+}
+
+#[test]
 fn render_refuses_bad_scenes_cameras_and_outputs() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.png").display().to_string();
