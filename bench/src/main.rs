@@ -1,0 +1,117 @@
+//! `seamlit-bench`: what `bench/peers.sh` needs beyond the `seamlit` binary.
+//!
+//! - `input MODEL OUT.glb` writes a benchmark input: the model as loaded, with its normals and
+//!   tangents dropped, so that every tool computes them from the same positions and UVs.
+//! - `teapot N OUT.glb` writes the demo teapot (32 Bezier patches tessellated N x N each, UVs,
+//!   the brick normal map, Y up) without normals.
+//! - `reference IN OUT.glb` runs the paper's brute-force algorithm
+//!   (`seamlit_mesh::reference::fix`, O(V x F)) and writes the result.
+//! - `render OUT.png FILE...` renders each file *as it is* (its own normals and tangents, no
+//!   fix) and puts the pictures side by side; `seamlit render` always fixes first.
+//! - `assjson IN.assjson OUT.glb` converts Assimp's JSON dump, which keeps the tangents that
+//!   Assimp's glTF 2 exporter drops.
+
+mod assjson;
+mod render;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::{Parser, Subcommand};
+use seamlit_io::{Asset, LoadOptions, SaveOptions};
+
+/// Helpers for bench/peers.sh.
+#[derive(Debug, Parser)]
+#[command(name = "seamlit-bench", max_term_width = 100)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Write MODEL without normals and tangents (a benchmark input).
+    Input {
+        /// Any model seamlit reads (.obj, .gltf, .glb, Newell patches).
+        model: PathBuf,
+        /// Where to write (.glb, .gltf or .obj).
+        output: PathBuf,
+    },
+    /// Write the demo teapot, N x N quads per patch (2 N^2 x 32 triangles), without normals.
+    Teapot {
+        /// Quads per patch side.
+        #[arg(value_parser = clap::value_parser!(u32).range(1..=1024))]
+        n: u32,
+        /// Where to write (.glb, .gltf or .obj).
+        output: PathBuf,
+    },
+    /// Run the paper's reference algorithm on IN and write OUT.
+    Reference {
+        /// Any model seamlit reads.
+        input: PathBuf,
+        /// Where to write (.glb, .gltf or .obj).
+        output: PathBuf,
+    },
+    /// Convert Assimp's JSON dump (`-fassjson`), tangents included, to OUT (.glb, .gltf, .obj).
+    Assjson {
+        /// The `.assjson` file.
+        input: PathBuf,
+        /// Where to write.
+        output: PathBuf,
+    },
+    /// Render each FILE with its own normals and tangents, side by side, one row per view.
+    Render(render::RenderArgs),
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("seamlit-bench: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Input { model, output } => {
+            let mut asset = seamlit_io::load(&model, &LoadOptions::DEFAULT)?;
+            strip(&mut asset);
+            save(&asset, &output)
+        }
+        Command::Teapot { n, output } => {
+            let mut asset = seamlit_scene::demo::teapot_asset(n)?;
+            strip(&mut asset);
+            save(&asset, &output)
+        }
+        Command::Reference { input, output } => {
+            let mut asset = seamlit_io::load(&input, &LoadOptions::DEFAULT)?;
+            asset.model = seamlit_mesh::reference::fix(&asset.model)
+                .with_context(|| format!("{}: reference fix", input.display()))?;
+            save(&asset, &output)
+        }
+        Command::Assjson { input, output } => save(&assjson::load(&input)?, &output),
+        Command::Render(args) => render::run(&args),
+    }
+}
+
+/// Drops every object's normals and tangents.
+fn strip(asset: &mut Asset) {
+    for object in &mut asset.model.objects {
+        object.normals = None;
+        object.tangents = None;
+    }
+}
+
+fn save(asset: &Asset, output: &std::path::Path) -> anyhow::Result<()> {
+    seamlit_io::save(asset, output, &SaveOptions::default())?;
+    println!(
+        "wrote {} ({} objects, {} triangles)",
+        output.display(),
+        asset.model.objects.len(),
+        asset.model.triangle_count()
+    );
+    Ok(())
+}
