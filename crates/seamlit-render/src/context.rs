@@ -39,9 +39,18 @@ impl GpuContext {
     /// [`RenderError::NoAdapter`] when no adapter exists (the message says what to install),
     /// [`RenderError::RequestDevice`] when the adapter will not open a device.
     pub fn headless() -> Result<Self, RenderError> {
-        let wanted = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+        Self::headless_with(wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all()))
+    }
+
+    /// As [`GpuContext::headless`], choosing only among `backends` (native ones first, then
+    /// GL), for a `--backend` option.
+    ///
+    /// # Errors
+    ///
+    /// As [`GpuContext::headless`].
+    pub fn headless_with(backends: wgpu::Backends) -> Result<Self, RenderError> {
         let mut tried = Vec::new();
-        for backends in [wanted & PRIMARY, wanted & wgpu::Backends::GL] {
+        for backends in [backends & PRIMARY, backends & wgpu::Backends::GL] {
             if backends.is_empty() {
                 continue;
             }

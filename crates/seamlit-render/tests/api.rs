@@ -254,3 +254,13 @@ fn replacing_the_geometry_keeps_materials_and_refuses_bad_models() {
     assert!(matches!(err, RenderError::IndexOutOfRange { index: 5, count: 1, .. }), "{err}");
     assert_eq!(corner(&scene), [255, 0, 0, 255]);
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn no_adapter_says_what_to_install() {
+    // Metal does not exist on Linux: no adapter, and the message names the package.
+    let err = seamlit_render::GpuContext::headless_with(wgpu::Backends::METAL)
+        .expect_err("no Metal on Linux");
+    assert!(matches!(err, RenderError::NoAdapter { .. }), "{err}");
+    assert!(err.to_string().contains("apt-get install mesa-vulkan-drivers"), "{err}");
+}
