@@ -58,6 +58,7 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
     check_position_indices(document.as_json(), path)?;
+    check_image_sources(document.as_json(), path)?;
     let document =
         gltf::Document::from_json(document.into_json()).map_err(|e| gltf_error(e, path))?;
     let reader =
@@ -193,6 +194,25 @@ fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), Io
                 });
             }
         }
+    }
+    Ok(())
+}
+
+/// Every image has a `uri`, or a `bufferView` with a `mimeType`: gltf 1.4.1's
+/// `Image::source` unwraps them and its validation lets them through (found by the `gltf`
+/// fuzz target: regression input `tests/regressions/gltf_image_without_uri.gltf`).
+fn check_image_sources(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
+    for (i, image) in root.images.iter().enumerate() {
+        let reason = match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (_, Some(_), None) => "an image in a bufferView needs a mimeType",
+            (None, None, _) => "an image needs a uri or a bufferView",
+            _ => continue,
+        };
+        return Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            place: format!("images[{i}]"),
+            reason: reason.to_owned(),
+        });
     }
     Ok(())
 }

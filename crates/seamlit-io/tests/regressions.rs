@@ -20,6 +20,9 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("gltf_buffer_length_u64_max.gltf", Some("buffer 0")),
     ("gltf_buffer_uri_escapes.gltf", Some("leaves the model's folder")),
     ("gltf_huge_stride.gltf", Some("bufferViews[0]")),
+    // Found by the `gltf` fuzz target: gltf's Image::source unwrapped a missing uri.
+    ("gltf_image_without_uri.gltf", Some("images[0]: an image needs a uri or a bufferView")),
+    ("gltf_image_view_without_mime_type.gltf", Some("images[0]: an image in a bufferView needs")),
     ("gltf_node_cycle.gltf", Some("nodes[0]")),
     ("gltf_node_is_its_own_child.gltf", Some("nodes[0]")),
     // Found by the `gltf` fuzz target: gltf-json's validation indexed the accessors unchecked.
