@@ -22,8 +22,13 @@ use serde_json::Value;
 pub fn load(path: &Path) -> anyhow::Result<Asset> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read", path.display()))?;
+    parse(&text, path)
+}
+
+/// Parses the text of an `assjson` file; `path` names it in errors.
+fn parse(text: &str, path: &Path) -> anyhow::Result<Asset> {
     let root: Value =
-        serde_json::from_str(&text).with_context(|| format!("{}: not JSON", path.display()))?;
+        serde_json::from_str(text).with_context(|| format!("{}: not JSON", path.display()))?;
     let meshes = root["meshes"].as_array().map(Vec::as_slice).unwrap_or_default();
     let mut objects = Vec::new();
     let mut stack = vec![(&root["rootnode"], Mat4::IDENTITY)];
@@ -106,4 +111,51 @@ fn matrix(value: &Value) -> Mat4 {
 
 fn floats(value: &Value) -> Vec<f32> {
     value.as_array().into_iter().flatten().filter_map(Value::as_f64).map(|f| f as f32).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One triangle in the XY plane facing +Z, its tangent along +X; the second mesh has the
+    /// bitangent flipped (mirrored UVs). The node moves the first mesh by +5 in X (row-major:
+    /// the translation is the last column).
+    const DUMP: &str = r#"{
+      "rootnode": {"name": "ROOT", "transformation": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1],
+        "children": [
+          {"name": "a", "transformation": [1,0,0,5, 0,1,0,0, 0,0,1,0, 0,0,0,1], "meshes": [0]},
+          {"name": "b", "transformation": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "meshes": [1]}
+        ]},
+      "meshes": [
+        {"name": "m0", "vertices": [0,0,0, 1,0,0, 0,1,0], "normals": [0,0,1, 0,0,1, 0,0,1],
+         "tangents": [1,0,0, 1,0,0, 1,0,0], "bitangents": [0,1,0, 0,1,0, 0,1,0],
+         "numuvcomponents": [2], "texturecoords": [[0,0, 1,0, 0,1]], "faces": [[0,1,2]]},
+        {"name": "m1", "vertices": [0,0,0, 1,0,0, 0,1,0], "normals": [0,0,1, 0,0,1, 0,0,1],
+         "tangents": [1,0,0, 1,0,0, 1,0,0], "bitangents": [0,-1,0, 0,-1,0, 0,-1,0],
+         "numuvcomponents": [2], "texturecoords": [[0,0, 1,0, 0,-1]], "faces": [[0,1,2]]}
+      ]}"#;
+
+    #[test]
+    fn meshes_become_objects_with_handedness_from_the_bitangents_and_node_transforms() {
+        let asset = parse(DUMP, Path::new("dump.assjson")).unwrap();
+        let [a, b] = &asset.model.objects[..] else { panic!("expected two objects") };
+        assert_eq!(asset.model.v_axis, VAxis::Up);
+        assert_eq!((a.name.as_str(), b.name.as_str()), ("m0", "m1"));
+        assert_eq!(a.triangles, vec![[0, 1, 2]]);
+        assert_eq!(a.uvs.as_deref().unwrap()[2], Vec2::new(0.0, 1.0));
+        assert_eq!(a.tangents.as_deref().unwrap()[0], Vec4::new(1.0, 0.0, 0.0, 1.0));
+        assert_eq!(b.tangents.as_deref().unwrap()[0], Vec4::new(1.0, 0.0, 0.0, -1.0));
+        assert_eq!(a.transform.unwrap().transform_point3(Vec3::ZERO), Vec3::new(5.0, 0.0, 0.0));
+        assert_eq!(b.transform, None);
+    }
+
+    #[test]
+    fn a_face_that_is_not_a_triangle_is_an_error_naming_the_mesh() {
+        let text =
+            DUMP.replacen("\"faces\": [[0,1,2]]}\n      ]", "\"faces\": [[0,1,2,0]]}\n      ]", 1);
+        assert_ne!(text, DUMP);
+        let e = parse(&text, Path::new("dump.assjson")).unwrap_err();
+        assert_eq!(format!("{e}"), "dump.assjson: mesh 1");
+        assert!(format!("{e:#}").contains("not a triangle"), "{e:#}");
+    }
 }
