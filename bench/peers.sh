@@ -18,6 +18,8 @@
 # (cargo build --release -p seamlit -p seamlit-bench), /usr/bin/time and jq. Peers it skips
 # with a message when missing: assimp (apt-get install assimp-utils), glTF-Transform
 # (npm ci --prefix bench, which installs the pinned @gltf-transform/cli into bench/node_modules).
+# Environment: SEAMLIT, SEAMLIT_BENCH, ASSIMP, GLTF_TRANSFORM (paths of the tools), MODELS (the
+# shared models folder), REF_TIMEOUT (240 s), REF_MAX_TRIANGLES (110000).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -29,7 +31,7 @@ while [[ $# -gt 0 ]]; do
         --quick) QUICK=1 ;;
         --runs) RUNS=${2:?--runs needs a number}; shift ;;
         --out) OUT=${2:?--out needs a folder}; shift ;;
-        -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "peers.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
     esac
     shift
@@ -219,7 +221,7 @@ RESULTS="$OUT/results.md"
             fi
             s=$(median "$file")
             k=$(COL=2 median "$file")
-            echo "| $name | ${OBJS[$name]} | ${TRIS[$name]} | $(label "$peer") | $s | $(awk -v k="$k" 'BEGIN {printf "%.0f", k / 1024}') | $(awk -v a="$s" -v b="$base_s" 'BEGIN {printf "%.1fx", a / b}') | $(awk -v a="$k" -v b="$base_k" 'BEGIN {printf "%.1fx", a / b}') | $n |"
+            echo "| $name | ${OBJS[$name]} | ${TRIS[$name]} | $(label "$peer") | $s | $(awk -v k="$k" 'BEGIN {printf "%.0f", k / 1024}') | $(awk -v a="$s" -v b="$base_s" 'BEGIN {if (b > 0 && a > 0) printf "%.1fx", a / b; else printf "-"}') | $(awk -v a="$k" -v b="$base_k" 'BEGIN {if (b > 0 && a > 0) printf "%.1fx", a / b; else printf "-"}') | $n |"
         done
     done
     echo
