@@ -7,7 +7,7 @@
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
 //!
-//! The geometry is read by this crate's parallel parser ([`crate::obj_parse`] explains why and
+//! The geometry is read by this crate's parallel parser (module `obj_parse` explains why and
 //! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
 //! model's folder are refused. An index out of range is placed by a diagnostic pass over the
 //! text that names the line.
