@@ -443,6 +443,11 @@ impl Reader<'_> {
             )));
         }
         let count = accessor.count() as u64;
+        // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
+        // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
+        if count == 0 {
+            return Err(bad(format!("{attribute} has count 0; glTF requires at least 1")));
+        }
         if count > self.options.max_elements as u64 {
             return Err(IoError::TooManyElements {
                 path: self.path.to_path_buf(),

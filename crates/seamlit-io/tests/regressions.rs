@@ -23,6 +23,8 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     // Found by the `gltf` fuzz target: gltf's Image::source unwrapped a missing uri.
     ("gltf_image_without_uri.gltf", Some("images[0]: an image needs a uri or a bufferView")),
     ("gltf_image_view_without_mime_type.gltf", Some("images[0]: an image in a bufferView needs")),
+    // Found by the `gltf` fuzz target: gltf's reader computed `count - 1` for count 0.
+    ("gltf_index_accessor_count_0.gltf", Some("accessor 2: indices has count 0")),
     ("gltf_node_cycle.gltf", Some("nodes[0]")),
     ("gltf_node_is_its_own_child.gltf", Some("nodes[0]")),
     // Found by the `gltf` fuzz target: gltf-json's validation indexed the accessors unchecked.
