@@ -88,17 +88,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 
 /// The length of the diagonal of the model-space bounding box.
 pub(crate) fn diagonal(flat: &Flat) -> f32 {
-    let (lo, hi) = flat
-        .positions
-        .par_iter()
-        .fold(
-            || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        )
-        .reduce(
-            || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(a, b), (c, d)| (a.min(c), b.max(d)),
-        );
+    let (lo, hi) = weld::bounds(&flat.positions);
     if lo.x <= hi.x { lo.distance(hi) } else { 0.0 }
 }
 

@@ -27,6 +27,7 @@ use rayon::prelude::*;
 
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face};
 use crate::frame::finish;
+use crate::weld::union;
 use crate::{FixOptions, Weighting};
 
 /// Corners grouped by position: `corners[offsets[p]..offsets[p + 1]]` are the corners
@@ -148,23 +149,6 @@ struct Scratch {
     fallback: Vec<Vec3>,
     first_usable: Vec<u32>,
     frame_of_root: Vec<u32>,
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let g = parent[parent[x as usize] as usize];
-        parent[x as usize] = g;
-        x = g;
-    }
-    x
-}
-
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-        parent[hi as usize] = lo;
-    }
 }
 
 /// Points every entry at its root.

@@ -162,17 +162,17 @@ impl Grid {
     }
 }
 
-fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
-    let (min, max) = positions
+/// The axis-aligned bounds of `positions` (`min > max` for none), in parallel.
+pub(crate) fn bounds(positions: &[Vec3]) -> (Vec3, Vec3) {
+    let empty = || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    positions
         .par_iter()
-        .fold(
-            || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        )
-        .reduce(
-            || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(a, b), (c, d)| (a.min(c), b.max(d)),
-        );
+        .fold(empty, |(lo, hi), &p| (lo.min(p), hi.max(p)))
+        .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
+fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
+    let (min, max) = bounds(positions);
     let extent = (max - min).max_element();
     // Cells at least `tol` wide, and few enough per axis to fit 21 bits (one cell of margin).
     let cell = (tol * CELL_TOLERANCES).max(extent / (AXIS_CELLS - 2.0)).max(f32::MIN_POSITIVE);
@@ -260,7 +260,8 @@ fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
     parent
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
+/// The root of `x`'s set in a union-find forest, halving paths on the way.
+pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
         let grand = parent[parent[x as usize] as usize];
         parent[x as usize] = grand;
@@ -271,7 +272,7 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 
 /// Joins the sets of `a` and `b`; the smaller root becomes the root, so each root is the
 /// smallest index of its set.
-fn union(parent: &mut [u32], a: u32, b: u32) {
+pub(crate) fn union(parent: &mut [u32], a: u32, b: u32) {
     let (ra, rb) = (find(parent, a), find(parent, b));
     if ra != rb {
         let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
