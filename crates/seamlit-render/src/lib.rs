@@ -68,6 +68,7 @@ mod texture;
 pub use context::GpuContext;
 pub use error::RenderError;
 pub use light::{CameraView, DebugView, Light, LightRaw, LightingModel};
+pub use readback::PendingReadback;
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameTimes, IMAGE_FORMAT, Renderer, render_to_image};
 pub use scene::GpuScene;
 pub use settings::FrameSettings;

@@ -409,7 +409,7 @@ impl Viewer {
         }
         self.screenshot_requested = false;
         let image = match readback {
-            Some(buffer) => super::capture::read(&gfx.ctx, &buffer, gfx.config.format)?,
+            Some(buffer) => super::capture::read(&gfx.ctx, buffer, gfx.config.format)?,
             // The surface cannot be copied from: render the scene (without the panel) offscreen.
             None => {
                 let mut offscreen = Renderer::new(&gfx.ctx, IMAGE_FORMAT, 1).processing()?;
