@@ -226,6 +226,24 @@ pub enum IoError {
         reference: String,
     },
 
+    /// A file the model refers to (a glTF buffer or image, an OBJ `mtllib`, an MTL texture)
+    /// lies inside the model's folder by name, but is a symbolic link, or passes through a
+    /// linked folder, that leads outside the folder: refused, never read. Links that stay
+    /// inside the folder are followed.
+    #[error("{}: {what} {reference:?} is refused: a symbolic link leads it out of the model's folder, to {}", path.display(), target.display())]
+    LinkEscapes {
+        /// The file that holds the reference (the glTF, OBJ, or the MTL for a texture; the
+        /// model file when the referring library is not known).
+        path: PathBuf,
+        /// What the file is for (`buffer 0`, `image 2`, `material library`, `texture`).
+        what: String,
+        /// The reference as written (a URI, a path), or the file's path below the model's
+        /// folder.
+        reference: String,
+        /// Where the links lead: the canonical path.
+        target: PathBuf,
+    },
+
     /// An object has more vertices or triangles than [`crate::LoadOptions::max_elements`]
     /// allows (or than 32-bit indices can address), or the model more triangles than
     /// [`crate::LoadOptions::max_model_triangles`].

@@ -5,8 +5,8 @@
 //! names the place of every problem:
 //!
 //! - buffers and images come from the GLB `BIN` chunk, `data:` URIs (base64) or files beside
-//!   the model; a URI that leaves the model's folder (`../`, an absolute path) or names
-//!   another scheme is refused;
+//!   the model; a URI that leaves the model's folder (`../`, an absolute path, a symbolic
+//!   link leading out) or names another scheme is refused;
 //! - every accessor a primitive uses is checked against its buffer view, and every view
 //!   against its buffer, before a byte is read; every index against the vertex count; every
 //!   attribute for NaN and infinity.
@@ -36,11 +36,22 @@ use crate::{
 /// [`IoError::Gltf`] for a malformed container, JSON or a document the gltf crate rejects
 /// (with the JSON path); [`IoError::BufferLength`], [`IoError::AccessorOutOfRange`],
 /// [`IoError::BadAccessor`], [`IoError::IndexOutOfRange`], [`IoError::AccessorNotFinite`]
-/// for bad geometry data; [`IoError::BadUri`] for a URI outside the model's folder;
+/// for bad geometry data; [`IoError::BadUri`] for a URI outside the model's folder,
+/// [`IoError::LinkEscapes`] for one whose symbolic links lead out of it;
 /// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let bytes = crate::read_bytes(path, options)?;
-    let mut asset = parse(&bytes, path, options)?;
+    let mut bytes = crate::read_bytes(path, options)?;
+    let (document, bin) = document(&bytes, path)?;
+    // The file's bytes become the BIN chunk's buffer, moved to the front in place: a GLB is
+    // never held twice. A JSON file's bytes are freed here.
+    let blob = bin.map(|range| {
+        let length = range.len();
+        bytes.copy_within(range, 0);
+        bytes.truncate(length);
+        bytes.shrink_to_fit();
+        bytes
+    });
+    let mut asset = read(&document, blob, path, options)?;
     asset.source = Some(path.to_path_buf());
     Ok(asset)
 }
@@ -52,28 +63,56 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 ///
 /// As [`load`].
 pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    if bytes.starts_with(b"glTF") {
+    let (document, bin) = document(bytes, path)?;
+    read(&document, bin.map(|range| bytes[range].to_vec()), path, options)
+}
+
+/// The validated document of glTF or GLB bytes and, for a GLB with a BIN chunk, where that
+/// chunk's data lies in `bytes`.
+fn document(
+    bytes: &[u8],
+    path: &Path,
+) -> Result<(gltf::Document, Option<std::ops::Range<usize>>), IoError> {
+    let (json, bin) = if bytes.starts_with(b"glTF") {
         check_glb_container(bytes, path)?;
-    }
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
-    check_position_indices(document.as_json(), path)?;
-    check_image_sources(document.as_json(), path)?;
-    let document =
-        gltf::Document::from_json(document.into_json()).map_err(|e| gltf_error(e, path))?;
+        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
+        // 12-byte header, 8-byte chunk header, JSON, 8-byte chunk header, BIN.
+        let json = 20..20 + glb.json.len();
+        let bin = glb.bin.as_ref().map(|bin| json.end + 8..json.end + 8 + bin.len());
+        (&bytes[json], bin)
+    } else {
+        (bytes, None)
+    };
+    let root = gltf::json::Root::from_slice(json)
+        .map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    check_position_indices(&root, path)?;
+    check_image_sources(&root, path)?;
+    let document = gltf::Document::from_json(root).map_err(|e| gltf_error(e, path))?;
+    Ok((document, bin))
+}
+
+/// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. Buffers are
+/// freed once the geometry is decoded, before textures are.
+fn read(
+    document: &gltf::Document,
+    blob: Option<Vec<u8>>,
+    path: &Path,
+    options: &LoadOptions,
+) -> Result<Asset, IoError> {
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
-    let buffers = reader.buffers(&document, blob)?;
+    let buffers = reader.buffers(document, blob)?;
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
-    reader.check_views(&document, &buffers)?;
+    reader.check_views(document, &buffers)?;
 
     let mut asset = Asset::default();
     let mut warnings = Vec::new();
-    asset.textures = reader.images(&document, &buffers)?;
+    asset.textures = reader.images(document, &buffers)?;
     asset.materials = document.materials().map(|m| material(&m)).collect();
 
-    // Decoded primitives by (mesh, primitive), shared by the nodes that instance a mesh.
-    let mut decoded: HashMap<(usize, usize), Object> = HashMap::new();
+    // Decoded primitives by (mesh, primitive): the object of their first instance, cloned for
+    // the other nodes that instance the mesh.
+    let mut decoded: HashMap<(usize, usize), usize> = HashMap::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
         Some(scene) => scene
@@ -118,14 +157,14 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
                 }
                 let key = (mesh.index(), primitive.index());
                 let object = match decoded.get(&key) {
-                    Some(object) => object.clone(),
+                    Some(&first) => asset.model.objects[first].clone(),
                     None => {
                         let Some(object) =
                             reader.primitive(&mesh, &primitive, &buffers, &mut warnings)?
                         else {
                             continue;
                         };
-                        decoded.insert(key, object.clone());
+                        decoded.insert(key, asset.model.objects.len());
                         object
                     }
                 };
@@ -167,6 +206,7 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
         }
     }
     asset.model.v_axis = VAxis::Down;
+    drop(buffers);
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
@@ -289,8 +329,14 @@ fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
 enum Resolved {
     /// Decoded `data:` bytes, with the MIME type the URI declared.
     Data(Vec<u8>, String),
-    /// A file inside the model's folder.
-    File(PathBuf),
+    /// A file inside the model's folder: its path as named, and its real path (links
+    /// followed, checked to stay inside) when it exists.
+    File {
+        /// The model's folder joined with the URI's parts.
+        file: PathBuf,
+        /// The canonical path to read; `None` when it could not be resolved (missing).
+        real: Option<PathBuf>,
+    },
 }
 
 struct Reader<'a> {
@@ -355,7 +401,22 @@ impl Reader<'_> {
         if parts.is_empty() {
             return Err(self.bad_uri(what, uri, "it names no file"));
         }
-        Ok(Resolved::File(parts.iter().fold(self.folder.to_path_buf(), |p, part| p.join(part))))
+        let file = parts.iter().fold(self.folder.to_path_buf(), |p, part| p.join(part));
+        // Inside by name; a symbolic link on the way must not lead out either.
+        let real = match crate::paths::real_inside(self.folder, &file) {
+            Ok(real) => Some(real),
+            // Missing or unreadable: the read names the problem.
+            Err(crate::paths::NotInside::Io(_)) => None,
+            Err(crate::paths::NotInside::Outside(target)) => {
+                return Err(IoError::LinkEscapes {
+                    path: self.path.to_path_buf(),
+                    what: what.to_owned(),
+                    reference: uri.to_owned(),
+                    target,
+                });
+            }
+        };
+        Ok(Resolved::File { file, real })
     }
 
     fn buffers(
@@ -375,19 +436,21 @@ impl Reader<'_> {
                 })?,
                 gltf::buffer::Source::Uri(uri) => match self.resolve(uri, &what)? {
                     Resolved::Data(bytes, _) => bytes,
-                    Resolved::File(file) => match crate::read_bytes(&file, self.options) {
-                        Err(IoError::Io { source, .. })
-                            if source.kind() == std::io::ErrorKind::NotFound =>
-                        {
-                            return Err(IoError::MissingFile {
-                                path: self.path.to_path_buf(),
-                                what,
-                                missing: file,
-                                line: None,
-                            });
+                    Resolved::File { file, real } => {
+                        match crate::read_bytes(real.as_deref().unwrap_or(&file), self.options) {
+                            Err(IoError::Io { source, .. })
+                                if source.kind() == std::io::ErrorKind::NotFound =>
+                            {
+                                return Err(IoError::MissingFile {
+                                    path: self.path.to_path_buf(),
+                                    what,
+                                    missing: file,
+                                    line: None,
+                                });
+                            }
+                            other => other?,
                         }
-                        other => other?,
-                    },
+                    }
                 },
             };
             if (data.len() as u64) < buffer.length() as u64 {
@@ -638,13 +701,19 @@ impl Reader<'_> {
             }
             finite(accessor, "TEXCOORD_0", &|i| t[i].is_finite(), vertex_count)?;
         }
-        let indices: Vec<u32> = match (&index_accessor, reader.read_indices()) {
+        let triangles: Vec<[u32; 3]> = match (&index_accessor, reader.read_indices()) {
             (Some(accessor), Some(read)) => {
-                let indices: Vec<u32> = read.into_u32().collect();
-                if indices.len() != accessor.count() {
-                    return Err(short(accessor, indices.len()));
+                let mut read = read.into_u32();
+                let mut triangles = Vec::with_capacity(accessor.count() / 3);
+                while let (Some(a), Some(b), Some(c)) = (read.next(), read.next(), read.next()) {
+                    triangles.push([a, b, c]);
                 }
-                if let Some(&index) = indices.iter().find(|&&i| i as usize >= vertex_count) {
+                if triangles.len() * 3 != accessor.count() {
+                    return Err(short(accessor, triangles.len() * 3));
+                }
+                if let Some(&index) =
+                    triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
+                {
                     return Err(IoError::IndexOutOfRange {
                         path: self.path.to_path_buf(),
                         mesh: mesh.index(),
@@ -654,11 +723,10 @@ impl Reader<'_> {
                         vertex_count,
                     });
                 }
-                indices
+                triangles
             }
-            _ => (0..vertex_count as u32).collect(),
+            _ => (0..vertex_count as u32 / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
         };
-        let triangles = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         Ok(Some(Object {
             name: String::new(),
             positions,
@@ -705,7 +773,7 @@ impl Reader<'_> {
                                     TextureSource::Embedded { mime_type, bytes: bytes.into() },
                                 )
                             }
-                            Resolved::File(file) => {
+                            Resolved::File { file, .. } => {
                                 let name = image.name().map(str::to_owned).unwrap_or_else(|| {
                                     file.file_name().map_or_else(
                                         || uri.to_owned(),

@@ -14,9 +14,10 @@
 //! runs up (OBJ, Newell), since glTF's runs down.
 
 use std::collections::{BTreeMap, HashMap};
+use std::io::Write;
 use std::path::Path;
 
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf_json as json;
 use json::validation::{Checked, USize64};
 use seamlit_mesh::{Object, VAxis};
@@ -24,6 +25,10 @@ use seamlit_mesh::{Object, VAxis};
 use crate::{Asset, IoError, Material, TextureRef, TextureSource, UvTransform};
 
 /// Writes `asset` as `.glb` (`binary`) or `.gltf` (+ `.bin` and images beside it).
+///
+/// The binary buffer is never assembled in memory: the JSON is built first with every buffer
+/// view's offset computed from the lengths, then the vertex and index data are streamed from
+/// the objects to the file (after the JSON chunk in a GLB, into `NAME.bin` beside a `.gltf`).
 pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoError> {
     for object in &asset.model.objects {
         check_object(object, path)?;
@@ -32,7 +37,8 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         path.file_stem().map_or_else(|| "model".to_owned(), |s| safe_name(&s.to_string_lossy()));
     let mut writer = Writer {
         root: json::Root::default(),
-        bin: Vec::new(),
+        pieces: Vec::new(),
+        bin_len: 0,
         side_files: Vec::new(),
         path,
         binary,
@@ -57,20 +63,16 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         .collect();
     writer.nodes(asset, &meshes);
 
-    if !writer.bin.is_empty() {
-        let uri = (!binary).then(|| format!("{}.bin", writer.stem));
+    let bin_uri = (!binary && writer.bin_len > 0).then(|| format!("{}.bin", writer.stem));
+    if writer.bin_len > 0 {
         let buffer = json::Buffer {
-            byte_length: USize64::from(writer.bin.len()),
+            byte_length: USize64::from(writer.bin_len),
             name: None,
-            uri: uri.clone(),
+            uri: bin_uri.clone(),
             extensions: None,
             extras: Default::default(),
         };
         writer.root.push(buffer);
-        if let Some(uri) = uri {
-            let bin = std::mem::take(&mut writer.bin);
-            writer.side_files.push((uri, bin));
-        }
     }
     let json_bytes =
         serde_json::to_vec_pretty(&writer.root).map_err(|e| IoError::InvalidAsset {
@@ -82,25 +84,41 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
     for (name, bytes) in &writer.side_files {
         crate::atomic::write(&folder.join(name), bytes)?;
     }
-    if binary {
-        let mut bin = std::mem::take(&mut writer.bin);
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
-        }
-        let glb = gltf::binary::Glb {
-            header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
-            json: json_padded(json_bytes).into(),
-            bin: (!bin.is_empty()).then(|| bin.into()),
-        };
-        let bytes = glb.to_vec().map_err(|e| IoError::InvalidAsset {
+    if let Some(uri) = bin_uri {
+        crate::atomic::write_with(&folder.join(uri), |out| writer.write_bin(out))?;
+    }
+    if !binary {
+        return crate::atomic::write(path, &json_bytes);
+    }
+    // GLB: a 12-byte header, the JSON chunk (padded with spaces), the BIN chunk (padded with
+    // zeros), each chunk behind an 8-byte header of its length and type.
+    let json_bytes = json_padded(json_bytes);
+    let bin_padded = writer.bin_len.next_multiple_of(4);
+    let length = 12 + 8 + json_bytes.len() + if bin_padded > 0 { 8 + bin_padded } else { 0 };
+    let word = |n: usize| {
+        u32::try_from(n).map_err(|_| IoError::InvalidAsset {
             path: path.to_path_buf(),
             object: String::new(),
-            reason: format!("GLB container: {e}"),
-        })?;
-        crate::atomic::write(path, &bytes)
-    } else {
-        crate::atomic::write(path, &json_bytes)
-    }
+            reason: format!("a GLB holds at most 4 GiB; this one would take {length} bytes"),
+        })
+    };
+    let (length, json_length, bin_length) =
+        (word(length)?, word(json_bytes.len())?, word(bin_padded)?);
+    crate::atomic::write_with(path, |out| {
+        out.write_all(b"glTF")?;
+        out.write_all(&2u32.to_le_bytes())?;
+        out.write_all(&length.to_le_bytes())?;
+        out.write_all(&json_length.to_le_bytes())?;
+        out.write_all(b"JSON")?;
+        out.write_all(&json_bytes)?;
+        if bin_padded > 0 {
+            out.write_all(&bin_length.to_le_bytes())?;
+            out.write_all(b"BIN\0")?;
+            writer.write_bin(out)?;
+            out.write_all(&[0; 3][..bin_padded - writer.bin_len])?;
+        }
+        Ok(())
+    })
 }
 
 /// JSON chunk padded with spaces to a multiple of four bytes, as GLB requires.
@@ -168,9 +186,77 @@ fn unit_tangent(t: Vec4) -> Vec4 {
     xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 })
 }
 
+/// A part of the binary buffer, written from the asset when the file is written.
+enum Piece<'a> {
+    /// Vertex positions, as they are.
+    Positions(&'a [Vec3]),
+    /// Normals, made unit length ([`unit_normal`]).
+    Normals(&'a [Vec3]),
+    /// Tangents, made unit length with w = +-1 ([`unit_tangent`]).
+    Tangents(&'a [Vec4]),
+    /// Texture coordinates, V flipped (`1 - v`) when `flip` is set.
+    Uvs { uvs: &'a [Vec2], flip: bool },
+    /// Triangle indices as u16 (every index is below 65535).
+    Indices16(&'a [[u32; 3]]),
+    /// Triangle indices as u32.
+    Indices32(&'a [[u32; 3]]),
+    /// An encoded image.
+    Bytes(Vec<u8>),
+}
+
+impl Piece<'_> {
+    /// Bytes this piece takes.
+    fn len(&self) -> usize {
+        match self {
+            Self::Positions(v) | Self::Normals(v) => v.len() * 12,
+            Self::Tangents(v) => v.len() * 16,
+            Self::Uvs { uvs, .. } => uvs.len() * 8,
+            Self::Indices16(t) => t.len() * 6,
+            Self::Indices32(t) => t.len() * 12,
+            Self::Bytes(b) => b.len(),
+        }
+    }
+
+    /// Writes the piece, little-endian.
+    fn write(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        fn floats<const N: usize>(out: &mut dyn Write, v: [f32; N]) -> std::io::Result<()> {
+            let mut bytes = [[0u8; 4]; N];
+            for (b, x) in bytes.iter_mut().zip(v) {
+                *b = x.to_le_bytes();
+            }
+            out.write_all(bytes.as_flattened())
+        }
+        match self {
+            Self::Positions(v) => v.iter().try_for_each(|p| floats(out, p.to_array())),
+            Self::Normals(v) => v.iter().try_for_each(|&n| floats(out, unit_normal(n).to_array())),
+            Self::Tangents(v) => {
+                v.iter().try_for_each(|&t| floats(out, unit_tangent(t).to_array()))
+            }
+            Self::Uvs { uvs, flip } => {
+                uvs.iter().try_for_each(|t| floats(out, [t.x, if *flip { 1.0 - t.y } else { t.y }]))
+            }
+            Self::Indices16(triangles) => triangles.iter().try_for_each(|t| {
+                #[expect(
+                    clippy::cast_possible_truncation,
+                    reason = "every index is below 65535, checked by the caller"
+                )]
+                let [[a0, a1], [b0, b1], [c0, c1]] = t.map(|i| (i as u16).to_le_bytes());
+                out.write_all(&[a0, a1, b0, b1, c0, c1])
+            }),
+            Self::Indices32(triangles) => triangles
+                .iter()
+                .try_for_each(|t| out.write_all(t.map(u32::to_le_bytes).as_flattened())),
+            Self::Bytes(bytes) => out.write_all(bytes),
+        }
+    }
+}
+
 struct Writer<'a> {
     root: json::Root,
-    bin: Vec<u8>,
+    /// The binary buffer's contents in order, each starting at a multiple of 4 bytes.
+    pieces: Vec<Piece<'a>>,
+    /// The binary buffer's length so far.
+    bin_len: usize,
     /// Files to write beside a `.gltf`: (file name, bytes).
     side_files: Vec<(String, Vec<u8>)>,
     path: &'a Path,
@@ -178,21 +264,20 @@ struct Writer<'a> {
     stem: String,
 }
 
-impl Writer<'_> {
-    /// Appends bytes to the binary buffer (4-byte aligned) as a buffer view.
+impl<'a> Writer<'a> {
+    /// Appends a piece to the binary buffer (4-byte aligned) as a buffer view.
     fn view(
         &mut self,
-        bytes: &[u8],
+        piece: Piece<'a>,
         target: Option<json::buffer::Target>,
     ) -> json::Index<json::buffer::View> {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        let offset = self.bin.len();
-        self.bin.extend_from_slice(bytes);
+        let offset = self.bin_len.next_multiple_of(4);
+        let length = piece.len();
+        self.bin_len = offset + length;
+        self.pieces.push(piece);
         self.root.push(json::buffer::View {
             buffer: json::Index::new(0),
-            byte_length: USize64::from(bytes.len()),
+            byte_length: USize64::from(length),
             byte_offset: Some(USize64::from(offset)),
             byte_stride: None,
             name: None,
@@ -202,16 +287,29 @@ impl Writer<'_> {
         })
     }
 
+    /// Writes the binary buffer: every piece, each padded with zeros to a multiple of 4.
+    fn write_bin(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        let mut written = 0usize;
+        for piece in &self.pieces {
+            let padding = written.next_multiple_of(4) - written;
+            out.write_all(&[0; 3][..padding])?;
+            piece.write(out)?;
+            written += padding + piece.len();
+        }
+        debug_assert_eq!(written, self.bin_len);
+        Ok(())
+    }
+
     fn accessor(
         &mut self,
-        bytes: &[u8],
+        piece: Piece<'a>,
         count: usize,
         component: json::accessor::ComponentType,
         type_: json::accessor::Type,
         target: json::buffer::Target,
         min_max: Option<(Vec<f32>, Vec<f32>)>,
     ) -> json::Index<json::Accessor> {
-        let view = self.view(bytes, Some(target));
+        let view = self.view(piece, Some(target));
         let (min, max) = match min_max {
             Some((min, max)) => (
                 Some(json::Value::from(min.iter().map(|&x| f64::from(x)).collect::<Vec<_>>())),
@@ -235,28 +333,17 @@ impl Writer<'_> {
         })
     }
 
-    fn float_accessor<const N: usize>(
+    /// A float vertex attribute of `count` elements.
+    fn float_accessor(
         &mut self,
-        values: &[[f32; N]],
+        piece: Piece<'a>,
+        count: usize,
         type_: json::accessor::Type,
-        bounds: bool,
+        min_max: Option<(Vec<f32>, Vec<f32>)>,
     ) -> json::Index<json::Accessor> {
-        let bytes: Vec<u8> =
-            values.iter().flat_map(|v| v.iter().flat_map(|x| x.to_le_bytes())).collect();
-        let min_max = bounds.then(|| {
-            let mut min = [f32::INFINITY; N];
-            let mut max = [f32::NEG_INFINITY; N];
-            for v in values {
-                for k in 0..N {
-                    min[k] = min[k].min(v[k]);
-                    max[k] = max[k].max(v[k]);
-                }
-            }
-            (min.to_vec(), max.to_vec())
-        });
         self.accessor(
-            &bytes,
-            values.len(),
+            piece,
+            count,
             json::accessor::ComponentType::F32,
             type_,
             json::buffer::Target::ArrayBuffer,
@@ -266,72 +353,57 @@ impl Writer<'_> {
 
     fn mesh(
         &mut self,
-        object: &Object,
+        object: &'a Object,
         v_axis: VAxis,
         material_count: usize,
     ) -> json::Index<json::Mesh> {
         use json::accessor::Type;
         use json::mesh::Semantic;
         let mut attributes = BTreeMap::new();
-        let positions: Vec<[f32; 3]> = object.positions.iter().map(|p| p.to_array()).collect();
+        let n = object.positions.len();
+        let (min, max) = object
+            .positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let bounds = Some((min.to_array().to_vec(), max.to_array().to_vec()));
         attributes.insert(
             Checked::Valid(Semantic::Positions),
-            self.float_accessor(&positions, Type::Vec3, true),
+            self.float_accessor(Piece::Positions(&object.positions), n, Type::Vec3, bounds),
         );
         if let Some(normals) = &object.normals {
-            let normals: Vec<[f32; 3]> =
-                normals.iter().map(|&n| unit_normal(n).to_array()).collect();
             attributes.insert(
                 Checked::Valid(Semantic::Normals),
-                self.float_accessor(&normals, Type::Vec3, false),
+                self.float_accessor(Piece::Normals(normals), n, Type::Vec3, None),
             );
             // TANGENT requires NORMAL.
             if let Some(tangents) = &object.tangents {
-                let tangents: Vec<[f32; 4]> =
-                    tangents.iter().map(|&t| unit_tangent(t).to_array()).collect();
                 attributes.insert(
                     Checked::Valid(Semantic::Tangents),
-                    self.float_accessor(&tangents, Type::Vec4, false),
+                    self.float_accessor(Piece::Tangents(tangents), n, Type::Vec4, None),
                 );
             }
         }
         if let Some(uvs) = &object.uvs {
-            let uvs: Vec<[f32; 2]> = match v_axis {
-                VAxis::Down => uvs.iter().map(|t| t.to_array()).collect(),
-                VAxis::Up => uvs.iter().map(|t| [t.x, 1.0 - t.y]).collect(),
-            };
+            let piece = Piece::Uvs { uvs, flip: v_axis == VAxis::Up };
             attributes.insert(
                 Checked::Valid(Semantic::TexCoords(0)),
-                self.float_accessor(&uvs, Type::Vec2, false),
+                self.float_accessor(piece, n, Type::Vec2, None),
             );
         }
         let count = object.triangles.len() * 3;
-        let flat = object.triangles.iter().flatten();
-        let indices = if object.positions.len() <= usize::from(u16::MAX) {
-            #[expect(
-                clippy::cast_possible_truncation,
-                reason = "every index is below 65535, checked above"
-            )]
-            let bytes: Vec<u8> = flat.flat_map(|&i| (i as u16).to_le_bytes()).collect();
-            self.accessor(
-                &bytes,
-                count,
-                json::accessor::ComponentType::U16,
-                Type::Scalar,
-                json::buffer::Target::ElementArrayBuffer,
-                None,
-            )
+        let (piece, component) = if n <= usize::from(u16::MAX) {
+            (Piece::Indices16(&object.triangles), json::accessor::ComponentType::U16)
         } else {
-            let bytes: Vec<u8> = flat.flat_map(|&i| i.to_le_bytes()).collect();
-            self.accessor(
-                &bytes,
-                count,
-                json::accessor::ComponentType::U32,
-                Type::Scalar,
-                json::buffer::Target::ElementArrayBuffer,
-                None,
-            )
+            (Piece::Indices32(&object.triangles), json::accessor::ComponentType::U32)
         };
+        let indices = self.accessor(
+            piece,
+            count,
+            component,
+            Type::Scalar,
+            json::buffer::Target::ElementArrayBuffer,
+            None,
+        );
         let primitive = json::mesh::Primitive {
             attributes,
             extensions: None,
@@ -411,7 +483,7 @@ impl Writer<'_> {
     /// are available; returns, per asset texture, its glTF texture index.
     fn textures(
         &mut self,
-        asset: &Asset,
+        asset: &'a Asset,
     ) -> Result<Vec<Option<json::Index<json::Texture>>>, IoError> {
         let used: Vec<bool> = (0..asset.textures.len())
             .map(|i| {
@@ -432,7 +504,7 @@ impl Writer<'_> {
             }
             let Some((bytes, mime)) = encoded(texture, self.path)? else { continue };
             let image = if self.binary {
-                let view = self.view(&bytes, None);
+                let view = self.view(Piece::Bytes(bytes), None);
                 json::Image {
                     buffer_view: Some(view),
                     mime_type: Some(json::image::MimeType(mime.to_owned())),

@@ -22,6 +22,11 @@ pub struct LoadOptions {
     /// is read, its pixels are not) and gets a warning, like an undecodable one. The image
     /// crate's own 512 MiB allocation limit applies as well.
     pub max_texture_size: u32,
+    /// The largest number of bytes all decoded textures of one model may take together
+    /// (RGBA8: 4 bytes per texel; a 4096 x 4096 texture takes 64 MiB). Image headers are read
+    /// first; in file order, a texture that would take the total past this budget is not
+    /// decoded and gets a warning, like a missing one (renderers use a neutral default).
+    pub max_texture_bytes: u64,
     /// When set, a missing material library or texture is an error
     /// ([`crate::IoError::MissingFile`]) instead of a warning.
     pub strict: bool,
@@ -29,7 +34,8 @@ pub struct LoadOptions {
 
 impl LoadOptions {
     /// The defaults: tessellation 16, textures loaded, 4 GiB files, 2^28 elements per
-    /// object, 2^26 triangles per model, textures up to 16384 x 16384, missing side files are warnings.
+    /// object, 2^26 triangles per model, textures up to 16384 x 16384 and 1 GiB decoded
+    /// textures per model, missing side files are warnings.
     pub const DEFAULT: Self = Self {
         tessellation: 16,
         load_textures: true,
@@ -37,6 +43,7 @@ impl LoadOptions {
         max_elements: 1 << 28,
         max_model_triangles: 1 << 26,
         max_texture_size: 16384,
+        max_texture_bytes: 1 << 30,
         strict: false,
     };
 

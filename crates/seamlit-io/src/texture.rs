@@ -1,82 +1,209 @@
 //! Texture decoding: every image of an asset decoded in parallel (rayon) through the image
-//! crate. A texture that is missing or cannot be decoded keeps `image: None` and adds a
-//! warning; renderers then use a neutral default (white, or the flat normal (0.5, 0.5, 1)).
+//! crate. A texture that is missing, cannot be decoded, is larger than
+//! [`LoadOptions::max_texture_size`] or does not fit the model's
+//! [`LoadOptions::max_texture_bytes`] keeps `image: None` and adds a warning; renderers then
+//! use a neutral default (white, or the flat normal (0.5, 0.5, 1)).
+//!
+//! Decoding goes in three steps, so that the budget is kept before memory is spent and the
+//! same textures are refused on every run: the headers are read in parallel (dimensions only),
+//! the budget is handed out in file order, then the admitted images are decoded in parallel.
 
-use std::path::Path;
+use std::io::{BufRead, BufReader, Cursor, Seek};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use crate::paths::{NotInside, real_inside};
 use crate::{IoError, LoadOptions, Texture, TextureSource};
 
-/// Decodes every texture whose `image` is `None`, in parallel.
+/// Bytes of one decoded texel (RGBA8).
+const TEXEL_BYTES: u64 = 4;
+
+/// Where a texture's encoded bytes are read from.
+enum Encoded {
+    /// A file, by its real path (symbolic links followed and checked).
+    File(PathBuf),
+    /// Bytes in memory (GLB buffer view, data: URI).
+    Bytes(Arc<[u8]>),
+}
+
+impl Encoded {
+    /// Runs `f` on an image reader over the bytes, the format guessed from their content.
+    fn read<T>(
+        &self,
+        f: impl FnOnce(image::ImageReader<&mut dyn BufReadSeek>) -> image::ImageResult<T>,
+    ) -> image::ImageResult<T> {
+        match self {
+            Self::File(path) => {
+                let mut file = BufReader::new(std::fs::File::open(path)?);
+                f(image::ImageReader::new(&mut file as &mut dyn BufReadSeek)
+                    .with_guessed_format()?)
+            }
+            Self::Bytes(bytes) => {
+                let mut cursor = Cursor::new(&bytes[..]);
+                f(image::ImageReader::new(&mut cursor as &mut dyn BufReadSeek)
+                    .with_guessed_format()?)
+            }
+        }
+    }
+}
+
+/// A texture whose header was read.
+struct Probed {
+    source: Encoded,
+    width: u32,
+    height: u32,
+}
+
+/// A buffered, seekable reader (what [`image::ImageReader`] reads from), as one trait object.
+trait BufReadSeek: BufRead + Seek {}
+impl<T: BufRead + Seek> BufReadSeek for T {}
+
+/// Checks that no texture file is reached through a symbolic link leading out of the model's
+/// folder, then decodes every texture whose `image` is `None`, within the limits of
+/// `options`.
 ///
-/// Returns one warning per texture that could not be read or decoded. With
-/// `options.strict`, a missing texture file is an error instead.
+/// The check runs even when `options.load_textures` is off, since writers copy texture files.
+/// Returns one warning per texture that could not be read or decoded or was refused by a
+/// limit. With `options.strict`, a missing texture file is an error instead.
 ///
 /// # Errors
 ///
+/// [`IoError::LinkEscapes`] for a texture file whose links lead out of the model's folder;
 /// [`IoError::MissingFile`] for a missing file when `options.strict` is set.
 pub(crate) fn decode_all(
     textures: &mut [Texture],
     model: &Path,
     options: &LoadOptions,
 ) -> Result<Vec<String>, IoError> {
+    let folder = model.parent().unwrap_or(Path::new(""));
+    // Per texture: where to read it, or a warning.
+    let mut sources: Vec<Option<Result<Encoded, String>>> = Vec::with_capacity(textures.len());
+    for texture in textures.iter() {
+        let source = match &texture.source {
+            _ if texture.image.is_some() => None,
+            TextureSource::Generated => None,
+            TextureSource::Embedded { bytes, .. } => Some(Ok(Encoded::Bytes(Arc::clone(bytes)))),
+            TextureSource::File(file) => match real_inside(folder, file) {
+                Ok(real) => Some(Ok(Encoded::File(real))),
+                Err(NotInside::Outside(target)) => {
+                    return Err(IoError::LinkEscapes {
+                        path: model.to_path_buf(),
+                        what: "texture".to_owned(),
+                        reference: file.strip_prefix(folder).unwrap_or(file).display().to_string(),
+                        target,
+                    });
+                }
+                Err(NotInside::Io(err))
+                    if options.strict && err.kind() == std::io::ErrorKind::NotFound =>
+                {
+                    return Err(IoError::MissingFile {
+                        path: model.to_path_buf(),
+                        what: "texture".to_owned(),
+                        missing: file.clone(),
+                        line: None,
+                    });
+                }
+                Err(NotInside::Io(err)) => Some(Err(format!(
+                    "{}: texture {}: {err}; using a neutral default",
+                    model.display(),
+                    file.display()
+                ))),
+            },
+        };
+        sources.push(source);
+    }
     if !options.load_textures {
         return Ok(Vec::new());
     }
-    let results: Vec<Result<Option<String>, IoError>> = textures
+
+    // Dimensions from the headers, in parallel.
+    let cannot_decode = |texture: &Texture, err: &image::ImageError| {
+        format!(
+            "{}: texture {:?} cannot be decoded: {err}; using a neutral default",
+            model.display(),
+            texture.name
+        )
+    };
+    let probed: Vec<Option<Result<Probed, String>>> = sources
+        .into_par_iter()
+        .zip(textures.par_iter())
+        .map(|(source, texture)| {
+            source.map(|source| {
+                let source = source?;
+                let (width, height) = source
+                    .read(|reader| reader.into_dimensions())
+                    .map_err(|e| cannot_decode(texture, &e))?;
+                Ok(Probed { source, width, height })
+            })
+        })
+        .collect();
+
+    // The budget, in file order: a texture that would take the total past it is refused.
+    let mut warnings = Vec::new();
+    let mut spent: u64 = textures
+        .iter()
+        .filter_map(|t| t.image.as_ref())
+        .map(|image| u64::from(image.width()) * u64::from(image.height()) * TEXEL_BYTES)
+        .sum();
+    let mut admitted: Vec<Option<Encoded>> = Vec::with_capacity(textures.len());
+    for (probe, texture) in probed.into_iter().zip(textures.iter()) {
+        admitted.push(match probe {
+            None => None,
+            Some(Err(warning)) => {
+                warnings.push(warning);
+                None
+            }
+            Some(Ok(Probed { source, width, height })) => {
+                let bytes = u64::from(width) * u64::from(height) * TEXEL_BYTES;
+                let oversized = width.max(height) > options.max_texture_size;
+                // An image over the size cap is refused by the decoder (with its dimensions);
+                // it costs nothing.
+                if !oversized && spent.saturating_add(bytes) > options.max_texture_bytes {
+                    warnings.push(format!(
+                        "{}: texture {:?} needs {bytes} bytes decoded; with the {spent} bytes of the textures before it that is past the budget of {} bytes for one model's textures; using a neutral default",
+                        model.display(),
+                        texture.name,
+                        options.max_texture_bytes
+                    ));
+                    None
+                } else {
+                    if !oversized {
+                        spent += bytes;
+                    }
+                    Some(source)
+                }
+            }
+        });
+    }
+
+    // Decoding, in parallel.
+    let max_size = options.max_texture_size;
+    let decoded: Vec<Option<String>> = textures
         .par_iter_mut()
-        .filter(|t| t.image.is_none())
-        .map(|texture| {
-            let bytes: Arc<[u8]> = match &texture.source {
-                TextureSource::File(file) => match std::fs::read(file) {
-                    Ok(bytes) => bytes.into(),
-                    Err(err) if options.strict && err.kind() == std::io::ErrorKind::NotFound => {
-                        return Err(IoError::MissingFile {
-                            path: model.to_path_buf(),
-                            what: "texture".to_owned(),
-                            missing: file.clone(),
-                            line: None,
-                        });
-                    }
-                    Err(err) => {
-                        return Ok(Some(format!(
-                            "{}: texture {}: {err}; using a neutral default",
-                            model.display(),
-                            file.display()
-                        )));
-                    }
-                },
-                TextureSource::Embedded { bytes, .. } => Arc::clone(bytes),
-                TextureSource::Generated => return Ok(None),
-            };
-            match decode(&bytes, options.max_texture_size) {
+        .zip(admitted.into_par_iter())
+        .map(|(texture, source)| {
+            let source = source?;
+            match source.read(|reader| decode(reader, max_size)) {
                 Ok(image) => {
                     texture.image = Some(Arc::new(image.into_rgba8()));
-                    Ok(None)
+                    None
                 }
-                Err(err) => Ok(Some(format!(
-                    "{}: texture {:?} cannot be decoded: {err}; using a neutral default",
-                    model.display(),
-                    texture.name
-                ))),
+                Err(err) => Some(cannot_decode(texture, &err)),
             }
         })
         .collect();
-    let mut warnings = Vec::new();
-    for result in results {
-        if let Some(warning) = result? {
-            warnings.push(warning);
-        }
-    }
+    warnings.extend(decoded.into_iter().flatten());
     Ok(warnings)
 }
 
 /// Decodes an image whose width and height are at most `max_size`: the header is read
 /// first, so an oversized image allocates nothing.
-fn decode(bytes: &[u8], max_size: u32) -> image::ImageResult<image::DynamicImage> {
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+fn decode<R: BufRead + Seek>(
+    mut reader: image::ImageReader<R>,
+    max_size: u32,
+) -> image::ImageResult<image::DynamicImage> {
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(max_size);
     limits.max_image_height = Some(max_size);

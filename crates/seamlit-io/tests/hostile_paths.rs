@@ -1,5 +1,6 @@
 //! Paths inside model files that leave the model's folder are refused before anything is
-//! read: OBJ `mtllib`, MTL texture statements (glTF URIs are covered in malformed_gltf.rs).
+//! read: OBJ `mtllib`, MTL texture statements (glTF URIs are covered in malformed_gltf.rs);
+//! glTF buffers and images and MTL textures that are symbolic links leading out are refused.
 //! Outputs replace existing files atomically and never write through a symlink.
 
 use std::path::{Path, PathBuf};
@@ -129,4 +130,133 @@ fn a_failed_save_leaves_the_existing_output_untouched() {
     let err = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap_err();
     assert!(matches!(err, IoError::InvalidAsset { .. }), "{err}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old contents");
+}
+
+/// A one-triangle glTF whose buffer is the file `buffer_uri` and whose material uses the
+/// image `image_uri`; the buffer bytes, for writing them where the test wants.
+fn gltf_with_files(buffer_uri: &str, image_uri: &str) -> (String, Vec<u8>) {
+    let floats: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let bytes: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    let json = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "material": 0 }] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": image_uri }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0] }],
+        "bufferViews": [{ "buffer": 0, "byteLength": 36 }],
+        "buffers": [{ "byteLength": 36, "uri": buffer_uri }]
+    });
+    (json.to_string(), bytes)
+}
+
+/// `model/` with `model/data/tri.bin` and `model/data/albedo.png` (a 2 x 2 image), and
+/// `outside/` beside it with the same two files; returns the temporary folder.
+#[cfg(unix)]
+fn linked_layout() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, bin) = gltf_with_files("", "");
+    for folder in ["model/data", "outside"] {
+        let folder = dir.path().join(folder);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("tri.bin"), &bin).unwrap();
+        image::RgbaImage::new(2, 2).save(folder.join("albedo.png")).unwrap();
+    }
+    dir
+}
+
+#[cfg(unix)]
+#[test]
+fn a_gltf_buffer_that_is_a_link_out_of_the_folder_is_refused() {
+    use std::os::unix::fs::symlink;
+    let dir = linked_layout();
+    let model = dir.path().join("model");
+    symlink(dir.path().join("outside/tri.bin"), model.join("link.bin")).unwrap();
+    let (json, _) = gltf_with_files("link.bin", "data/albedo.png");
+    let gltf = write(&model.join("m.gltf"), &json);
+    let err = seamlit_io::load(&gltf, &LoadOptions::GEOMETRY).unwrap_err();
+    match &err {
+        IoError::LinkEscapes { path, what, reference, target } => {
+            assert_eq!(path, &gltf);
+            assert_eq!(what, "buffer 0");
+            assert_eq!(reference, "link.bin");
+            assert_eq!(target, &dir.path().join("outside/tri.bin").canonicalize().unwrap());
+        }
+        other => panic!("unexpected {other}"),
+    }
+    assert!(err.to_string().contains("buffer 0 \"link.bin\" is refused"), "{err}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_gltf_image_in_a_linked_folder_leading_out_is_refused_even_when_not_decoded() {
+    use std::os::unix::fs::symlink;
+    let dir = linked_layout();
+    let model = dir.path().join("model");
+    symlink(dir.path().join("outside"), model.join("shared")).unwrap();
+    let (json, _) = gltf_with_files("data/tri.bin", "shared/albedo.png");
+    let gltf = write(&model.join("m.gltf"), &json);
+    for options in [LoadOptions::GEOMETRY, LoadOptions::DEFAULT] {
+        let err = seamlit_io::load(&gltf, &options).unwrap_err();
+        assert!(
+            matches!(&err, IoError::LinkEscapes { what, reference, .. }
+                if what == "image 0" && reference == "shared/albedo.png"),
+            "{err}"
+        );
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_mtl_texture_that_is_a_link_out_of_the_folder_is_refused() {
+    use std::os::unix::fs::symlink;
+    let dir = linked_layout();
+    let model = dir.path().join("model");
+    symlink(dir.path().join("outside/albedo.png"), model.join("data/link.png")).unwrap();
+    write(&model.join("m.mtl"), "newmtl m\nmap_Kd data/link.png\n");
+    let obj = write(&model.join("m.obj"), &format!("mtllib m.mtl\n{TRIANGLE}"));
+    // Refused whether or not textures are decoded: a writer would copy the file.
+    for options in [LoadOptions::GEOMETRY, LoadOptions::DEFAULT] {
+        let err = seamlit_io::load(&obj, &options).unwrap_err();
+        match &err {
+            IoError::LinkEscapes { path, what, reference, target } => {
+                assert_eq!(path, &obj);
+                assert_eq!(what, "texture");
+                assert_eq!(reference, "data/link.png");
+                assert_eq!(target, &dir.path().join("outside/albedo.png").canonicalize().unwrap());
+            }
+            other => panic!("unexpected {other}"),
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn links_that_stay_inside_the_folder_are_followed() {
+    use std::os::unix::fs::symlink;
+    let dir = linked_layout();
+    let model = dir.path().join("model");
+    symlink("data/tri.bin", model.join("link.bin")).unwrap();
+    symlink(model.join("data"), model.join("textures")).unwrap();
+    let (json, _) = gltf_with_files("link.bin", "textures/albedo.png");
+    let gltf = write(&model.join("m.gltf"), &json);
+    let asset = seamlit_io::load(&gltf, &LoadOptions::DEFAULT).unwrap();
+    assert_eq!(asset.model.objects[0].positions.len(), 3);
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+    assert_eq!(asset.textures[0].image.as_ref().map(|i| i.dimensions()), Some((2, 2)));
+
+    write(&model.join("m.mtl"), "newmtl m\nmap_Kd textures/albedo.png\n");
+    let obj = write(&model.join("m.obj"), &format!("mtllib m.mtl\n{TRIANGLE}"));
+    let asset = seamlit_io::load(&obj, &LoadOptions::DEFAULT).unwrap();
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+    assert_eq!(asset.textures[0].image.as_ref().map(|i| i.dimensions()), Some((2, 2)));
+    // The model itself reached through a linked folder: its own files are inside.
+    symlink(&model, dir.path().join("model_link")).unwrap();
+    let asset =
+        seamlit_io::load(&dir.path().join("model_link/m.gltf"), &LoadOptions::DEFAULT).unwrap();
+    assert_eq!(asset.textures[0].image.as_ref().map(|i| i.dimensions()), Some((2, 2)));
 }

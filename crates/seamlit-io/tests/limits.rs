@@ -1,6 +1,6 @@
 //! Resource limits of the readers: the caps in `LoadOptions` (file size, elements, texture
-//! size) are enforced before the memory is spent, and node hierarchies of any depth are read
-//! without recursion.
+//! size, decoded texture bytes per model) are enforced before the memory is spent, and node
+//! hierarchies of any depth are read without recursion.
 
 use std::path::{Path, PathBuf};
 
@@ -120,6 +120,60 @@ fn a_texture_over_the_size_cap_is_not_decoded_and_gets_a_warning() {
     let asset = seamlit_io::load(&obj, &fits).unwrap();
     let image = asset.textures[0].image.as_ref().expect("decoded");
     assert_eq!(image.dimensions(), (8, 4));
+}
+
+/// An OBJ whose three materials use a.png (8 x 4), b.png (4 x 4) and c.png (8 x 8): 128, 64
+/// and 256 bytes decoded (RGBA8).
+fn three_textures(dir: &Path) -> PathBuf {
+    for (name, w, h) in [("a.png", 8, 4), ("b.png", 4, 4), ("c.png", 8, 8)] {
+        image::RgbaImage::from_pixel(w, h, image::Rgba([0, 255, 0, 255]))
+            .save(dir.join(name))
+            .unwrap();
+    }
+    write(
+        dir,
+        "t.mtl",
+        b"newmtl m\nmap_Kd a.png\nnewmtl n\nmap_Kd b.png\nnewmtl o\nmap_Kd c.png\n",
+    );
+    write(dir, "t.obj", format!("mtllib t.mtl\n{TRIANGLE}").as_bytes())
+}
+
+fn decoded(asset: &seamlit_io::Asset) -> Vec<Option<(u32, u32)>> {
+    asset.textures.iter().map(|t| t.image.as_ref().map(|i| i.dimensions())).collect()
+}
+
+#[test]
+fn textures_past_the_model_budget_are_refused_in_file_order_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = three_textures(dir.path());
+    let all = seamlit_io::load(&obj, &LoadOptions::DEFAULT).unwrap();
+    assert_eq!(decoded(&all), [Some((8, 4)), Some((4, 4)), Some((8, 8))]);
+    assert!(all.warnings.is_empty(), "{:?}", all.warnings);
+
+    // 200 bytes: a (128) and b (64) fit, c (256 more) does not.
+    let options = LoadOptions { max_texture_bytes: 200, ..LoadOptions::DEFAULT };
+    let asset = seamlit_io::load(&obj, &options).unwrap();
+    assert_eq!(decoded(&asset), [Some((8, 4)), Some((4, 4)), None]);
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    let warning = &asset.warnings[0];
+    assert!(
+        warning.contains("\"c.png\" needs 256 bytes")
+            && warning.contains("192 bytes")
+            && warning.contains("budget of 200 bytes"),
+        "{warning}"
+    );
+
+    // 191 bytes: only a fits (a and b would take 192).
+    let options = LoadOptions { max_texture_bytes: 191, ..LoadOptions::DEFAULT };
+    let asset = seamlit_io::load(&obj, &options).unwrap();
+    assert_eq!(decoded(&asset), [Some((8, 4)), None, None]);
+    assert_eq!(asset.warnings.len(), 2, "{:?}", asset.warnings);
+
+    // No budget at all: nothing is decoded, nothing fails.
+    let options = LoadOptions { max_texture_bytes: 0, ..LoadOptions::DEFAULT };
+    let asset = seamlit_io::load(&obj, &options).unwrap();
+    assert_eq!(decoded(&asset), [None, None, None]);
+    assert_eq!(asset.warnings.len(), 3, "{:?}", asset.warnings);
 }
 
 /// A glTF whose scene holds `instances` sibling nodes, all instancing one triangle mesh.
