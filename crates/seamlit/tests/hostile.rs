@@ -1,15 +1,21 @@
 //! Hostile files through the binary: every input of seamlit-io's regression corpus (made by
 //! hand or found by the fuzz targets in fuzz/) gives exit status 0 or 2 and, when it fails,
 //! exactly one error line naming the file, never a panic; a folder run reports each bad file
-//! and carries on; outputs never write through a symlink; a write failure is exit status 1.
+//! and carries on, also past a panic (a bug) in one file; outputs never write through a
+//! symlink; a write failure is exit status 1.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn seamlit(args: &[&str]) -> Output {
+    seamlit_with(args, &[])
+}
+
+fn seamlit_with(args: &[&str], env: &[(&str, &str)]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_seamlit"))
         .args(args)
         .env("RUST_BACKTRACE", "0")
+        .envs(env.iter().copied())
         .output()
         .expect("the binary runs")
 }
@@ -169,4 +175,50 @@ fn a_failed_replacement_keeps_the_old_output_and_a_write_failure_is_status_1() {
     let o = seamlit(&["fix", bad.to_str().unwrap(), "-o", existing.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&existing).unwrap(), "old contents");
+}
+
+#[test]
+fn a_panic_in_one_file_of_a_folder_is_its_internal_error_and_the_others_go_on() {
+    let input = tempfile::tempdir().unwrap();
+    for name in ["a.obj", "boom.obj", "c.obj"] {
+        write(input.path(), name, GOOD);
+    }
+    let out = tempfile::tempdir().unwrap();
+    let fixed = out.path().join("fixed");
+    // The debugging aid of `seamlit fix` (crates/seamlit/src/cmd/fix.rs): files whose name
+    // contains the text panic while they are processed.
+    let panic_on = [("SEAMLIT_DEBUG_PANIC_ON", "boom")];
+    let args = ["fix", input.path().to_str().unwrap(), "-o", fixed.to_str().unwrap()];
+    let o = seamlit_with(&args, &panic_on);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let errors = error_lines(&o);
+    assert_eq!(errors.len(), 2, "{errors:?}");
+    assert!(
+        errors[0].contains("boom.obj: internal error")
+            && errors[0].contains("SEAMLIT_DEBUG_PANIC_ON matched \"boom.obj\" at ")
+            && errors[0].contains("fix.rs:"),
+        "{errors:?}"
+    );
+    assert!(errors[1].contains("1 of 3 models failed"), "{errors:?}");
+    // The panic is that one line: no default panic report, no backtrace hint.
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("RUST_BACKTRACE"), "{}", stderr(&o));
+    let mut written: Vec<String> = std::fs::read_dir(&fixed)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["a.glb", "c.glb"]);
+
+    // One file: the same line, status 1, no output.
+    let boom = input.path().join("boom.obj");
+    let output = out.path().join("boom.glb");
+    let o =
+        seamlit_with(&["fix", boom.to_str().unwrap(), "-o", output.to_str().unwrap()], &panic_on);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let errors = error_lines(&o);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].contains("boom.obj: internal error"), "{errors:?}");
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert!(!output.exists());
 }

@@ -1,8 +1,20 @@
 //! `seamlit fix`: load, fix, write. A folder in gives a folder out, with a progress bar; a
 //! file that fails is reported and the others go on.
+//!
+//! A panic while a file is processed (a bug, never expected) is caught and reported as that
+//! file's failure, "internal error" on one line with the panic's message and place, exit
+//! status 1; a folder run goes on with the next file. While files are processed a quiet panic
+//! hook records the message instead of printing it (with a backtrace hint) through the
+//! progress bar; with `RUST_BACKTRACE` set (not `0`) the standard report is printed as well.
+//!
+//! Debugging aid, not shown in `--help`: with `SEAMLIT_DEBUG_PANIC_ON=TEXT` set, processing a
+//! file whose name contains TEXT panics, so that this path can be exercised (the binary's
+//! tests do).
 
 use std::collections::HashSet;
+use std::panic::{AssertUnwindSafe, PanicHookInfo};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use seamlit_io::{Asset, Format, IoError, LoadOptions, SaveOptions};
@@ -24,7 +36,8 @@ pub fn run(args: &FixArgs) -> Result<(), Failure> {
         return run_folder(args, &options, &load, &save);
     }
     check_output_extension(&args.output)?;
-    let line = fix_file(&args.input, &args.output, &options, &load, &save)?;
+    let _quiet = QuietPanics::install();
+    let line = fix_file_guarded(&args.input, &args.output, &options, &load, &save)?;
     println!("{line}");
     Ok(())
 }
@@ -37,6 +50,90 @@ fn check_output_extension(output: &Path) -> Result<(), Failure> {
             "{}: unknown output format (expected a .glb, .gltf or .obj file name)",
             output.display()
         ))),
+    }
+}
+
+/// [`fix_file`], with a panic turned into a processing failure naming the file.
+fn fix_file_guarded(
+    input: &Path,
+    output: &Path,
+    options: &FixOptions,
+    load: &LoadOptions,
+    save: &SaveOptions,
+) -> Result<String, Failure> {
+    // Nothing the closure touches is observed after a panic: its state is dropped.
+    let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        debug_panic(input);
+        fix_file(input, output, options, load, save)
+    }));
+    result.unwrap_or_else(|payload| {
+        let message = QuietPanics::take().unwrap_or_else(|| {
+            payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_owned())
+        });
+        Err(Failure::processing(format!(
+            "{}: internal error (a bug in seamlit, please report it): {message}",
+            input.display()
+        )))
+    })
+}
+
+/// The `SEAMLIT_DEBUG_PANIC_ON` debugging aid (see the module docs): panics when the file's
+/// name contains the variable's text.
+fn debug_panic(input: &Path) {
+    let Some(text) = std::env::var_os("SEAMLIT_DEBUG_PANIC_ON") else { return };
+    let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    if !text.is_empty() && name.contains(&*text.to_string_lossy()) {
+        panic!("SEAMLIT_DEBUG_PANIC_ON matched {name:?}");
+    }
+}
+
+/// While alive, panics are recorded (message and place) for [`QuietPanics::take`] instead of
+/// being printed; the previous hook is restored on drop.
+struct QuietPanics {
+    previous: Arc<dyn Fn(&PanicHookInfo<'_>) + Send + Sync>,
+}
+
+/// The last panic recorded by the quiet hook.
+static LAST_PANIC: Mutex<Option<String>> = Mutex::new(None);
+
+impl QuietPanics {
+    fn install() -> Self {
+        let previous: Arc<dyn Fn(&PanicHookInfo<'_>) + Send + Sync> =
+            Arc::from(std::panic::take_hook());
+        let backtrace = std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0");
+        let chained = Arc::clone(&previous);
+        std::panic::set_hook(Box::new(move |info| {
+            let message = info
+                .payload()
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| info.payload().downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_owned());
+            let place = info.location().map(|l| format!(" at {}:{}", l.file(), l.line()));
+            if let Ok(mut last) = LAST_PANIC.lock() {
+                *last = Some(format!("{message}{}", place.unwrap_or_default()));
+            }
+            if backtrace {
+                chained(info);
+            }
+        }));
+        Self { previous }
+    }
+
+    /// The last recorded panic, cleared.
+    fn take() -> Option<String> {
+        LAST_PANIC.lock().ok().and_then(|mut last| last.take())
+    }
+}
+
+impl Drop for QuietPanics {
+    fn drop(&mut self) {
+        let previous = Arc::clone(&self.previous);
+        std::panic::set_hook(Box::new(move |info| previous(info)));
     }
 }
 
@@ -111,12 +208,13 @@ fn run_folder(
     }
     let mut used = HashSet::new();
     let (mut failed, mut bad_input) = (0usize, false);
+    let quiet = QuietPanics::install();
     for input in &inputs {
         bar.set_message(
             input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
         );
         let output = output_name(input, &args.output, args.format.extension(), &mut used);
-        match fix_file(input, &output, options, load, save) {
+        match fix_file_guarded(input, &output, options, load, save) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
                 failed += 1;
@@ -126,6 +224,7 @@ fn run_folder(
         }
         bar.inc(1);
     }
+    drop(quiet);
     bar.finish_and_clear();
     let total = inputs.len();
     println!("fixed {} of {total} models into {}", total - failed, args.output.display());
