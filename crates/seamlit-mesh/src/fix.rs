@@ -1,14 +1,15 @@
-//! The fix pipeline: validate and flatten, weld, per-face frames, group and average, then
-//! write each object back with its vertices split where one position needs several values.
+//! The fix pipeline: validate and flatten, weld, smooth, then write each object back with its
+//! vertices split where one position needs several values.
 
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::face;
-use crate::frame::{Linear, finish};
-use crate::group::{self, Frame, Rules};
+use crate::face::face_without_angles;
+use crate::frame::Linear;
+use crate::group::{Frame, Rules};
+use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
-use crate::weld::{self, Weld};
+use crate::weld;
 use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 
 /// Computes seam-free normals and tangents for every object of `model`.
@@ -21,8 +22,8 @@ use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 /// indices. Vertices on a boundary between objects get bit-identical values in model space
 /// (up to each object's transform back to its local space) in [`Mode::Model`].
 ///
-/// The result does not depend on the number of threads: every sum runs over a position's
-/// corners in a fixed order. Fixing a fixed model changes nothing.
+/// The result does not depend on the number of threads: every sum runs in a fixed order.
+/// Fixing a fixed model changes nothing. [`fix_in_place`] does the same without the copy.
 ///
 /// # Errors
 ///
@@ -30,60 +31,90 @@ use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 /// indices out of range, a non-finite or singular transform, non-finite positions (after the
 /// transform) or UVs, or more than [`crate::MAX_ELEMENTS`] vertices or corners.
 pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
-    let mut flat = validate::flatten(model)?;
-    let want_tangents = options.tangents != TangentMethod::None;
-
-    let corner_frame = if options.mode == Mode::Flat {
-        let faces = face::faces(&flat, model.v_axis);
-        CornerFrames::Flat(
-            faces
-                .par_iter()
-                .map(|f| {
-                    let (normal, tangent) = finish(f.normal, f.normal, f.tangent, f.bitangent);
-                    Frame { normal, tangent }
-                })
-                .collect(),
-        )
-    } else {
-        let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
-        let weld = weld_for_mode(&flat, tolerance, options.mode);
-        weld.snap(&mut flat.positions);
-        let faces = face::faces(&flat, model.v_axis);
-        let corner_positions: Vec<u32> =
-            flat.triangles.as_flattened().par_iter().map(|&v| weld.ids[v as usize]).collect();
-        let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
-        let groups = group::group(&corner_positions, weld.count, &faces, rules);
-        CornerFrames::Groups(groups)
-    };
-
-    let corner_frames: Option<Vec<Frame>> =
-        (options.tangents == TangentMethod::Mikktspace).then(|| {
-            let normals: Vec<Vec3> = (0..flat.triangles.len() * 3)
-                .into_par_iter()
-                .map(|c| corner_frame.get(c).normal)
-                .collect();
-            let tangents = crate::mikk::tangents(&flat, &normals, model.v_axis);
-            normals
-                .into_iter()
-                .zip(tangents)
-                .map(|(normal, tangent)| Frame { normal, tangent })
-                .collect()
-        });
-    let frame_of = |c: usize| match &corner_frames {
-        Some(f) => f[c],
-        None => corner_frame.get(c),
-    };
-
+    let flat = validate::flatten(model)?;
     let objects = model
         .objects
-        .par_iter()
-        .enumerate()
-        .map(|(o, object)| {
-            let tangents = want_tangents && object.uvs.is_some();
-            write_object(o, object, &flat, tangents, &frame_of)
+        .iter()
+        .map(|o| Object {
+            name: o.name.clone(),
+            positions: o.positions.clone(),
+            uvs: o.uvs.clone(),
+            // Kept for the vertices no triangle uses, which keep their input normal.
+            normals: o.normals.clone(),
+            tangents: None,
+            triangles: o.triangles.clone(),
+            transform: o.transform,
+            material: o.material,
         })
         .collect();
-    Ok(Model { objects, v_axis: model.v_axis })
+    let mut out = Model { objects, v_axis: model.v_axis };
+    run(&mut out, flat, options);
+    Ok(out)
+}
+
+/// [`fix`], in place: the model's normals and tangents are replaced (reusing their memory),
+/// and split vertices are appended to its objects. On an error the model is unchanged.
+///
+/// # Errors
+///
+/// As [`fix`].
+pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<(), MeshError> {
+    let flat = validate::flatten(model)?;
+    run(model, flat, options);
+    Ok(())
+}
+
+fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
+    let want_tangents = options.tangents != TangentMethod::None;
+    let tangents_of = |object: &Object| want_tangents && object.uvs.is_some();
+    if options.mode == Mode::Flat {
+        // Flat shading: each corner takes its face's frame.
+        let v_axis = model.v_axis;
+        let flat = &flat;
+        model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
+            let tangents = tangents_of(object);
+            write_corners(o, object, flat, tangents, |_, p, uv| {
+                [face_frame(&face_without_angles(p, uv, v_axis)); 3]
+            });
+        });
+        return;
+    }
+
+    let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
+    let roots = roots_for_mode(&flat, tolerance, options.mode);
+    weld::snap_to_roots(&mut flat.positions, &roots);
+    let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
+    let smooth = smooth::smooth(model, &flat, roots, rules);
+    let flat = &flat;
+
+    if options.tangents == TangentMethod::Mikktspace {
+        let triangles = flat.triangles(model);
+        let normals: Vec<Vec3> = triangles
+            .as_flattened()
+            .par_iter()
+            .enumerate()
+            .map(|(c, &v)| smooth.corner_frame(c as u32, v as usize).normal)
+            .collect();
+        let uvs = flat.uvs(model);
+        let tangents =
+            crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
+        drop((triangles, uvs));
+        model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
+            let tangents_wanted = tangents_of(object);
+            let first = flat.triangle_start[o] as usize * 3;
+            write_corners(o, object, flat, tangents_wanted, |t, _, _| {
+                let c = first + t * 3;
+                std::array::from_fn(|k| Frame { normal: normals[c + k], tangent: tangents[c + k] })
+            });
+        });
+        return;
+    }
+
+    let smooth = &smooth;
+    model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
+        let tangents = tangents_of(object);
+        write_smooth(o, object, flat, smooth, tangents);
+    });
 }
 
 /// The length of the diagonal of the model-space bounding box.
@@ -92,39 +123,123 @@ pub(crate) fn diagonal(flat: &Flat) -> f32 {
     if lo.x <= hi.x { lo.distance(hi) } else { 0.0 }
 }
 
-/// Welds across the whole model ([`Mode::Model`]) or within each object ([`Mode::Object`]).
-pub(crate) fn weld_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Weld {
+/// Each vertex's root (see [`weld::roots`]), welding across the whole model ([`Mode::Model`])
+/// or within each object ([`Mode::Object`]).
+pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32> {
     if mode == Mode::Model {
-        return weld::weld(&flat.positions, tolerance);
+        return weld::roots(&flat.positions, tolerance);
     }
-    let parts: Vec<Weld> = flat
+    let parts: Vec<Vec<u32>> = flat
         .vertex_start
         .par_windows(2)
-        .map(|w| weld::weld(&flat.positions[w[0] as usize..w[1] as usize], tolerance))
+        .map(|w| {
+            let mut roots = weld::roots(&flat.positions[w[0] as usize..w[1] as usize], tolerance);
+            roots.iter_mut().for_each(|r| *r += w[0]);
+            roots
+        })
         .collect();
-    let mut ids = Vec::with_capacity(flat.positions.len());
-    let mut count = 0;
-    for part in parts {
-        ids.extend(part.ids.iter().map(|&i| i + count as u32));
-        count += part.count;
-    }
-    Weld { ids, count }
+    parts.concat()
 }
 
-/// Where each corner's frame comes from.
-enum CornerFrames {
-    /// Per face (flat mode).
-    Flat(Vec<Frame>),
-    /// Per smoothing group.
-    Groups(group::Groups),
+/// One object's output, built vertex by vertex: a frame per vertex, and a copy of a vertex
+/// wherever one of its corners needs another frame.
+struct Out<'a> {
+    positions: &'a mut Vec<Vec3>,
+    uvs: &'a mut Option<Vec<Vec2>>,
+    linear: Option<Linear>,
+    /// Whether tangents are written (otherwise they are zero and split nothing).
+    tangents_wanted: bool,
+    normals: Vec<Vec3>,
+    tangents: Vec<Vec4>,
+    /// Per vertex: whether its frame is set.
+    set: Vec<bool>,
+    /// Copies of vertex `v` form a chain: `next[v] -> ... -> u32::MAX` (empty until needed).
+    next: Vec<u32>,
 }
 
-impl CornerFrames {
-    fn get(&self, corner: usize) -> Frame {
-        match self {
-            Self::Flat(faces) => faces[corner / 3],
-            Self::Groups(g) => g.frames[g.corner_group[corner] as usize],
+impl<'a> Out<'a> {
+    fn new(object: &'a mut Object, linear: Option<Linear>, tangents_wanted: bool) -> Self {
+        let n = object.positions.len();
+        // Reuse the input's memory. Input normals stay where no triangle overwrites them.
+        let mut normals = object.normals.take().unwrap_or_default();
+        normals.resize(n, Vec3::ZERO);
+        let mut tangents = object.tangents.take().unwrap_or_default();
+        tangents.clear();
+        tangents.resize(n, Vec4::ZERO);
+        Self {
+            positions: &mut object.positions,
+            uvs: &mut object.uvs,
+            linear,
+            tangents_wanted,
+            normals,
+            tangents,
+            set: vec![false; n],
+            next: Vec::new(),
         }
+    }
+
+    /// A model-space frame in the object's local space.
+    fn local(&self, f: Frame) -> (Vec3, Vec4) {
+        let (n, t) = match &self.linear {
+            Some(l) => l.frame_to_local(f.normal, f.tangent),
+            None => (f.normal, f.tangent),
+        };
+        (n, if self.tangents_wanted { t } else { Vec4::ZERO })
+    }
+
+    /// Sets the frame of vertex `v`, which no corner has set yet.
+    fn set(&mut self, v: usize, f: Frame) {
+        (self.normals[v], self.tangents[v]) = self.local(f);
+        self.set[v] = true;
+    }
+
+    /// Gives a corner at vertex `v` the frame `f`: returns `v`, or the copy of `v` that has
+    /// this frame (made if none has).
+    fn put(&mut self, v: u32, f: Frame) -> u32 {
+        let vi = v as usize;
+        if !self.set[vi] {
+            self.set(vi, f);
+            return v;
+        }
+        let (normal, tangent) = self.local(f);
+        let key = bits(normal, tangent);
+        if self.next.is_empty() {
+            self.next = vec![u32::MAX; self.set.len()];
+        }
+        let mut at = vi;
+        loop {
+            if bits(self.normals[at], self.tangents[at]) == key {
+                return at as u32;
+            }
+            if self.next[at] == u32::MAX {
+                let new = self.positions.len();
+                self.positions.push(self.positions[vi]);
+                if let Some(uvs) = self.uvs {
+                    uvs.push(uvs[vi]);
+                }
+                self.normals.push(normal);
+                self.tangents.push(tangent);
+                self.set.push(true);
+                self.next.push(u32::MAX);
+                self.next[at] = new as u32;
+                return new as u32;
+            }
+            at = self.next[at] as usize;
+        }
+    }
+
+    /// Vertices no triangle uses keep their input normal, or +Z; then the result goes into
+    /// the object.
+    fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
+        for v in 0..self.set.len() {
+            if !self.set[v] {
+                let n = self.normals[v].try_normalize().unwrap_or(Vec3::Z);
+                self.normals[v] = n;
+                self.tangents[v] = n.any_orthonormal_vector().extend(1.0);
+            }
+        }
+        *normals = Some(self.normals);
+        *tangents = self.tangents_wanted.then_some(self.tangents);
     }
 }
 
@@ -132,83 +247,52 @@ fn bits(n: Vec3, t: Vec4) -> [u32; 7] {
     [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(f32::to_bits)
 }
 
-/// Writes one object's result: per-corner frames in local space, vertices split where corners
-/// of one vertex disagree.
-fn write_object(
+/// Writes one object corner by corner, `frames(t, positions, uvs)` giving the model-space
+/// frames of triangle `t`'s corners (from its model-space positions and UVs).
+fn write_corners(
     o: usize,
-    object: &Object,
+    object: &mut Object,
     flat: &Flat,
     tangents: bool,
-    frame_of: &(impl Fn(usize) -> Frame + Sync),
-) -> Object {
-    let linear = flat.linear[o].map(Linear::new);
-    let n = object.positions.len();
-    let first_triangle = flat.triangle_start[o] as usize;
-    let mut positions = object.positions.clone();
-    let mut uvs = object.uvs.clone();
-    let mut normals = vec![Vec3::ZERO; n];
-    let mut out_tangents = vec![Vec4::ZERO; n];
-    let mut set = vec![false; n];
-    // Vertices split off vertex v form a chain: next[v] -> ... -> u32::MAX.
-    let mut next: Vec<u32> = vec![u32::MAX; n];
-    let mut triangles = Vec::with_capacity(object.triangles.len());
-    for (t, tri) in object.triangles.iter().enumerate() {
-        let mut out = [0u32; 3];
-        for (k, &v) in tri.iter().enumerate() {
-            let frame = frame_of((first_triangle + t) * 3 + k);
-            let (normal, mut tangent) = match &linear {
-                Some(l) => l.frame_to_local(frame.normal, frame.tangent),
-                None => (frame.normal, frame.tangent),
-            };
-            if !tangents {
-                tangent = Vec4::ZERO;
-            }
-            let vi = v as usize;
-            out[k] = if set[vi] {
-                let key = bits(normal, tangent);
-                let mut at = vi;
-                loop {
-                    if bits(normals[at], out_tangents[at]) == key {
-                        break at as u32;
-                    }
-                    if next[at] == u32::MAX {
-                        let new = positions.len();
-                        positions.push(object.positions[vi]);
-                        if let Some(uvs) = &mut uvs {
-                            uvs.push(uvs[vi]);
-                        }
-                        normals.push(normal);
-                        out_tangents.push(tangent);
-                        next.push(u32::MAX);
-                        next[at] = new as u32;
-                        break new as u32;
-                    }
-                    at = next[at] as usize;
-                }
-            } else {
-                set[vi] = true;
-                normals[vi] = normal;
-                out_tangents[vi] = tangent;
-                v
-            };
+    frames: impl Fn(usize, [Vec3; 3], Option<[Vec2; 3]>) -> [Frame; 3],
+) {
+    let base = flat.vertex_start[o];
+    let mut triangles = std::mem::take(&mut object.triangles);
+    let (mut normals, mut out_tangents) = (None, None);
+    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents);
+    for (t, tri) in triangles.iter_mut().enumerate() {
+        let p = tri.map(|i| flat.positions[(base + i) as usize]);
+        let uv = out.uvs.as_ref().map(|uvs| tri.map(|i| uvs[i as usize]));
+        let f = frames(t, p, uv);
+        for k in 0..3 {
+            tri[k] = out.put(tri[k], f[k]);
         }
-        triangles.push(out);
     }
-    // Vertices no triangle uses keep their input normal, or +Z.
-    for (i, _) in set.iter().enumerate().filter(|(_, s)| !**s) {
-        let input = object.normals.as_ref().and_then(|ns| ns[i].try_normalize());
-        let nrm = input.unwrap_or(Vec3::Z);
-        normals[i] = nrm;
-        out_tangents[i] = nrm.any_orthonormal_vector().extend(1.0);
+    out.finish(&mut normals, &mut out_tangents);
+    (object.normals, object.tangents, object.triangles) = (normals, out_tangents, triangles);
+}
+
+/// Writes one object from the smoothed frames: every vertex at a simple position takes its
+/// position's frame; the corners of complex positions are placed one by one, in corner order.
+fn write_smooth(o: usize, object: &mut Object, flat: &Flat, smooth: &Smooth, tangents: bool) {
+    let base = flat.vertex_start[o] as usize;
+    let first = flat.triangle_start[o];
+    let complex = &smooth.complex[smooth.complex_range(first..flat.triangle_start[o + 1])];
+    let mut triangles = std::mem::take(&mut object.triangles);
+    let (mut normals, mut out_tangents) = (None, None);
+    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents);
+    for v in 0..out.set.len() {
+        if smooth.is_used(base + v)
+            && let Some(f) = smooth.simple_frame(base + v)
+        {
+            out.set(v, f);
+        }
     }
-    Object {
-        name: object.name.clone(),
-        positions,
-        uvs,
-        normals: Some(normals),
-        tangents: tangents.then_some(out_tangents),
-        triangles,
-        transform: object.transform,
-        material: object.material,
+    for &e in complex {
+        let c = (e >> 32) as usize - first as usize * 3;
+        let corner = &mut triangles[c / 3][c % 3];
+        *corner = out.put(*corner, smooth.frames[e as u32 as usize]);
     }
+    out.finish(&mut normals, &mut out_tangents);
+    (object.normals, object.tangents, object.triangles) = (normals, out_tangents, triangles);
 }

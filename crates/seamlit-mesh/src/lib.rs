@@ -47,11 +47,12 @@ mod model;
 mod options;
 pub mod reference;
 mod report;
+mod smooth;
 mod validate;
 pub mod weld;
 
 pub use error::MeshError;
-pub use fix::fix;
+pub use fix::{fix, fix_in_place};
 pub use model::{Model, Object, VAxis};
 pub use options::{FixOptions, Mode, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};

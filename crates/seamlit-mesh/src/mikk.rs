@@ -8,10 +8,11 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::VAxis;
-use crate::validate::Flat;
 
 struct Geometry<'a> {
-    flat: &'a Flat,
+    positions: &'a [Vec3],
+    uvs: &'a [Vec2],
+    triangles: &'a [[u32; 3]],
     corner_normals: &'a [Vec3],
     v_sign: f32,
     tangents: Vec<Vec4>,
@@ -19,7 +20,7 @@ struct Geometry<'a> {
 
 impl bevy_mikktspace::Geometry for Geometry<'_> {
     fn num_faces(&self) -> usize {
-        self.flat.triangles.len()
+        self.triangles.len()
     }
 
     fn num_vertices_of_face(&self, _face: usize) -> usize {
@@ -27,7 +28,7 @@ impl bevy_mikktspace::Geometry for Geometry<'_> {
     }
 
     fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.flat.positions[self.flat.triangles[face][vert] as usize].to_array()
+        self.positions[self.triangles[face][vert] as usize].to_array()
     }
 
     fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
@@ -35,7 +36,7 @@ impl bevy_mikktspace::Geometry for Geometry<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        let uv: Vec2 = self.flat.uvs[self.flat.triangles[face][vert] as usize];
+        let uv: Vec2 = self.uvs[self.triangles[face][vert] as usize];
         [uv.x, uv.y * self.v_sign]
     }
 
@@ -56,11 +57,19 @@ impl bevy_mikktspace::Geometry for Geometry<'_> {
 
 /// Per-corner MikkTSpace tangents in model space. Corners MikkTSpace leaves unset (degenerate
 /// faces) get a vector orthogonal to their normal, w = +1.
-pub(crate) fn tangents(flat: &Flat, corner_normals: &[Vec3], v_axis: VAxis) -> Vec<Vec4> {
+pub(crate) fn tangents(
+    positions: &[Vec3],
+    uvs: &[Vec2],
+    triangles: &[[u32; 3]],
+    corner_normals: &[Vec3],
+    v_axis: VAxis,
+) -> Vec<Vec4> {
     let fallback: Vec<Vec4> =
         corner_normals.iter().map(|n| n.any_orthonormal_vector().extend(1.0)).collect();
     let mut geometry = Geometry {
-        flat,
+        positions,
+        uvs,
+        triangles,
         corner_normals,
         v_sign: match v_axis {
             VAxis::Up => 1.0,

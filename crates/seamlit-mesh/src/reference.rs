@@ -28,7 +28,8 @@ use crate::{MeshError, Model, Object, validate};
 /// The same input checks as [`crate::fix`].
 pub fn fix(model: &Model) -> Result<Model, MeshError> {
     let flat = validate::flatten(model)?;
-    let faces = crate::face::faces(&flat, model.v_axis);
+    let faces = crate::face::faces(model, &flat);
+    let triangles = flat.triangles(model);
     let objects = model
         .objects
         .iter()
@@ -39,7 +40,7 @@ pub fn fix(model: &Model) -> Result<Model, MeshError> {
             let mut normals = Vec::with_capacity(object.positions.len());
             let mut tangents = Vec::with_capacity(object.positions.len());
             for i in 0..object.positions.len() {
-                let (n, t) = vertex_frame(flat.positions[start + i], &flat, &faces);
+                let (n, t) = vertex_frame(flat.positions[start + i], &flat, &triangles, &faces);
                 let (n, t) = match &linear {
                     Some(l) => l.frame_to_local(n, t),
                     None => (n, t),
@@ -57,11 +58,16 @@ pub fn fix(model: &Model) -> Result<Model, MeshError> {
     Ok(Model { objects, v_axis: model.v_axis })
 }
 
-fn vertex_frame(vertex: Vec3, flat: &validate::Flat, faces: &[Face]) -> (Vec3, Vec4) {
+fn vertex_frame(
+    vertex: Vec3,
+    flat: &validate::Flat,
+    triangles: &[[u32; 3]],
+    faces: &[Face],
+) -> (Vec3, Vec4) {
     let (mut n, mut t, mut b) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     let (mut t_any, mut b_any) = (Vec3::ZERO, Vec3::ZERO);
     let mut fallback = Vec3::ZERO;
-    for (tri, face) in flat.triangles.iter().zip(faces) {
+    for (tri, face) in triangles.iter().zip(faces) {
         // `==` on floats: -0.0 == 0.0, as the weld's exact mode.
         if !tri.iter().any(|&v| flat.positions[v as usize] == vertex) || face.is(DEGENERATE) {
             continue;

@@ -11,9 +11,8 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, MIRRORED};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face_without_angles};
 use crate::frame::Linear;
-use crate::group::Incidence;
 use crate::{MeshError, Model, validate, weld};
 
 /// Options of [`crate::report()`].
@@ -118,79 +117,145 @@ pub struct SeamReport {
 pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, MeshError> {
     let mut flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
-    let weld = weld::weld(&flat.positions, tolerance);
-    let near_miss_positions = weld.near_misses(&flat.positions);
-    weld.snap(&mut flat.positions);
-    let faces = crate::face::faces(&flat, model.v_axis);
-    let vertex_objects = flat.vertex_objects();
+    let roots = weld::roots(&flat.positions, tolerance);
 
-    let mut first_object = vec![u32::MAX; weld.count];
-    let mut shared = vec![false; weld.count];
-    for (&id, &o) in weld.ids.iter().zip(&vertex_objects) {
-        let f = &mut first_object[id as usize];
-        if *f == u32::MAX {
-            *f = o;
-        } else if *f != o {
-            shared[id as usize] = true;
+    // Per root: whether another object has a vertex there, and whether the positions there
+    // differ in their bits (welded by the tolerance only). A vertex's root is its smallest
+    // index, so a root below the object's first vertex belongs to an earlier object.
+    let mut shared = vec![false; roots.len()];
+    let mut near_miss = vec![false; roots.len()];
+    for w in flat.vertex_start.windows(2) {
+        let range = w[0] as usize..w[1] as usize;
+        for (v, &r) in range.clone().zip(&roots[range]) {
+            let r = r as usize;
+            shared[r] |= r < w[0] as usize;
+            near_miss[r] |= !weld::same_bits(flat.positions[v], flat.positions[r]);
         }
     }
+    weld::snap_to_roots(&mut flat.positions, &roots);
 
-    // Per vertex, the model's own frame in model space (zero where it has none).
-    let (normals, tangents) = model_space_frames(model, &flat);
-
+    let counts = face_counts(model, &flat);
     let mut report = SeamReport {
         objects: model.objects.len(),
-        triangles: flat.triangles.len(),
+        triangles: model.triangle_count(),
         vertices: flat.positions.len(),
-        welded_positions: weld.count,
+        welded_positions: roots.iter().enumerate().filter(|&(v, &r)| r as usize == v).count(),
         weld_tolerance: tolerance,
         shared_positions: shared.iter().filter(|&&s| s).count(),
-        near_miss_positions,
-        degenerate_triangles: faces.iter().filter(|f| f.is(DEGENERATE)).count(),
-        degenerate_uv_triangles: faces
-            .iter()
-            .filter(|f| f.is(DEGENERATE_UV) && !f.is(crate::face::NO_UV | DEGENERATE))
-            .count(),
-        mirrored_triangles: faces.iter().filter(|f| f.is(MIRRORED)).count(),
+        near_miss_positions: near_miss.iter().filter(|&&s| s).count(),
+        degenerate_triangles: counts[0],
+        degenerate_uv_triangles: counts[1],
+        mirrored_triangles: counts[2],
         ..SeamReport::default()
     };
+    drop(near_miss);
     frame_quality(model, &mut report);
+    report.cross_object = cross_object(model, &flat, &roots, &shared, options);
+    Ok(report)
+}
 
-    let corner_positions: Vec<u32> =
-        flat.triangles.iter().flat_map(|t| t.map(|v| weld.ids[v as usize])).collect();
-    let incidence = Incidence::new(&corner_positions, weld.count);
-    let triangle_objects = flat.triangle_objects();
+/// Degenerate, degenerate-UV (of objects with UVs) and mirrored triangles.
+fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
+    model
+        .objects
+        .par_iter()
+        .enumerate()
+        .map(|(o, object)| {
+            let mut n = [0; 3];
+            for t in 0..object.triangles.len() {
+                let c = flat.corners(model, o, t);
+                let f = face_without_angles(c.positions, c.uvs, model.v_axis);
+                n[0] += usize::from(f.is(DEGENERATE));
+                n[1] += usize::from(f.is(DEGENERATE_UV) && !f.is(NO_UV | DEGENERATE));
+                n[2] += usize::from(f.is(MIRRORED));
+            }
+            n
+        })
+        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]])
+}
+
+/// A corner at a shared position, with what the comparisons need.
+struct SharedCorner {
+    object: u32,
+    /// The roots of its triangle's three positions.
+    roots: [u32; 3],
+    face: Face,
+    /// The model's own frame at the corner's vertex, in model space (zero where it has none).
+    normal: Vec3,
+    tangent: Vec4,
+}
+
+/// Compares the frames across every cross-object edge: gathers the corners at shared
+/// positions (sorted by position, then corner) and compares the corners of different objects
+/// at each.
+fn cross_object(
+    model: &Model,
+    flat: &validate::Flat,
+    roots: &[u32],
+    shared: &[bool],
+    options: &ReportOptions,
+) -> CrossObject {
+    let mut entries: Vec<u64> = model
+        .objects
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(o, object)| {
+            let base = flat.vertex_start[o];
+            let first = u64::from(flat.triangle_start[o]) * 3;
+            let mut out = Vec::new();
+            for (c, &i) in object.triangles.as_flattened().iter().enumerate() {
+                let r = roots[(base + i) as usize];
+                if shared[r as usize] {
+                    out.push((u64::from(r) << 32) | (first + c as u64));
+                }
+            }
+            out
+        })
+        .collect();
+    entries.par_sort_unstable();
+    let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+    let corner = |e: u64| -> SharedCorner {
+        let c = (e & 0xFFFF_FFFF) as usize;
+        let t = c / 3;
+        let o = flat.object_of_triangle(t);
+        let local = t - flat.triangle_start[o] as usize;
+        let cs = flat.corners(model, o, local);
+        let i = model.objects[o].triangles[local][c % 3] as usize;
+        let (normal, tangent) = model_space_frame(&model.objects[o], i, linear[o].as_ref());
+        SharedCorner {
+            object: o as u32,
+            roots: cs.vertices.map(|v| roots[v as usize]),
+            face: face_without_angles(cs.positions, cs.uvs, model.v_axis),
+            normal,
+            tangent,
+        }
+    };
     let crease_cos = options.crease_angle_deg.clamp(0.0, 180.0).to_radians().cos();
     let tangent_cos = options.tangent_angle_deg.clamp(0.0, 180.0).to_radians().cos();
-    let stats = (0..weld.count)
-        .into_par_iter()
-        .filter(|&p| shared[p])
-        .fold(Stats::default, |mut s, p| {
-            let corners = incidence.at(p);
-            for (i, &ca) in corners.iter().enumerate() {
-                let fa = ca as usize / 3;
-                for &cb in &corners[i + 1..] {
-                    let fb = cb as usize / 3;
-                    if triangle_objects[fa] == triangle_objects[fb] {
+    let stats = entries
+        .par_chunk_by(|a, b| a >> 32 == b >> 32)
+        .fold(Stats::default, |mut s, run| {
+            let p = (run[0] >> 32) as u32;
+            let corners: Vec<SharedCorner> = run.iter().map(|&e| corner(e)).collect();
+            for (i, ca) in corners.iter().enumerate() {
+                for cb in &corners[i + 1..] {
+                    if ca.object == cb.object {
                         continue;
                     }
-                    let (a, b) = (&faces[fa], &faces[fb]);
+                    let (a, b) = (&ca.face, &cb.face);
                     if a.is(DEGENERATE) || b.is(DEGENERATE) {
                         continue;
                     }
-                    let pa = &corner_positions[fa * 3..fa * 3 + 3];
-                    let pb = &corner_positions[fb * 3..fb * 3 + 3];
-                    let Some(&q) = pa.iter().find(|&&q| q as usize != p && pb.contains(&q)) else {
+                    let Some(&q) = ca.roots.iter().find(|&&q| q != p && cb.roots.contains(&q))
+                    else {
                         continue;
                     };
-                    let va = flat.triangles[fa][ca as usize % 3] as usize;
-                    let vb = flat.triangles[fb][cb as usize % 3] as usize;
-                    let (na, nb) = (normals[va], normals[vb]);
                     let hard = a.normal.dot(b.normal) < crease_cos;
-                    if (p as u32) < q {
+                    if p < q {
                         s.edges += 1;
                         s.hard_edges += usize::from(hard);
                     }
+                    let (na, nb) = (ca.normal, cb.normal);
                     if na == Vec3::ZERO || nb == Vec3::ZERO {
                         continue;
                     }
@@ -203,7 +268,7 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
                     s.pairs += 1;
                     s.normal.add(normal_angle);
                     s.normal_breaks += usize::from(normal_angle > 1.0);
-                    let (ta, tb) = (tangents[va], tangents[vb]);
+                    let (ta, tb) = (ca.tangent, cb.tangent);
                     let comparable = ta != Vec4::ZERO
                         && tb != Vec4::ZERO
                         && !a.is(DEGENERATE_UV)
@@ -219,7 +284,7 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
         })
         .reduce(Stats::default, Stats::merge);
 
-    report.cross_object = CrossObject {
+    CrossObject {
         edges: stats.edges,
         hard_edges: stats.hard_edges,
         corner_pairs: stats.pairs,
@@ -229,11 +294,9 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
         max_tangent_angle_deg: stats.tangent.max(),
         mean_tangent_angle_deg: stats.tangent.mean(),
         min_hard_edge_normal_angle_deg: stats.min_hard,
-    };
-    Ok(report)
+    }
 }
 
-/// Angle between two directions, degrees (0 for bit-equal ones).
 fn angle_deg(a: Vec3, b: Vec3) -> f32 {
     let (a, b) = (a.normalize_or_zero(), b.normalize_or_zero());
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
@@ -291,32 +354,23 @@ impl Stats {
     }
 }
 
-/// Per vertex, its normal and tangent in model space; zero where the object has none (or the
-/// stored value is not finite).
-fn model_space_frames(model: &Model, flat: &validate::Flat) -> (Vec<Vec3>, Vec<Vec4>) {
-    let mut normals = vec![Vec3::ZERO; flat.positions.len()];
-    let mut tangents = vec![Vec4::ZERO; flat.positions.len()];
-    for (o, object) in model.objects.iter().enumerate() {
-        let start = flat.vertex_start[o] as usize;
-        let linear = flat.linear[o].map(Linear::new);
-        let Some(ns) = &object.normals else { continue };
-        for (i, &n) in ns.iter().enumerate() {
-            let t = object.tangents.as_ref().map_or(Vec4::ZERO, |ts| ts[i]);
-            if !n.is_finite() || n == Vec3::ZERO {
-                continue;
-            }
-            let t_ok = t.is_finite() && t.xyz() != Vec3::ZERO;
-            let (nm, tm) = match (&linear, t_ok) {
-                (Some(l), true) => l.frame_to_model(n, t),
-                (Some(l), false) => (l.normal_to_model(n), Vec4::ZERO),
-                (None, true) => (n, t),
-                (None, false) => (n, Vec4::ZERO),
-            };
-            normals[start + i] = nm;
-            tangents[start + i] = tm;
-        }
+/// Vertex `i` of `object`'s own frame, in model space (zero where it has none or it is not
+/// finite; a zero tangent where only the normal is usable).
+fn model_space_frame(object: &crate::Object, i: usize, linear: Option<&Linear>) -> (Vec3, Vec4) {
+    let Some(n) = object.normals.as_ref().map(|ns| ns[i]) else {
+        return (Vec3::ZERO, Vec4::ZERO);
+    };
+    if !n.is_finite() || n == Vec3::ZERO {
+        return (Vec3::ZERO, Vec4::ZERO);
     }
-    (normals, tangents)
+    let t = object.tangents.as_ref().map_or(Vec4::ZERO, |ts| ts[i]);
+    let t_ok = t.is_finite() && t.xyz() != Vec3::ZERO;
+    match (linear, t_ok) {
+        (Some(l), true) => l.frame_to_model(n, t),
+        (Some(l), false) => (l.normal_to_model(n), Vec4::ZERO),
+        (None, true) => (n, t),
+        (None, false) => (n, Vec4::ZERO),
+    }
 }
 
 /// Orthogonality, unit length and handedness of the stored frames (in each object's space).

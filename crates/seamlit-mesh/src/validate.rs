@@ -1,53 +1,79 @@
-//! Input checks, and the model flattened into one model-space vertex and triangle list.
+//! Input checks, and the model's positions flattened into one model-space list.
 //!
-//! Everything downstream (weld, faces, grouping, report, reference) works on [`Flat`]: the
-//! positions of all objects after their transforms, concatenated, with triangles re-indexed
-//! into the concatenation. Validation happens once, here, so that the algorithms can index
-//! without checks and never see a NaN.
+//! Everything downstream (weld, faces, smoothing, report, reference) works on [`Flat`]: the
+//! positions of all objects after their transforms, concatenated, so that vertex `v` of the
+//! model is `vertex_start[o] + i`. Validation happens once, here, so that the algorithms can
+//! index without checks and never see a NaN.
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::{MAX_ELEMENTS, MeshError, Model, Object};
 
-/// The model in model space, concatenated.
+/// The model's positions in model space, concatenated, and where each object starts.
+///
+/// UVs and triangles stay in the [`Model`]; `triangles` and `uvs` build concatenated copies for
+/// the few users that want them (the reference, MikkTSpace).
 pub(crate) struct Flat {
     /// Positions after each object's transform.
     pub positions: Vec<Vec3>,
-    /// UVs (zero for objects without UVs; see `has_uvs`).
-    pub uvs: Vec<Vec2>,
-    /// Triangles indexing `positions`.
-    pub triangles: Vec<[u32; 3]>,
     /// Per object: first vertex; one extra entry at the end.
     pub vertex_start: Vec<u32>,
     /// Per object: first triangle; one extra entry at the end.
     pub triangle_start: Vec<u32>,
-    /// Per object: whether it has UVs.
-    pub has_uvs: Vec<bool>,
     /// Per object: linear part of the transform (`None` for the identity).
     pub linear: Vec<Option<Mat3>>,
 }
 
 impl Flat {
-    /// Per triangle, the object it belongs to.
-    pub fn triangle_objects(&self) -> Vec<u32> {
-        let mut out = Vec::with_capacity(self.triangles.len());
-        for o in 0..self.has_uvs.len() {
-            let n = (self.triangle_start[o + 1] - self.triangle_start[o]) as usize;
-            out.extend(std::iter::repeat_n(o as u32, n));
+    /// The object that triangle `t` (an index into the concatenation) belongs to.
+    pub fn object_of_triangle(&self, t: usize) -> usize {
+        // The last object starting at or before `t`: empty objects before it start there too.
+        self.triangle_start.partition_point(|&s| s as usize <= t) - 1
+    }
+
+    /// The three model-space positions and (if the object has them) UVs of triangle `t` of
+    /// object `o`, and its vertices as indices into the concatenation.
+    pub fn corners(&self, model: &Model, o: usize, t: usize) -> Corners {
+        let object = &model.objects[o];
+        let tri = object.triangles[t];
+        let base = self.vertex_start[o];
+        let vertices = tri.map(|i| base + i);
+        Corners {
+            vertices,
+            positions: vertices.map(|v| self.positions[v as usize]),
+            uvs: object.uvs.as_ref().map(|uv| tri.map(|i| uv[i as usize])),
+        }
+    }
+
+    /// Every triangle, indexing the concatenated positions.
+    pub fn triangles(&self, model: &Model) -> Vec<[u32; 3]> {
+        let mut out = Vec::with_capacity(*self.triangle_start.last().unwrap_or(&0) as usize);
+        for (o, object) in model.objects.iter().enumerate() {
+            let base = self.vertex_start[o];
+            out.extend(object.triangles.iter().map(|t| t.map(|i| i + base)));
         }
         out
     }
 
-    /// Per vertex, the object it belongs to.
-    pub fn vertex_objects(&self) -> Vec<u32> {
+    /// Every vertex's UV, zero for objects without UVs.
+    pub fn uvs(&self, model: &Model) -> Vec<Vec2> {
         let mut out = Vec::with_capacity(self.positions.len());
-        for o in 0..self.has_uvs.len() {
-            let n = (self.vertex_start[o + 1] - self.vertex_start[o]) as usize;
-            out.extend(std::iter::repeat_n(o as u32, n));
+        for object in &model.objects {
+            match &object.uvs {
+                Some(uvs) => out.extend_from_slice(uvs),
+                None => out.extend(std::iter::repeat_n(Vec2::ZERO, object.positions.len())),
+            }
         }
         out
     }
+}
+
+/// One triangle, gathered: see [`Flat::corners`].
+pub(crate) struct Corners {
+    pub vertices: [u32; 3],
+    pub positions: [Vec3; 3],
+    pub uvs: Option<[Vec2; 3]>,
 }
 
 fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
@@ -151,63 +177,39 @@ pub(crate) fn flatten(model: &Model) -> Result<Flat, MeshError> {
     triangle_start.push(t);
 
     let mut positions = vec![Vec3::ZERO; vertices];
-    let mut uvs = vec![Vec2::ZERO; vertices];
-    let mut triangles = vec![[0u32; 3]; corners / 3];
-    // Split the output arrays at object boundaries so objects fill them in parallel.
-    let mut pos_parts = Vec::with_capacity(model.objects.len());
-    let mut uv_parts = Vec::with_capacity(model.objects.len());
-    let mut tri_parts = Vec::with_capacity(model.objects.len());
-    {
-        let (mut p, mut u, mut tr) = (&mut positions[..], &mut uvs[..], &mut triangles[..]);
-        for o in &model.objects {
-            let (a, rest) = p.split_at_mut(o.positions.len());
-            pos_parts.push(a);
-            p = rest;
-            let (a, rest) = u.split_at_mut(o.positions.len());
-            uv_parts.push(a);
-            u = rest;
-            let (a, rest) = tr.split_at_mut(o.triangles.len());
-            tri_parts.push(a);
-            tr = rest;
-        }
+    // Split the output at object boundaries so objects fill it in parallel.
+    let mut parts = Vec::with_capacity(model.objects.len());
+    let mut rest = &mut positions[..];
+    for o in &model.objects {
+        let (part, tail) = rest.split_at_mut(o.positions.len());
+        parts.push(part);
+        rest = tail;
     }
-    pos_parts.into_par_iter().zip(uv_parts).zip(tri_parts).enumerate().try_for_each(
-        |(i, ((pos, uv), tri))| {
-            let object = &model.objects[i];
-            match transforms[i] {
-                Some(m) => {
-                    for (dst, &src) in pos.iter_mut().zip(&object.positions) {
-                        *dst = m.transform_point3(src);
-                    }
+    parts.into_par_iter().enumerate().try_for_each(|(i, pos)| {
+        let object = &model.objects[i];
+        match transforms[i] {
+            Some(m) => {
+                for (dst, &src) in pos.iter_mut().zip(&object.positions) {
+                    *dst = m.transform_point3(src);
                 }
-                None => pos.copy_from_slice(&object.positions),
             }
-            if let Some((vertex, p)) = pos.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-                return Err(MeshError::NonFinitePosition {
-                    object: i,
-                    name: object.name.clone(),
-                    vertex,
-                    value: p.to_array(),
-                });
-            }
-            if let Some(src) = &object.uvs {
-                uv.copy_from_slice(src);
-            }
-            let base = vertex_start[i];
-            for (dst, src) in tri.iter_mut().zip(&object.triangles) {
-                *dst = src.map(|k| k + base);
-            }
-            Ok(())
-        },
-    )?;
+            None => pos.copy_from_slice(&object.positions),
+        }
+        match pos.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+            Some((vertex, p)) => Err(MeshError::NonFinitePosition {
+                object: i,
+                name: object.name.clone(),
+                vertex,
+                value: p.to_array(),
+            }),
+            None => Ok(()),
+        }
+    })?;
 
     Ok(Flat {
         positions,
-        uvs,
-        triangles,
         vertex_start,
         triangle_start,
-        has_uvs: model.objects.iter().map(|o| o.uvs.is_some()).collect(),
         linear: transforms.iter().map(|m| m.map(Mat3::from_mat4)).collect(),
     })
 }

@@ -8,21 +8,29 @@
 //! # Algorithm
 //!
 //! With a tolerance `tol > 0`, positions are quantised into cubic cells of side
-//! `cell >= tol`. Two positions within `tol` of each other lie in the same cell or in cells
-//! adjacent along the axes on which at least one of them is within `tol` of a cell face, so
-//! each position is compared with the positions of its own cell and, only when it is that close
-//! to a face, with those of the neighbouring cells on that side. Nothing within tolerance is
-//! missed because it fell into another cell. The cells are found by sorting `(cell, index)`
-//! pairs (in parallel), which is deterministic; pairs within tolerance are joined with a
-//! union-find whose representative is the smallest index, so the ids do not depend on the
-//! number of threads. Welding is transitive: a chain of positions each within `tol` of the
-//! next becomes one id (with the default tolerance of 1e-6 of the bounding-box diagonal, such
-//! chains do not occur in real models).
+//! `cell >= tol` (64 tolerances, unless the model is so large that 2^20 cells per axis need
+//! more). Each position is entered under its own cell and, when it lies within `tol` of a cell
+//! face, also under the neighbouring cells across that face (and the edge and corner between
+//! two or three such faces). Two positions within `tol` of each other then always share a
+//! cell: the second one's own, which the first is within `tol` of. So comparing the positions
+//! that share a cell finds every pair; nothing within tolerance is missed because it fell into
+//! another cell, and no neighbour lookups are needed. With cells 64 tolerances wide, about
+//! one position in ten has a second entry.
 //!
-//! With `tol == 0`, positions weld only when their bits are equal, with `-0.0 == 0.0`.
+//! The entries are `hash(cell) << 32 | index` in one `u64`, sorted in parallel; a run of equal
+//! hashes holds the positions of one cell (a rare hash collision merges two cells: more
+//! comparisons, never a wrong weld, since every pair is compared by distance). Within a run,
+//! copies of one position (the usual content: a vertex of several objects) are compared once.
+//! Pairs within tolerance are joined with a union-find whose root is the smallest index, so
+//! the ids do not depend on the number of threads. Welding is transitive: a chain of
+//! positions each within `tol` of the next becomes one id (with the default tolerance of 1e-6
+//! of the bounding-box diagonal, such chains do not occur in real models).
 //!
-//! Expected cost: O(n log n) for the sort of n positions (a radix-like parallel sort in
-//! practice), O(n) for the rest.
+//! With `tol == 0`, the entries are hashes of the positions' bits (with `-0.0 == 0.0`), and
+//! positions weld only when their bits are equal.
+//!
+//! Cost: the parallel sort of about 1.1 n entries, then O(n) (O(k d) for a cell of k
+//! positions of which d are distinct: d = 1 for copies of a point).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -79,15 +87,25 @@ impl Weld {
     }
 }
 
+/// Moves every position onto its root's (see [`roots`]), so that geometry computed afterwards
+/// sees welded positions as one point: a sliver between two positions closer than the
+/// tolerance becomes a degenerate triangle, not a face with a random normal.
+pub(crate) fn snap_to_roots(positions: &mut [Vec3], roots: &[u32]) {
+    for (v, &r) in roots.iter().enumerate() {
+        // The root is the smallest index of its set, its own root: already final here.
+        positions[v] = positions[r as usize];
+    }
+}
+
+/// Whether two positions have equal bits (with `-0.0 == 0.0`).
+pub(crate) fn same_bits(a: Vec3, b: Vec3) -> bool {
+    exact_key(a) == exact_key(b)
+}
+
 /// The bits of a position with `-0.0` mapped to `0.0`.
 fn exact_key(p: Vec3) -> [u32; 3] {
     // Adding 0.0 turns -0.0 into +0.0 and leaves every other value unchanged.
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
-}
-
-fn pack_exact(p: Vec3) -> u128 {
-    let [x, y, z] = exact_key(p);
-    (u128::from(x) << 64) | (u128::from(y) << 32) | u128::from(z)
 }
 
 /// Welds `positions` with an absolute `tolerance` (`0.0`: exact bits).
@@ -96,16 +114,18 @@ fn pack_exact(p: Vec3) -> u128 {
 /// tolerance is treated as `0.0`.
 #[must_use]
 pub fn weld(positions: &[Vec3], tolerance: f32) -> Weld {
-    let n = positions.len();
-    if n == 0 {
-        return Weld { ids: Vec::new(), count: 0 };
-    }
-    let parent = if tolerance > 0.0 && tolerance.is_finite() {
+    compact(roots(positions, tolerance))
+}
+
+/// For each position, the smallest index of its weld set: the form the pipeline works with
+/// (a position's *root* doubles as its id, and the root's slot in per-vertex arrays holds what
+/// belongs to the whole position). See [`weld`].
+pub(crate) fn roots(positions: &[Vec3], tolerance: f32) -> Vec<u32> {
+    if tolerance > 0.0 && tolerance.is_finite() {
         weld_tolerant(positions, tolerance)
     } else {
         weld_exact(positions)
-    };
-    compact(parent)
+    }
 }
 
 /// Numbers the union-find roots in order of first appearance. `parent[i] <= i`, and roots are
@@ -125,44 +145,97 @@ fn compact(mut parent: Vec<u32>) -> Weld {
     Weld { ids: parent, count: count as usize }
 }
 
-fn weld_exact(positions: &[Vec3]) -> Vec<u32> {
-    let mut keyed: Vec<(u128, u32)> =
-        positions.par_iter().enumerate().map(|(i, &p)| (pack_exact(p), i as u32)).collect();
-    keyed.par_sort_unstable();
-    let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
-    for run in keyed.chunk_by(|a, b| a.0 == b.0) {
-        let root = run[0].1; // smallest index: the pairs are sorted by index within a key
-        for &(_, i) in &run[1..] {
-            parent[i as usize] = root;
-        }
+/// A 32-bit hash of a 64-bit key (Fibonacci hashing). Equal keys give equal hashes; the few
+/// unequal keys that collide only cost a comparison.
+fn hash(key: u64) -> u64 {
+    key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32
+}
+
+/// How two positions relate.
+#[derive(PartialEq)]
+enum Relation {
+    Apart,
+    /// Within the tolerance.
+    Near,
+    /// Bit-equal (with `-0.0 == 0.0`).
+    Identical,
+}
+
+/// Sorts `entries` (`hash << 32 | index`) and joins, within every run of equal hashes, the
+/// indices that are [`Relation::Near`] or [`Relation::Identical`]. Returns the union-find
+/// forest, flattened: every entry is the smallest index of its set.
+fn join_runs(
+    n: usize,
+    mut entries: Vec<u64>,
+    relate: impl Fn(u32, u32) -> Relation + Sync,
+) -> Vec<u32> {
+    entries.par_sort_unstable();
+    let pairs: Vec<(u32, u32)> = entries
+        .par_chunk_by(|a, b| a >> 32 == b >> 32)
+        .filter(|run| run.len() > 1)
+        .flat_map_iter(|run| {
+            let mut out = Vec::new();
+            // A position bit-equal to an earlier one (the usual case: copies of a boundary
+            // vertex) is joined to it and compared no further: it has the same neighbours. So
+            // a run of k copies of one point costs O(k), not O(k^2).
+            let mut distinct: Vec<u32> = Vec::new();
+            for &e in run {
+                let i = e as u32;
+                let mut copy = false;
+                for &j in &distinct {
+                    match relate(j, i) {
+                        Relation::Apart => {}
+                        Relation::Near => out.push((j, i)),
+                        Relation::Identical => {
+                            out.push((j, i));
+                            copy = true;
+                            break;
+                        }
+                    }
+                }
+                if !copy {
+                    distinct.push(i);
+                }
+            }
+            out
+        })
+        .collect();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    for (a, b) in pairs {
+        union(&mut parent, a, b);
+    }
+    // Every entry points at its root: `parent[i] <= i`, so one forward pass suffices.
+    for i in 0..parent.len() {
+        parent[i] = parent[parent[i] as usize];
     }
     parent
 }
 
-/// Cells are at least this many tolerances wide: few positions lie near a cell face, so few
-/// need a neighbour check, while a cell still holds about one position of a real mesh.
-const CELL_TOLERANCES: f32 = 16.0;
+fn weld_exact(positions: &[Vec3]) -> Vec<u32> {
+    let entries: Vec<u64> = positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let [x, y, z] = exact_key(p).map(u64::from);
+            (hash(((x << 32) | y).wrapping_mul(0xD6E8_FEB8_6659_FD93) ^ z) << 32) | i as u64
+        })
+        .collect();
+    join_runs(positions.len(), entries, |i, j| {
+        if exact_key(positions[i as usize]) == exact_key(positions[j as usize]) {
+            Relation::Identical
+        } else {
+            Relation::Apart
+        }
+    })
+}
+
+/// Cells are at least this many tolerances wide: few positions lie within a tolerance of a
+/// cell face (about 3% per axis), while a cell of a real mesh still holds about one position.
+const CELL_TOLERANCES: f32 = 64.0;
 /// Cell coordinates use 21 bits per axis.
 const AXIS_CELLS: f32 = (1u32 << 20) as f32;
 
-struct Grid {
-    origin: Vec3,
-    inv_cell: f32,
-    cell: f32,
-}
-
-impl Grid {
-    fn cell_of(&self, p: Vec3) -> [u32; 3] {
-        let c = ((p - self.origin) * self.inv_cell).floor();
-        [c.x as u32, c.y as u32, c.z as u32]
-    }
-
-    fn key(c: [u32; 3]) -> u64 {
-        (u64::from(c[0]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[2])
-    }
-}
-
-/// The axis-aligned bounds of `positions` (`min > max` for none), in parallel.
+/// The bounds of `positions` (`min > max` for none), in parallel.
 pub(crate) fn bounds(positions: &[Vec3]) -> (Vec3, Vec3) {
     let empty = || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     positions
@@ -171,93 +244,68 @@ pub(crate) fn bounds(positions: &[Vec3]) -> (Vec3, Vec3) {
         .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
+/// Every position is entered under its own cell and, when it lies within the tolerance of a
+/// cell face, under the neighbouring cells across that face (and edge and corner). Two
+/// positions `p`, `q` within the tolerance then share at least one cell: `q`'s own, since `p`
+/// is within the tolerance of it. So comparing within cells finds every pair, and no cell
+/// lookups are needed.
 fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
     let (min, max) = bounds(positions);
     let extent = (max - min).max_element();
     // Cells at least `tol` wide, and few enough per axis to fit 21 bits (one cell of margin).
     let cell = (tol * CELL_TOLERANCES).max(extent / (AXIS_CELLS - 2.0)).max(f32::MIN_POSITIVE);
-    let grid = Grid { origin: min - Vec3::splat(cell), inv_cell: 1.0 / cell, cell };
+    let origin = min - Vec3::splat(cell);
+    let inv_cell = 1.0 / cell;
+    // A little more than `tol`, in cells, so rounding in the cell arithmetic never hides a pair.
+    let reach = tol * 1.01 * inv_cell;
+    let key =
+        |c: [u32; 3]| hash((u64::from(c[0]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[2]));
 
-    let mut keyed: Vec<(u64, u32)> = positions
+    let entries: Vec<u64> = positions
         .par_iter()
         .enumerate()
-        .map(|(i, &p)| (Grid::key(grid.cell_of(p)), i as u32))
-        .collect();
-    keyed.par_sort_unstable();
-
-    // Pairs within tolerance, found in parallel over chunks of the sorted list.
-    let tol2 = tol * tol;
-    // A little more than `tol`, so that rounding in the cell arithmetic never hides a pair.
-    let reach = tol * 1.01;
-    let cell_range = |key: u64| -> &[(u64, u32)] {
-        let start = keyed.partition_point(|e| e.0 < key);
-        let end = start + keyed[start..].partition_point(|e| e.0 == key);
-        &keyed[start..end]
-    };
-    let pairs: Vec<(u32, u32)> = keyed
-        .par_chunk_by(|a, b| a.0 == b.0)
-        .flat_map_iter(|run| {
-            let mut out = Vec::new();
-            for (k, &(_, i)) in run.iter().enumerate() {
-                let p = positions[i as usize];
-                for &(_, j) in &run[k + 1..] {
-                    if positions[j as usize].distance_squared(p) <= tol2 {
-                        out.push((i, j));
-                    }
+        .flat_map_iter(|(i, &p)| {
+            // Non-negative (the origin is a cell below the minimum): `as` truncates = floor.
+            let f = (p - origin) * inv_cell;
+            let c = [f.x as u32, f.y as u32, f.z as u32];
+            let local = f - Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+            let side = |l: f32| -> i32 {
+                if l <= reach {
+                    -1
+                } else if 1.0 - l <= reach {
+                    1
+                } else {
+                    0
                 }
-                // Neighbour cells, only on the sides where p is within tol of the cell face.
-                let c = grid.cell_of(p);
-                let local = (p - grid.origin) * grid.inv_cell - Vec3::from(c.map(|v| v as f32));
-                let near = |f: f32| -> [i32; 2] {
-                    let lo = if f * grid.cell <= reach { -1 } else { 0 };
-                    let hi = if (1.0 - f) * grid.cell <= reach { 1 } else { 0 };
-                    [lo, hi]
-                };
-                let [xl, xh] = near(local.x);
-                let [yl, yh] = near(local.y);
-                let [zl, zh] = near(local.z);
-                if xl == 0 && xh == 0 && yl == 0 && yh == 0 && zl == 0 && zh == 0 {
+            };
+            let s = [side(local.x), side(local.y), side(local.z)];
+            // The own cell, then every combination of the near sides (up to 7 more).
+            let mut out = [0u64; 8];
+            let mut n = 0;
+            for mask in 0..8u32 {
+                if (0..3).any(|a| mask & (1 << a) != 0 && s[a] == 0) {
                     continue;
                 }
-                for dx in xl..=xh {
-                    for dy in yl..=yh {
-                        for dz in zl..=zh {
-                            if dx == 0 && dy == 0 && dz == 0 {
-                                continue;
-                            }
-                            let nc = [
-                                c[0].wrapping_add_signed(dx),
-                                c[1].wrapping_add_signed(dy),
-                                c[2].wrapping_add_signed(dz),
-                            ];
-                            let key = Grid::key(nc);
-                            // Each unordered pair of cells is visited from the smaller key.
-                            if key < Grid::key(c) {
-                                continue;
-                            }
-                            for &(_, j) in cell_range(key) {
-                                if positions[j as usize].distance_squared(p) <= tol2 {
-                                    out.push((i, j));
-                                }
-                            }
-                        }
-                    }
-                }
+                let nc: [u32; 3] = std::array::from_fn(|a| {
+                    if mask & (1 << a) != 0 { c[a].wrapping_add_signed(s[a]) } else { c[a] }
+                });
+                out[n] = (key(nc) << 32) | i as u64;
+                n += 1;
             }
-            out
+            out.into_iter().take(n)
         })
         .collect();
-
-    let mut parent: Vec<u32> = (0..positions.len() as u32).collect();
-    for (a, b) in pairs {
-        union(&mut parent, a, b);
-    }
-    // Flatten so that every entry points at its root (the smallest index of its set).
-    for i in 0..parent.len() {
-        let p = parent[i];
-        parent[i] = parent[p as usize];
-    }
-    parent
+    let tol2 = tol * tol;
+    join_runs(positions.len(), entries, |i, j| {
+        let (p, q) = (positions[i as usize], positions[j as usize]);
+        if exact_key(p) == exact_key(q) {
+            Relation::Identical
+        } else if p.distance_squared(q) <= tol2 {
+            Relation::Near
+        } else {
+            Relation::Apart
+        }
+    })
 }
 
 /// The root of `x`'s set in a union-find forest, halving paths on the way.

@@ -1,0 +1,495 @@
+//! Smoothing across welded positions: one pass over the triangles that settles nearly every
+//! position, and the hand-over of the rest to the grouping of [`crate::group`].
+//!
+//! Inside a smooth, consistently mapped surface, every face around a position belongs to one
+//! smoothing group, and the position's frame is the weighted sum of its faces' frames. That
+//! sum is built the way fast normal generators build it: each triangle adds its weighted
+//! normal, tangent and bitangent to its three vertices (in triangle order, one object per
+//! task, so no two tasks touch one vertex); then the sums of the vertices welded into one
+//! position are added into the position's *root* (its smallest vertex index) in vertex order.
+//! No per-face record and no corner list is kept: memory is a 36-byte slot, a 32-byte cone
+//! (freed once the positions are settled) and a flag byte per vertex.
+//!
+//! A position takes this shortcut only when the grouping would make one group of it anyway:
+//! - no degenerate triangle touches it, the normal sum does not vanish;
+//! - with tangents: some face with usable UVs touches it, and (when mirrored UVs are split)
+//!   not faces of both handednesses;
+//! - all its faces' normals lie in a cone of half the crease angle, and all its usable faces'
+//!   tangents in a cone of half the tangent angle. Two faces in one such cone are within the
+//!   angle of each other, so the crease and tangent-angle relations join them all.
+//!
+//! The cones are found in the same pass: each vertex's cone is centred on its first face's
+//! normal (tangent) and widened to take in every later face; where several vertices are welded
+//! into one position, the root's cone is widened to take in theirs (the angle between the axes
+//! plus the other cone's half-angle). A cone centred on the first face can be up to twice as
+//! wide as needed; a position that misses for that reason only takes the slower path.
+//!
+//! Faces without usable UVs (degenerate UVs, or an object without UVs) add their normal but no
+//! tangent: in the grouping they form a tangent group whose tangent is the sum over the usable
+//! faces, the same frame. Every other position (a crease, a mirror line, a pole, a degenerate
+//! triangle) is *complex*: its corners are gathered, sorted by position, and grouped as in
+//! [`crate::group::group_position`], with the faces computed again for just those corners.
+//!
+//! Everything is deterministic: sums run in triangle order within an object and in vertex
+//! order across a position; the complex flag only ever goes from clear to set.
+
+use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV};
+use crate::frame::finish;
+use crate::group::{self, Frame, Rules, Scratch, weight};
+use crate::validate::Flat;
+use crate::{Model, VAxis};
+
+/// A triangle uses this vertex (per vertex, not merged into the root).
+const USED: u8 = 1;
+/// A triangle touches the position.
+const HAS_FACE: u8 = 2;
+/// A degenerate triangle touches the position.
+const HAS_DEGENERATE: u8 = 4;
+/// A right-handed face with usable UVs touches the position.
+const HAS_RIGHT: u8 = 8;
+/// A mirrored face with usable UVs touches the position.
+const HAS_MIRRORED: u8 = 16;
+/// A face of an object with UVs, whose UVs are degenerate, touches the position.
+const HAS_BAD_UV: u8 = 32;
+/// The position needs the grouping.
+const COMPLEX: u8 = 64;
+/// The vertex's cone has a tangent axis (per vertex; merged as described in [`merge`]).
+const TANGENT_AXIS: u8 = 128;
+
+/// Per vertex: the sums of its corners' weighted face frames. At the root of a position that
+/// is not complex, after [`finish_positions`], the position's frame instead: `n` the normal,
+/// `t` the tangent, `b.x` the handedness.
+#[derive(Clone, Copy, Default)]
+struct Slot {
+    n: Vec3,
+    t: Vec3,
+    b: Vec3,
+}
+
+/// Per vertex: the cones that hold its faces' normals and usable tangents. The axes are unit
+/// vectors (the first face's); `cos_n` is the cosine of the normal cone's half-angle.
+#[derive(Clone, Copy)]
+struct Cone {
+    n: Vec3,
+    t: Vec3,
+    cos_n: f32,
+    cos_t: f32,
+}
+
+impl Default for Cone {
+    fn default() -> Self {
+        Self { n: Vec3::ZERO, t: Vec3::ZERO, cos_n: 1.0, cos_t: 1.0 }
+    }
+}
+
+/// Widens a cone `(axis, cos)` to take in the cone `(other, other_cos)`: the new half-angle is
+/// the larger of the old and the angle between the axes plus the other's half-angle.
+fn widen(axis: Vec3, cos: f32, other: Vec3, other_cos: f32) -> f32 {
+    let angle = |c: f32| c.clamp(-1.0, 1.0).acos();
+    let reach = angle(axis.dot(other)) + angle(other_cos);
+    cos.min(reach.min(std::f32::consts::PI).cos())
+}
+
+/// The smoothed frames of a model, in model space.
+pub(crate) struct Smooth {
+    /// Per vertex: its position's root.
+    roots: Vec<u32>,
+    slots: Vec<Slot>,
+    flags: Vec<AtomicU8>,
+    /// The corners of complex positions, ascending: `corner << 32 | group`.
+    pub complex: Vec<u64>,
+    /// Per group of a complex position, its frame.
+    pub frames: Vec<Frame>,
+}
+
+impl Smooth {
+    /// Whether a triangle uses vertex `v`.
+    pub fn is_used(&self, v: usize) -> bool {
+        self.flags[v].load(Relaxed) & USED != 0
+    }
+
+    /// The frame of every corner at vertex `v`, unless `v`'s position is complex.
+    pub fn simple_frame(&self, v: usize) -> Option<Frame> {
+        let r = self.roots[v] as usize;
+        if self.flags[r].load(Relaxed) & COMPLEX != 0 {
+            return None;
+        }
+        let s = &self.slots[r];
+        Some(Frame { normal: s.n, tangent: s.t.extend(s.b.x) })
+    }
+
+    /// The frame of corner `c` (`triangle * 3 + k`, at vertex `v`).
+    pub fn corner_frame(&self, c: u32, v: usize) -> Frame {
+        self.simple_frame(v).unwrap_or_else(|| {
+            let i = self.complex.partition_point(|&e| (e >> 32) < u64::from(c));
+            self.frames[self.complex[i] as u32 as usize]
+        })
+    }
+
+    /// The range of [`Self::complex`] holding the corners of triangles `triangles`.
+    pub fn complex_range(&self, triangles: std::ops::Range<u32>) -> std::ops::Range<usize> {
+        let at = |t: u32| self.complex.partition_point(|&e| (e >> 32) < u64::from(t) * 3);
+        at(triangles.start)..at(triangles.end)
+    }
+}
+
+impl Rules {
+    /// The face of a triangle, with the corner angles only where the weighting needs them.
+    pub(crate) fn face(&self, p: [Vec3; 3], uv: Option<[Vec2; 3]>, v_axis: VAxis) -> Face {
+        use crate::Weighting::{Angle, AngleArea};
+        match self.weighting {
+            Angle | AngleArea => crate::face::face(p, uv, v_axis),
+            _ => crate::face::face_without_angles(p, uv, v_axis),
+        }
+    }
+}
+
+/// Smooths the model. `roots` gives each vertex's position (see [`crate::weld`]); the
+/// positions in `flat` must be snapped onto their roots.
+pub(crate) fn smooth(model: &Model, flat: &Flat, roots: Vec<u32>, rules: Rules) -> Smooth {
+    smooth_with(model, flat, roots, rules, false)
+}
+
+/// [`smooth`], optionally sending every position through the grouping (for tests: both
+/// paths must agree).
+fn smooth_with(
+    model: &Model,
+    flat: &Flat,
+    roots: Vec<u32>,
+    rules: Rules,
+    all_complex: bool,
+) -> Smooth {
+    let n = flat.positions.len();
+    let mut slots = vec![Slot::default(); n];
+    let mut flags: Vec<AtomicU8> = (0..n).map(|_| AtomicU8::new(0)).collect();
+    let mut cones = vec![Cone::default(); n];
+    accumulate(model, flat, rules, &mut slots, &mut cones, &mut flags);
+    merge(&roots, &mut slots, &mut cones, &mut flags);
+    finish_positions(&roots, &mut slots, &cones, &mut flags, rules, all_complex);
+    drop(cones);
+    let (complex, frames) = group_complex(model, flat, &roots, &flags, rules);
+    Smooth { roots, slots, flags, complex, frames }
+}
+
+/// What a face tells its vertices.
+fn face_flags(f: &Face) -> u8 {
+    USED | HAS_FACE
+        | if f.is(DEGENERATE) {
+            HAS_DEGENERATE
+        } else if f.is(NO_UV) {
+            0
+        } else if f.is(DEGENERATE_UV) {
+            HAS_BAD_UV
+        } else if f.is(MIRRORED) {
+            HAS_MIRRORED
+        } else {
+            HAS_RIGHT
+        }
+}
+
+/// Adds every face's weighted frame to its three vertices, and widens their cones to take in
+/// the face; one object per task.
+fn accumulate(
+    model: &Model,
+    flat: &Flat,
+    rules: Rules,
+    slots: &mut [Slot],
+    cones: &mut [Cone],
+    flags: &mut [AtomicU8],
+) {
+    let mut parts = Vec::with_capacity(model.objects.len());
+    let (mut s, mut c, mut f) = (slots, cones, flags);
+    for object in &model.objects {
+        let n = object.positions.len();
+        let (a, rest_s) = s.split_at_mut(n);
+        let (b, rest_c) = c.split_at_mut(n);
+        let (d, rest_f) = f.split_at_mut(n);
+        parts.push((a, b, d));
+        (s, c, f) = (rest_s, rest_c, rest_f);
+    }
+    parts.into_par_iter().enumerate().for_each(|(o, (slots, cones, flags))| {
+        let object = &model.objects[o];
+        let positions = &flat.positions[flat.vertex_start[o] as usize..][..slots.len()];
+        let uvs = object.uvs.as_deref();
+        for tri in &object.triangles {
+            let p = tri.map(|i| positions[i as usize]);
+            let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
+            let face = rules.face(p, uv, model.v_axis);
+            let bits = face_flags(&face);
+            let degenerate = face.is(DEGENERATE);
+            let tangent = !face.is(DEGENERATE | DEGENERATE_UV);
+            for (k, &i) in tri.iter().enumerate() {
+                let i = i as usize;
+                let w = weight(rules.weighting, &face, k);
+                let s = &mut slots[i];
+                s.n += face.normal * w;
+                let flag = flags[i].get_mut();
+                let cone = &mut cones[i];
+                if !degenerate {
+                    if *flag & HAS_FACE == 0 || cone.n == Vec3::ZERO {
+                        cone.n = face.normal;
+                    } else {
+                        cone.cos_n = cone.cos_n.min(face.normal.dot(cone.n));
+                    }
+                }
+                if tangent {
+                    s.t += face.tangent * w;
+                    s.b += face.bitangent * w;
+                    if *flag & TANGENT_AXIS == 0 {
+                        cone.t = face.tangent;
+                        *flag |= TANGENT_AXIS;
+                    } else {
+                        cone.cos_t = cone.cos_t.min(face.tangent.dot(cone.t));
+                    }
+                }
+                *flag |= bits;
+            }
+        }
+    });
+}
+
+/// Adds the sums of every vertex into its root, in vertex order, and widens the root's cones
+/// to take in the vertex's.
+fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [AtomicU8]) {
+    for v in 0..roots.len() {
+        let r = roots[v] as usize;
+        if r == v {
+            continue;
+        }
+        let s = slots[v];
+        let root = &mut slots[r];
+        root.n += s.n;
+        root.t += s.t;
+        root.b += s.b;
+        let (bits, root_bits) = (*flags[v].get_mut(), *flags[r].get_mut());
+        let c = cones[v];
+        let rc = &mut cones[r];
+        if c.n != Vec3::ZERO {
+            if rc.n == Vec3::ZERO {
+                (rc.n, rc.cos_n) = (c.n, c.cos_n);
+            } else {
+                rc.cos_n = widen(rc.n, rc.cos_n, c.n, c.cos_n);
+            }
+        }
+        if bits & TANGENT_AXIS != 0 {
+            if root_bits & TANGENT_AXIS == 0 {
+                (rc.t, rc.cos_t) = (c.t, c.cos_t);
+            } else {
+                rc.cos_t = widen(rc.t, rc.cos_t, c.t, c.cos_t);
+            }
+        }
+        *flags[r].get_mut() |= bits & !USED;
+    }
+}
+
+/// Turns the sums at every root into the position's frame, or flags the position complex.
+fn finish_positions(
+    roots: &[u32],
+    slots: &mut [Slot],
+    cones: &[Cone],
+    flags: &mut [AtomicU8],
+    rules: Rules,
+    all_complex: bool,
+) {
+    let usable = HAS_RIGHT | HAS_MIRRORED;
+    let crease = rules.crease_half_cos.unwrap_or(-1.0);
+    let tangent_cone = rules.tangent_half_cos.filter(|_| rules.tangents).unwrap_or(-1.0);
+    slots.par_iter_mut().zip(flags.par_iter_mut()).enumerate().for_each(|(v, (s, f))| {
+        let f = f.get_mut();
+        if roots[v] as usize != v || *f & HAS_FACE == 0 {
+            return;
+        }
+        let cone = &cones[v];
+        let uv_faces = *f & (usable | HAS_BAD_UV) != 0;
+        let complex = all_complex
+            || *f & HAS_DEGENERATE != 0
+            || s.n == Vec3::ZERO
+            || cone.cos_n < crease
+            || (rules.tangents
+                && uv_faces
+                && (*f & usable == 0
+                    || (rules.split_mirrored && *f & usable == usable)
+                    || cone.cos_t < tangent_cone));
+        if complex {
+            *f |= COMPLEX;
+            return;
+        }
+        let (normal, tangent) = finish(s.n, Vec3::ZERO, s.t, s.b);
+        *s = Slot { n: normal, t: tangent.truncate(), b: Vec3::new(tangent.w, 0.0, 0.0) };
+    });
+}
+
+/// Corners of complex positions handled per parallel task (about).
+const BATCH: usize = 4096;
+
+/// Groups the corners of every complex position. Returns them ascending, each with its group
+/// (`corner << 32 | group`), and the groups' frames.
+fn group_complex(
+    model: &Model,
+    flat: &Flat,
+    roots: &[u32],
+    flags: &[AtomicU8],
+    rules: Rules,
+) -> (Vec<u64>, Vec<Frame>) {
+    let is_complex = |v: u32| flags[roots[v as usize] as usize].load(Relaxed) & COMPLEX != 0;
+    // `root << 32 | corner`, gathered per object and sorted: by position, then corner.
+    let mut entries: Vec<u64> = model
+        .objects
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(o, object)| {
+            let base = flat.vertex_start[o];
+            let first = u64::from(flat.triangle_start[o]) * 3;
+            let mut out = Vec::new();
+            for (c, &i) in object.triangles.as_flattened().iter().enumerate() {
+                if is_complex(base + i) {
+                    let root = u64::from(roots[(base + i) as usize]);
+                    out.push((root << 32) | (first + c as u64));
+                }
+            }
+            out
+        })
+        .collect();
+    if entries.is_empty() {
+        return (entries, Vec::new());
+    }
+    entries.par_sort_unstable();
+
+    // Batches of whole positions.
+    let mut batches = Vec::new();
+    let mut start = 0;
+    while start < entries.len() {
+        let mut end = (start + BATCH).min(entries.len());
+        while end < entries.len() && entries[end] >> 32 == entries[end - 1] >> 32 {
+            end += 1;
+        }
+        batches.push(start..end);
+        start = end;
+    }
+    let parts: Vec<(Vec<u32>, Vec<Frame>)> = batches
+        .into_par_iter()
+        .map_init(
+            || (Scratch::default(), Vec::new(), Vec::new()),
+            |(scratch, corners, faces), range| {
+                let mut groups = Vec::with_capacity(range.len());
+                let mut frames = Vec::new();
+                for run in entries[range].chunk_by(|a, b| a >> 32 == b >> 32) {
+                    corners.clear();
+                    corners.extend(run.iter().map(|&e| e as u32));
+                    faces.clear();
+                    faces.extend(corners.iter().map(|&c| {
+                        let t = c as usize / 3;
+                        let o = flat.object_of_triangle(t);
+                        let local = t - flat.triangle_start[o] as usize;
+                        let c = flat.corners(model, o, local);
+                        rules.face(c.positions, c.uvs, model.v_axis)
+                    }));
+                    group::group_position(corners, faces, rules, scratch, &mut frames);
+                    groups.extend_from_slice(&scratch.local_group);
+                }
+                (groups, frames)
+            },
+        )
+        .collect();
+
+    let mut frames = Vec::new();
+    let mut i = 0;
+    for (groups, part_frames) in parts {
+        let base = frames.len() as u64;
+        for g in groups {
+            let corner = entries[i] & 0xFFFF_FFFF;
+            entries[i] = (corner << 32) | (base + u64::from(g));
+            i += 1;
+        }
+        frames.extend(part_frames);
+    }
+    entries.par_sort_unstable();
+    (entries, frames)
+}
+
+/// The frame of a face on its own (flat shading).
+pub(crate) fn face_frame(f: &Face) -> Frame {
+    let (normal, tangent) = finish(f.normal, f.normal, f.tangent, f.bitangent);
+    Frame { normal, tangent }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+    use crate::{FixOptions, Object, validate, weld};
+
+    /// A wavy sheet with a sharp fold (a crease), mirrored UVs on its last quarter, and a
+    /// degenerate-UV strip, cut into two objects along a row (duplicated vertices).
+    fn sheet() -> Model {
+        let (nx, ny) = (24u32, 12u32);
+        let vertex = |i: u32, j: u32| {
+            let x = i as f32 * 0.25;
+            let fold = (x - 3.0).abs() * 1.6;
+            let p = Vec3::new(x, j as f32 * 0.25, 0.3 * (x * 1.3 + j as f32 * 0.4).sin() + fold);
+            let u = if i <= 18 { x } else { 9.0 - x };
+            let v = if j == 3 { 0.75 } else { j as f32 * 0.25 };
+            (p, Vec2::new(u, v))
+        };
+        let part = |rows: std::ops::Range<u32>| {
+            let (mut positions, mut uvs, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+            let h = rows.end - rows.start;
+            for j in rows.clone() {
+                for i in 0..=nx {
+                    let (p, uv) = vertex(i, j);
+                    positions.push(p);
+                    uvs.push(uv);
+                }
+            }
+            for j in 0..h - 1 {
+                for i in 0..nx {
+                    let a = j * (nx + 1) + i;
+                    let (b, c, d) = (a + 1, a + nx + 1, a + nx + 2);
+                    triangles.push([a, b, d]);
+                    triangles.push([a, d, c]);
+                }
+            }
+            Object::new(format!("rows {rows:?}"), positions, triangles).with_uvs(uvs)
+        };
+        Model::new(vec![part(0..7), part(6..ny)])
+    }
+
+    #[test]
+    fn the_shortcut_and_the_grouping_agree() {
+        let model = sheet();
+        // Without tangents, only the normal cones decide; with them, the tangent cones too.
+        for (options, tangents) in
+            [(FixOptions::DEFAULT, true), (FixOptions::DEFAULT, false), (FixOptions::PAPER, true)]
+        {
+            let mut flat = validate::flatten(&model).expect("valid");
+            let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
+            let roots = weld::roots(&flat.positions, tolerance);
+            weld::snap_to_roots(&mut flat.positions, &roots);
+            let rules = Rules::new(&options, tangents);
+            let fast = smooth_with(&model, &flat, roots.clone(), rules, false);
+            let slow = smooth_with(&model, &flat, roots, rules, true);
+            // The sheet has both kinds of positions, so both paths run.
+            let corners = model.triangle_count() * 3;
+            assert!(!fast.complex.is_empty() && fast.complex.len() < corners / 2);
+            assert_eq!(slow.complex.len(), corners);
+            let mut c = 0;
+            for (o, object) in model.objects.iter().enumerate() {
+                for &i in object.triangles.as_flattened() {
+                    let v = (flat.vertex_start[o] + i) as usize;
+                    let (a, b) = (fast.corner_frame(c, v), slow.corner_frame(c, v));
+                    assert!(a.normal.abs_diff_eq(b.normal, 1e-5), "corner {c}: {a:?} {b:?}");
+                    // Without tangents, the frames' tangents are left to chance.
+                    let t_ok = !tangents || a.tangent.abs_diff_eq(b.tangent, 1e-5);
+                    assert!(t_ok, "corner {c}: {a:?} {b:?}");
+                    c += 1;
+                }
+            }
+        }
+    }
+}
