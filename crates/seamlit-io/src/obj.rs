@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 
 use seamlit_mesh::{Model, Object, VAxis};
 
+use crate::obj_parse::ReadError;
 use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
 };
@@ -31,12 +32,21 @@ use crate::{
 /// `options.strict` is set (a warning otherwise); [`IoError::TooManyElements`] past
 /// `options.max_elements`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let text = crate::read_text(path, options)?;
+    let file = std::fs::File::open(path).map_err(|e| IoError::io(path, e))?;
+    let size = file.metadata().map_err(|e| IoError::io(path, e))?.len();
+    if size > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: size,
+        });
+    }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let parsed = match crate::obj_parse::parse(&text, path) {
+    let parsed = match crate::obj_parse::read(file, path) {
         Ok(parsed) => parsed,
-        Err(Some(err)) => return Err(err),
-        Err(None) => {
+        Err(ReadError::Placed(err)) => return Err(err),
+        Err(ReadError::IndexOutOfRange) => {
+            let text = crate::read_text(path, options)?;
             return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
                 path: path.to_path_buf(),
                 reason: "a face index is out of range".to_owned(),

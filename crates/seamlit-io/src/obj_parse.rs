@@ -1,10 +1,12 @@
 //! The OBJ geometry parser: `v`, `vt`, `vn`, `f`, `o`, `g`, `usemtl`, `mtllib`, in parallel.
 //!
 //! tobj reads a 1M-triangle OBJ in about 2.4 s on the project's machine (one thread, a
-//! `String` per line, a hash lookup per face corner); this parser splits the text into chunks
-//! at line ends, parses the chunks in parallel (rayon), resolves face indices against the
-//! running counts, and builds the objects' vertex arrays in parallel. It follows tobj's rules
-//! exactly, and a test checks that it gives tobj's output on every shared OBJ model:
+//! `String` per line, a hash lookup per face corner). This parser reads the file in blocks of
+//! about a megabyte cut at line ends, on a thread of its own, while rayon parses the blocks
+//! already read (the text is never held whole, and the blocks' buffers are reused); then it
+//! resolves face indices against the running counts and builds the objects' vertex arrays in
+//! parallel. It follows tobj's rules exactly, and tests check that it gives tobj's output on
+//! every shared OBJ model and on generated ones:
 //!
 //! - `o` and `g` start a new object when the current one has faces, else rename it; `usemtl`
 //!   changing the material inside an object with faces starts a new object of the same name;
@@ -16,8 +18,11 @@
 //! Material libraries are read with tobj (see [`crate::obj`]).
 
 use std::collections::HashMap;
+use std::fs::File;
 use std::hash::{BuildHasherDefault, Hasher};
+use std::io::Read;
 use std::path::Path;
+use std::sync::mpsc;
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -27,12 +32,24 @@ use crate::IoError;
 /// "No `vt` / `vn` index" in a corner.
 const MISSING: u32 = u32::MAX;
 
-/// A triangle as three `[v, vt, vn]` global indices.
-type Triangle = [[u32; 3]; 3];
+/// An index found out of range while parsing (zero, or past `u32`).
+const INVALID: u32 = u32::MAX - 1;
+
+/// The size of the blocks the file is read and parsed in (each is cut at its last line end).
+const BLOCK: usize = 1 << 20;
+
+/// How many blocks the reader may read ahead of the parsers.
+const READ_AHEAD: usize = 4;
+
+/// A face corner as `[v, vt, vn]` zero-based indices (or [`MISSING`], [`INVALID`]).
+type Corner = [u32; 3];
+
+/// A run of an object's triangles: chunk, first and end triangle in it.
+type Segment = (usize, usize, usize);
 
 /// An object's part as split at `o`, `g` and `usemtl`: name, `usemtl` name in force,
 /// triangles, and whether a `usemtl` (rather than `o` / `g`) started it.
-type Part = (String, Option<String>, Vec<Triangle>, bool);
+type Part = (String, Option<String>, Vec<Segment>, bool);
 
 /// One object as parsed, before material resolution and conversion.
 #[derive(Debug)]
@@ -50,14 +67,6 @@ pub(crate) struct ParsedObject {
     pub mixed_normals: bool,
 }
 
-/// A face corner: `[v, vt, vn]`, each either an absolute zero-based index or, where
-/// `relative` has the slot's bit, an index relative to the chunk's first element.
-#[derive(Clone, Copy, Debug)]
-struct Corner {
-    index: [i64; 3],
-    relative: u8,
-}
-
 #[derive(Debug)]
 enum Event {
     Object(String),
@@ -65,51 +74,126 @@ enum Event {
     Library(String, usize),
 }
 
+/// What a block of lines holds.
 #[derive(Debug, Default)]
 struct Chunk {
     lines: usize,
     positions: Vec<Vec3>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
-    /// Three per triangle.
-    corners: Vec<Corner>,
+    /// A negative (relative) index is resolved later, from `relative`.
+    triangles: Vec<[Corner; 3]>,
+    /// Corners with a negative index: corner (three per triangle), slot, and the index counted from the chunk's
+    /// first element of that kind (negative where it refers to an earlier chunk).
+    relative: Vec<(usize, usize, i64)>,
     /// Events with the chunk-local triangle index they precede.
     events: Vec<(usize, Event)>,
 }
 
-/// The OBJ text's objects and, in order, its `mtllib` statements (name, line).
+/// The OBJ file's objects and, in order, its `mtllib` statements (name, line).
 pub(crate) struct Parsed {
     /// The objects' parts, in file order.
     objects: Vec<Part>,
     pub libraries: Vec<(String, usize)>,
+    chunks: Vec<Chunk>,
     positions: Vec<Vec3>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
 }
 
-/// Parses OBJ text. Index errors are reported by the caller's diagnostic pass; this returns
-/// `Err(None)` for them, `Err(Some(error))` for errors it can place itself.
-pub(crate) fn parse(text: &str, path: &Path) -> Result<Parsed, Option<IoError>> {
-    let chunks = split(text, 1 << 20);
-    let parsed: Vec<Result<Chunk, (usize, ChunkError)>> =
-        chunks.par_iter().map(|c| parse_chunk(c)).collect();
+/// Why [`read`] failed.
+pub(crate) enum ReadError {
+    /// An error placed in the file (syntax, a number that is not finite) or a read error.
+    Placed(IoError),
+    /// A face index out of range: the caller's diagnostic pass names the line.
+    IndexOutOfRange,
+}
+
+/// Reads and parses the OBJ file `file` (opened from `path`).
+pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
+    let (blocks, received) = mpsc::sync_channel::<(usize, Vec<u8>)>(READ_AHEAD);
+    let (give_back, free) = mpsc::channel::<Vec<u8>>();
+    let parsed: Vec<(usize, ChunkResult)> = std::thread::scope(|s| {
+        let reader = s.spawn(move || read_blocks(file, &blocks, &free));
+        let parsed = received
+            .into_iter()
+            .par_bridge()
+            .map(|(index, block)| {
+                let chunk = parse_chunk(&block);
+                // The reader may be gone (it stops at the end or at an error): nothing to do.
+                give_back.send(block).ok();
+                (index, chunk)
+            })
+            .collect();
+        reader.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)).map(|()| parsed)
+    })
+    .map_err(|e| ReadError::Placed(IoError::io(path, e)))?;
+    let mut parsed = parsed;
+    parsed.sort_unstable_by_key(|&(index, _)| index);
+
     let mut line_base = 0;
-    let mut done = Vec::with_capacity(parsed.len());
-    for result in parsed {
+    let mut chunks = Vec::with_capacity(parsed.len());
+    for (_, result) in parsed {
         match result {
             Ok(chunk) => {
                 line_base += chunk.lines;
-                done.push(chunk);
+                chunks.push(chunk);
             }
-            Err((line, error)) => return Err(Some(error.into_io(path, line_base + line))),
+            Err((line, error)) => {
+                return Err(ReadError::Placed(error.into_io(path, line_base + line)));
+            }
         }
     }
+    assemble(chunks)
+}
+
+/// Reads `file` in blocks cut after their last line end and sends them, numbered, to the
+/// parsers; buffers come back through `free` to be reused.
+fn read_blocks(
+    mut file: File,
+    blocks: &mpsc::SyncSender<(usize, Vec<u8>)>,
+    free: &mpsc::Receiver<Vec<u8>>,
+) -> std::io::Result<()> {
+    let mut carry: Vec<u8> = Vec::new();
+    for index in 0.. {
+        let mut block = free.try_recv().unwrap_or_else(|_| Vec::with_capacity(BLOCK + 4096));
+        block.clear();
+        block.extend_from_slice(&carry);
+        carry.clear();
+        let wanted = BLOCK as u64;
+        let got = (&mut file).take(wanted).read_to_end(&mut block)?;
+        let end = got < BLOCK;
+        if !end {
+            match block.iter().rposition(|&b| b == b'\n') {
+                Some(at) => {
+                    carry.extend_from_slice(&block[at + 1..]);
+                    block.truncate(at + 1);
+                }
+                // A line longer than the block: read on.
+                None => {
+                    carry = block;
+                    continue;
+                }
+            }
+        }
+        if (!block.is_empty() || index == 0) && blocks.send((index, block)).is_err() {
+            return Ok(());
+        }
+        if end {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// Resolves the chunks' face indices and splits the triangles into objects.
+fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     // Prefix sums of the element counts: where each chunk's elements start.
-    let mut bases = Vec::with_capacity(done.len());
+    let mut bases = Vec::with_capacity(chunks.len());
     let mut totals = [0usize; 3];
-    let mut line_bases = Vec::with_capacity(done.len());
+    let mut line_bases = Vec::with_capacity(chunks.len());
     let mut lines = 0;
-    for chunk in &done {
+    for chunk in &chunks {
         bases.push(totals);
         line_bases.push(lines);
         totals[0] += chunk.positions.len();
@@ -118,51 +202,44 @@ pub(crate) fn parse(text: &str, path: &Path) -> Result<Parsed, Option<IoError>> 
         lines += chunk.lines;
     }
     // Resolve every corner to global indices, in parallel; any out-of-range index fails.
-    let resolved: Vec<Option<Vec<[[u32; 3]; 3]>>> = done
-        .par_iter()
-        .zip(&bases)
-        .map(|(chunk, base)| {
-            chunk
-                .corners
-                .chunks_exact(3)
-                .map(|t| {
-                    let mut tri = [[0u32; 3]; 3];
-                    for (k, corner) in t.iter().enumerate() {
-                        for slot in 0..3 {
-                            let raw = corner.index[slot];
-                            if raw == i64::from(MISSING) {
-                                tri[k][slot] = MISSING;
-                                continue;
-                            }
-                            let global = if corner.relative & (1 << slot) != 0 {
-                                base[slot] as i64 + raw
-                            } else {
-                                raw
-                            };
-                            if global < 0 || global >= totals[slot] as i64 {
-                                return None;
-                            }
-                            tri[k][slot] = u32::try_from(global).ok()?;
-                        }
+    let resolved = chunks.par_iter_mut().zip(bases.par_iter()).all(|(chunk, base)| {
+        let in_range = chunk.triangles.as_flattened().iter().all(|corner| {
+            corner.iter().zip(totals).all(|(&index, total)| {
+                index == MISSING || (index != INVALID && (index as usize) < total)
+            })
+        });
+        in_range
+            && chunk.relative.iter().all(|&(at, slot, local)| {
+                let global = base[slot] as i64 + local;
+                match u32::try_from(global) {
+                    Ok(global) if (global as usize) < totals[slot] => {
+                        chunk.triangles.as_flattened_mut()[at][slot] = global;
+                        true
                     }
-                    Some(tri)
-                })
-                .collect()
-        })
-        .collect();
+                    _ => false,
+                }
+            })
+    });
+    if !resolved {
+        return Err(ReadError::IndexOutOfRange);
+    }
 
     // Split into objects, following the events in file order.
     let mut objects = Vec::new();
     let mut libraries = Vec::new();
     let mut name = "unnamed_object".to_owned();
     let mut material: Option<String> = None;
-    let mut current: Vec<[[u32; 3]; 3]> = Vec::new();
+    let mut current: Vec<Segment> = Vec::new();
     let mut by_usemtl = false;
-    for ((chunk, triangles), line_base) in done.iter_mut().zip(resolved).zip(line_bases) {
-        let Some(triangles) = triangles else { return Err(None) };
+    let add = |current: &mut Vec<Segment>, c: usize, start: usize, end: usize| {
+        if end > start {
+            current.push((c, start, end));
+        }
+    };
+    for (c, (chunk, line_base)) in chunks.iter_mut().zip(line_bases).enumerate() {
         let mut next = 0;
         for (at, event) in std::mem::take(&mut chunk.events) {
-            current.extend_from_slice(&triangles[next..at]);
+            add(&mut current, c, next, at);
             next = at;
             match event {
                 Event::Object(new_name) => {
@@ -192,7 +269,7 @@ pub(crate) fn parse(text: &str, path: &Path) -> Result<Parsed, Option<IoError>> 
                 Event::Library(library, line) => libraries.push((library, line_base + line)),
             }
         }
-        current.extend_from_slice(&triangles[next..]);
+        add(&mut current, c, next, chunk.triangles.len());
     }
     if !current.is_empty() {
         objects.push((name, material, current, by_usemtl));
@@ -200,12 +277,12 @@ pub(crate) fn parse(text: &str, path: &Path) -> Result<Parsed, Option<IoError>> 
     let mut positions = Vec::with_capacity(totals[0]);
     let mut uvs = Vec::with_capacity(totals[1]);
     let mut normals = Vec::with_capacity(totals[2]);
-    for chunk in done {
-        positions.extend(chunk.positions);
-        uvs.extend(chunk.uvs);
-        normals.extend(chunk.normals);
+    for chunk in &mut chunks {
+        positions.extend(std::mem::take(&mut chunk.positions));
+        uvs.extend(std::mem::take(&mut chunk.uvs));
+        normals.extend(std::mem::take(&mut chunk.normals));
     }
-    Ok(Parsed { objects, libraries, positions, uvs, normals })
+    Ok(Parsed { objects, libraries, chunks, positions, uvs, normals })
 }
 
 impl Parsed {
@@ -217,39 +294,26 @@ impl Parsed {
     ) -> Vec<ParsedObject> {
         // tobj splits an object at `usemtl` only where the resolved material changes: merge
         // such a part back when its material resolves like the previous part's.
-        let mut merged: Vec<(String, Option<usize>, Vec<Triangle>)> =
+        let mut merged: Vec<(String, Option<usize>, Vec<Segment>)> =
             Vec::with_capacity(self.objects.len());
-        for (name, material_name, triangles, by_usemtl) in self.objects {
+        for (name, material_name, segments, by_usemtl) in self.objects {
             let resolved = material_name.as_deref().and_then(&material);
             match merged.last_mut() {
-                Some(last) if by_usemtl && last.1 == resolved => last.2.extend(triangles),
-                _ => merged.push((name, resolved, triangles)),
+                Some(last) if by_usemtl && last.1 == resolved => last.2.extend(segments),
+                _ => merged.push((name, resolved, segments)),
             }
         }
-        let (positions, uvs, normals) = (&self.positions, &self.uvs, &self.normals);
+        let (chunks, positions, uvs, normals) =
+            (&self.chunks, &self.positions, &self.uvs, &self.normals);
         merged
             .into_par_iter()
-            .map(|(name, material, triangles)| {
-                let mut map: HashMap<u128, u32, BuildHasherDefault<KeyHasher>> =
-                    HashMap::with_capacity_and_hasher(
-                        triangles.len(),
-                        BuildHasherDefault::default(),
-                    );
-                let mut keys: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
-                let indices: Vec<[u32; 3]> = triangles
-                    .iter()
-                    .map(|t| {
-                        t.map(|key| {
-                            let packed = u128::from(key[0])
-                                | u128::from(key[1]) << 32
-                                | u128::from(key[2]) << 64;
-                            *map.entry(packed).or_insert_with(|| {
-                                keys.push(key);
-                                (keys.len() - 1) as u32
-                            })
-                        })
-                    })
-                    .collect();
+            .map(|(name, material, segments)| {
+                let triangles = || {
+                    segments.iter().flat_map(|&(c, start, end)| &chunks[c].triangles[start..end])
+                };
+                let count: usize = segments.iter().map(|&(_, start, end)| end - start).sum();
+                let (keys, triangles) = dense_dedup(triangles(), count)
+                    .unwrap_or_else(|| hashed_dedup(triangles(), count));
                 let with_vt = keys.iter().filter(|k| k[1] != MISSING).count();
                 let with_vn = keys.iter().filter(|k| k[2] != MISSING).count();
                 let all = keys.len();
@@ -261,13 +325,107 @@ impl Parsed {
                         .then(|| keys.iter().map(|k| uvs[k[1] as usize]).collect()),
                     normals: (with_vn == all && all > 0)
                         .then(|| keys.iter().map(|k| normals[k[2] as usize]).collect()),
-                    triangles: indices,
+                    triangles,
                     mixed_uvs: with_vt != 0 && with_vt != all,
                     mixed_normals: with_vn != 0 && with_vn != all,
                 }
             })
             .collect()
     }
+}
+
+/// The distinct corners in order of first use, and the triangles as indices among them.
+type Dedup = (Vec<Corner>, Vec<[u32; 3]>);
+
+/// Deduplicates the corners of `triangles` (`count` of them) with a table indexed by
+/// position holding the first vertex at that position (its id, `vt` and `vn`: one memory
+/// access for the common case of one vertex per position) and a chain of the others; `None`
+/// (try [`hashed_dedup`]) when the positions used are spread too thin for a table or a
+/// chain grows long (many `vt` / `vn` per position: a hash map bounds the work of such a
+/// file).
+fn dense_dedup<'a>(
+    triangles: impl Iterator<Item = &'a [Corner; 3]> + Clone,
+    count: usize,
+) -> Option<Dedup> {
+    const NONE: u32 = u32::MAX;
+    const LONGEST_CHAIN: usize = 32;
+    let (low, high) = triangles
+        .clone()
+        .flatten()
+        .fold((u32::MAX, 0), |(low, high), c| (low.min(c[0]), high.max(c[0])));
+    if low > high {
+        return Some((Vec::new(), Vec::new()));
+    }
+    let span = (high - low) as usize + 1;
+    if span > 6 * count + 1024 {
+        return None;
+    }
+    // Per position: [first vertex, its vt, its vn].
+    let mut first = vec![[NONE; 3]; span];
+    let mut keys: Vec<Corner> = Vec::with_capacity(count / 2 + 16);
+    // Per vertex: the next vertex at the same position.
+    let mut next: Vec<u32> = Vec::with_capacity(count / 2 + 16);
+    let mut out: Vec<[u32; 3]> = Vec::with_capacity(count);
+    for triangle in triangles {
+        let mut indices = [0; 3];
+        for (index, &key) in indices.iter_mut().zip(triangle) {
+            let head = &mut first[(key[0] - low) as usize];
+            if head[0] != NONE && head[1] == key[1] && head[2] == key[2] {
+                *index = head[0];
+                continue;
+            }
+            let mut at = if head[0] == NONE { NONE } else { next[head[0] as usize] };
+            let mut steps = 0;
+            while at != NONE {
+                let known = keys[at as usize];
+                if known[1] == key[1] && known[2] == key[2] {
+                    break;
+                }
+                at = next[at as usize];
+                steps += 1;
+                if steps > LONGEST_CHAIN {
+                    return None;
+                }
+            }
+            if at == NONE {
+                at = keys.len() as u32;
+                keys.push(key);
+                if head[0] == NONE {
+                    *head = [at, key[1], key[2]];
+                    next.push(NONE);
+                } else {
+                    // Second and later vertices at a position: after the first.
+                    let second = &mut next[head[0] as usize];
+                    let after = *second;
+                    *second = at;
+                    next.push(after);
+                }
+            }
+            *index = at;
+        }
+        out.push(indices);
+    }
+    Some((keys, out))
+}
+
+/// Deduplicates the corners of `triangles` (`count` of them) with a hash map.
+fn hashed_dedup<'a>(triangles: impl Iterator<Item = &'a [Corner; 3]>, count: usize) -> Dedup {
+    let mut map: HashMap<u128, u32, BuildHasherDefault<KeyHasher>> =
+        HashMap::with_capacity_and_hasher(count, BuildHasherDefault::default());
+    let mut keys: Vec<Corner> = Vec::with_capacity(count);
+    let out = triangles
+        .map(|triangle| {
+            triangle.map(|key| {
+                let packed =
+                    u128::from(key[0]) | u128::from(key[1]) << 32 | u128::from(key[2]) << 64;
+                *map.entry(packed).or_insert_with(|| {
+                    keys.push(key);
+                    (keys.len() - 1) as u32
+                })
+            })
+        })
+        .collect();
+    (keys, out)
 }
 
 /// A hasher for packed `(v, vt, vn)` keys: two multiplications and shifts (splitmix64's
@@ -295,42 +453,84 @@ impl Hasher for KeyHasher {
     }
 }
 
-/// The blank-separated words of a line (spaces, tabs, carriage returns): a byte loop, as
-/// `split_ascii_whitespace` called its predicate through a pointer for every byte.
-struct Words<'a>(&'a str);
+/// A blank between words (space, tab, carriage return, form feed).
+fn blank(b: u8) -> bool {
+    b == b' ' || b == b'\t' || b == b'\r' || b == 0x0c
+}
 
-impl<'a> Iterator for Words<'a> {
-    type Item = &'a str;
+/// A cursor over a block's text that yields the blank-separated words of the current line
+/// (`None` at its end) and moves to the next line with [`Cursor::next_line`].
+struct Cursor<'a> {
+    text: &'a [u8],
+    at: usize,
+}
 
-    fn next(&mut self) -> Option<&'a str> {
-        let bytes = self.0.as_bytes();
-        let blank = |b: u8| b == b' ' || b == b'\t' || b == b'\r' || b == 0x0c;
-        let start = bytes.iter().position(|&b| !blank(b))?;
-        let end = bytes[start..].iter().position(|&b| blank(b)).map_or(bytes.len(), |n| start + n);
-        let word = &self.0[start..end];
-        self.0 = &self.0[end..];
-        Some(word)
+impl<'a> Cursor<'a> {
+    /// Skips blanks; whether a word follows on the current line.
+    fn skip_blanks(&mut self) -> bool {
+        let text = self.text;
+        while self.at < text.len() && blank(text[self.at]) {
+            self.at += 1;
+        }
+        self.at < text.len() && text[self.at] != b'\n'
+    }
+
+    fn word(&mut self) -> Option<&'a [u8]> {
+        if !self.skip_blanks() {
+            return None;
+        }
+        let text = self.text;
+        let start = self.at;
+        while self.at < text.len() && !end_of_word(text[self.at]) {
+            self.at += 1;
+        }
+        Some(&text[start..self.at])
+    }
+
+    /// The next word: read in place as a number when it is a plain decimal.
+    fn number(&mut self) -> Option<Number<'a>> {
+        if !self.skip_blanks() {
+            return None;
+        }
+        if let Some((value, length)) = fast_f32(&self.text[self.at..]) {
+            self.at += length;
+            return Some(Number::Plain(value));
+        }
+        self.word().map(Number::Word)
+    }
+
+    /// The rest of the current line (without its line end).
+    fn rest(&self) -> &'a [u8] {
+        let tail = &self.text[self.at..];
+        &tail[..tail.iter().position(|&b| b == b'\n').unwrap_or(tail.len())]
+    }
+
+    fn next_line(&mut self) {
+        let tail = &self.text[self.at..];
+        self.at += tail.iter().position(|&b| b == b'\n').map_or(tail.len(), |n| n + 1);
     }
 }
 
-/// Splits `text` into pieces of about `size` bytes, each ending at a line end.
-fn split(text: &str, size: usize) -> Vec<&str> {
-    let mut pieces = Vec::with_capacity(text.len() / size + 1);
-    let mut rest = text;
-    while rest.len() > size {
-        let cut = rest.as_bytes()[size..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(rest.len(), |i| size + i + 1);
-        let (piece, tail) = rest.split_at(cut);
-        pieces.push(piece);
-        rest = tail;
-    }
-    if !rest.is_empty() || pieces.is_empty() {
-        pieces.push(rest);
-    }
-    pieces
+/// A word read by [`Cursor::number`].
+enum Number<'a> {
+    /// A plain decimal, read (always finite).
+    Plain(f32),
+    /// Any other word, for `str::parse`.
+    Word(&'a [u8]),
 }
+
+/// A byte that ends a word: a blank or a line end.
+fn end_of_word(b: u8) -> bool {
+    blank(b) || b == b'\n'
+}
+
+/// Text of the file (its invalid UTF-8 replaced, as when the whole file is read as text).
+fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    String::from_utf8_lossy(bytes)
+}
+
+/// A parsed chunk, or an error and its chunk-local line.
+type ChunkResult = Result<Chunk, (usize, ChunkError)>;
 
 /// An error found while parsing a chunk, placed at a chunk-local line by the caller.
 #[derive(Debug)]
@@ -350,101 +550,275 @@ impl ChunkError {
     }
 }
 
+/// Powers of ten exact in `f64` (up to 1e22; a number of 15 digits needs 1e15 at most).
+const POWERS: [f64; 16] =
+    [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
+
+/// `str::parse::<f32>` of a plain decimal (`-12.375`) at the start of `text`, up to the end
+/// of its word, faster: the value and the word's length. `None` for any other word (the
+/// caller asks `str::parse`, which gives the same value for what this accepts).
+///
+/// The digits, at most 15, make an integer `m` exact in `f64`, and the fraction digits a
+/// power `10^k` exact in `f64` (k <= 15), so `m / 10^k` is the `f64` nearest the decimal
+/// (Clinger's fast path). Rounding that to `f32` gives the `f32` nearest the decimal unless
+/// the `f64` lies exactly halfway between two `f32`s (no `f32` midpoint lies between the
+/// decimal and its nearest `f64`, as midpoints are `f64`s); that case goes to `str::parse`.
+fn fast_f32(text: &[u8]) -> Option<(f32, usize)> {
+    let (negative, start) = match text.first()? {
+        b'-' => (true, 1),
+        b'+' => (false, 1),
+        _ => (false, 0),
+    };
+    let mut mantissa: u64 = 0;
+    let mut count = 0;
+    let mut fraction = 0;
+    let mut point = false;
+    let mut length = text.len();
+    for (i, &b) in text.iter().enumerate().skip(start) {
+        match b {
+            b'0'..=b'9' => {
+                mantissa = mantissa * 10 + u64::from(b - b'0');
+                count += 1;
+                fraction += usize::from(point);
+                if count > 15 {
+                    return None;
+                }
+            }
+            b'.' if !point => point = true,
+            b if end_of_word(b) => {
+                length = i;
+                break;
+            }
+            _ => return None,
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    #[expect(clippy::cast_precision_loss, reason = "at most 15 digits: exact")]
+    let value = mantissa as f64 / POWERS[fraction];
+    // 29 bits of the f64 significand are rounded off; exactly 1000...0 is a tie.
+    if value.to_bits() & 0x1FFF_FFFF == 0x1000_0000 {
+        return None;
+    }
+    #[expect(clippy::cast_possible_truncation, reason = "rounding to f32 is the point")]
+    let value = value as f32;
+    Some((if negative { -value } else { value }, length))
+}
+
+/// A number word as `str::parse::<f32>` reads it.
+fn float(word: &[u8]) -> Option<f32> {
+    match fast_f32(word) {
+        Some((value, _)) => Some(value),
+        None => text(word).parse().ok(),
+    }
+}
+
 fn numbers<const N: usize>(
-    words: &mut Words<'_>,
+    words: &mut Cursor<'_>,
     keyword: &str,
     what: &'static str,
 ) -> Result<[f32; N], ChunkError> {
     let mut out = [0.0; N];
     for (k, slot) in out.iter_mut().enumerate() {
-        let Some(word) = words.next() else {
-            return Err(ChunkError::Syntax(format!("`{keyword}` needs {N} numbers, found {k}")));
+        let value = match words.number() {
+            None => {
+                return Err(ChunkError::Syntax(format!(
+                    "`{keyword}` needs {N} numbers, found {k}"
+                )));
+            }
+            Some(Number::Plain(value)) => value,
+            Some(Number::Word(word)) => {
+                let value: f32 = text(word).parse().map_err(|_| {
+                    ChunkError::Syntax(format!(
+                        "`{keyword}`: expected a number, found {:?}",
+                        text(word)
+                    ))
+                })?;
+                if !value.is_finite() {
+                    return Err(ChunkError::NotFinite(what, text(word).into_owned()));
+                }
+                value
+            }
         };
-        let value: f32 = word.parse().map_err(|_| {
-            ChunkError::Syntax(format!("`{keyword}`: expected a number, found {word:?}"))
-        })?;
-        if !value.is_finite() {
-            return Err(ChunkError::NotFinite(what, word.to_owned()));
-        }
         *slot = value;
     }
     Ok(out)
 }
 
 /// The rest of a statement's line after its keyword, trimmed (names may hold spaces).
-fn rest_of(line: &str, keyword: &str) -> String {
-    line.trim_start()[keyword.len()..].trim().to_owned()
+fn rest_of(words: &Cursor<'_>) -> String {
+    text(words.rest()).trim().to_owned()
 }
 
-fn parse_chunk(text: &str) -> Result<Chunk, (usize, ChunkError)> {
+fn parse_chunk(block: &[u8]) -> ChunkResult {
     let mut chunk = Chunk::default();
-    let mut face: Vec<Corner> = Vec::with_capacity(8);
-    for (i, line) in text.lines().enumerate() {
-        let fail = |e| (i + 1, e);
-        chunk.lines = i + 1;
-        let mut words = Words(line);
-        let Some(keyword) = words.next() else { continue };
-        match keyword {
-            "v" => {
-                let [x, y, z] = numbers::<3>(&mut words, "v", "vertex position").map_err(fail)?;
-                let mut p = Vec3::new(x, y, z);
-                // `v x y z w`: divide by w; `v x y z r g b`: colours, ignored.
-                if let (Some(w), None) = (words.next(), words.next()) {
-                    let w: f32 = w.parse().map_err(|_| {
-                        fail(ChunkError::Syntax(format!("`v`: expected w, found {w:?}")))
-                    })?;
-                    if w == 0.0 || !w.is_finite() {
-                        return Err(fail(ChunkError::Syntax(format!(
-                            "`v`: w = {w} cannot scale a position"
-                        ))));
+    let mut face: Vec<(Corner, [Option<i64>; 3])> = Vec::with_capacity(8);
+    let mut words = Cursor { text: block, at: 0 };
+    let mut line = 0;
+    while words.at < block.len() {
+        line += 1;
+        let fail = |e| (line, e);
+        if let Some(keyword) = words.word() {
+            match keyword {
+                b"v" => {
+                    let [x, y, z] =
+                        numbers::<3>(&mut words, "v", "vertex position").map_err(fail)?;
+                    let mut p = Vec3::new(x, y, z);
+                    // `v x y z w`: divide by w; `v x y z r g b`: colours, ignored.
+                    if let (Some(w), None) = (words.word(), words.word()) {
+                        let w = float(w).ok_or_else(|| {
+                            fail(ChunkError::Syntax(format!(
+                                "`v`: expected w, found {:?}",
+                                text(w)
+                            )))
+                        })?;
+                        if w == 0.0 || !w.is_finite() {
+                            return Err(fail(ChunkError::Syntax(format!(
+                                "`v`: w = {w} cannot scale a position"
+                            ))));
+                        }
+                        p /= w;
                     }
-                    p /= w;
+                    chunk.positions.push(p);
                 }
-                chunk.positions.push(p);
-            }
-            "vt" => {
-                let [u, v] = numbers::<2>(&mut words, "vt", "texture coordinate").map_err(fail)?;
-                chunk.uvs.push(Vec2::new(u, v));
-            }
-            "vn" => {
-                let [x, y, z] = numbers::<3>(&mut words, "vn", "vertex normal").map_err(fail)?;
-                chunk.normals.push(Vec3::new(x, y, z));
-            }
-            "f" => {
-                face.clear();
-                for word in words {
-                    face.push(corner(word, &chunk).map_err(fail)?);
+                b"vt" => {
+                    let [u, v] =
+                        numbers::<2>(&mut words, "vt", "texture coordinate").map_err(fail)?;
+                    chunk.uvs.push(Vec2::new(u, v));
                 }
-                if face.len() >= 3 {
-                    for k in 1..face.len() - 1 {
-                        chunk.corners.extend_from_slice(&[face[0], face[k], face[k + 1]]);
+                b"vn" => {
+                    let [x, y, z] =
+                        numbers::<3>(&mut words, "vn", "vertex normal").map_err(fail)?;
+                    chunk.normals.push(Vec3::new(x, y, z));
+                }
+                b"f" => {
+                    face.clear();
+                    let mut any_relative = false;
+                    while words.skip_blanks() {
+                        if let Some((corner, length)) = simple_corner(&block[words.at..]) {
+                            words.at += length;
+                            face.push((corner, [None; 3]));
+                            continue;
+                        }
+                        let Some(word) = words.word() else { break };
+                        let (corner, relative) = corner(word, &chunk).map_err(fail)?;
+                        any_relative |= relative != [None; 3];
+                        face.push((corner, relative));
+                    }
+                    // Fan triangulation.
+                    for k in 1..face.len().saturating_sub(1) {
+                        let triangle = [face[0], face[k], face[k + 1]];
+                        if any_relative {
+                            let at = 3 * chunk.triangles.len();
+                            for (i, (_, relative)) in triangle.iter().enumerate() {
+                                for (slot, n) in relative.iter().enumerate() {
+                                    if let Some(n) = *n {
+                                        chunk.relative.push((at + i, slot, n));
+                                    }
+                                }
+                            }
+                        }
+                        chunk.triangles.push(triangle.map(|(corner, _)| corner));
                     }
                 }
-            }
-            "o" | "g" => {
-                chunk.events.push((chunk.corners.len() / 3, Event::Object(rest_of(line, keyword))));
-            }
-            "usemtl" => {
-                let name = rest_of(line, keyword);
-                if name.is_empty() {
-                    return Err(fail(ChunkError::Syntax(
-                        "`usemtl` needs a material name".to_owned(),
-                    )));
+                b"o" | b"g" => {
+                    let name = rest_of(&words);
+                    chunk.events.push((chunk.triangles.len(), Event::Object(name)));
                 }
-                chunk.events.push((chunk.corners.len() / 3, Event::Material(name)));
+                b"usemtl" => {
+                    let name = rest_of(&words);
+                    if name.is_empty() {
+                        return Err(fail(ChunkError::Syntax(
+                            "`usemtl` needs a material name".to_owned(),
+                        )));
+                    }
+                    chunk.events.push((chunk.triangles.len(), Event::Material(name)));
+                }
+                b"mtllib" => {
+                    let name = rest_of(&words);
+                    chunk.events.push((chunk.triangles.len(), Event::Library(name, line)));
+                }
+                _ => {}
             }
-            "mtllib" => chunk
-                .events
-                .push((chunk.corners.len() / 3, Event::Library(rest_of(line, keyword), i + 1))),
-            _ => {}
         }
+        words.next_line();
     }
+    chunk.lines = line;
     Ok(chunk)
 }
 
-/// Parses a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`.
-fn corner(word: &str, chunk: &Chunk) -> Result<Corner, ChunkError> {
-    let mut c = Corner { index: [i64::from(MISSING); 3], relative: 0 };
+/// The common corners `v`, `v/vt`, `v//vn` and `v/vt/vn` with indices of 1 to 9 digits,
+/// not 0, at the start of `text`, in one pass: the corner and its length. `None` for
+/// anything else (which [`corner`] reads the long way).
+fn simple_corner(text: &[u8]) -> Option<(Corner, usize)> {
+    let mut corner = [MISSING; 3];
+    let mut slot = 0;
+    let mut value = 0u32;
+    let mut digits = 0;
+    let mut length = text.len();
+    for (i, &b) in text.iter().enumerate() {
+        match b {
+            b'0'..=b'9' => {
+                digits += 1;
+                if digits > 9 {
+                    return None;
+                }
+                value = value * 10 + u32::from(b - b'0');
+            }
+            b'/' => {
+                if digits > 0 {
+                    corner[slot] = value.checked_sub(1)?;
+                } else if slot != 1 {
+                    // Only `vt` may be left out between separators (`v//vn`).
+                    return None;
+                }
+                slot += 1;
+                if slot > 2 {
+                    return None;
+                }
+                value = 0;
+                digits = 0;
+            }
+            b if end_of_word(b) => {
+                length = i;
+                break;
+            }
+            _ => return None,
+        }
+    }
+    if digits == 0 {
+        return None;
+    }
+    corner[slot] = value.checked_sub(1)?;
+    Some((corner, length))
+}
+
+/// A face index as `str::parse::<i64>` reads it.
+fn integer(field: &[u8]) -> Option<i64> {
+    let (negative, digits) = match field.first()? {
+        b'-' => (true, &field[1..]),
+        b'+' => (false, &field[1..]),
+        _ => (false, field),
+    };
+    if digits.is_empty() || digits.len() > 18 {
+        return text(field).parse().ok();
+    }
+    let mut value: i64 = 0;
+    for &b in digits {
+        if !b.is_ascii_digit() {
+            return None;
+        }
+        value = value * 10 + i64::from(b - b'0');
+    }
+    Some(if negative { -value } else { value })
+}
+
+/// Parses a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`: the corner, and per slot the
+/// index counted from the chunk's first element where the file's index is negative.
+fn corner(word: &[u8], chunk: &Chunk) -> Result<(Corner, [Option<i64>; 3]), ChunkError> {
+    let mut c = [MISSING; 3];
+    let mut relative = [None; 3];
     // A fourth slot only to report a corner of four indices.
     let counts = [chunk.positions.len(), chunk.uvs.len(), chunk.normals.len(), 0];
     let mut rest = word;
@@ -452,16 +826,17 @@ fn corner(word: &str, chunk: &Chunk) -> Result<Corner, ChunkError> {
         if rest.is_empty() && slot > 0 {
             break;
         }
-        let (field, tail) = match rest.as_bytes().iter().position(|&b| b == b'/') {
+        let (field, tail) = match rest.iter().position(|&b| b == b'/') {
             Some(at) => (&rest[..at], &rest[at + 1..]),
-            None => (rest, ""),
+            None => (rest, &[][..]),
         };
         // `v/vt/` or `v//`: a trailing separator with nothing after it.
         let ends = tail.is_empty() && field.len() < rest.len();
         rest = tail;
         if slot > 2 {
             return Err(ChunkError::Syntax(format!(
-                "face corner {word:?} has more than three indices"
+                "face corner {:?} has more than three indices",
+                text(word)
             )));
         }
         if field.is_empty() && slot > 0 {
@@ -470,23 +845,22 @@ fn corner(word: &str, chunk: &Chunk) -> Result<Corner, ChunkError> {
             }
             continue;
         }
-        let index: i64 = field.parse().map_err(|_| {
-            ChunkError::Syntax(format!("face corner {word:?}: expected an index, found {field:?}"))
+        let index = integer(field).ok_or_else(|| {
+            ChunkError::Syntax(format!(
+                "face corner {:?}: expected an index, found {:?}",
+                text(word),
+                text(field)
+            ))
         })?;
-        c.index[slot] = match index {
+        c[slot] = match index {
             // Out of range: resolution fails and the diagnostic pass names the line.
-            0 => -1,
-            i if i > 0 => i - 1,
+            0 => INVALID,
+            i if i > 0 => u32::try_from(i - 1).map_or(INVALID, |i| i.min(INVALID)),
             i => {
-                c.relative |= 1 << slot;
-                count as i64 + i
+                relative[slot] = Some(count as i64 + i);
+                0
             }
         };
-        // An index equal to the sentinel, or absurdly large, is out of range too.
-        if c.index[slot] >= i64::from(MISSING) {
-            c.index[slot] = -1;
-            c.relative &= !(1 << slot);
-        }
     }
-    Ok(c)
+    Ok((c, relative))
 }
