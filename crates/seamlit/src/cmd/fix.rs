@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use seamlit_io::{Asset, Format, IoError, LoadOptions, SaveOptions};
+use seamlit_io::{Format, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, ReportOptions};
 
 use crate::cli::FixArgs;
@@ -152,16 +152,12 @@ fn fix_file(
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");
     }
-    // The input geometry is freed as soon as the fixed one exists: it is the largest thing
-    // alive while the report runs and the file is written.
-    let loaded = std::mem::take(&mut asset.model);
-    let fixed = seamlit_mesh::fix(&loaded, options)
+    // Fixed in place: the loaded normals and tangents are overwritten, never copied.
+    seamlit_mesh::fix_in_place(&mut asset.model, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
-    drop(loaded);
-    let report = seamlit_mesh::report(&fixed, &ReportOptions::from(options))
+    let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
-    let out = Asset { model: fixed, ..asset };
-    seamlit_io::save(&out, output, save).map_err(classify_save)?;
+    seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     let seams = report
         .cross_object
         .max_normal_angle_deg
