@@ -557,6 +557,13 @@ impl Reader<'_> {
         }
         if let Some(sparse) = accessor.sparse() {
             let n = sparse.count() as u64;
+            // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
+            // unchecked (tests/sparse.rs).
+            if n == 0 {
+                return Err(bad(format!(
+                    "{attribute} has sparse count 0; glTF requires at least 1"
+                )));
+            }
             if n > count {
                 return Err(bad(format!("sparse count {n} exceeds the accessor count {count}")));
             }
@@ -564,6 +571,51 @@ impl Reader<'_> {
             check(indices.view(), indices.offset() as u64, n, indices.index_type().size() as u64)?;
             let values = sparse.values();
             check(values.view(), values.offset() as u64, n, element)?;
+        }
+        Ok(())
+    }
+
+    /// A sparse accessor's indices must be below its count and strictly increasing (glTF 2.0
+    /// spec, "Sparse Accessors"): gltf's reader skips the others silently, loading wrong
+    /// values. The caller has checked with [`Self::check_accessor`] that they lie inside
+    /// their view.
+    fn check_sparse_indices(
+        &self,
+        accessor: &gltf::Accessor<'_>,
+        buffers: &[Vec<u8>],
+    ) -> Result<(), IoError> {
+        let Some(sparse) = accessor.sparse() else { return Ok(()) };
+        let bad = |reason: String| IoError::BadAccessor {
+            path: self.path.to_path_buf(),
+            accessor: accessor.index(),
+            reason,
+        };
+        let indices = sparse.indices();
+        let view = indices.view();
+        let size = indices.index_type().size();
+        let stride = view.stride().unwrap_or(size);
+        let bytes = buffers.get(view.buffer().index()).map_or(&[][..], Vec::as_slice);
+        let mut previous: Option<u32> = None;
+        for k in 0..sparse.count() {
+            let at = view.offset() + indices.offset() + k * stride;
+            let index = match bytes.get(at..at + size) {
+                Some(&[a]) => u32::from(a),
+                Some(&[a, b]) => u32::from(u16::from_le_bytes([a, b])),
+                Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
+                _ => return Err(bad(format!("sparse index {k} lies outside its buffer"))),
+            };
+            if index as usize >= accessor.count() {
+                return Err(bad(format!(
+                    "sparse index {index} (element {k}) is out of range: the accessor has {} elements",
+                    accessor.count()
+                )));
+            }
+            if let Some(before) = previous.filter(|&before| index <= before) {
+                return Err(bad(format!(
+                    "sparse indices must be strictly increasing: element {k} is {index}, after {before}"
+                )));
+            }
+            previous = Some(index);
         }
         Ok(())
     }
@@ -588,6 +640,7 @@ impl Reader<'_> {
         let vertex_count = position_accessor.count();
         let f32_only = [DataType::F32];
         self.check_accessor(&position_accessor, Dimensions::Vec3, &f32_only, "POSITION")?;
+        self.check_sparse_indices(&position_accessor, buffers)?;
         let attributes = [
             (gltf::Semantic::Normals, Dimensions::Vec3, &f32_only[..], "NORMAL"),
             (gltf::Semantic::Tangents, Dimensions::Vec4, &f32_only[..], "TANGENT"),
@@ -601,6 +654,7 @@ impl Reader<'_> {
         for (semantic, dimensions, types, name) in attributes {
             if let Some(accessor) = primitive.get(&semantic) {
                 self.check_accessor(&accessor, dimensions, types, name)?;
+                self.check_sparse_indices(&accessor, buffers)?;
                 if accessor.count() != vertex_count {
                     return Err(IoError::BadAccessor {
                         path: self.path.to_path_buf(),
@@ -621,6 +675,7 @@ impl Reader<'_> {
                 &[DataType::U8, DataType::U16, DataType::U32],
                 "indices",
             )?;
+            self.check_sparse_indices(accessor, buffers)?;
             if accessor.count() % 3 != 0 {
                 return Err(IoError::BadAccessor {
                     path: self.path.to_path_buf(),
