@@ -250,8 +250,10 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
                             std::mem::take(&mut current),
                             by_usemtl,
                         ));
-                        by_usemtl = false;
                     }
+                    // A new object, even when it only renames an empty part that a `usemtl`
+                    // started (that part must not merge back into the previous object).
+                    by_usemtl = false;
                     name = if new_name.is_empty() { "unnamed_object".to_owned() } else { new_name };
                 }
                 Event::Material(new_material) => {
