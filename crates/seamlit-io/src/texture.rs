@@ -95,6 +95,8 @@ pub(crate) fn decode_all(
                         target,
                     });
                 }
+                // Not decoding: a missing file is not reported (`LoadOptions::load_textures`).
+                Err(NotInside::Io(_)) if !options.load_textures => None,
                 Err(NotInside::Io(err))
                     if options.strict && err.kind() == std::io::ErrorKind::NotFound =>
                 {

@@ -260,3 +260,21 @@ fn links_that_stay_inside_the_folder_are_followed() {
         seamlit_io::load(&dir.path().join("model_link/m.gltf"), &LoadOptions::DEFAULT).unwrap();
     assert_eq!(asset.textures[0].image.as_ref().map(|i| i.dimensions()), Some((2, 2)));
 }
+
+#[test]
+fn a_missing_texture_matters_only_when_textures_are_decoded() {
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir.path().join("m.mtl"), "newmtl m\nmap_Kd nowhere.png\n");
+    let obj = write(&dir.path().join("m.obj"), &format!("mtllib m.mtl\n{TRIANGLE}"));
+    let geometry = LoadOptions::GEOMETRY.with_strict(true);
+    let asset = seamlit_io::load(&obj, &geometry).unwrap();
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+    let err = seamlit_io::load(&obj, &LoadOptions::DEFAULT.with_strict(true)).unwrap_err();
+    assert!(
+        matches!(&err, IoError::MissingFile { missing, .. } if missing.ends_with("nowhere.png")),
+        "{err}"
+    );
+    let asset = seamlit_io::load(&obj, &LoadOptions::DEFAULT).unwrap();
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    assert!(asset.warnings[0].contains("nowhere.png"), "{:?}", asset.warnings);
+}
