@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::face::face_without_angles;
+use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
 use crate::smooth::{self, Smooth, face_frame};
@@ -74,7 +74,7 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
         model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
             let tangents = tangents_of(object);
             write_corners(o, object, flat, tangents, |_, p, uv| {
-                [face_frame(&face_without_angles(p, uv, v_axis)); 3]
+                [face_frame(&face(p, uv, v_axis)); 3]
             });
         });
         return;

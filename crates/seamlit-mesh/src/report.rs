@@ -11,7 +11,7 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face_without_angles};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
 use crate::frame::Linear;
 use crate::{MeshError, Model, validate, weld};
 
@@ -164,7 +164,7 @@ fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
             let mut n = [0; 3];
             for t in 0..object.triangles.len() {
                 let c = flat.corners(model, o, t);
-                let f = face_without_angles(c.positions, c.uvs, model.v_axis);
+                let f = face(c.positions, c.uvs, model.v_axis);
                 n[0] += usize::from(f.is(DEGENERATE));
                 n[1] += usize::from(f.is(DEGENERATE_UV) && !f.is(NO_UV | DEGENERATE));
                 n[2] += usize::from(f.is(MIRRORED));
@@ -225,7 +225,7 @@ fn cross_object(
         SharedCorner {
             object: o as u32,
             roots: cs.vertices.map(|v| roots[v as usize]),
-            face: face_without_angles(cs.positions, cs.uvs, model.v_axis),
+            face: face(cs.positions, cs.uvs, model.v_axis),
             normal,
             tangent,
         }

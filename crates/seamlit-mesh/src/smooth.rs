@@ -35,14 +35,14 @@
 
 use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV};
+use crate::Model;
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
 use crate::frame::finish;
 use crate::group::{self, Frame, Rules, Scratch, weight};
 use crate::validate::Flat;
-use crate::{Model, VAxis};
 
 /// A triangle uses this vertex (per vertex, not merged into the root).
 const USED: u8 = 1;
@@ -138,17 +138,6 @@ impl Smooth {
     }
 }
 
-impl Rules {
-    /// The face of a triangle, with the corner angles only where the weighting needs them.
-    pub(crate) fn face(&self, p: [Vec3; 3], uv: Option<[Vec2; 3]>, v_axis: VAxis) -> Face {
-        use crate::Weighting::{Angle, AngleArea};
-        match self.weighting {
-            Angle | AngleArea => crate::face::face(p, uv, v_axis),
-            _ => crate::face::face_without_angles(p, uv, v_axis),
-        }
-    }
-}
-
 /// Smooths the model. `roots` gives each vertex's position (see [`crate::weld`]); the
 /// positions in `flat` must be snapped onto their roots.
 pub(crate) fn smooth(model: &Model, flat: &Flat, roots: Vec<u32>, rules: Rules) -> Smooth {
@@ -219,7 +208,7 @@ fn accumulate(
         for tri in &object.triangles {
             let p = tri.map(|i| positions[i as usize]);
             let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
-            let face = rules.face(p, uv, model.v_axis);
+            let face = face(p, uv, model.v_axis);
             let bits = face_flags(&face);
             let degenerate = face.is(DEGENERATE);
             let tangent = !face.is(DEGENERATE | DEGENERATE_UV);
@@ -387,7 +376,7 @@ fn group_complex(
                         let o = flat.object_of_triangle(t);
                         let local = t - flat.triangle_start[o] as usize;
                         let c = flat.corners(model, o, local);
-                        rules.face(c.positions, c.uvs, model.v_axis)
+                        face(c.positions, c.uvs, model.v_axis)
                     }));
                     group::group_position(corners, faces, rules, scratch, &mut frames);
                     groups.extend_from_slice(&scratch.local_group);
