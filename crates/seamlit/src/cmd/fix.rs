@@ -37,7 +37,8 @@ pub fn run(args: &FixArgs) -> Result<(), Failure> {
     }
     check_output_extension(&args.output)?;
     let _quiet = QuietPanics::install();
-    let line = fix_file_guarded(&args.input, &args.output, &options, &load, &save)?;
+    let line =
+        guarded(&args.input, || fix_file(&args.input, &args.output, &options, &load, &save))?;
     println!("{line}");
     Ok(())
 }
@@ -53,32 +54,33 @@ fn check_output_extension(output: &Path) -> Result<(), Failure> {
     }
 }
 
-/// [`fix_file`], with a panic turned into a processing failure naming the file.
-fn fix_file_guarded(
+/// Runs `work` on `input` (a model file), with a panic turned into a processing failure
+/// naming the file.
+fn guarded(
     input: &Path,
-    output: &Path,
-    options: &FixOptions,
-    load: &LoadOptions,
-    save: &SaveOptions,
+    work: impl FnOnce() -> Result<String, Failure>,
 ) -> Result<String, Failure> {
     // Nothing the closure touches is observed after a panic: its state is dropped.
     let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
         debug_panic(input);
-        fix_file(input, output, options, load, save)
+        work()
     }));
     result.unwrap_or_else(|payload| {
-        let message = QuietPanics::take().unwrap_or_else(|| {
-            payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_owned())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".to_owned())
-        });
+        let message = QuietPanics::take().unwrap_or_else(|| panic_message(&*payload));
         Err(Failure::processing(format!(
             "{}: internal error (a bug in seamlit, please report it): {message}",
             input.display()
         )))
     })
+}
+
+/// The text a panic was raised with.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_owned())
 }
 
 /// The `SEAMLIT_DEBUG_PANIC_ON` debugging aid (see the module docs): panics when the file's
@@ -107,12 +109,7 @@ impl QuietPanics {
         let backtrace = std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0");
         let chained = Arc::clone(&previous);
         std::panic::set_hook(Box::new(move |info| {
-            let message = info
-                .payload()
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_owned())
-                .or_else(|| info.payload().downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".to_owned());
+            let message = panic_message(info.payload());
             let place = info.location().map(|l| format!(" at {}:{}", l.file(), l.line()));
             if let Ok(mut last) = LAST_PANIC.lock() {
                 *last = Some(format!("{message}{}", place.unwrap_or_default()));
@@ -210,7 +207,7 @@ fn run_folder(
             input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
         );
         let output = output_name(input, &args.output, args.format.extension(), &mut used);
-        match fix_file_guarded(input, &output, options, load, save) {
+        match guarded(input, || fix_file(input, &output, options, load, save)) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
                 failed += 1;
