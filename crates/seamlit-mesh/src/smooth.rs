@@ -154,9 +154,11 @@ fn smooth_with(
     all_complex: bool,
 ) -> Smooth {
     let n = flat.positions.len();
-    let mut slots = vec![Slot::default(); n];
-    let mut flags: Vec<AtomicU8> = (0..n).map(|_| AtomicU8::new(0)).collect();
-    let mut cones = vec![Cone::default(); n];
+    // Filled in parallel: the first touch of fresh memory (a page fault per 4 KiB) is a good
+    // part of the cost at this size.
+    let mut slots: Vec<Slot> = (0..n).into_par_iter().map(|_| Slot::default()).collect();
+    let mut flags: Vec<AtomicU8> = (0..n).into_par_iter().map(|_| AtomicU8::new(0)).collect();
+    let mut cones: Vec<Cone> = (0..n).into_par_iter().map(|_| Cone::default()).collect();
     accumulate(model, flat, rules, &mut slots, &mut cones, &mut flags);
     merge(&roots, &mut slots, &mut cones, &mut flags);
     finish_positions(&roots, &mut slots, &cones, &mut flags, rules, all_complex);
