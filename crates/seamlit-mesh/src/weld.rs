@@ -17,7 +17,7 @@
 //! another cell, and no neighbour lookups are needed. With cells 64 tolerances wide, about
 //! one position in ten has a second entry.
 //!
-//! The entries are `hash(cell) << 32 | index` in one `u64`, radix-sorted; a run of equal
+//! The entries are `hash(cell) << 32 | index` in one `u64`, sorted in parallel; a run of equal
 //! hashes holds the positions of one cell (a rare hash collision merges two cells: more
 //! comparisons, never a wrong weld, since every pair is compared by distance). Within a run,
 //! copies of one position (the usual content: a vertex of several objects) are compared once.
@@ -29,7 +29,7 @@
 //! With `tol == 0`, the entries are hashes of the positions' bits (with `-0.0 == 0.0`), and
 //! positions weld only when their bits are equal.
 //!
-//! Cost: a radix sort of about 1.1 n entries, then O(n) (O(k d) for a cell of k
+//! Cost: the sort of about 1.1 n entries, then O(n) (O(k d) for a cell of k
 //! positions of which d are distinct: d = 1 for copies of a point).
 
 use glam::Vec3;
@@ -169,9 +169,9 @@ fn join_runs(
     mut entries: Vec<u64>,
     relate: impl Fn(u32, u32) -> Relation + Sync,
 ) -> Vec<u32> {
-    // By hash only (a stable LSD radix sort: four passes over the 32-bit hashes). The
-    // entries were made in index order, so each run stays in index order.
-    radsort::sort_by_key(&mut entries, |&e| (e >> 32) as u32);
+    // In place and in parallel; by hash, then index (the whole `u64`), so the order does not
+    // depend on the threads. (A radix sort was no faster here and needs a second buffer.)
+    entries.par_sort_unstable();
     let pairs: Vec<(u32, u32)> = entries
         .par_chunk_by(|a, b| a >> 32 == b >> 32)
         .filter(|run| run.len() > 1)
