@@ -19,7 +19,8 @@
 # with a message when missing: assimp (apt-get install assimp-utils), glTF-Transform
 # (npm ci --prefix bench, which installs the pinned @gltf-transform/cli into bench/node_modules).
 # Environment: SEAMLIT, SEAMLIT_BENCH, ASSIMP, GLTF_TRANSFORM (paths of the tools), MODELS (the
-# shared models folder), REF_TIMEOUT (240 s), REF_MAX_TRIANGLES (110000).
+# shared models folder), REF_TIMEOUT (240 s), REF_MAX_TRIANGLES (110000), ONLY (model names to
+# keep, e.g. ONLY=teapot-128).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -87,6 +88,15 @@ else
         "NormalTangentTest|$MODELS/NormalTangentTest.glb"
         "spot|$MODELS/spot/spot_triangulated.obj"
         "stanford-bunny|$MODELS/large/stanford-bunny.obj" "nefertiti|$MODELS/large/nefertiti.obj")
+fi
+
+# ONLY="name ..." keeps just those models (to rerun one row).
+if [[ -n ${ONLY:-} ]]; then
+    KEEP=()
+    for entry in "${LIST[@]}"; do
+        [[ " $ONLY " == *" ${entry%%|*} "* ]] && KEEP+=("$entry")
+    done
+    LIST=("${KEEP[@]}")
 fi
 
 NAMES=()
