@@ -69,7 +69,21 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         })?;
         let resolved = parts.iter().fold(folder.clone(), |p, s| p.join(s));
         let sub = parts[..parts.len().saturating_sub(1)].to_vec();
-        let mtl_text = match std::fs::read(&resolved) {
+        // A symbolic link on the way must not lead out of the model's folder; the real path
+        // is what is read. A missing file is left to the read below, which reports it.
+        let real = match crate::paths::real_inside(&folder, &resolved) {
+            Ok(real) => real,
+            Err(crate::paths::NotInside::Outside(target)) => {
+                return Err(IoError::LinkEscapes {
+                    path: path.to_path_buf(),
+                    what: "material library".to_owned(),
+                    reference: name.clone(),
+                    target,
+                });
+            }
+            Err(crate::paths::NotInside::Io(_)) => resolved.clone(),
+        };
+        let mtl_text = match std::fs::read(&real) {
             Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
             Err(err) if err.kind() == std::io::ErrorKind::NotFound => {
                 if options.strict {

@@ -236,6 +236,35 @@ fn an_mtl_texture_that_is_a_link_out_of_the_folder_is_refused() {
 
 #[cfg(unix)]
 #[test]
+fn an_mtl_library_that_is_a_link_out_of_the_folder_is_refused() {
+    use std::os::unix::fs::symlink;
+    let dir = linked_layout();
+    let model = dir.path().join("model");
+    write(&dir.path().join("outside/secret.mtl"), "newmtl m\nKd 1 0 0\n");
+    symlink(dir.path().join("outside/secret.mtl"), model.join("m.mtl")).unwrap();
+    let obj = write(&model.join("m.obj"), &format!("mtllib m.mtl\n{TRIANGLE}"));
+    for options in [LoadOptions::GEOMETRY, LoadOptions::DEFAULT] {
+        let err = seamlit_io::load(&obj, &options).unwrap_err();
+        match &err {
+            IoError::LinkEscapes { path, what, reference, target } => {
+                assert_eq!(path, &obj);
+                assert_eq!(what, "material library");
+                assert_eq!(reference, "m.mtl");
+                assert_eq!(target, &dir.path().join("outside/secret.mtl").canonicalize().unwrap());
+            }
+            other => panic!("unexpected {other}"),
+        }
+    }
+    // A library linked from inside the folder is read.
+    std::fs::remove_file(model.join("m.mtl")).unwrap();
+    write(&model.join("data/real.mtl"), "newmtl m\nKd 1 0 0\n");
+    symlink("data/real.mtl", model.join("m.mtl")).unwrap();
+    let asset = seamlit_io::load(&obj, &LoadOptions::GEOMETRY).unwrap();
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+}
+
+#[cfg(unix)]
+#[test]
 fn links_that_stay_inside_the_folder_are_followed() {
     use std::os::unix::fs::symlink;
     let dir = linked_layout();
