@@ -195,24 +195,7 @@ fn cross_object(
     shared: &[bool],
     options: &ReportOptions,
 ) -> CrossObject {
-    let mut entries: Vec<u64> = model
-        .objects
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(o, object)| {
-            let base = flat.vertex_start[o];
-            let first = u64::from(flat.triangle_start[o]) * 3;
-            let mut out = Vec::new();
-            for (c, &i) in object.triangles.as_flattened().iter().enumerate() {
-                let r = roots[(base + i) as usize];
-                if shared[r as usize] {
-                    out.push((u64::from(r) << 32) | (first + c as u64));
-                }
-            }
-            out
-        })
-        .collect();
-    entries.par_sort_unstable();
+    let entries = flat.corners_at(model, roots, |r| shared[r as usize]);
     let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
     let corner = |e: u64| -> SharedCorner {
         let c = (e & 0xFFFF_FFFF) as usize;

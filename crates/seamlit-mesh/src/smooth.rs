@@ -327,29 +327,11 @@ fn group_complex(
     flags: &[AtomicU8],
     rules: Rules,
 ) -> (Vec<u64>, Vec<Frame>) {
-    let is_complex = |v: u32| flags[roots[v as usize] as usize].load(Relaxed) & COMPLEX != 0;
-    // `root << 32 | corner`, gathered per object and sorted: by position, then corner.
-    let mut entries: Vec<u64> = model
-        .objects
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(o, object)| {
-            let base = flat.vertex_start[o];
-            let first = u64::from(flat.triangle_start[o]) * 3;
-            let mut out = Vec::new();
-            for (c, &i) in object.triangles.as_flattened().iter().enumerate() {
-                if is_complex(base + i) {
-                    let root = u64::from(roots[(base + i) as usize]);
-                    out.push((root << 32) | (first + c as u64));
-                }
-            }
-            out
-        })
-        .collect();
+    let mut entries =
+        flat.corners_at(model, roots, |r| flags[r as usize].load(Relaxed) & COMPLEX != 0);
     if entries.is_empty() {
         return (entries, Vec::new());
     }
-    entries.par_sort_unstable();
 
     // Batches of whole positions.
     let mut batches = Vec::new();

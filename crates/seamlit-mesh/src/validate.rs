@@ -46,6 +46,36 @@ impl Flat {
         }
     }
 
+    /// The corners (`triangle * 3 + k`, into the concatenation) whose vertex's weld root
+    /// (see [`crate::weld`]) passes `keep`, as `root << 32 | corner`, sorted: grouped by
+    /// position, ascending corners within.
+    pub fn corners_at(
+        &self,
+        model: &Model,
+        roots: &[u32],
+        keep: impl Fn(u32) -> bool + Sync,
+    ) -> Vec<u64> {
+        let mut entries: Vec<u64> = model
+            .objects
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(o, object)| {
+                let base = self.vertex_start[o];
+                let first = u64::from(self.triangle_start[o]) * 3;
+                let mut out = Vec::new();
+                for (c, &i) in object.triangles.as_flattened().iter().enumerate() {
+                    let root = roots[(base + i) as usize];
+                    if keep(root) {
+                        out.push((u64::from(root) << 32) | (first + c as u64));
+                    }
+                }
+                out
+            })
+            .collect();
+        entries.par_sort_unstable();
+        entries
+    }
+
     /// Every triangle, indexing the concatenated positions.
     pub fn triangles(&self, model: &Model) -> Vec<[u32; 3]> {
         let mut out = Vec::with_capacity(*self.triangle_start.last().unwrap_or(&0) as usize);
