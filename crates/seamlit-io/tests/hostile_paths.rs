@@ -169,6 +169,19 @@ fn linked_layout() -> tempfile::TempDir {
     dir
 }
 
+/// Asserts that `err` refuses, in `file`, the reference `reference` (what it is for: `what`)
+/// because a link leads it to `target`.
+#[cfg(unix)]
+fn assert_link_escape(err: &IoError, file: &Path, what: &str, reference: &str, target: &Path) {
+    match err {
+        IoError::LinkEscapes { path, what: w, reference: r, target: t } => {
+            assert_eq!((path.as_path(), w.as_str(), r.as_str()), (file, what, reference));
+            assert_eq!(t, &target.canonicalize().unwrap());
+        }
+        other => panic!("unexpected {other}"),
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn a_gltf_buffer_that_is_a_link_out_of_the_folder_is_refused() {
@@ -179,15 +192,7 @@ fn a_gltf_buffer_that_is_a_link_out_of_the_folder_is_refused() {
     let (json, _) = gltf_with_files("link.bin", "data/albedo.png");
     let gltf = write(&model.join("m.gltf"), &json);
     let err = seamlit_io::load(&gltf, &LoadOptions::GEOMETRY).unwrap_err();
-    match &err {
-        IoError::LinkEscapes { path, what, reference, target } => {
-            assert_eq!(path, &gltf);
-            assert_eq!(what, "buffer 0");
-            assert_eq!(reference, "link.bin");
-            assert_eq!(target, &dir.path().join("outside/tri.bin").canonicalize().unwrap());
-        }
-        other => panic!("unexpected {other}"),
-    }
+    assert_link_escape(&err, &gltf, "buffer 0", "link.bin", &dir.path().join("outside/tri.bin"));
     assert!(err.to_string().contains("buffer 0 \"link.bin\" is refused"), "{err}");
 }
 
@@ -222,15 +227,8 @@ fn an_mtl_texture_that_is_a_link_out_of_the_folder_is_refused() {
     // Refused whether or not textures are decoded: a writer would copy the file.
     for options in [LoadOptions::GEOMETRY, LoadOptions::DEFAULT] {
         let err = seamlit_io::load(&obj, &options).unwrap_err();
-        match &err {
-            IoError::LinkEscapes { path, what, reference, target } => {
-                assert_eq!(path, &obj);
-                assert_eq!(what, "texture");
-                assert_eq!(reference, "data/link.png");
-                assert_eq!(target, &dir.path().join("outside/albedo.png").canonicalize().unwrap());
-            }
-            other => panic!("unexpected {other}"),
-        }
+        let target = dir.path().join("outside/albedo.png");
+        assert_link_escape(&err, &obj, "texture", "data/link.png", &target);
     }
 }
 
@@ -245,15 +243,8 @@ fn an_mtl_library_that_is_a_link_out_of_the_folder_is_refused() {
     let obj = write(&model.join("m.obj"), &format!("mtllib m.mtl\n{TRIANGLE}"));
     for options in [LoadOptions::GEOMETRY, LoadOptions::DEFAULT] {
         let err = seamlit_io::load(&obj, &options).unwrap_err();
-        match &err {
-            IoError::LinkEscapes { path, what, reference, target } => {
-                assert_eq!(path, &obj);
-                assert_eq!(what, "material library");
-                assert_eq!(reference, "m.mtl");
-                assert_eq!(target, &dir.path().join("outside/secret.mtl").canonicalize().unwrap());
-            }
-            other => panic!("unexpected {other}"),
-        }
+        let target = dir.path().join("outside/secret.mtl");
+        assert_link_escape(&err, &obj, "material library", "m.mtl", &target);
     }
     // A library linked from inside the folder is read.
     std::fs::remove_file(model.join("m.mtl")).unwrap();
