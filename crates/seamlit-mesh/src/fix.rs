@@ -152,7 +152,7 @@ struct Out<'a> {
     normals: Vec<Vec3>,
     tangents: Vec<Vec4>,
     /// Per vertex: whether its frame is set.
-    set: Vec<bool>,
+    is_set: Vec<bool>,
     /// Copies of vertex `v` form a chain: `next[v] -> ... -> u32::MAX` (empty until needed).
     next: Vec<u32>,
 }
@@ -173,7 +173,7 @@ impl<'a> Out<'a> {
             tangents_wanted,
             normals,
             tangents,
-            set: vec![false; n],
+            is_set: vec![false; n],
             next: Vec::new(),
         }
     }
@@ -190,21 +190,21 @@ impl<'a> Out<'a> {
     /// Sets the frame of vertex `v`, which no corner has set yet.
     fn set(&mut self, v: usize, f: Frame) {
         (self.normals[v], self.tangents[v]) = self.local(f);
-        self.set[v] = true;
+        self.is_set[v] = true;
     }
 
     /// Gives a corner at vertex `v` the frame `f`: returns `v`, or the copy of `v` that has
     /// this frame (made if none has).
     fn put(&mut self, v: u32, f: Frame) -> u32 {
         let vi = v as usize;
-        if !self.set[vi] {
+        if !self.is_set[vi] {
             self.set(vi, f);
             return v;
         }
         let (normal, tangent) = self.local(f);
         let key = bits(normal, tangent);
         if self.next.is_empty() {
-            self.next = vec![u32::MAX; self.set.len()];
+            self.next = vec![u32::MAX; self.is_set.len()];
         }
         let mut at = vi;
         loop {
@@ -219,7 +219,7 @@ impl<'a> Out<'a> {
                 }
                 self.normals.push(normal);
                 self.tangents.push(tangent);
-                self.set.push(true);
+                self.is_set.push(true);
                 self.next.push(u32::MAX);
                 self.next[at] = new as u32;
                 return new as u32;
@@ -231,8 +231,8 @@ impl<'a> Out<'a> {
     /// Vertices no triangle uses keep their input normal, or +Z; then the result goes into
     /// the object.
     fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
-        for v in 0..self.set.len() {
-            if !self.set[v] {
+        for v in 0..self.is_set.len() {
+            if !self.is_set[v] {
                 let n = self.normals[v].try_normalize().unwrap_or(Vec3::Z);
                 self.normals[v] = n;
                 self.tangents[v] = n.any_orthonormal_vector().extend(1.0);
@@ -281,7 +281,7 @@ fn write_smooth(o: usize, object: &mut Object, flat: &Flat, smooth: &Smooth, tan
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
     let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents);
-    for v in 0..out.set.len() {
+    for v in 0..out.is_set.len() {
         if smooth.is_used(base + v)
             && let Some(f) = smooth.simple_frame(base + v)
         {
