@@ -137,3 +137,24 @@ fn the_parser_agrees_with_tobj() {
         }
     }
 }
+
+/// `usemtl` inside an object with faces starts a part of the same name; an `o` right after
+/// renames that empty part: it is a new object, not a continuation of the first (the parser
+/// merged it back, losing the name "leg", until tests/obj_generated.rs found it).
+#[test]
+fn an_object_named_after_a_usemtl_split_keeps_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("split.obj");
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+                f 1 2 3\nusemtl red\no leg\nf 1 2 4\nf 2 3 4\nusemtl blue\nf 1 3 4\n";
+    std::fs::write(&path, text).unwrap();
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    // No material library: `red` and `blue` resolve to no material, so the second
+    // `usemtl` does not split "leg" (as in tobj).
+    let objects: Vec<(&str, &[[u32; 3]])> =
+        asset.model.objects.iter().map(|o| (o.name.as_str(), o.triangles.as_slice())).collect();
+    assert_eq!(
+        objects,
+        [("unnamed_object", &[[0, 1, 2]][..]), ("leg", &[[0, 1, 2], [1, 3, 2], [0, 3, 2]][..])]
+    );
+}
