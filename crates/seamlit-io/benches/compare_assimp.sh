@@ -9,6 +9,8 @@ cargo build --release -q -p seamlit-io --example load_info
 bin=target/release/examples/load_info
 [ -f "$dir/teapot-1m.obj" ] && [ -f "$dir/teapot-1m.glb" ] || "$bin" --generate "$dir"
 command -v assimp >/dev/null || { echo "assimp not found: apt-get install assimp-utils" >&2; exit 2; }
+echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet -- crates 2>/dev/null || echo ' (with uncommitted changes)')"
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GiB"
 echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 for file in "$dir/teapot-1m.obj" "$dir/teapot-1m.glb"; do
   for run in 1 2 3; do
