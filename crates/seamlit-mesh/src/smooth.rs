@@ -31,9 +31,7 @@
 //! [`crate::group::group_position`], with the faces computed again for just those corners.
 //!
 //! Everything is deterministic: sums run in triangle order within an object and in vertex
-//! order across a position; the complex flag only ever goes from clear to set.
-
-use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
+//! order across a position; each position is settled by one task.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -100,7 +98,7 @@ pub(crate) struct Smooth {
     /// Per vertex: its position's root.
     roots: Vec<u32>,
     slots: Vec<Slot>,
-    flags: Vec<AtomicU8>,
+    flags: Vec<u8>,
     /// The corners of complex positions, ascending: `corner << 32 | group`.
     pub complex: Vec<u64>,
     /// Per group of a complex position, its frame.
@@ -110,13 +108,13 @@ pub(crate) struct Smooth {
 impl Smooth {
     /// Whether a triangle uses vertex `v`.
     pub fn is_used(&self, v: usize) -> bool {
-        self.flags[v].load(Relaxed) & USED != 0
+        self.flags[v] & USED != 0
     }
 
     /// The frame of every corner at vertex `v`, unless `v`'s position is complex.
     pub fn simple_frame(&self, v: usize) -> Option<Frame> {
         let r = self.roots[v] as usize;
-        if self.flags[r].load(Relaxed) & COMPLEX != 0 {
+        if self.flags[r] & COMPLEX != 0 {
             return None;
         }
         let s = &self.slots[r];
@@ -157,7 +155,7 @@ fn smooth_with(
     // Filled in parallel: the first touch of fresh memory (a page fault per 4 KiB) is a good
     // part of the cost at this size.
     let mut slots: Vec<Slot> = (0..n).into_par_iter().map(|_| Slot::default()).collect();
-    let mut flags: Vec<AtomicU8> = (0..n).into_par_iter().map(|_| AtomicU8::new(0)).collect();
+    let mut flags: Vec<u8> = vec![0; n];
     let mut cones: Vec<Cone> = (0..n).into_par_iter().map(|_| Cone::default()).collect();
     accumulate(model, flat, rules, &mut slots, &mut cones, &mut flags);
     merge(&roots, &mut slots, &mut cones, &mut flags);
@@ -191,7 +189,7 @@ fn accumulate(
     rules: Rules,
     slots: &mut [Slot],
     cones: &mut [Cone],
-    flags: &mut [AtomicU8],
+    flags: &mut [u8],
 ) {
     let mut parts = Vec::with_capacity(model.objects.len());
     let (mut s, mut c, mut f) = (slots, cones, flags);
@@ -219,7 +217,7 @@ fn accumulate(
                 let w = weight(rules.weighting, &face, k);
                 let s = &mut slots[i];
                 s.n += face.normal * w;
-                let flag = flags[i].get_mut();
+                let flag = &mut flags[i];
                 let cone = &mut cones[i];
                 if !degenerate {
                     if *flag & HAS_FACE == 0 || cone.n == Vec3::ZERO {
@@ -246,7 +244,7 @@ fn accumulate(
 
 /// Adds the sums of every vertex into its root, in vertex order, and widens the root's cones
 /// to take in the vertex's.
-fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [AtomicU8]) {
+fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [u8]) {
     for v in 0..roots.len() {
         let r = roots[v] as usize;
         if r == v {
@@ -257,7 +255,7 @@ fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [Ato
         root.n += s.n;
         root.t += s.t;
         root.b += s.b;
-        let (bits, root_bits) = (*flags[v].get_mut(), *flags[r].get_mut());
+        let (bits, root_bits) = (flags[v], flags[r]);
         let c = cones[v];
         let rc = &mut cones[r];
         if c.n != Vec3::ZERO {
@@ -274,7 +272,7 @@ fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [Ato
                 rc.cos_t = widen(rc.t, rc.cos_t, c.t, c.cos_t);
             }
         }
-        *flags[r].get_mut() |= bits & !USED;
+        flags[r] |= bits & !USED;
     }
 }
 
@@ -283,7 +281,7 @@ fn finish_positions(
     roots: &[u32],
     slots: &mut [Slot],
     cones: &[Cone],
-    flags: &mut [AtomicU8],
+    flags: &mut [u8],
     rules: Rules,
     all_complex: bool,
 ) {
@@ -291,7 +289,6 @@ fn finish_positions(
     let crease = rules.crease_half_cos.unwrap_or(-1.0);
     let tangent_cone = rules.tangent_half_cos.filter(|_| rules.tangents).unwrap_or(-1.0);
     slots.par_iter_mut().zip(flags.par_iter_mut()).enumerate().for_each(|(v, (s, f))| {
-        let f = f.get_mut();
         if roots[v] as usize != v || *f & HAS_FACE == 0 {
             return;
         }
@@ -324,11 +321,10 @@ fn group_complex(
     model: &Model,
     flat: &Flat,
     roots: &[u32],
-    flags: &[AtomicU8],
+    flags: &[u8],
     rules: Rules,
 ) -> (Vec<u64>, Vec<Frame>) {
-    let mut entries =
-        flat.corners_at(model, roots, |r| flags[r as usize].load(Relaxed) & COMPLEX != 0);
+    let mut entries = flat.corners_at(model, roots, |r| flags[r as usize] & COMPLEX != 0);
     if entries.is_empty() {
         return (entries, Vec::new());
     }
