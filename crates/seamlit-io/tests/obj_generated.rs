@@ -174,3 +174,55 @@ fn one_thread_and_several_give_the_same_objects() {
     let four = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap().install(load);
     assert_eq!(one, four);
 }
+
+/// Pads `text` with a comment line so that it is exactly `size` bytes long.
+fn pad_to(mut text: String, size: usize) -> String {
+    let fill = size - text.len() - 2;
+    text.push('#');
+    text.extend(std::iter::repeat_n('x', fill));
+    text.push('\n');
+    assert_eq!(text.len(), size);
+    text
+}
+
+/// The parser reads about 1 MiB at a time, cut after the last line end: lines longer than
+/// a block, a block that ends exactly at a line end, and a last line without one.
+#[test]
+fn long_lines_and_block_edges_agree_with_tobj() {
+    const BLOCK: usize = 1 << 20;
+    let dir = tempfile::tempdir().unwrap();
+    let mut r = Random(5);
+    let mut positions = String::new();
+    for _ in 0..200_000 {
+        let [x, y, z] = [number(&mut r), number(&mut r), number(&mut r)];
+        writeln!(positions, "v {x} {y} {z}").unwrap();
+    }
+    let fan: Vec<String> = (1..=200_000).map(|i| i.to_string()).collect();
+    let files = [
+        // A 3 MiB comment before the geometry.
+        format!("# {}\no first\n{positions}f 1 2 3\nf -1 -2 -3 -4\n", "x".repeat(3 * BLOCK)),
+        // One face of 200,000 corners (a line of 1.3 MB), then more faces.
+        format!("o fan\n{positions}f {}\no after\nf -3 -2 -1\n", fan.join(" ")),
+        // A block ends exactly at a line end; the next one refers back across it; the file
+        // ends without a line end.
+        pad_to("v 0 0 0\nv 1 0 0\nv 0 1 0\no a\nf 1 2 3\n".to_owned(), BLOCK)
+            + "v 0 0 1\no b\nf -1 -2 -3\nf 1 2 -1",
+        // A block one byte short of that.
+        pad_to("v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_owned(), BLOCK - 1) + "f 1 2 3\nf -3 -2 -1\n",
+    ];
+    for (k, text) in files.iter().enumerate() {
+        let path = dir.path().join(format!("edge{k}.obj"));
+        std::fs::write(&path, text).unwrap();
+        agree(&path, &format!("file {k}"));
+    }
+    // Counted by hand: a fan of n corners is n - 2 triangles.
+    let counts = |k: usize| -> Vec<(String, usize)> {
+        let path = dir.path().join(format!("edge{k}.obj"));
+        let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+        asset.model.objects.into_iter().map(|o| (o.name, o.triangles.len())).collect()
+    };
+    assert_eq!(counts(0), [("first".to_owned(), 3)]);
+    assert_eq!(counts(1), [("fan".to_owned(), 199_998), ("after".to_owned(), 1)]);
+    assert_eq!(counts(2), [("a".to_owned(), 1), ("b".to_owned(), 2)]);
+    assert_eq!(counts(3), [("unnamed_object".to_owned(), 2)]);
+}
