@@ -148,42 +148,41 @@ pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
 }
 
 /// Reads `file` in blocks cut after their last line end and sends them, numbered, to the
-/// parsers; buffers come back through `free` to be reused.
+/// parsers; buffers come back through `free` to be reused. A line longer than a block makes
+/// its block grow (each byte is read and searched once, however long the line).
 fn read_blocks(
     mut file: File,
     blocks: &mpsc::SyncSender<(usize, Vec<u8>)>,
     free: &mpsc::Receiver<Vec<u8>>,
 ) -> std::io::Result<()> {
     let mut carry: Vec<u8> = Vec::new();
-    for index in 0.. {
+    let mut index = 0;
+    loop {
         let mut block = free.try_recv().unwrap_or_else(|_| Vec::with_capacity(BLOCK + 4096));
         block.clear();
-        block.extend_from_slice(&carry);
-        carry.clear();
-        let wanted = BLOCK as u64;
-        let got = (&mut file).take(wanted).read_to_end(&mut block)?;
-        let end = got < BLOCK;
-        if !end {
-            match block.iter().rposition(|&b| b == b'\n') {
-                Some(at) => {
-                    carry.extend_from_slice(&block[at + 1..]);
-                    block.truncate(at + 1);
-                }
-                // A line longer than the block: read on.
-                None => {
-                    carry = block;
-                    continue;
-                }
+        // The end of the previous block's last line, which holds no line end.
+        block.append(&mut carry);
+        let end = loop {
+            let before = block.len();
+            let got = (&mut file).take(BLOCK as u64).read_to_end(&mut block)?;
+            if got < BLOCK {
+                break true;
             }
-        }
+            if let Some(at) = block[before..].iter().rposition(|&b| b == b'\n') {
+                let cut = before + at + 1;
+                carry.extend_from_slice(&block[cut..]);
+                block.truncate(cut);
+                break false;
+            }
+        };
         if (!block.is_empty() || index == 0) && blocks.send((index, block)).is_err() {
             return Ok(());
         }
         if end {
-            break;
+            return Ok(());
         }
+        index += 1;
     }
-    Ok(())
 }
 
 /// Resolves the chunks' face indices and splits the triangles into objects.
