@@ -5,14 +5,16 @@
 //! about a megabyte cut at line ends, on a thread of its own, while rayon parses the blocks
 //! already read (the text is never held whole, and the blocks' buffers are reused); then it
 //! resolves face indices against the running counts and builds the objects' vertex arrays in
-//! parallel. It follows tobj's rules exactly, and tests check that it gives tobj's output on
-//! every shared OBJ model and on generated ones:
+//! parallel. It follows tobj's rules, but for the two marked (*), and tests check that it
+//! gives tobj's output on every shared OBJ model and on generated files:
 //!
 //! - `o` and `g` start a new object when the current one has faces, else rename it; `usemtl`
 //!   changing the material inside an object with faces starts a new object of the same name;
 //! - faces are triangulated as fans `(a, b, c), (a, c, d), ...`; faces of fewer than three
-//!   corners (points, lines) and `l` / `p` statements are ignored;
-//! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use;
+//!   corners (points, lines) and `p` statements are ignored, and so are `l` statements (*:
+//!   tobj makes a polygon of an `l` of three or more points; a polyline is not a surface);
+//! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use; `vt`
+//!   and `vn` are kept only where every corner of the object has them (*: the caller warns);
 //! - `v x y z w` divides by `w`; further values (vertex colours) are ignored.
 //!
 //! Material libraries are read with tobj (see [`crate::obj`]).
