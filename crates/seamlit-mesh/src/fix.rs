@@ -39,8 +39,8 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             name: o.name.clone(),
             positions: o.positions.clone(),
             uvs: o.uvs.clone(),
-            // Kept for the vertices no triangle uses, which keep their input normal.
-            normals: o.normals.clone(),
+            // Vertices no triangle uses keep their input normal: read from `model` below.
+            normals: None,
             tangents: None,
             triangles: o.triangles.clone(),
             transform: o.transform,
@@ -48,7 +48,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    run(&mut out, flat, options);
+    run(&mut out, flat, options, Some(model));
     Ok(out)
 }
 
@@ -60,11 +60,14 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 /// As [`fix`].
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<(), MeshError> {
     let flat = validate::flatten(model)?;
-    run(model, flat, options);
+    run(model, flat, options, None);
     Ok(())
 }
 
-fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
+/// Fixes `model`; `input`, where the model is a copy, is the original (for the normals of
+/// vertices no triangle uses).
+fn run(model: &mut Model, mut flat: Flat, options: &FixOptions, input: Option<&Model>) {
+    let input_normals = |o: usize| input.and_then(|m| m.objects[o].normals.as_deref());
     let want_tangents = options.tangents != TangentMethod::None;
     let tangents_of = |object: &Object| want_tangents && object.uvs.is_some();
     if options.mode == Mode::Flat {
@@ -73,7 +76,7 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
         let flat = &flat;
         model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
             let tangents = tangents_of(object);
-            write_corners(o, object, flat, tangents, |_, p, uv| {
+            write_corners(o, object, flat, tangents, input_normals(o), |_, p, uv| {
                 [face_frame(&face(p, uv, v_axis)); 3]
             });
         });
@@ -102,7 +105,7 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
         model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
             let tangents_wanted = tangents_of(object);
             let first = flat.triangle_start[o] as usize * 3;
-            write_corners(o, object, flat, tangents_wanted, |t, _, _| {
+            write_corners(o, object, flat, tangents_wanted, input_normals(o), |t, _, _| {
                 let c = first + t * 3;
                 std::array::from_fn(|k| Frame { normal: normals[c + k], tangent: tangents[c + k] })
             });
@@ -113,7 +116,7 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions) {
     let smooth = &smooth;
     model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
         let tangents = tangents_of(object);
-        write_smooth(o, object, flat, smooth, tangents);
+        write_smooth(o, object, flat, smooth, tangents, input_normals(o));
     });
 }
 
@@ -145,6 +148,8 @@ pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32
 /// wherever one of its corners needs another frame.
 struct Out<'a> {
     positions: &'a mut Vec<Vec3>,
+    /// The input normals where the object is a copy without them (see [`Out::finish`]).
+    input_normals: Option<&'a [Vec3]>,
     uvs: &'a mut Option<Vec<Vec2>>,
     linear: Option<Linear>,
     /// Whether tangents are written (otherwise they are zero and split nothing).
@@ -158,7 +163,12 @@ struct Out<'a> {
 }
 
 impl<'a> Out<'a> {
-    fn new(object: &'a mut Object, linear: Option<Linear>, tangents_wanted: bool) -> Self {
+    fn new(
+        object: &'a mut Object,
+        linear: Option<Linear>,
+        tangents_wanted: bool,
+        input_normals: Option<&'a [Vec3]>,
+    ) -> Self {
         let n = object.positions.len();
         // Reuse the input's memory. Input normals stay where no triangle overwrites them.
         let mut normals = object.normals.take().unwrap_or_default();
@@ -168,6 +178,7 @@ impl<'a> Out<'a> {
         tangents.resize(n, Vec4::ZERO);
         Self {
             positions: &mut object.positions,
+            input_normals,
             uvs: &mut object.uvs,
             linear,
             tangents_wanted,
@@ -233,7 +244,8 @@ impl<'a> Out<'a> {
     fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
         for v in 0..self.is_set.len() {
             if !self.is_set[v] {
-                let n = self.normals[v].try_normalize().unwrap_or(Vec3::Z);
+                let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
+                let n = input.try_normalize().unwrap_or(Vec3::Z);
                 self.normals[v] = n;
                 self.tangents[v] = n.any_orthonormal_vector().extend(1.0);
             }
@@ -248,18 +260,20 @@ fn bits(n: Vec3, t: Vec4) -> [u32; 7] {
 }
 
 /// Writes one object corner by corner, `frames(t, positions, uvs)` giving the model-space
-/// frames of triangle `t`'s corners (from its model-space positions and UVs).
+/// frames of triangle `t`'s corners (from its model-space positions and UVs). `input_normals`:
+/// see [`Out`].
 fn write_corners(
     o: usize,
     object: &mut Object,
     flat: &Flat,
     tangents: bool,
+    input_normals: Option<&[Vec3]>,
     frames: impl Fn(usize, [Vec3; 3], Option<[Vec2; 3]>) -> [Frame; 3],
 ) {
     let base = flat.vertex_start[o];
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
-    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents);
+    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents, input_normals);
     for (t, tri) in triangles.iter_mut().enumerate() {
         let p = tri.map(|i| flat.positions[(base + i) as usize]);
         let uv = out.uvs.as_ref().map(|uvs| tri.map(|i| uvs[i as usize]));
@@ -274,13 +288,20 @@ fn write_corners(
 
 /// Writes one object from the smoothed frames: every vertex at a simple position takes its
 /// position's frame; the corners of complex positions are placed one by one, in corner order.
-fn write_smooth(o: usize, object: &mut Object, flat: &Flat, smooth: &Smooth, tangents: bool) {
+fn write_smooth(
+    o: usize,
+    object: &mut Object,
+    flat: &Flat,
+    smooth: &Smooth,
+    tangents: bool,
+    input_normals: Option<&[Vec3]>,
+) {
     let base = flat.vertex_start[o] as usize;
     let first = flat.triangle_start[o];
     let complex = &smooth.complex[smooth.complex_range(first..flat.triangle_start[o + 1])];
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
-    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents);
+    let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents, input_normals);
     for v in 0..out.is_set.len() {
         if smooth.is_used(base + v)
             && let Some(f) = smooth.simple_frame(base + v)

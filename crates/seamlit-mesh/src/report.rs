@@ -119,19 +119,16 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
     let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
     let roots = weld::roots(&flat.positions, tolerance);
 
-    // Per root: whether another object has a vertex there, and whether the positions there
-    // differ in their bits (welded by the tolerance only). A vertex's root is its smallest
+    // Per root: whether another object has a vertex there. A vertex's root is its smallest
     // index, so a root below the object's first vertex belongs to an earlier object.
     let mut shared = vec![false; roots.len()];
-    let mut near_miss = vec![false; roots.len()];
     for w in flat.vertex_start.windows(2) {
-        let range = w[0] as usize..w[1] as usize;
-        for (v, &r) in range.clone().zip(&roots[range]) {
-            let r = r as usize;
-            shared[r] |= r < w[0] as usize;
-            near_miss[r] |= !weld::same_bits(flat.positions[v], flat.positions[r]);
+        let start = w[0] as usize;
+        for &r in &roots[start..w[1] as usize] {
+            shared[r as usize] |= (r as usize) < start;
         }
     }
+    let near_miss = weld::near_misses(&flat.positions, &roots);
     weld::snap_to_roots(&mut flat.positions, &roots);
 
     let counts = face_counts(model, &flat);

@@ -45,48 +45,6 @@ pub struct Weld {
     pub count: usize,
 }
 
-impl Weld {
-    /// For each id, the index of its first input position (its representative).
-    #[must_use]
-    pub fn representatives(&self) -> Vec<u32> {
-        let mut reps = vec![u32::MAX; self.count];
-        for (i, &id) in self.ids.iter().enumerate() {
-            let r = &mut reps[id as usize];
-            if *r == u32::MAX {
-                *r = i as u32;
-            }
-        }
-        reps
-    }
-
-    /// Moves every position onto its id's representative (its first position), so that
-    /// geometry computed afterwards sees welded positions as one point: a sliver between two
-    /// positions closer than the tolerance becomes a degenerate triangle, not a face with a
-    /// random normal.
-    pub fn snap(&self, positions: &mut [Vec3]) {
-        let reps = self.representatives();
-        for (i, &id) in self.ids.iter().enumerate() {
-            // The representative is the smallest index of its id, already final here.
-            positions[i] = positions[reps[id as usize] as usize];
-        }
-    }
-
-    /// Number of ids whose positions are not all bit-equal (with `-0.0 == 0.0`): welds that
-    /// only the tolerance made.
-    #[must_use]
-    pub fn near_misses(&self, positions: &[Vec3]) -> usize {
-        let reps = self.representatives();
-        let mut flagged = vec![false; self.count];
-        for (i, &id) in self.ids.iter().enumerate() {
-            let r = reps[id as usize] as usize;
-            if exact_key(positions[i]) != exact_key(positions[r]) {
-                flagged[id as usize] = true;
-            }
-        }
-        flagged.iter().filter(|&&f| f).count()
-    }
-}
-
 /// Moves every position onto its root's (see [`roots`]), so that geometry computed afterwards
 /// sees welded positions as one point: a sliver between two positions closer than the
 /// tolerance becomes a degenerate triangle, not a face with a random normal.
@@ -97,8 +55,18 @@ pub(crate) fn snap_to_roots(positions: &mut [Vec3], roots: &[u32]) {
     }
 }
 
+/// Per root (see [`roots`]): whether the positions welded to it are not all bit-equal to it
+/// (with `-0.0 == 0.0`), i.e. whether the tolerance alone made that weld. Index by root.
+pub(crate) fn near_misses(positions: &[Vec3], roots: &[u32]) -> Vec<bool> {
+    let mut flagged = vec![false; roots.len()];
+    for (v, &r) in roots.iter().enumerate() {
+        flagged[r as usize] |= !same_bits(positions[v], positions[r as usize]);
+    }
+    flagged
+}
+
 /// Whether two positions have equal bits (with `-0.0 == 0.0`).
-pub(crate) fn same_bits(a: Vec3, b: Vec3) -> bool {
+fn same_bits(a: Vec3, b: Vec3) -> bool {
     exact_key(a) == exact_key(b)
 }
 
@@ -345,7 +313,8 @@ mod tests {
         let w = weld(&p, 0.0);
         assert_eq!(w.ids, vec![0, 0, 1, 0]);
         assert_eq!(w.count, 2);
-        assert_eq!(w.near_misses(&p), 0);
+        let misses = near_misses(&p, &roots(&p, 0.0));
+        assert_eq!(misses.iter().filter(|&&m| m).count(), 0);
     }
 
     #[test]
@@ -365,7 +334,8 @@ mod tests {
         for k in 0..200 {
             assert_eq!(w.ids[2 * k], w.ids[2 * k + 1], "pair {k}");
         }
-        assert_eq!(w.near_misses(&p), 200);
+        let misses = near_misses(&p, &roots(&p, tol));
+        assert_eq!(misses.iter().filter(|&&m| m).count(), 200);
     }
 
     #[test]

@@ -5,7 +5,7 @@ mod common;
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 use seamlit_mesh::{
     FixOptions, MeshError, Mode, Model, Object, ReportOptions, TangentMethod, Weighting, fix,
-    reference, report,
+    fix_in_place, reference, report,
 };
 
 fn quad(name: &str, corners: [Vec3; 4], uvs: [Vec2; 4]) -> Object {
@@ -395,4 +395,26 @@ fn teapot_seams_close_in_model_mode() {
     assert!(before > 1.0, "object mode leaves seams: {before}");
     assert!(after < 1e-3, "model mode closes them: {after}");
     assert_eq!(model.cross_object.normal_breaks, 0);
+}
+
+#[test]
+fn a_vertex_no_triangle_uses_keeps_its_input_normal() {
+    // Vertex 3 is used by no triangle; its input normal (0, 3, 4) becomes (0, 0.6, 0.8).
+    let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::splat(5.0)];
+    let mut object = Object::new("with a stray vertex", positions, vec![[0, 1, 2]]);
+    object.normals = Some(vec![Vec3::X, Vec3::X, Vec3::X, Vec3::new(0.0, 3.0, 4.0)]);
+    let model = Model::new(vec![object]);
+
+    let copied = fix(&model, &FixOptions::DEFAULT).expect("valid");
+    let mut in_place = model.clone();
+    fix_in_place(&mut in_place, &FixOptions::DEFAULT).expect("valid");
+    for fixed in [&copied, &in_place] {
+        let n = normals(&fixed.objects[0]);
+        assert_eq!(&n[..3], &[Vec3::Z; 3], "the triangle's own normal");
+        assert_eq!(n[3], Vec3::new(0.0, 0.6, 0.8));
+    }
+    // Without input normals, +Z.
+    let mut bare = model.clone();
+    bare.objects[0].normals = None;
+    assert_eq!(normals(&fix(&bare, &FixOptions::DEFAULT).expect("valid").objects[0])[3], Vec3::Z);
 }
