@@ -57,23 +57,14 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
     let mut side_files: Vec<(String, Vec<u8>)> = Vec::new();
     let mut texture_files: Vec<Option<String>> = vec![None; asset.textures.len()];
     if !asset.materials.is_empty() {
-        for (m, name) in asset.materials.iter().zip(&material_names) {
+        // The model's materials, then the default for parts that have none (if any do).
+        let default = needs_default.then(Material::default);
+        let names = material_names.iter().chain(default.iter().map(|_| &default_name));
+        for (m, name) in asset.materials.iter().chain(&default).zip(names) {
             write_material(
                 &mut mtl,
                 name,
                 m,
-                asset,
-                path,
-                &stem,
-                &mut texture_files,
-                &mut side_files,
-            )?;
-        }
-        if needs_default {
-            write_material(
-                &mut mtl,
-                &default_name,
-                &Material::default(),
                 asset,
                 path,
                 &stem,
