@@ -101,9 +101,6 @@ pub struct InspectArgs {
 /// `seamlit render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// A scene file (.toml, see docs/scene.md) or a model file.
-    #[arg(value_name = "SCENE_OR_MODEL")]
-    pub input: PathBuf,
     /// The PNG to write.
     #[arg(long, short, value_name = "OUT.png")]
     pub output: PathBuf,
@@ -114,36 +111,22 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub frames: Option<usize>,
     #[command(flatten)]
-    pub view: ViewFlags,
-    #[command(flatten)]
-    pub fix: FixFlags,
-    #[command(flatten)]
-    pub load: LoadFlags,
+    pub scene: SceneArgs,
 }
 
 /// `seamlit compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// A scene file (.toml, see docs/scene.md) or a model file.
-    #[arg(value_name = "SCENE_OR_MODEL")]
-    pub input: PathBuf,
     /// The PNG to write: the flat, object and model renderings side by side, labelled.
     #[arg(long, short, value_name = "GRID.png")]
     pub output: PathBuf,
     #[command(flatten)]
-    pub view: ViewFlags,
-    #[command(flatten)]
-    pub fix: FixFlags,
-    #[command(flatten)]
-    pub load: LoadFlags,
+    pub scene: SceneArgs,
 }
 
 /// `seamlit view`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
-    /// A scene file (.toml, see docs/scene.md) or a model file.
-    #[arg(value_name = "SCENE_OR_MODEL")]
-    pub input: PathBuf,
     /// Start in this mode (the panel changes it).
     #[arg(long, value_enum, value_name = "MODE")]
     pub mode: Option<ModeArg>,
@@ -154,6 +137,17 @@ pub struct ViewArgs {
     /// Close the window after this many frames (for tests and scripts).
     #[arg(long, value_name = "N")]
     pub exit_after_frames: Option<u64>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+}
+
+/// What `render`, `compare` and `view` read: a scene or a model, and the flags that override
+/// the scene's settings.
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// A scene file (.toml, see docs/scene.md) or a model file.
+    #[arg(value_name = "SCENE_OR_MODEL")]
+    pub input: PathBuf,
     #[command(flatten)]
     pub view: ViewFlags,
     #[command(flatten)]

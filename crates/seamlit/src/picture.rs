@@ -100,22 +100,11 @@ pub fn labelled_row(panels: &[(RgbaImage, String, String)]) -> RgbaImage {
         image::imageops::replace(&mut out, panel, i64::from(x0), i64::from(LABEL_BAND));
         let centre =
             |t: &str, size: f32| x0 as f32 + (panel.width() as f32 - text_width(t, size)) / 2.0;
-        draw_text(
-            &mut out,
-            title,
-            centre(title, 20.0).max(x0 as f32 + 4.0),
-            3.0,
-            20.0,
-            [240, 240, 240],
-        );
-        draw_text(
-            &mut out,
-            subtitle,
-            centre(subtitle, 13.0).max(x0 as f32 + 4.0),
-            26.0,
-            13.0,
-            [170, 170, 180],
-        );
+        // (text, top, size, colour): the title, then the subtitle under it.
+        let lines = [(title, 3.0, 20.0, [240, 240, 240]), (subtitle, 26.0, 13.0, [170, 170, 180])];
+        for (text, top, size, colour) in lines {
+            draw_text(&mut out, text, centre(text, size).max(x0 as f32 + 4.0), top, size, colour);
+        }
         x0 += panel.width() + gap;
     }
     out

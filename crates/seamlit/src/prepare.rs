@@ -11,7 +11,7 @@ use seamlit_scene::{
     Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
 };
 
-use crate::cli::{FixFlags, LoadFlags};
+use crate::cli::{FixFlags, SceneArgs};
 use crate::failure::{Classify, Failure};
 
 /// A scene with its models loaded but not yet fixed, so that they can be fixed again with
@@ -44,10 +44,15 @@ impl FixOverride {
     }
 }
 
-/// The load options the command line asks for.
-#[must_use]
-pub fn load_options(flags: &LoadFlags) -> LoadOptions {
-    LoadOptions { tessellation: flags.tessellation, ..LoadOptions::DEFAULT }
+impl SceneArgs {
+    /// Reads the scene file or model file and loads every model.
+    ///
+    /// # Errors
+    /// As [`load`].
+    pub fn load(&self) -> Result<Loaded, Failure> {
+        let options = LoadOptions { tessellation: self.load.tessellation, ..LoadOptions::DEFAULT };
+        load(&self.input, &options)
+    }
 }
 
 /// Reads a scene file or a model file and loads every model.

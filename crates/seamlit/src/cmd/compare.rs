@@ -8,7 +8,7 @@ use crate::cli::CompareArgs;
 use crate::draw::{Gpu, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::{labelled_row, save_png};
-use crate::prepare::{FixOverride, Loaded, bounds_of, load, load_options, pick_camera};
+use crate::prepare::{FixOverride, Loaded, bounds_of, pick_camera};
 
 /// The three modes with their titles and the paper figure each reproduces.
 pub const MODES: [(Mode, &str, &str); 3] = [
@@ -68,8 +68,9 @@ pub fn grid(images: Vec<RgbaImage>) -> RgbaImage {
 /// Bad input before any GPU work; processing failures after.
 pub fn run(args: &CompareArgs) -> Result<(), Failure> {
     check_png(&args.output)?;
-    let loaded = load(&args.input, &load_options(&args.load))?;
-    let (images, _) = render_modes(&loaded, &args.fix, &args.view, &args.input, None)?;
+    let loaded = args.scene.load()?;
+    let (images, _) =
+        render_modes(&loaded, &args.scene.fix, &args.scene.view, &args.scene.input, None)?;
     let grid = grid(images);
     save_png(&grid, &args.output).processing()?;
     println!(

@@ -4,7 +4,7 @@ use crate::cli::RenderArgs;
 use crate::draw::{Gpu, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
-use crate::prepare::{FixOverride, bounds_of, load, load_options, pick_camera};
+use crate::prepare::{FixOverride, bounds_of, pick_camera};
 
 /// Runs `seamlit render`.
 ///
@@ -12,15 +12,15 @@ use crate::prepare::{FixOverride, bounds_of, load, load_options, pick_camera};
 /// Bad input (files, camera name) before any GPU work; processing failures after.
 pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     check_png(&args.output)?;
-    let loaded = load(&args.input, &load_options(&args.load))?;
-    let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.fix.clone() };
+    let loaded = args.scene.load()?;
+    let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.scene.fix.clone() };
     let asset = loaded.build(&fix)?;
     let bounds = bounds_of(&asset);
-    let size = args.view.size;
+    let size = args.scene.view.size;
     let aspect = size.0 as f32 / size.1 as f32;
     let cameras = loaded.cameras(bounds, aspect);
-    let camera = pick_camera(&cameras, args.view.camera.as_deref(), &args.input)?;
-    let settings = frame_settings(&args.view, loaded.lights());
+    let camera = pick_camera(&cameras, args.scene.view.camera.as_deref(), &args.scene.input)?;
+    let settings = frame_settings(&args.scene.view, loaded.lights());
     let mut gpu = Gpu::open()?;
     let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;

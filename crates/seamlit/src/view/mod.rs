@@ -12,7 +12,7 @@ use winit::event_loop::EventLoop;
 
 use crate::cli::ViewArgs;
 use crate::failure::Failure;
-use crate::prepare::{FixOverride, load, load_options};
+use crate::prepare::FixOverride;
 
 /// Runs `seamlit view`.
 ///
@@ -27,28 +27,30 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
             shot.display()
         )));
     }
-    let loaded = load(&args.input, &load_options(&args.load))?;
-    let base = args.fix.apply(loaded.scene.models.first().map_or(FixOptions::DEFAULT, |m| m.fix));
+    let loaded = args.scene.load()?;
+    let base =
+        args.scene.fix.apply(loaded.scene.models.first().map_or(FixOptions::DEFAULT, |m| m.fix));
     let settings = panel::Settings {
         mode: args.mode.map_or(base.mode, Mode::from),
         crease_deg: base.crease_angle_deg,
         weighting: base.weighting,
-        lighting: args.view.lighting.into(),
-        normal_mapping: !args.view.no_normal_map,
-        debug_view: args.view.view.into(),
-        show_tbn: args.view.tbn,
+        lighting: args.scene.view.lighting.into(),
+        normal_mapping: !args.scene.view.no_normal_map,
+        debug_view: args.scene.view.view.into(),
+        show_tbn: args.scene.view.tbn,
         lights: loaded.lights(),
         camera: 0,
         controller: panel::Controller::Orbit,
     };
     let options = app::Options {
-        input: args.input.clone(),
-        size: args.view.size,
+        input: args.scene.input.clone(),
+        size: args.scene.view.size,
         screenshot: args.screenshot.clone(),
         exit_after_frames: args.exit_after_frames,
-        fix: FixOverride { mode: None, flags: args.fix.clone() },
+        fix: FixOverride { mode: None, flags: args.scene.fix.clone() },
     };
-    let mut viewer = app::Viewer::new(loaded, settings, args.view.camera.as_deref(), options)?;
+    let mut viewer =
+        app::Viewer::new(loaded, settings, args.scene.view.camera.as_deref(), options)?;
     let event_loop = EventLoop::new().map_err(|e| {
         Failure::processing(format!(
             "cannot open a window (is there a display? DISPLAY or WAYLAND_DISPLAY): {e}"
