@@ -88,6 +88,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         triangles,
         transform,
         material: None,
+        split_from: Vec::new(),
     })
 }
 

@@ -791,6 +791,7 @@ impl Reader<'_> {
             triangles,
             transform: None,
             material: primitive.material().index(),
+            split_from: Vec::new(),
         }))
     }
 

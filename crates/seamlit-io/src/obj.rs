@@ -144,6 +144,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             triangles: parsed.triangles,
             transform: None,
             material: parsed.material,
+            split_from: Vec::new(),
         });
     }
 

@@ -49,6 +49,23 @@ pub enum MeshError {
         /// How many vertices the object has.
         vertex_count: usize,
     },
+    /// [`crate::Object::split_from`] is longer than the vertex list or names a vertex that
+    /// is not an input vertex.
+    #[error(
+        "object {object} ({name:?}): split_from entry {entry} is {value}, but the object has {input_vertices} input vertices"
+    )]
+    BadSplitFrom {
+        /// Index of the object in the model.
+        object: usize,
+        /// The object's name.
+        name: String,
+        /// Index of the entry in `split_from` (`usize::MAX` when the list itself is too long).
+        entry: usize,
+        /// The entry's value.
+        value: u32,
+        /// How many input vertices the object has (`positions.len() - split_from.len()`).
+        input_vertices: usize,
+    },
     /// A per-vertex array has a different length from `positions`.
     #[error("object {object} ({name:?}): {attribute} has {actual} entries, expected {expected}")]
     AttributeLength {

@@ -45,6 +45,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             triangles: o.triangles.clone(),
             transform: o.transform,
             material: o.material,
+            split_from: o.split_from.clone(),
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
@@ -148,6 +149,10 @@ pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32
 /// wherever one of its corners needs another frame.
 struct Out<'a> {
     positions: &'a mut Vec<Vec3>,
+    /// The object's [`Object::split_from`], extended for every copy made here.
+    split_from: &'a mut Vec<u32>,
+    /// Vertices before this index are the object's input vertices.
+    input_count: usize,
     /// The input normals where the object is a copy without them (see [`Out::finish`]).
     input_normals: Option<&'a [Vec3]>,
     uvs: &'a mut Option<Vec<Vec2>>,
@@ -177,7 +182,9 @@ impl<'a> Out<'a> {
         tangents.clear();
         tangents.resize(n, Vec4::ZERO);
         Self {
+            input_count: n - object.split_from.len(),
             positions: &mut object.positions,
+            split_from: &mut object.split_from,
             input_normals,
             uvs: &mut object.uvs,
             linear,
@@ -225,6 +232,11 @@ impl<'a> Out<'a> {
             if self.next[at] == u32::MAX {
                 let new = self.positions.len();
                 self.positions.push(self.positions[vi]);
+                let source = match vi.checked_sub(self.input_count) {
+                    Some(k) => self.split_from[k],
+                    None => v,
+                };
+                self.split_from.push(source);
                 if let Some(uvs) = self.uvs {
                     uvs.push(uvs[vi]);
                 }

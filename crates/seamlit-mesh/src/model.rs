@@ -59,6 +59,13 @@ pub struct Object {
     pub transform: Option<Mat4>,
     /// Index of the object's material in the file's material list, if any.
     pub material: Option<usize>,
+    /// Where split vertices came from. [`crate::fix`] appends a copy of a vertex where one
+    /// position needs two frames; the last `split_from.len()` vertices are such copies, and
+    /// entry `k` is the index of the input vertex (one of the first
+    /// `vertex_count() - split_from.len()`) that the `k`-th copy duplicates. Writers use it to
+    /// duplicate every attribute they carry (colours, joints, morph targets) for the copies.
+    /// Empty for a loaded model; fixing a fixed model keeps pointing at the first input.
+    pub split_from: Vec<u32>,
 }
 
 impl Object {
@@ -86,6 +93,23 @@ impl Object {
     #[must_use]
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
+    }
+
+    /// The number of vertices the object had before any vertex was split
+    /// (see [`Object::split_from`]).
+    #[must_use]
+    pub fn input_vertex_count(&self) -> usize {
+        self.positions.len() - self.split_from.len()
+    }
+
+    /// The input vertex that vertex `v` is, or copies (see [`Object::split_from`]).
+    #[must_use]
+    pub fn source_vertex(&self, v: u32) -> u32 {
+        let base = self.input_vertex_count();
+        match (v as usize).checked_sub(base) {
+            Some(k) => self.split_from[k],
+            None => v,
+        }
     }
 
     /// Number of triangles.

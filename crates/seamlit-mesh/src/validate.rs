@@ -124,6 +124,26 @@ fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
             });
         }
     }
+    let Some(input_vertices) = expected.checked_sub(object.split_from.len()) else {
+        return Err(MeshError::BadSplitFrom {
+            object: index,
+            name: object.name.clone(),
+            entry: usize::MAX,
+            value: u32::try_from(object.split_from.len()).unwrap_or(u32::MAX),
+            input_vertices: 0,
+        });
+    };
+    if let Some((entry, &value)) =
+        object.split_from.iter().enumerate().find(|&(_, &v)| v as usize >= input_vertices)
+    {
+        return Err(MeshError::BadSplitFrom {
+            object: index,
+            name: object.name.clone(),
+            entry,
+            value,
+            input_vertices,
+        });
+    }
     Ok(())
 }
 

@@ -418,3 +418,43 @@ fn a_vertex_no_triangle_uses_keeps_its_input_normal() {
     bare.objects[0].normals = None;
     assert_eq!(normals(&fix(&bare, &FixOptions::DEFAULT).expect("valid").objects[0])[3], Vec3::Z);
 }
+
+/// A cube of 8 shared corners in one object: each corner meets three faces at 90 degrees, so
+/// the 60 degree crease splits it into three vertices, and `split_from` says which input
+/// vertex each copy duplicates.
+#[test]
+fn split_vertices_record_the_input_vertex_they_copy() {
+    let positions: Vec<Vec3> = (0..8)
+        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+        .collect();
+    let quads =
+        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    // Distinct UVs per input vertex, so a copy's UV tells its source too.
+    let uvs = (0..8).map(|i| Vec2::new(i as f32, 0.5)).collect();
+    let model = Model::new(vec![Object::new("cube", positions.clone(), triangles).with_uvs(uvs)]);
+    let fixed = fix(&model, &FixOptions::default()).unwrap();
+    let o = &fixed.objects[0];
+    assert_eq!(o.input_vertex_count(), 8);
+    assert_eq!(o.vertex_count(), 24, "each corner split into one vertex per face");
+    assert_eq!(o.split_from.len(), 16);
+    for v in 0..o.vertex_count() as u32 {
+        let source = o.source_vertex(v);
+        assert!(source < 8);
+        assert_eq!(o.positions[v as usize], positions[source as usize], "vertex {v}");
+        assert_eq!(o.uvs.as_ref().unwrap()[v as usize].x, source as f32, "vertex {v}");
+    }
+    // Every input vertex was copied twice.
+    for source in 0..8 {
+        assert_eq!(o.split_from.iter().filter(|&&s| s == source).count(), 2, "vertex {source}");
+    }
+    // A second fix splits nothing more and keeps the record pointing at the first input.
+    let again = fix(&fixed, &FixOptions::default()).unwrap();
+    assert_eq!(again.objects[0].split_from, o.split_from);
+    // A split_from that names a copy, or is longer than the vertices, is refused.
+    let mut bad = fixed.clone();
+    bad.objects[0].split_from[0] = 20;
+    assert!(matches!(fix(&bad, &FixOptions::default()), Err(MeshError::BadSplitFrom { .. })));
+    bad.objects[0].split_from = vec![0; 30];
+    assert!(matches!(fix(&bad, &FixOptions::default()), Err(MeshError::BadSplitFrom { .. })));
+}
