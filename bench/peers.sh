@@ -19,7 +19,8 @@
 # with a message when missing: assimp (apt-get install assimp-utils), glTF-Transform
 # (npm ci --prefix bench, which installs the pinned @gltf-transform/cli into bench/node_modules).
 # Environment: SEAMLIT, SEAMLIT_BENCH, ASSIMP, GLTF_TRANSFORM (paths of the tools), MODELS (the
-# shared models folder), REF_TIMEOUT (240 s), REF_MAX_TRIANGLES (110000), ONLY (model names to
+# small models, default assets/models), LARGE (the large models, default ../shared/models/large
+# beside the checkout; their rows are skipped with a message when absent), REF_TIMEOUT (240 s), REF_MAX_TRIANGLES (110000), ONLY (model names to
 # keep, e.g. ONLY=teapot-128).
 set -euo pipefail
 
@@ -44,7 +45,8 @@ SEAMLIT=${SEAMLIT:-$ROOT/target/release/seamlit}
 BENCH=${SEAMLIT_BENCH:-$ROOT/target/release/seamlit-bench}
 GLTF_TRANSFORM=${GLTF_TRANSFORM:-$ROOT/bench/node_modules/.bin/gltf-transform}
 ASSIMP=${ASSIMP:-$(command -v assimp || true)}
-MODELS=${MODELS:-$ROOT/../shared/models}
+MODELS=${MODELS:-$ROOT/assets/models}
+LARGE=${LARGE:-$ROOT/../shared/models/large}
 REF_TIMEOUT=${REF_TIMEOUT:-240}         # seconds; the reference is O(V x F)
 REF_MAX_TRIANGLES=${REF_MAX_TRIANGLES:-110000}
 BIG=500000                              # triangles above which a model gets at most 3 runs
@@ -86,8 +88,12 @@ else
     LIST=("teapot-16|teapot:16" "teapot-64|teapot:64" "teapot-128|teapot:128"
         "cornell_box|$MODELS/cornell_box/cornell_box.obj" "groups|$MODELS/groups.obj"
         "NormalTangentTest|$MODELS/NormalTangentTest.glb"
-        "spot|$MODELS/spot/spot_triangulated.obj"
-        "stanford-bunny|$MODELS/large/stanford-bunny.obj" "nefertiti|$MODELS/large/nefertiti.obj")
+        "spot|$MODELS/spot/spot_triangulated.obj")
+    if [[ -d "$LARGE" ]]; then
+        LIST+=("stanford-bunny|$LARGE/stanford-bunny.obj" "nefertiti|$LARGE/nefertiti.obj")
+    else
+        echo "skipping stanford-bunny and nefertiti: no large models at $LARGE (set LARGE=...)" >&2
+    fi
 fi
 
 # ONLY="name ..." keeps just those models (to rerun one row).

@@ -9,7 +9,7 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use seamlit_io::{LoadOptions, SaveOptions};
 
-const TEAPOT: &str = include_str!("../../../../shared/models/newell_teaset/teapot");
+const TEAPOT: &str = include_str!("../../../assets/models/newell_teaset/teapot");
 
 fn loading(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("temporary folder");

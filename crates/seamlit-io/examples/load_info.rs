@@ -23,7 +23,7 @@ use std::time::Instant;
 
 use seamlit_io::{LoadOptions, SaveOptions};
 
-const TEAPOT: &str = include_str!("../../../../shared/models/newell_teaset/teapot");
+const TEAPOT: &str = include_str!("../../../assets/models/newell_teaset/teapot");
 
 /// The benchmark model: the teapot at `n` x `n` per patch with placeholder normals (the
 /// normalised position: the files need realistic `vn` lines, not correct normals).

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use seamlit_io::{IoError, LoadOptions, newell};
 
 fn teaset(name: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/newell_teaset/"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/newell_teaset/"))
         .join(name)
 }
 

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 ///
 /// The bitangent points toward the normal map's +Y (up the image). Where V runs up the image
 /// (OBJ, OpenGL) that is toward increasing V; where V runs down (glTF, whose texcoord origin is
-/// the top-left corner) it is toward decreasing V. See DESIGN.md section 4.
+/// the top-left corner) it is toward decreasing V. See docs/design.md section 4.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum VAxis {

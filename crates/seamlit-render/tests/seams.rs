@@ -15,7 +15,7 @@ use seamlit_render::{
 };
 
 const TEAPOT: &str =
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/newell_teaset/teapot");
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/newell_teaset/teapot");
 const SIZE: u32 = 320;
 
 fn teapot(mode: Mode) -> Asset {

@@ -10,7 +10,7 @@ use crate::camera::Camera;
 
 /// The Newell teapot: 32 bicubic Bezier patches in the classic text format (public domain,
 /// Martin Newell, 1975; from the 1991 `newell_teaset` distribution).
-pub const TEAPOT: &str = include_str!("../data/teapot");
+pub const TEAPOT: &str = include_str!("../../../assets/models/newell_teaset/teapot");
 
 /// The demo's three lights: a warm key light from the upper left, a cool point light on the
 /// right and a spot light from above and behind that rims the lid and handle.

@@ -4,7 +4,7 @@
 //! processing options and material overrides, lights, named cameras), perspective cameras
 //! with an FPS and an orbit controller written as pure maths, the default three-light rig
 //! and camera a bare model gets, and the embedded demo scene (the Newell teapot with a brick
-//! normal map made in code). DESIGN.md section 7; the file format is in docs/scene.md.
+//! normal map made in code). docs/design.md section 7; the file format is in docs/scene.md.
 //!
 //! ```
 //! use std::path::Path;

@@ -1,5 +1,5 @@
 //! Scenes: models with transforms, processing options and material overrides, lights, and
-//! named cameras, read from TOML (DESIGN.md section 7). A model path alone is a scene too.
+//! named cameras, read from TOML (docs/design.md section 7). A model path alone is a scene too.
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};

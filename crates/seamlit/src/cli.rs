@@ -1,4 +1,4 @@
-//! The command line, as clap reads it (DESIGN.md section 8).
+//! The command line, as clap reads it (docs/design.md section 8).
 
 use std::path::PathBuf;
 

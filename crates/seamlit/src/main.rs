@@ -1,5 +1,5 @@
 //! `seamlit`: fix, inspect, render, compare and view multi-object models with seam-free
-//! per-pixel lighting. `seamlit --help` lists the subcommands; DESIGN.md section 8 is the
+//! per-pixel lighting. `seamlit --help` lists the subcommands; docs/design.md section 8 is the
 //! design. Exit status: 0 success, 1 processing failure, 2 bad input or usage.
 
 mod cli;

@@ -13,7 +13,7 @@ fn seamlit(args: &[&str]) -> Output {
 }
 
 fn models() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/models")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models")
 }
 
 fn example(name: &str) -> String {

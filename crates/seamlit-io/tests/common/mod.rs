@@ -7,9 +7,9 @@ use std::path::PathBuf;
 
 use seamlit_mesh::Model;
 
-/// A file under ../shared/models.
+/// A file under assets/models (the small test models kept in the repository).
 pub fn model(relative: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/")).join(relative)
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/")).join(relative)
 }
 
 /// What an OBJ file holds, counted with plain string handling (not the loader): per object

@@ -113,10 +113,10 @@ pub fn split(
 }
 
 /// The Newell teapot's 32 patches, each tessellated at `n` x `n` into its own object with the
-/// patch's (u, v) as UVs. Reads ../shared/models/newell_teaset/teapot.
+/// patch's (u, v) as UVs. Reads assets/models/newell_teaset/teapot.
 pub fn teapot(n: u32) -> Model {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models/newell_teaset/teapot");
-    let text = std::fs::read_to_string(path).expect("the shared teapot model");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/newell_teaset/teapot");
+    let text = std::fs::read_to_string(path).expect("assets/models/newell_teaset/teapot");
     let mut tokens = text.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty());
     let mut next = || tokens.next().expect("token").parse::<f32>().expect("number");
     let patches = next() as usize;
