@@ -40,10 +40,22 @@ impl Failure {
 }
 
 impl fmt::Display for Failure {
-    /// One line: the error and its causes joined by ": ", newlines folded.
+    /// One line: the error and its causes joined by ": ", newlines folded. A cause whose text
+    /// the line already holds is left out (library errors often print their source in their
+    /// own message, `path: what the OS said`, and the chain would say it twice).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let (Self::BadInput(e) | Self::Processing(e)) = self;
-        let text = format!("{e:#}");
+        let mut text = String::new();
+        for cause in e.chain() {
+            let part = cause.to_string();
+            if text.contains(&part) {
+                continue;
+            }
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&part);
+        }
         let one_line: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
         f.write_str(&one_line.join(" "))
     }

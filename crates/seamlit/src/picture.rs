@@ -14,6 +14,7 @@ use image::{Rgba, RgbaImage};
 /// # Errors
 /// The I/O or encoding error, with the path.
 pub fn save_png(image: &RgbaImage, path: &Path) -> anyhow::Result<()> {
+    crate::output::prepare_folder_of(path).map_err(|f| anyhow::anyhow!("{f}"))?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),

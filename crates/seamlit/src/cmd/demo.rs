@@ -47,9 +47,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         fmt(model.cross_object.max_normal_angle_deg)
     );
 
-    std::fs::create_dir_all(&args.out).map_err(|e| {
-        Failure::processing(format!("{}: cannot create the folder: {e}", args.out.display()))
-    })?;
+    crate::output::prepare_folder(&args.out)?;
     let loaded = demo_scene(asset.clone());
     let view = ViewFlags {
         size: args.size,

@@ -154,6 +154,7 @@ fn fix_file(
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
+    crate::output::prepare_folder_of(output)?;
     seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     let seams = report
         .cross_object
@@ -192,9 +193,7 @@ fn run_folder(
             args.output.display()
         )));
     }
-    std::fs::create_dir_all(&args.output).map_err(|e| {
-        Failure::processing(format!("{}: cannot create the folder: {e}", args.output.display()))
-    })?;
+    crate::output::prepare_folder(&args.output)?;
     let bar = ProgressBar::new(inputs.len() as u64);
     if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {wide_msg}") {
         bar.set_style(style);

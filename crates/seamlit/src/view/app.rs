@@ -427,11 +427,21 @@ impl Viewer {
             .screenshot
             .clone()
             .unwrap_or_else(|| PathBuf::from("seamlit-screenshot.png"));
-        self.status = match save_png(image, &path) {
-            Ok(()) => format!("saved {}", path.display()),
-            Err(e) => format!("{e:#}"),
-        };
-        println!("{}", self.status);
+        match save_png(image, &path) {
+            Ok(()) => {
+                self.status = format!("saved {}", path.display());
+                println!("{}", self.status);
+            }
+            // Asked for on the command line, a screenshot that cannot be written fails the
+            // run (exit status 1); taken with F12, it is reported in the panel and on stderr.
+            Err(e) if self.options.screenshot.is_some() => {
+                self.failure = Some(Failure::Processing(e));
+            }
+            Err(e) => {
+                self.status = format!("{e:#}");
+                eprintln!("error: {}", self.status);
+            }
+        }
     }
 }
 
@@ -521,7 +531,9 @@ impl ApplicationHandler for Viewer {
                     if let Some(image) = shot {
                         self.save_screenshot(&image);
                     }
-                    if self.options.exit_after_frames.is_some_and(|n| self.frames >= n) {
+                    if self.failure.is_some()
+                        || self.options.exit_after_frames.is_some_and(|n| self.frames >= n)
+                    {
                         event_loop.exit();
                     }
                 }

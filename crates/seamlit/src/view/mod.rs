@@ -27,6 +27,9 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
             shot.display()
         )));
     }
+    if let Some(shot) = &args.screenshot {
+        crate::output::prepare_folder_of(shot)?;
+    }
     let loaded = args.scene.load()?;
     let base =
         args.scene.fix.apply(loaded.scene.models.first().map_or(FixOptions::DEFAULT, |m| m.fix));
