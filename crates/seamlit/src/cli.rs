@@ -410,6 +410,23 @@ fn parse_angle(s: &str) -> Result<f32, String> {
 }
 
 /// `exact`, `rel:F` or a distance.
+/// A tolerance as `--weld-tolerance` spells it (the inverse of its parser): `exact`,
+/// `rel:1e-6`, `0.001`.
+#[must_use]
+pub fn tolerance_flag(t: WeldTolerance) -> String {
+    match t {
+        WeldTolerance::Exact | WeldTolerance::Absolute(0.0) => "exact".to_owned(),
+        WeldTolerance::Relative(r) => format!("rel:{r:e}"),
+        WeldTolerance::Absolute(d) => d.to_string(),
+    }
+}
+
+/// A weighting as `--weighting` spells it: `angle`, `area`, `angle-area`, `uniform`.
+#[must_use]
+pub fn weighting_flag(w: Weighting) -> String {
+    WeightingArg::from(w).to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned())
+}
+
 fn parse_tolerance(s: &str) -> Result<WeldTolerance, String> {
     let bad = || format!("{s:?} is not a tolerance: use a distance >= 0, rel:FRACTION or exact");
     if s.eq_ignore_ascii_case("exact") {
@@ -443,6 +460,27 @@ mod tests {
         assert!(parse_tolerance("-1").is_err() && parse_tolerance("rel:x").is_err());
         assert_eq!(parse_angle("60"), Ok(60.0));
         assert!(parse_angle("200").is_err() && parse_angle("NaN").is_err());
+    }
+
+    /// The inspect header spells options as the flags do: each spelling parses back to the
+    /// same value.
+    #[test]
+    fn options_are_spelled_as_their_flags() {
+        for t in [
+            WeldTolerance::Exact,
+            WeldTolerance::Relative(1e-6),
+            WeldTolerance::Relative(0.25),
+            WeldTolerance::Absolute(0.001),
+            WeldTolerance::Absolute(3.0),
+        ] {
+            assert_eq!(parse_tolerance(&tolerance_flag(t)), Ok(t), "{}", tolerance_flag(t));
+        }
+        assert_eq!(tolerance_flag(WeldTolerance::Relative(1e-6)), "rel:1e-6");
+        for w in [Weighting::Angle, Weighting::Area, Weighting::AngleArea, Weighting::Uniform] {
+            let spelled = weighting_flag(w);
+            assert_eq!(WeightingArg::from_str(&spelled, false).map(Weighting::from), Ok(w));
+        }
+        assert_eq!(weighting_flag(Weighting::AngleArea), "angle-area");
     }
 
     #[test]

@@ -156,10 +156,16 @@ mod tests {
             let mode = std::fs::metadata(&path).unwrap().permissions().mode();
             assert_eq!(mode & 0o777, 0o644, "{mode:o}");
         }
-        let bad = dir.path().join("missing-folder/x.png");
+        // The name is taken by a folder: the final rename fails.
+        let bad = dir.path().join("taken.png");
+        std::fs::create_dir(&bad).unwrap();
         let e = save_png(&RgbaImage::new(4, 4), &bad).unwrap_err().to_string();
         assert!(e.starts_with(&format!("{}: cannot write", bad.display())), "{e}");
-        // Nothing but x.png is left in the folder.
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        // Nothing but x.png and the folder is left: no temporary file.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+        // A missing folder is created (the rule of crate::output).
+        let nested = dir.path().join("new/folder/x.png");
+        save_png(&RgbaImage::new(4, 4), &nested).unwrap();
+        assert!(nested.is_file());
     }
 }

@@ -4,6 +4,13 @@ use std::fmt::Write as _;
 
 use seamlit_mesh::SeamReport;
 
+/// `n` and the noun, singular for one: `count(1, "object")` is "1 object", `count(2,
+/// "object")` "2 objects".
+#[must_use]
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
+}
+
 /// Formats reports side by side; `columns` are `(heading, report)`.
 #[must_use]
 pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {

@@ -165,6 +165,49 @@ fn inspect_prints_a_table_by_default() {
     let objects = text.lines().find(|l| l.starts_with("objects ")).unwrap();
     // The Cornell box file has 8 `o` objects... as the models' SOURCES.md says.
     assert!(objects.split_whitespace().skip(1).all(|c| c == "8"), "{objects}");
+    // The options are spelled as the flags that set them.
+    let first = text.lines().next().unwrap();
+    assert!(first.contains("--crease 60 --weld-tolerance rel:1e-6 --weighting angle"), "{first}");
+    let o = seamlit(&[
+        "inspect",
+        &path.display().to_string(),
+        "--weld-tolerance",
+        "exact",
+        "--weighting",
+        "angle-area",
+    ]);
+    let first = stdout(&o).lines().next().unwrap().to_owned();
+    assert!(first.contains("--weld-tolerance exact --weighting angle-area"), "{first}");
+}
+
+/// Counts read as English: "1 object", not "1 objects".
+#[test]
+fn one_object_is_said_in_the_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = write(dir.path(), "one.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let out = dir.path().join("one.glb").display().to_string();
+    let o = seamlit(&["fix", &one, "-o", &out]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let line = stdout(&o);
+    assert!(line.contains(": 1 object, 1 triangle, 0 positions shared"), "{line}");
+}
+
+/// Without a display, `view` says so in one line that names no source file of winit's.
+#[test]
+fn view_without_a_display_says_so_plainly() {
+    let o = Command::new(env!("CARGO_BIN_EXE_seamlit"))
+        .args(["view", &teapot(), "--tessellation", "2"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let errors = errors(&o);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].contains("cannot open a window"), "{errors:?}");
+    assert!(!errors[0].contains(".rs:") && !errors[0].contains("registry"), "{errors:?}");
 }
 
 #[test]
@@ -219,7 +262,7 @@ fn fix_refuses_bad_input_and_leaves_no_output() {
     assert_eq!(listing(dir.path()), ["bad.obj"]);
     // The output may not be the input itself.
     let good = write(dir.path(), "good.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    assert_bad_input(&seamlit(&["fix", &good, "-o", &good]), &["good.obj", "overwrite"]);
+    assert_bad_input(&seamlit(&["fix", &good, "-o", &good]), &["good.obj", "--overwrite-input"]);
     assert_eq!(std::fs::read_to_string(&good).unwrap(), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
 }
 

@@ -22,6 +22,7 @@ use seamlit_mesh::{FixOptions, ReportOptions};
 
 use crate::cli::FixArgs;
 use crate::failure::{Classify, Failure};
+use crate::table::count;
 
 /// Runs `seamlit fix`.
 ///
@@ -161,11 +162,11 @@ fn fix_file(
         .max_normal_angle_deg
         .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
     Ok(format!(
-        "wrote {}: {} objects, {} triangles, {} positions shared by 2+ objects{seams}",
+        "wrote {}: {}, {}, {} shared by 2+ objects{seams}",
         output.display(),
-        report.objects,
-        report.triangles,
-        report.shared_positions
+        count(report.objects, "object"),
+        count(report.triangles, "triangle"),
+        count(report.shared_positions, "position"),
     ))
 }
 
@@ -173,9 +174,12 @@ fn fix_file(
 /// through the machine (a full disk).
 fn classify_save(e: IoError) -> Failure {
     match e {
-        IoError::WouldOverwriteInput { .. } | IoError::UnknownFormat { .. } => {
-            Failure::BadInput(e.into())
-        }
+        // The library names its option; the user of the command line needs the flag.
+        IoError::WouldOverwriteInput { path } => Failure::input(format!(
+            "{}: refusing to overwrite the model's own source file (pass --overwrite-input to allow it)",
+            path.display()
+        )),
+        IoError::UnknownFormat { .. } => Failure::BadInput(e.into()),
         other => Failure::Processing(other.into()),
     }
 }

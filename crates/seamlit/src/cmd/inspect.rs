@@ -83,11 +83,11 @@ pub fn run(args: &InspectArgs) -> Result<(), Failure> {
         println!("{text}");
     } else {
         println!(
-            "{}: seam report (crease {}°, weld tolerance {:?}, weighting {:?})\n",
+            "{}: seam report (--crease {} --weld-tolerance {} --weighting {})\n",
             args.input.display(),
             options.crease_angle_deg,
-            options.weld_tolerance,
-            options.weighting
+            crate::cli::tolerance_flag(options.weld_tolerance),
+            crate::cli::weighting_flag(options.weighting),
         );
         print!("{}", reports.table());
     }

@@ -5,6 +5,7 @@ use crate::draw::{Gpu, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
 use crate::prepare::{FixOverride, bounds_of, pick_camera};
+use crate::table::count;
 
 /// Runs `seamlit render`.
 ///
@@ -25,13 +26,13 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;
     println!(
-        "wrote {} ({}x{}, camera {:?}, {} objects, {} triangles)",
+        "wrote {} ({}x{}, camera {:?}, {}, {})",
         args.output.display(),
         size.0,
         size.1,
         camera.name,
-        asset.model.objects.len(),
-        asset.model.triangle_count()
+        count(asset.model.objects.len(), "object"),
+        count(asset.model.triangle_count(), "triangle")
     );
     if let Some(frames) = args.frames.filter(|n| *n > 0) {
         let view = camera.view(aspect, Some(bounds));

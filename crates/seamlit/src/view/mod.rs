@@ -56,7 +56,8 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
         app::Viewer::new(loaded, settings, args.scene.view.camera.as_deref(), options)?;
     let event_loop = EventLoop::new().map_err(|e| {
         Failure::processing(format!(
-            "cannot open a window (is there a display? DISPLAY or WAYLAND_DISPLAY): {e}"
+            "cannot open a window: {} (render and compare draw without one)",
+            no_window_reason(&e)
         ))
     })?;
     event_loop
@@ -65,5 +66,34 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
     match viewer.failure.take() {
         Some(f) => Err(f),
         None => Ok(()),
+    }
+}
+
+/// What winit's error says, without the source location that its `os error at FILE:LINE:`
+/// prefix carries (a path inside the user's cargo registry means nothing to them).
+fn no_window_reason(error: &winit::error::EventLoopError) -> String {
+    without_source_location(&error.to_string()).to_owned()
+}
+
+/// `os error at PATH.rs:LINE: REASON` -> `REASON`; any other text unchanged.
+fn without_source_location(text: &str) -> &str {
+    let Some(rest) = text.strip_prefix("os error at ") else { return text };
+    rest.find(".rs:")
+        .and_then(|i| rest[i..].find(": ").map(|j| i + j + 2))
+        .map_or(text, |start| &rest[start..])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::without_source_location;
+
+    #[test]
+    fn a_missing_display_is_said_without_winit_source_paths() {
+        let winit = "os error at /root/.cargo/registry/src/x/winit-0.30.13/src/platform_impl/linux/mod.rs:765: neither WAYLAND_DISPLAY nor WAYLAND_SOCKET nor DISPLAY is set.";
+        assert_eq!(
+            without_source_location(winit),
+            "neither WAYLAND_DISPLAY nor WAYLAND_SOCKET nor DISPLAY is set."
+        );
+        assert_eq!(without_source_location("the X server went away"), "the X server went away");
     }
 }

@@ -79,7 +79,11 @@ pub struct Actions {
 pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     let mut actions = Actions::default();
     ui.heading("seamlit");
-    ui.label(format!("{} objects, {} triangles", r.objects, r.triangles));
+    ui.label(format!(
+        "{}, {}",
+        crate::table::count(r.objects, "object"),
+        crate::table::count(r.triangles, "triangle")
+    ));
     ui.label(format!(
         "frame {:.2} ms ({:.0} fps), fix {:.0} ms",
         r.frame_ms,
