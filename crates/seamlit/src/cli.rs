@@ -64,9 +64,13 @@ pub struct FixArgs {
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
-    /// missing) that receives one file per model.
+    /// missing) that receives one file per model, in the same subfolders as the input's, with
+    /// each model's textures beside it (.gltf, .obj) or inside it (.glb).
     #[arg(long, short, value_name = "OUTPUT")]
     pub output: PathBuf,
+    /// For a folder INPUT: only the models directly in it, not those in its subfolders.
+    #[arg(long)]
+    pub no_recurse: bool,
     /// Output format for a folder INPUT (for a file, the OUTPUT extension decides).
     #[arg(long, value_enum, value_name = "FORMAT", default_value_t = OutFormat::Glb)]
     pub format: OutFormat,

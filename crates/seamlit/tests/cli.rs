@@ -292,6 +292,69 @@ fn fix_a_folder_goes_on_past_a_bad_file_and_says_so() {
     assert!(stdout(&o).contains("fixed 1 of 2 models"));
 }
 
+/// Every file under `dir`, relative, sorted.
+fn tree(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().display().to_string());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A folder run descends into subfolders and mirrors the tree, each model's texture beside
+/// it; hidden folders and the output folder inside the input are not read; `--no-recurse`
+/// keeps to the top folder.
+#[test]
+fn fix_a_folder_tree_mirrors_it_with_textures_beside_each_model() {
+    let input = tempfile::tempdir().unwrap();
+    let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+    write(input.path(), "a.obj", &format!("{quad}f 1/1 2/2 3/3 4/4\n"));
+    let hero = input.path().join("chars/hero");
+    std::fs::create_dir_all(&hero).unwrap();
+    write(&hero, "head.mtl", "newmtl skin\nmap_Kd skin.png\n");
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 150, 120, 255]))
+        .save(hero.join("skin.png"))
+        .unwrap();
+    write(&hero, "head.obj", &format!("mtllib head.mtl\nusemtl skin\n{quad}f 1/1 2/2 3/3 4/4\n"));
+    std::fs::create_dir_all(input.path().join("props")).unwrap();
+    write(&input.path().join("props"), "chair.obj", &format!("{quad}f 1/1 2/2 3/3\n"));
+    std::fs::create_dir_all(input.path().join(".git")).unwrap();
+    write(&input.path().join(".git"), "hidden.obj", &format!("{quad}f 1/1 2/2 3/3\n"));
+
+    // The output folder lies inside the input: the second run must not fix the first's output.
+    let out = input.path().join("fixed");
+    let out_arg = out.display().to_string();
+    let in_arg = input.path().display().to_string();
+    for _ in 0..2 {
+        let o = seamlit(&["fix", &in_arg, "-o", &out_arg, "--format", "gltf"]);
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(stdout(&o).contains("fixed 3 of 3 models"), "{}", stdout(&o));
+    }
+    let files = tree(&out);
+    for expected in ["a.gltf", "chars/hero/head.gltf", "props/chair.gltf"] {
+        assert!(files.iter().any(|f| f == expected), "{expected} not in {files:?}");
+    }
+    assert!(
+        files.iter().any(|f| f.starts_with("chars/hero/") && f.ends_with(".png")),
+        "the hero's texture is not beside it: {files:?}"
+    );
+    assert!(!files.iter().any(|f| f.contains("hidden") || f.starts_with("fixed")), "{files:?}");
+
+    let top = tempfile::tempdir().unwrap();
+    let o = seamlit(&["fix", &in_arg, "-o", &top.path().display().to_string(), "--no-recurse"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(tree(top.path()), ["a.glb"]);
+}
+
 // --- render and compare ------------------------------------------------------------------
 
 #[test]

@@ -190,13 +190,13 @@ fn run_folder(
     load: &LoadOptions,
     save: &SaveOptions,
 ) -> Result<(), Failure> {
-    let inputs = model_files(&args.input)?;
     if args.output.exists() && !args.output.is_dir() {
         return Err(Failure::input(format!(
             "{}: is a file; with a folder INPUT, OUTPUT must be a folder",
             args.output.display()
         )));
     }
+    let inputs = model_files(&args.input, &args.output, !args.no_recurse)?;
     crate::output::prepare_folder(&args.output)?;
     let bar = ProgressBar::new(inputs.len() as u64);
     if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {wide_msg}") {
@@ -206,10 +206,9 @@ fn run_folder(
     let (mut failed, mut bad_input) = (0usize, false);
     let quiet = QuietPanics::install();
     for input in &inputs {
-        bar.set_message(
-            input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-        );
-        let output = output_name(input, &args.output, args.format.extension(), &mut used);
+        let relative = input.strip_prefix(&args.input).unwrap_or(input);
+        bar.set_message(relative.display().to_string());
+        let output = output_name(relative, &args.output, args.format.extension(), &mut used);
         match guarded(input, || fix_file(input, &output, options, load, save)) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
@@ -231,34 +230,53 @@ fn run_folder(
     }
 }
 
-/// The model files directly in `dir`, sorted.
-fn model_files(dir: &Path) -> Result<Vec<PathBuf>, Failure> {
-    let entries = std::fs::read_dir(dir)
-        .map_err(|e| Failure::input(format!("{}: cannot read the folder: {e}", dir.display())))?;
-    let mut files: Vec<PathBuf> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.is_file() && Format::of(p).is_some())
-        .collect();
+/// The model files in `dir` and, with `recurse`, in its subfolders, sorted by path. Hidden
+/// entries (`.git`, `.cache`), symbolic links to folders (which could loop) and the output
+/// folder itself (when it lies inside `dir`, so a second run does not fix the first run's
+/// output) are skipped.
+fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>, Failure> {
+    let skip = output.canonicalize().ok();
+    let mut files = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        let entries = std::fs::read_dir(&folder).map_err(|e| {
+            Failure::input(format!("{}: cannot read the folder: {e}", folder.display()))
+        })?;
+        for entry in entries.filter_map(Result::ok) {
+            let path = entry.path();
+            let hidden = entry.file_name().to_string_lossy().starts_with('.');
+            let Ok(kind) = entry.file_type() else { continue };
+            if kind.is_dir() && recurse && !hidden {
+                if skip.is_none() || path.canonicalize().ok() != skip {
+                    folders.push(path);
+                }
+            } else if !hidden && path.is_file() && Format::of(&path).is_some() {
+                files.push(path);
+            }
+        }
+    }
     files.sort();
     if files.is_empty() {
+        let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
-            "{}: no model files (.obj, .gltf, .glb, Newell patches) in this folder",
+            "{}: no model files (.obj, .gltf, .glb, Newell patches) {where_}",
             dir.display()
         )));
     }
     Ok(files)
 }
 
-/// `out/stem.ext`, or `out/stem-srcext.ext` when two inputs share a stem.
-fn output_name(input: &Path, out: &Path, ext: &str, used: &mut HashSet<PathBuf>) -> PathBuf {
+/// `out/sub/stem.ext` for the input `sub/stem.srcext` (relative to the input folder), or
+/// `out/sub/stem-srcext.ext` when two inputs of one folder share a stem.
+fn output_name(relative: &Path, out: &Path, ext: &str, used: &mut HashSet<PathBuf>) -> PathBuf {
     let stem =
-        input.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
-    let mut path = out.join(format!("{stem}.{ext}"));
+        relative.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
+    let folder = out.join(relative.parent().unwrap_or(Path::new("")));
+    let mut path = folder.join(format!("{stem}.{ext}"));
     if used.contains(&path) {
         let src =
-            input.extension().map_or_else(String::new, |e| format!("-{}", e.to_string_lossy()));
-        path = out.join(format!("{stem}{src}.{ext}"));
+            relative.extension().map_or_else(String::new, |e| format!("-{}", e.to_string_lossy()));
+        path = folder.join(format!("{stem}{src}.{ext}"));
     }
     used.insert(path.clone());
     path
