@@ -111,9 +111,131 @@ pub fn labelled_row(panels: &[(RgbaImage, String, String)]) -> RgbaImage {
     out
 }
 
+/// A rectangle of pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rect {
+    /// Left column.
+    pub x: u32,
+    /// Top row.
+    pub y: u32,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+/// The window of `width` x `height` in which `a` and `b` (of one size) differ in the most
+/// pixels (by more than `threshold` in some channel), or `None` when they differ in none.
+/// Windows start on a 2-pixel grid; a summed-area table counts each in O(1).
+#[must_use]
+pub fn most_different_window(
+    a: &RgbaImage,
+    b: &RgbaImage,
+    (width, height): (u32, u32),
+    threshold: u8,
+) -> Option<Rect> {
+    let (w, h) = a.dimensions();
+    if b.dimensions() != (w, h) || width == 0 || height == 0 || width > w || height > h {
+        return None;
+    }
+    // sums[(y + 1) * (w + 1) + x + 1]: differing pixels in rows 0..=y, columns 0..=x.
+    let stride = w as usize + 1;
+    let mut sums = vec![0u32; stride * (h as usize + 1)];
+    for y in 0..h {
+        let mut row = 0;
+        for x in 0..w {
+            let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+            row += u32::from(p.iter().zip(q).any(|(&s, t)| s.abs_diff(t) > threshold));
+            let i = (y as usize + 1) * stride + x as usize + 1;
+            sums[i] = sums[i - stride] + row;
+        }
+    }
+    let count = |x: u32, y: u32| {
+        let (x0, y0, x1, y1) =
+            (x as usize, y as usize, (x + width) as usize, (y + height) as usize);
+        sums[y1 * stride + x1] + sums[y0 * stride + x0]
+            - sums[y0 * stride + x1]
+            - sums[y1 * stride + x0]
+    };
+    let mut best: Option<(u32, Rect)> = None;
+    for y in (0..=h - height).step_by(2) {
+        for x in (0..=w - width).step_by(2) {
+            let n = count(x, y);
+            if n > 0 && best.is_none_or(|(m, _)| n > m) {
+                best = Some((n, Rect { x, y, width, height }));
+            }
+        }
+    }
+    best.map(|(_, r)| r)
+}
+
+/// `rect` of `image` enlarged `factor` times, each pixel a `factor` x `factor` block (nearest
+/// neighbour: nothing smoothed in or out, so a seam looks exactly as sharp as it is).
+#[must_use]
+pub fn zoom(image: &RgbaImage, rect: Rect, factor: u32) -> RgbaImage {
+    RgbaImage::from_fn(rect.width * factor, rect.height * factor, |x, y| {
+        *image.get_pixel(rect.x + x / factor, rect.y + y / factor)
+    })
+}
+
+/// Draws a 2-pixel frame just outside `rect` (the pixels inside stay as rendered), clipped
+/// to the image.
+pub fn frame(image: &mut RgbaImage, rect: Rect, colour: [u8; 3]) {
+    let (w, h) = (i64::from(image.width()), i64::from(image.height()));
+    let (x0, y0) = (i64::from(rect.x) - 2, i64::from(rect.y) - 2);
+    let (x1, y1) = (i64::from(rect.x + rect.width) + 1, i64::from(rect.y + rect.height) + 1);
+    for y in y0.max(0)..=y1.min(h - 1) {
+        for x in x0.max(0)..=x1.min(w - 1) {
+            let border = x < x0 + 2 || x > x1 - 2 || y < y0 + 2 || y > y1 - 2;
+            if border && let (Ok(px), Ok(py)) = (u32::try_from(x), u32::try_from(y)) {
+                image.put_pixel(px, py, Rgba([colour[0], colour[1], colour[2], 255]));
+            }
+        }
+    }
+}
+
+/// `top` above `bottom`, `gap` pixels apart, on the dark background of [`labelled_row`].
+#[must_use]
+pub fn stack(top: &RgbaImage, bottom: &RgbaImage, gap: u32) -> RgbaImage {
+    let width = top.width().max(bottom.width());
+    let mut out =
+        RgbaImage::from_pixel(width, top.height() + gap + bottom.height(), Rgba([18, 18, 22, 255]));
+    image::imageops::replace(&mut out, top, 0, 0);
+    image::imageops::replace(&mut out, bottom, 0, i64::from(top.height() + gap));
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_most_different_window_is_found_and_zoomed_pixel_for_pixel() {
+        let a = RgbaImage::from_fn(40, 30, |x, y| Rgba([(x * 5) as u8, (y * 7) as u8, 0, 255]));
+        let mut b = a.clone();
+        // A short vertical step (a seam) at x = 25, rows 10..20; one stray pixel elsewhere.
+        for y in 10..20 {
+            b.put_pixel(25, y, Rgba([255, 255, 255, 255]));
+        }
+        b.put_pixel(3, 3, Rgba([255, 255, 255, 255]));
+        let window = most_different_window(&a, &b, (8, 6), 8).unwrap();
+        assert!(window.x <= 25 && 25 < window.x + 8, "{window:?}");
+        assert_eq!(window.height, 6);
+        assert!(most_different_window(&a, &a, (8, 6), 8).is_none());
+        let z = zoom(&b, window, 3);
+        assert_eq!(z.dimensions(), (24, 18));
+        for (x, y, p) in z.enumerate_pixels() {
+            assert_eq!(p, b.get_pixel(window.x + x / 3, window.y + y / 3));
+        }
+        let mut framed = a.clone();
+        frame(&mut framed, window, [255, 0, 0]);
+        for y in window.y..window.y + window.height {
+            for x in window.x..window.x + window.width {
+                assert_eq!(framed.get_pixel(x, y), a.get_pixel(x, y), "inside is untouched");
+            }
+        }
+        assert_eq!(framed.get_pixel(window.x - 1, window.y).0, [255, 0, 0, 255]);
+    }
 
     #[test]
     fn text_puts_ink_inside_its_box_and_nowhere_else() {

@@ -471,17 +471,61 @@ fn compare_puts_the_three_modes_side_by_side_with_labels() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let img = image::open(&out).unwrap().to_rgba8();
-    // Three 120 px panels with 4 px gaps, under a 44 px label band.
-    assert_eq!(img.dimensions(), (3 * 120 + 2 * 4, 90 + 44));
-    // The label band has light text in it above each panel.
-    for panel in 0..3 {
+    // Two rows of three 120 px panels with 4 px gaps, each under a 44 px label band: the modes,
+    // then the window where object and model differ most, enlarged 5 times.
+    assert_eq!(img.dimensions(), (3 * 120 + 2 * 4, 2 * (90 + 44) + 4));
+    // The label bands have light text in them above each panel.
+    for (panel, band) in (0..3).flat_map(|p| [(p, 0), (p, 90 + 44 + 4)]) {
         let x0 = panel * 124;
         let ink = (x0..x0 + 120)
-            .flat_map(|x| (0..44).map(move |y| (x, y)))
+            .flat_map(|x| (band..band + 44).map(move |y| (x, y)))
             .filter(|&(x, y)| img.get_pixel(x, y).0[0] > 150)
             .count();
-        assert!(ink > 20, "panel {panel} has no label");
+        assert!(ink > 20, "panel {panel} has no label at row {band}");
     }
+    // The window is framed in yellow in each panel; each inset is that window, every pixel a
+    // 5 x 5 block of the panel's pixel (nothing smoothed); object's and model's insets differ.
+    let framed: Vec<(u32, u32)> = (0..120)
+        .flat_map(|x| (44..44 + 90).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x + 124, y).0 == [255, 210, 60, 255])
+        .collect();
+    // The frame runs from window - 2 to window + size + 1 (span size + 3), clipped to the panel:
+    // where it is clipped on the low side, count from the high side.
+    let (lo, hi) = framed.iter().fold(((u32::MAX, u32::MAX), (0, 0)), |(lo, hi), &(x, y)| {
+        ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y)))
+    });
+    let start = |lo: u32, hi: u32, size: u32| if lo == 0 { hi - size - 1 } else { lo + 2 };
+    let (wx, wy) = (start(lo.0, hi.0, 24), start(lo.1 - 44, hi.1 - 44, 18));
+    let inset_top = 2 * 44 + 90 + 4;
+    let mut differ = 0;
+    for panel in 0..3 {
+        for y in 0..90 {
+            for x in 0..120 {
+                let zoomed = img.get_pixel(panel * 124 + x, inset_top + y);
+                let source = img.get_pixel(panel * 124 + wx + x / 5, 44 + wy + y / 5);
+                assert_eq!(zoomed, source, "panel {panel} inset pixel {x},{y}");
+                if panel == 1 && zoomed != img.get_pixel(2 * 124 + x, inset_top + y) {
+                    differ += 1;
+                }
+            }
+        }
+    }
+    assert!(differ > 0, "object and model look the same in the inset");
+}
+
+/// A model of one object has no seam: object and model agree, and no inset row is drawn.
+#[test]
+fn compare_draws_no_inset_where_object_and_model_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = write(
+        dir.path(),
+        "one.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 0.3\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    );
+    let out = dir.path().join("grid.png");
+    let o = seamlit(&["compare", &one, "-o", &out.display().to_string(), "--size", "120x90"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(image::open(&out).unwrap().to_rgba8().dimensions(), (3 * 120 + 2 * 4, 90 + 44));
 }
 
 // --- demo --------------------------------------------------------------------------------

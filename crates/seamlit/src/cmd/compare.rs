@@ -7,7 +7,7 @@ use seamlit_mesh::Mode;
 use crate::cli::CompareArgs;
 use crate::draw::{Gpu, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
-use crate::picture::{labelled_row, save_png};
+use crate::picture::{frame, labelled_row, most_different_window, save_png, stack, zoom};
 use crate::prepare::{FixOverride, Loaded, bounds_of, pick_camera};
 
 /// The three modes with their titles and the paper figure each reproduces.
@@ -52,15 +52,54 @@ pub fn render_modes(
 }
 
 /// Puts the mode images side by side with their labels.
+///
+/// Under them, when `object` and `model` differ, a second row enlarges the same window of each
+/// panel [`ZOOM`] times: the window where the two differ in the most pixels, that is, where a
+/// seam between objects shows most (at 640x480 a seam of the demo teapot covers a few thousand
+/// pixels of 307,200, invisible at full size). The window is framed in the panels above.
 #[must_use]
-pub fn grid(images: Vec<RgbaImage>) -> RgbaImage {
+pub fn grid(mut images: Vec<RgbaImage>) -> RgbaImage {
+    let window = match images.as_slice() {
+        [_, object, model] => {
+            let size = (object.width() / ZOOM, object.height() / ZOOM);
+            most_different_window(object, model, size, SEAM_THRESHOLD)
+        }
+        _ => None,
+    };
+    let insets: Vec<_> =
+        window.map(|w| images.iter().map(|img| zoom(img, w, ZOOM)).collect()).unwrap_or_default();
+    if let Some(w) = window {
+        images.iter_mut().for_each(|img| frame(img, w, FRAME_COLOUR));
+    }
     let panels: Vec<_> = images
         .into_iter()
         .zip(MODES)
         .map(|(img, (_, title, subtitle))| (img, format!("--mode {title}"), subtitle.to_string()))
         .collect();
-    labelled_row(&panels)
+    let top = labelled_row(&panels);
+    if insets.is_empty() {
+        return top;
+    }
+    let titles = MODES.map(|(_, title, _)| title);
+    let zoomed: Vec<_> = insets
+        .into_iter()
+        .zip(titles)
+        .map(|(img, title)| {
+            let subtitle = "pixels enlarged, not smoothed: where object and model differ most";
+            (img, format!("{title}, x{ZOOM} at the framed square"), subtitle.to_owned())
+        })
+        .collect();
+    stack(&top, &labelled_row(&zoomed), 4)
 }
+
+/// How many times the inset enlarges the window (which is a fifth of the panel each way).
+pub const ZOOM: u32 = 5;
+
+/// Channel difference (of 255) above which object and model count as different in a pixel.
+const SEAM_THRESHOLD: u8 = 8;
+
+/// The frame around the enlarged window: a yellow that stands out on the dark background.
+const FRAME_COLOUR: [u8; 3] = [255, 210, 60];
 
 /// Runs `seamlit compare`.
 ///
