@@ -4,6 +4,9 @@
 use glam::{Mat4, Vec3, Vec4};
 use seamlit_render::CameraView;
 
+/// How much of the image, each way, the default framing lets the model's bounds take.
+pub const FRAME_FILL: f32 = 0.9;
+
 /// Axis-aligned bounds in world space: `(min, max)`.
 pub type Bounds = (Vec3, Vec3);
 
@@ -45,24 +48,81 @@ impl Camera {
         }
     }
 
-    /// The default camera for a model with these bounds: in front of it (+Z), a little above
-    /// and to the right, far enough back that the bounding sphere fills about 80% of the
-    /// smaller side of an image of aspect ratio `aspect` (width / height).
+    /// The default camera for a model with these bounds: a three-quarter view (from the front,
+    /// +Z, 35 degrees to the right and 20 degrees above), as close as it can be while the eight
+    /// corners of the bounds stay inside the middle [`FRAME_FILL`] of the image of aspect ratio
+    /// `aspect` (width / height) both ways, and panned so that they sit centred in it. The
+    /// distance and the pan are solved exactly for the corners (a bisection on the distance;
+    /// the pan is the middle of the offsets that fit), as glTF viewers frame a model.
     #[must_use]
     pub fn framing(bounds: Bounds, aspect: f32) -> Self {
         let (min, max) = bounds;
         let center = (min + max) * 0.5;
-        let radius = ((max - min).length() * 0.5).max(1e-6);
-        let half_fov_y = (DEFAULT_FOV_Y_DEG.to_radians() * 0.5).tan();
-        // The narrower half angle limits how far the sphere may extend.
-        let half = if aspect.is_finite() && aspect > 0.0 && aspect < 1.0 {
-            half_fov_y * aspect
-        } else {
-            half_fov_y
+        let (azimuth, elevation) = (35f32.to_radians(), 20f32.to_radians());
+        let back = Vec3::new(
+            azimuth.sin() * elevation.cos(),
+            elevation.sin(),
+            azimuth.cos() * elevation.cos(),
+        );
+        let forward = -back;
+        let right = forward.cross(Vec3::Y).normalize();
+        let up = right.cross(forward);
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let tan_y = (DEFAULT_FOV_Y_DEG.to_radians() * 0.5).tan() * FRAME_FILL;
+        let tan_x = tan_y * aspect;
+        // Each corner in the camera's axes, relative to the centre: (right, up, depth).
+        let corners: Vec<Vec3> = (0..8)
+            .map(|i| {
+                let c = Vec3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                ) - center;
+                Vec3::new(c.dot(right), c.dot(up), c.dot(forward))
+            })
+            .collect();
+        // At distance d, the pan offsets along one axis that keep every corner inside:
+        // |a - offset| <= (d + depth) * tan for each corner.
+        let fit = |d: f32, axis: fn(Vec3) -> f32, tan: f32| {
+            corners.iter().fold((f32::NEG_INFINITY, f32::INFINITY), |(lo, hi), &c| {
+                let reach = (d + c.z) * tan;
+                (lo.max(axis(c) - reach), hi.min(axis(c) + reach))
+            })
         };
-        let distance = radius / (half.atan().sin() * 0.8).min(0.999);
-        let direction = Vec3::new(0.35, 0.45, 1.0).normalize();
-        Self::look_at("default", center + direction * distance, center)
+        let fits = |d: f32| {
+            let (x, y) = (fit(d, |c| c.x, tan_x), fit(d, |c| c.y, tan_y));
+            corners.iter().all(|c| d + c.z > 0.0) && x.0 <= x.1 && y.0 <= y.1
+        };
+        let radius = ((max - min).length() * 0.5).max(1e-6);
+        // The sphere around the bounds fits at radius / sin(half angle): an upper bound.
+        let (mut near, mut far) = (0.0, radius / tan_x.min(tan_y).atan().sin() + radius);
+        for _ in 0..60 {
+            let mid = 0.5 * (near + far);
+            if fits(mid) { far = mid } else { near = mid }
+        }
+        // The pan that centres the corners' projected extent on one axis: their projections
+        // (a - offset) / (d + depth) fall as the offset grows, so the sum of the largest and
+        // the smallest has one zero, between the smallest and the largest a.
+        let centre = |d: f32, axis: fn(Vec3) -> f32| {
+            let spread = |o: f32| {
+                let p = corners.iter().map(|&c| (axis(c) - o) / (d + c.z));
+                let (lo, hi) =
+                    p.fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
+                lo + hi
+            };
+            let (mut lo, mut hi) =
+                corners.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &c| {
+                    (l.min(axis(c)), h.max(axis(c)))
+                });
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if spread(mid) > 0.0 { lo = mid } else { hi = mid }
+            }
+            0.5 * (lo + hi)
+        };
+        let pan = right * centre(far, |c| c.x) + up * centre(far, |c| c.y);
+        let target = center + pan;
+        Self::look_at("default", target - forward * far, target)
     }
 
     /// The world-to-view matrix (right-handed, looking down -Z).
@@ -170,6 +230,42 @@ mod tests {
                 let ndc = project(&view, corner);
                 assert!(ndc.x.abs() < 1.0 && ndc.y.abs() < 1.0, "{aspect}: {corner} -> {ndc}");
                 assert!(ndc.z > 0.0 && ndc.z < 1.0, "{aspect}: depth {}", ndc.z);
+            }
+        }
+    }
+
+    /// The framing is tight: the corners' extent reaches the frame's fill on one axis and is
+    /// centred on both.
+    #[test]
+    fn framing_is_tight_and_centred() {
+        let boxes = [
+            (Vec3::new(-3.0, 0.0, -2.0), Vec3::new(3.0, 3.0, 2.0)),
+            // Long and low, like a fox or a truck.
+            (Vec3::new(-0.2, 0.0, -1.5), Vec3::new(0.2, 0.6, 1.5)),
+            (Vec3::splat(10.0), Vec3::new(10.5, 14.0, 10.5)),
+        ];
+        for bounds in boxes {
+            for aspect in [0.5, 1.0, 16.0 / 9.0] {
+                let camera = Camera::framing(bounds, aspect);
+                let view = camera.view(aspect, Some(bounds));
+                let ndc: Vec<Vec3> = (0..8)
+                    .map(|i| {
+                        project(
+                            &view,
+                            Vec3::new(
+                                if i & 1 == 0 { bounds.0.x } else { bounds.1.x },
+                                if i & 2 == 0 { bounds.0.y } else { bounds.1.y },
+                                if i & 4 == 0 { bounds.0.z } else { bounds.1.z },
+                            ),
+                        )
+                    })
+                    .collect();
+                let lo = ndc.iter().fold(Vec3::splat(f32::INFINITY), |a, &b| a.min(b));
+                let hi = ndc.iter().fold(Vec3::splat(f32::NEG_INFINITY), |a, &b| a.max(b));
+                let reach = hi.x.max(-lo.x).max(hi.y).max(-lo.y);
+                assert!((reach - FRAME_FILL).abs() < 1e-3, "{bounds:?} {aspect}: reach {reach}");
+                assert!((lo.x + hi.x).abs() < 1e-3, "{bounds:?} {aspect}: x {lo} {hi}");
+                assert!((lo.y + hi.y).abs() < 1e-3, "{bounds:?} {aspect}: y {lo} {hi}");
             }
         }
     }
