@@ -788,6 +788,7 @@ impl Reader<'_> {
             uvs,
             normals,
             tangents,
+            colors: None,
             triangles,
             transform: None,
             material: primitive.material().index(),

@@ -140,6 +140,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             positions: parsed.positions,
             uvs: parsed.uvs,
             normals: parsed.normals,
+            colors: None,
             tangents: None,
             triangles: parsed.triangles,
             transform: None,
