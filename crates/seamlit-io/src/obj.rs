@@ -2,7 +2,9 @@
 //!
 //! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
 //! changing the material inside an object also starts one: both parts keep the name). Faces are
-//! triangulated as fans; `vt` and `vn` are kept where every face of the object has them.
+//! triangulated as fans; `vt` and `vn` are kept where every face of the object has them. A
+//! file with a UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement
+//! is an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
@@ -42,11 +44,24 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         });
     }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let parsed = match crate::obj_parse::read(file, path) {
+    // A file with a UTF-16 byte-order mark is decoded whole (it is at most
+    // `max_file_bytes`); any other file is read as UTF-8, in blocks.
+    let decoded = match utf16_order(&file).map_err(|e| IoError::io(path, e))? {
+        Some(order) => Some(decode_utf16(&crate::read_bytes(path, options)?, order, path)?),
+        None => None,
+    };
+    let parsed = match &decoded {
+        Some(text) => crate::obj_parse::read(text.as_bytes(), path),
+        None => crate::obj_parse::read(file, path),
+    };
+    let parsed = match parsed {
         Ok(parsed) => parsed,
         Err(ReadError::Placed(err)) => return Err(err),
         Err(ReadError::IndexOutOfRange) => {
-            let text = crate::read_text(path, options)?;
+            let text = match decoded {
+                Some(text) => text,
+                None => crate::read_text(path, options)?,
+            };
             return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
                 path: path.to_path_buf(),
                 reason: "a face index is out of range".to_owned(),
@@ -161,6 +176,59 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
+}
+
+/// How two bytes of UTF-16 make a code unit: `u16::from_le_bytes` or `u16::from_be_bytes`.
+type ByteOrder = fn([u8; 2]) -> u16;
+
+/// The byte order of a file that starts with a UTF-16 byte-order mark (`FF FE`: little
+/// endian, `FE FF`: big endian), read through the handle, which is then rewound.
+fn utf16_order(file: &std::fs::File) -> std::io::Result<Option<ByteOrder>> {
+    use std::io::Read as _;
+    let mut head = [0u8; 2];
+    let mut reader = file;
+    let got = reader.read(&mut head)?;
+    std::io::Seek::rewind(&mut reader)?;
+    Ok(match (got, head) {
+        (2, [0xFF, 0xFE]) => Some(u16::from_le_bytes),
+        (2, [0xFE, 0xFF]) => Some(u16::from_be_bytes),
+        _ => None,
+    })
+}
+
+/// UTF-16 `bytes` (their byte-order mark first) as text.
+///
+/// # Errors
+///
+/// [`IoError::NotText`] on the line of an unpaired surrogate or of a lone final byte.
+fn decode_utf16(bytes: &[u8], order: ByteOrder, path: &Path) -> Result<String, IoError> {
+    let units =
+        bytes.get(2..).unwrap_or_default().chunks_exact(2).map(|pair| order([pair[0], pair[1]]));
+    let mut text = String::with_capacity(bytes.len() / 2);
+    let mut line = 1;
+    for unit in char::decode_utf16(units) {
+        match unit {
+            Ok(c) => {
+                line += usize::from(c == '\n');
+                text.push(c);
+            }
+            Err(_) => {
+                return Err(IoError::NotText {
+                    path: path.to_path_buf(),
+                    line,
+                    problem: crate::NotText::InvalidUtf16,
+                });
+            }
+        }
+    }
+    if bytes.len() % 2 == 1 {
+        return Err(IoError::NotText {
+            path: path.to_path_buf(),
+            line,
+            problem: crate::NotText::InvalidUtf16,
+        });
+    }
+    Ok(text)
 }
 
 /// Finds the first line of an OBJ file with a face index out of range (or another error)

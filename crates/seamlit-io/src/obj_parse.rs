@@ -20,7 +20,6 @@
 //! Material libraries are read with tobj (see [`crate::obj`]).
 
 use std::collections::HashMap;
-use std::fs::File;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::io::Read;
 use std::path::Path;
@@ -29,7 +28,10 @@ use std::sync::mpsc;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use crate::IoError;
+use crate::{IoError, NotText};
+
+/// The UTF-8 byte-order mark, which some editors write before the first line.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// "No `vt` / `vn` index" in a corner.
 const MISSING: u32 = u32::MAX;
@@ -111,8 +113,9 @@ pub(crate) enum ReadError {
     IndexOutOfRange,
 }
 
-/// Reads and parses the OBJ file `file` (opened from `path`).
-pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
+/// Reads and parses the OBJ text of `file` (UTF-8, opened from `path`; a UTF-8 byte-order
+/// mark is skipped).
+pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, ReadError> {
     let (blocks, received) = mpsc::sync_channel::<(usize, Vec<u8>)>(READ_AHEAD);
     let (give_back, free) = mpsc::channel::<Vec<u8>>();
     let parsed: Vec<(usize, ChunkResult)> = std::thread::scope(|s| {
@@ -153,7 +156,7 @@ pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
 /// parsers; buffers come back through `free` to be reused. A line longer than a block makes
 /// its block grow (each byte is read and searched once, however long the line).
 fn read_blocks(
-    mut file: File,
+    mut file: impl Read,
     blocks: &mpsc::SyncSender<(usize, Vec<u8>)>,
     free: &mpsc::Receiver<Vec<u8>>,
 ) -> std::io::Result<()> {
@@ -177,6 +180,9 @@ fn read_blocks(
                 break false;
             }
         };
+        if index == 0 && block.starts_with(UTF8_BOM) {
+            block.drain(..UTF8_BOM.len());
+        }
         if (!block.is_empty() || index == 0) && blocks.send((index, block)).is_err() {
             return Ok(());
         }
@@ -540,6 +546,7 @@ type ChunkResult = Result<Chunk, (usize, ChunkError)>;
 enum ChunkError {
     Syntax(String),
     NotFinite(&'static str, String),
+    NotText(NotText),
 }
 
 impl ChunkError {
@@ -549,6 +556,7 @@ impl ChunkError {
             Self::NotFinite(what, text) => {
                 IoError::NotFinite { path: path.to_path_buf(), line, what, text }
             }
+            Self::NotText(problem) => IoError::NotText { path: path.to_path_buf(), line, problem },
         }
     }
 }
@@ -687,7 +695,43 @@ fn rest_of(words: &Cursor<'_>) -> String {
     text(words.rest()).trim().to_owned()
 }
 
+/// Parses a block of whole lines: its statements, and the first error among them or among
+/// its lines that are not text (whichever comes first).
 fn parse_chunk(block: &[u8]) -> ChunkResult {
+    let parsed = parse_statements(block);
+    match (first_line_not_text(block), parsed) {
+        (Some(bad), Err(error)) if error.0 < bad.0 => Err(error),
+        (Some(bad), _) => Err(bad),
+        (None, parsed) => parsed,
+    }
+}
+
+/// The first statement line (not a comment) of `block` that holds a NUL byte or invalid
+/// UTF-8, with what is wrong. A block of ASCII without NUL (nearly every OBJ file) is seen
+/// to have none in one pass that vectorises; others are searched line by line.
+fn first_line_not_text(block: &[u8]) -> Option<(usize, ChunkError)> {
+    // Bit 7 of `b | (b - 1)` is set for NUL (0 - 1 = 0xFF) and for every byte above 127.
+    let ascii = |chunk: &[u8]| chunk.iter().fold(0, |any, &b| any | b | b.wrapping_sub(1)) < 0x80;
+    if block.chunks(64).all(ascii) {
+        return None;
+    }
+    block.split(|&b| b == b'\n').enumerate().find_map(|(i, line)| {
+        let start = line.iter().position(|&b| !blank(b)).unwrap_or(line.len());
+        let problem = if line[start..].starts_with(b"#") {
+            return None;
+        } else if line.contains(&0) {
+            NotText::Nul
+        } else if std::str::from_utf8(line).is_err() {
+            NotText::InvalidUtf8
+        } else {
+            return None;
+        };
+        Some((i + 1, ChunkError::NotText(problem)))
+    })
+}
+
+/// Parses the statements of a block of whole lines.
+fn parse_statements(block: &[u8]) -> ChunkResult {
     let mut chunk = Chunk::default();
     let mut face: Vec<(Corner, [Option<i64>; 3])> = Vec::with_capacity(8);
     let mut words = Cursor { text: block, at: 0 };

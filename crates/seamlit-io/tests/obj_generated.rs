@@ -126,7 +126,10 @@ fn agree(path: &Path, label: &str) {
     };
     let (models, _) = tobj::load_obj(path, &options).unwrap();
     let models: Vec<_> = models.into_iter().filter(|m| !m.mesh.indices.is_empty()).collect();
-    let asset = seamlit_io::load(path, &LoadOptions::default()).unwrap();
+    let asset = match seamlit_io::load(path, &LoadOptions::default()) {
+        Err(seamlit_io::IoError::NoTriangles { .. }) if models.is_empty() => return,
+        other => other.unwrap(),
+    };
     assert_eq!(asset.model.objects.len(), models.len(), "{label}");
     for (ours, theirs) in asset.model.objects.iter().zip(&models) {
         assert_eq!(ours.name, theirs.name, "{label}");
