@@ -38,6 +38,7 @@ mod obj_parse;
 mod obj_write;
 mod options;
 mod paths;
+mod polygon;
 mod texture;
 
 use std::path::Path;

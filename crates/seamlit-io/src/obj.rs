@@ -2,9 +2,9 @@
 //!
 //! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
 //! changing the material inside an object also starts one: both parts keep the name). Faces are
-//! triangulated as fans; `vt` and `vn` are kept where every face of the object has them. A
-//! file with a UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement
-//! is an error.
+//! triangulated as fans where they are convex, ear-clipped where not; `vt` and `vn` are kept
+//! where every face of the object has them. A file with a UTF-16 byte-order mark is
+//! decoded; a NUL byte or invalid UTF-8 in a statement is an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.

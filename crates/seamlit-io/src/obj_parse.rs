@@ -10,7 +10,8 @@
 //!
 //! - `o` and `g` start a new object when the current one has faces, else rename it; `usemtl`
 //!   changing the material inside an object with faces starts a new object of the same name;
-//! - faces are triangulated as fans `(a, b, c), (a, c, d), ...`; faces of fewer than three
+//! - faces are triangulated as fans `(a, b, c), (a, c, d), ...` (*: but for polygons that are
+//!   not convex, which are ear-clipped, see [`crate::polygon`]); faces of fewer than three
 //!   corners (points, lines) and `p` statements are ignored, and so are `l` statements (*:
 //!   tobj makes a polygon of an `l` of three or more points; a polyline is not a surface);
 //! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use; `vt`
@@ -92,6 +93,9 @@ struct Chunk {
     relative: Vec<(usize, usize, i64)>,
     /// Events with the chunk-local triangle index they precede.
     events: Vec<(usize, Event)>,
+    /// Faces of more than three corners, fan-triangulated here: their first triangle and
+    /// their number of corners (see [`crate::polygon`]).
+    polygons: Vec<(usize, usize)>,
 }
 
 /// The OBJ file's objects and, in order, its `mtllib` statements (name, line).
@@ -321,15 +325,21 @@ impl Parsed {
                     segments.iter().flat_map(|&(c, start, end)| &chunks[c].triangles[start..end])
                 };
                 let count: usize = segments.iter().map(|&(_, start, end)| end - start).sum();
-                let (keys, triangles) = dense_dedup(triangles(), count)
+                let (keys, mut triangles) = dense_dedup(triangles(), count)
                     .unwrap_or_else(|| hashed_dedup(triangles(), count));
                 let with_vt = keys.iter().filter(|k| k[1] != MISSING).count();
                 let with_vn = keys.iter().filter(|k| k[2] != MISSING).count();
                 let all = keys.len();
+                let positions: Vec<Vec3> = keys.iter().map(|k| positions[k[0] as usize]).collect();
+                crate::polygon::triangulate(
+                    &mut triangles,
+                    &positions,
+                    polygons(chunks, &segments),
+                );
                 ParsedObject {
                     name,
                     material,
-                    positions: keys.iter().map(|k| positions[k[0] as usize]).collect(),
+                    positions,
                     uvs: (with_vt == all && all > 0)
                         .then(|| keys.iter().map(|k| uvs[k[1] as usize]).collect()),
                     normals: (with_vn == all && all > 0)
@@ -341,6 +351,23 @@ impl Parsed {
             })
             .collect()
     }
+}
+
+/// The polygons (faces of more than three corners) of an object made of `segments`: their
+/// first triangle in the object and their number of corners, ascending.
+fn polygons<'a>(
+    chunks: &'a [Chunk],
+    segments: &'a [Segment],
+) -> impl Iterator<Item = (usize, usize)> + 'a {
+    let mut base = 0;
+    segments.iter().flat_map(move |&(c, start, end)| {
+        let all = &chunks[c].polygons;
+        let from = all.partition_point(|&(first, _)| first < start);
+        let to = all.partition_point(|&(first, _)| first < end);
+        let offset = base;
+        base += end - start;
+        all[from..to].iter().map(move |&(first, corners)| (offset + first - start, corners))
+    })
 }
 
 /// The distinct corners in order of first use, and the triangles as indices among them.
@@ -786,7 +813,11 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                         any_relative |= relative != [None; 3];
                         face.push((corner, relative));
                     }
-                    // Fan triangulation.
+                    // Fan triangulation; polygons that are not convex are triangulated
+                    // again once their positions are known (`crate::polygon`).
+                    if face.len() > 3 {
+                        chunk.polygons.push((chunk.triangles.len(), face.len()));
+                    }
                     for k in 1..face.len().saturating_sub(1) {
                         let triangle = [face[0], face[k], face[k + 1]];
                         if any_relative {

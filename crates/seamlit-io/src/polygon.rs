@@ -1,0 +1,158 @@
+//! Triangulating OBJ polygons (faces of more than three corners): a fan where the polygon is
+//! convex, ear clipping on its best-fit plane where it is not.
+//!
+//! The parser fans every face, `(a, b, c), (a, c, d), ...`, as tobj does: right for a convex
+//! polygon, but a fan over a concave one overlaps itself, with triangles facing backwards and
+//! an area larger than the polygon's. Once the positions are known, each polygon is checked:
+//!
+//! 1. its normal by Newell's method (M. E. Newell, as given by Sutherland, Sproull and
+//!    Schumacker, "A characterization of ten hidden-surface algorithms", 1974): the
+//!    best-fit plane's normal, right for non-planar polygons too;
+//! 2. convex when every corner turns the same way about that normal (a cross product and a
+//!    dot product per corner): the fan stays, the common case, at that cost only;
+//! 3. otherwise the polygon is projected onto the plane and ear-clipped (the `earcutr` crate,
+//!    Mapbox's earcut), each triangle turned to face the polygon's normal.
+//!
+//! The ear-clipped triangles replace the fan only when they are `n - 2` triangles (every
+//! corner kept) whose areas add up to the polygon's: a self-intersecting polygon, which has no
+//! right triangulation, or one with repeated or collinear corners (which earcut drops) keeps
+//! its fan. Polygons of more than [`MOST_CORNERS`] corners keep theirs too: ear clipping is
+//! quadratic in the worst case, and a hostile file must not make loading take hours.
+
+use glam::{DVec2, DVec3, Vec3};
+
+/// The largest polygon that is ear-clipped.
+pub(crate) const MOST_CORNERS: usize = 1024;
+
+/// Triangulates again the polygons that are not convex. `triangles` holds every polygon as a
+/// fan; `polygons` gives, ascending, each polygon's first triangle in `triangles` and its
+/// number of corners; `positions` are the vertices the triangles index.
+pub(crate) fn triangulate(
+    triangles: &mut [[u32; 3]],
+    positions: &[Vec3],
+    polygons: impl Iterator<Item = (usize, usize)>,
+) {
+    let mut corners = Vec::new();
+    for (first, n) in polygons {
+        let fan = &mut triangles[first..first + n - 2];
+        corners.clear();
+        corners.extend_from_slice(&fan[0][..2]);
+        corners.extend(fan.iter().map(|t| t[2]));
+        if let Some(clipped) = ear_clip(&corners, positions) {
+            fan.copy_from_slice(&clipped);
+        }
+    }
+}
+
+/// The ear-clipped triangles of a polygon (`corners` index `positions`), or `None` where its
+/// fan stays: convex, degenerate, self-intersecting, too large, or with corners that ear
+/// clipping drops.
+fn ear_clip(corners: &[u32], positions: &[Vec3]) -> Option<Vec<[u32; 3]>> {
+    let n = corners.len();
+    if n > MOST_CORNERS {
+        return None;
+    }
+    let points: Vec<DVec3> = corners.iter().map(|&c| positions[c as usize].as_dvec3()).collect();
+    let normal = newell_normal(&points).try_normalize()?;
+    if is_convex(&points, normal) {
+        return None;
+    }
+    // A right-handed basis of the plane: counter-clockwise about the normal is
+    // counter-clockwise in (u, v).
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let flat: Vec<DVec2> = points
+        .iter()
+        .map(|&p| DVec2::new((p - points[0]).dot(u), (p - points[0]).dot(v)))
+        .collect();
+    let coordinates: Vec<f64> = flat.iter().flat_map(|p| [p.x, p.y]).collect();
+    let indices = earcutr::earcut(&coordinates, &[], 2).ok()?;
+    if indices.len() != 3 * (n - 2) {
+        return None;
+    }
+    let twice_area = |[a, b, c]: [usize; 3]| (flat[b] - flat[a]).perp_dot(flat[c] - flat[a]);
+    let mut covered = 0.0;
+    let mut out = Vec::with_capacity(n - 2);
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [t[0], t[1], t[2]];
+        let area = twice_area([a, b, c]);
+        covered += area.abs();
+        // Counter-clockwise about the normal, as the polygon.
+        let [b, c] = if area < 0.0 { [c, b] } else { [b, c] };
+        out.push([corners[a], corners[b], corners[c]]);
+    }
+    let polygon = shoelace(&flat);
+    ((covered - polygon).abs() <= 1e-9 * polygon.max(f64::MIN_POSITIVE)).then_some(out)
+}
+
+/// Newell's normal: twice the area times the unit normal of a planar polygon, the normal of
+/// the best-fit plane otherwise.
+fn newell_normal(points: &[DVec3]) -> DVec3 {
+    let origin = points[0];
+    let mut sum = DVec3::ZERO;
+    for (i, &p) in points.iter().enumerate() {
+        let q = points[(i + 1) % points.len()];
+        sum += (p - origin).cross(q - origin);
+    }
+    sum
+}
+
+/// Whether every corner turns left about `normal` (corners on a straight line count as
+/// turning either way).
+fn is_convex(points: &[DVec3], normal: DVec3) -> bool {
+    let n = points.len();
+    (0..n).all(|i| {
+        let (before, at, after) = (points[(i + n - 1) % n], points[i], points[(i + 1) % n]);
+        let (e1, e2) = (at - before, after - at);
+        e1.cross(e2).dot(normal) >= -1e-9 * e1.length() * e2.length()
+    })
+}
+
+/// Twice the signed area of a polygon in the plane (the shoelace formula).
+fn shoelace(points: &[DVec2]) -> f64 {
+    let n = points.len();
+    (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_convex_polygon_keeps_its_fan() {
+        let hexagon: Vec<Vec3> = (0..6)
+            .map(|k| {
+                let a = k as f32 * std::f32::consts::TAU / 6.0;
+                Vec3::new(a.cos(), 0.3, a.sin())
+            })
+            .collect();
+        let fan = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]];
+        let mut triangles = fan;
+        triangulate(&mut triangles, &hexagon, [(0, 6)].into_iter());
+        assert_eq!(triangles, fan);
+    }
+
+    #[test]
+    fn a_dart_is_clipped_through_its_reflex_corner() {
+        // Corner 3 is reflex: the fan's diagonal 0-2 runs outside the polygon, and the fan's
+        // second triangle faces backwards.
+        let dart = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(0.3, 1.0, 0.0),
+        ];
+        let mut triangles = [[0, 1, 2], [0, 2, 3]];
+        triangulate(&mut triangles, &dart, [(0, 4)].into_iter());
+        let mut sets = triangles.map(|mut t| {
+            t.sort_unstable();
+            t
+        });
+        sets.sort_unstable();
+        assert_eq!(sets, [[0, 1, 3], [1, 2, 3]]);
+        for t in triangles {
+            let [a, b, c] = t.map(|i| dart[i as usize]);
+            assert!((b - a).cross(c - a).z > 0.0, "{t:?} faces backwards");
+        }
+    }
+}
