@@ -2,9 +2,10 @@
 //!
 //! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
 //! changing the material inside an object also starts one: both parts keep the name). Faces are
-//! triangulated as fans where they are convex, ear-clipped where not; `vt` and `vn` are kept
-//! where every face of the object has them. A file with a UTF-16 byte-order mark is
-//! decoded; a NUL byte or invalid UTF-8 in a statement is an error.
+//! triangulated as fans where they are convex, ear-clipped where not; `vt`, `vn` and vertex
+//! colours (`v x y z r g b [a]`) are kept where every face of the object has them. A file
+//! with a UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement is
+//! an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
@@ -139,9 +140,11 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                 actual: too_many,
             });
         }
-        for (mixed, what) in
-            [(parsed.mixed_uvs, "texture coordinates"), (parsed.mixed_normals, "normals")]
-        {
+        for (mixed, what) in [
+            (parsed.mixed_uvs, "texture coordinates"),
+            (parsed.mixed_normals, "normals"),
+            (parsed.mixed_colors, "vertex colours"),
+        ] {
             if mixed {
                 warnings.push(format!(
                     "{}: object {:?}: some faces have {what} and some do not; {what} dropped",
@@ -155,7 +158,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             positions: parsed.positions,
             uvs: parsed.uvs,
             normals: parsed.normals,
-            colors: None,
+            colors: parsed.colors,
             tangents: None,
             triangles: parsed.triangles,
             transform: None,

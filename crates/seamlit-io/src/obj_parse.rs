@@ -16,7 +16,9 @@
 //!   tobj makes a polygon of an `l` of three or more points; a polyline is not a surface);
 //! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use; `vt`
 //!   and `vn` are kept only where every corner of the object has them (*: the caller warns);
-//! - `v x y z w` divides by `w`; further values (vertex colours) are ignored.
+//! - `v x y z w` divides by `w`; `v x y z r g b` and `v x y z r g b a` give vertex colours
+//!   (*: tobj reads no alpha), kept where every vertex of the object has one (*: the caller
+//!   warns); other counts of numbers are an error.
 //!
 //! Material libraries are read with tobj (see [`crate::obj`]).
 
@@ -26,13 +28,16 @@ use std::io::Read;
 use std::path::Path;
 use std::sync::mpsc;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::{IoError, NotText};
 
 /// The UTF-8 byte-order mark, which some editors write before the first line.
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// "No colour" for a `v` without one, among others with one.
+const NO_COLOR: Vec4 = Vec4::NAN;
 
 /// "No `vt` / `vn` index" in a corner.
 const MISSING: u32 = u32::MAX;
@@ -65,11 +70,15 @@ pub(crate) struct ParsedObject {
     /// `Some` when every corner has a `vt`; `None` when none has.
     pub uvs: Option<Vec<Vec2>>,
     pub normals: Option<Vec<Vec3>>,
+    /// `Some` when every vertex has a colour; `None` when none has.
+    pub colors: Option<Vec<Vec4>>,
     pub triangles: Vec<[u32; 3]>,
     /// Some corners had a `vt` and some did not (texture coordinates dropped).
     pub mixed_uvs: bool,
     /// Some corners had a `vn` and some did not (normals dropped).
     pub mixed_normals: bool,
+    /// Some vertices had a colour and some did not (colours dropped).
+    pub mixed_colors: bool,
 }
 
 #[derive(Debug)]
@@ -84,6 +93,8 @@ enum Event {
 struct Chunk {
     lines: usize,
     positions: Vec<Vec3>,
+    /// Per position, its colour or [`NO_COLOR`]; empty when no `v` of the chunk has one.
+    colors: Vec<Vec4>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
     /// A negative (relative) index is resolved later, from `relative`.
@@ -105,6 +116,8 @@ pub(crate) struct Parsed {
     pub libraries: Vec<(String, usize)>,
     chunks: Vec<Chunk>,
     positions: Vec<Vec3>,
+    /// Per position, its colour or [`NO_COLOR`]; empty when no `v` has one.
+    colors: Vec<Vec4>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
 }
@@ -290,12 +303,22 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     let mut positions = Vec::with_capacity(totals[0]);
     let mut uvs = Vec::with_capacity(totals[1]);
     let mut normals = Vec::with_capacity(totals[2]);
+    let mut colors = Vec::new();
+    if chunks.iter().any(|chunk| !chunk.colors.is_empty()) {
+        colors.reserve_exact(totals[0]);
+        for chunk in &mut chunks {
+            match chunk.colors.is_empty() {
+                true => colors.extend(std::iter::repeat_n(NO_COLOR, chunk.positions.len())),
+                false => colors.append(&mut chunk.colors),
+            }
+        }
+    }
     for chunk in &mut chunks {
         positions.extend(std::mem::take(&mut chunk.positions));
         uvs.extend(std::mem::take(&mut chunk.uvs));
         normals.extend(std::mem::take(&mut chunk.normals));
     }
-    Ok(Parsed { objects, libraries, chunks, positions, uvs, normals })
+    Ok(Parsed { objects, libraries, chunks, positions, colors, uvs, normals })
 }
 
 impl Parsed {
@@ -316,8 +339,8 @@ impl Parsed {
                 _ => merged.push((name, resolved, segments)),
             }
         }
-        let (chunks, positions, uvs, normals) =
-            (&self.chunks, &self.positions, &self.uvs, &self.normals);
+        let (chunks, positions, uvs, normals, colors) =
+            (&self.chunks, &self.positions, &self.uvs, &self.normals, &self.colors);
         merged
             .into_par_iter()
             .map(|(name, material, segments)| {
@@ -336,6 +359,10 @@ impl Parsed {
                     &positions,
                     polygons(chunks, &segments),
                 );
+                let with_color = match colors.is_empty() {
+                    true => 0,
+                    false => keys.iter().filter(|k| !colors[k[0] as usize].x.is_nan()).count(),
+                };
                 ParsedObject {
                     name,
                     material,
@@ -344,9 +371,12 @@ impl Parsed {
                         .then(|| keys.iter().map(|k| uvs[k[1] as usize]).collect()),
                     normals: (with_vn == all && all > 0)
                         .then(|| keys.iter().map(|k| normals[k[2] as usize]).collect()),
+                    colors: (with_color == all && all > 0)
+                        .then(|| keys.iter().map(|k| colors[k[0] as usize]).collect()),
                     triangles,
                     mixed_uvs: with_vt != 0 && with_vt != all,
                     mixed_normals: with_vn != 0 && with_vn != all,
+                    mixed_colors: with_color != 0 && with_color != all,
                 }
             })
             .collect()
@@ -772,20 +802,26 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                     let [x, y, z] =
                         numbers::<3>(&mut words, "v", "vertex position").map_err(fail)?;
                     let mut p = Vec3::new(x, y, z);
-                    // `v x y z w`: divide by w; `v x y z r g b`: colours, ignored.
-                    if let (Some(w), None) = (words.word(), words.word()) {
-                        let w = float(w).ok_or_else(|| {
-                            fail(ChunkError::Syntax(format!(
-                                "`v`: expected w, found {:?}",
-                                text(w)
-                            )))
-                        })?;
-                        if w == 0.0 || !w.is_finite() {
+                    // `v x y z w`: divide by w; `v x y z r g b [a]`: a colour.
+                    match more_numbers(&mut words).map_err(fail)? {
+                        (1, [w, ..]) => {
+                            if w == 0.0 {
+                                return Err(fail(ChunkError::Syntax(format!(
+                                    "`v`: w = {w} cannot scale a position"
+                                ))));
+                            }
+                            p /= w;
+                        }
+                        (3, [r, g, b, _]) => chunk.add_color(Vec4::new(r, g, b, 1.0)),
+                        (4, [r, g, b, a]) => chunk.add_color(Vec4::new(r, g, b, a)),
+                        (0, _) => {}
+                        (count, _) => {
                             return Err(fail(ChunkError::Syntax(format!(
-                                "`v`: w = {w} cannot scale a position"
+                                "`v` needs 3 numbers, 4 (x y z w), 6 (x y z r g b) or 7 \
+                                 (x y z r g b a), found {}",
+                                3 + count
                             ))));
                         }
-                        p /= w;
                     }
                     chunk.positions.push(p);
                 }
@@ -856,7 +892,39 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
         words.next_line();
     }
     chunk.lines = line;
+    if !chunk.colors.is_empty() {
+        chunk.colors.resize(chunk.positions.len(), NO_COLOR);
+    }
     Ok(chunk)
+}
+
+impl Chunk {
+    /// Gives the position about to be pushed a colour (the ones before without get
+    /// [`NO_COLOR`]).
+    fn add_color(&mut self, color: Vec4) {
+        self.colors.resize(self.positions.len(), NO_COLOR);
+        self.colors.push(color);
+    }
+}
+
+/// The numbers after a `v`'s position (w, or a colour's r g b and a), and how many there
+/// are (5 for more than four).
+fn more_numbers(words: &mut Cursor<'_>) -> Result<(usize, [f32; 4]), ChunkError> {
+    let mut values = [0.0; 4];
+    let mut count = 0;
+    while let Some(word) = words.word() {
+        if count == values.len() {
+            return Ok((count + 1, values));
+        }
+        values[count] = float(word).filter(|v| v.is_finite()).ok_or_else(|| {
+            ChunkError::Syntax(format!(
+                "`v`: expected a number (w, or a colour's r g b [a]), found {:?}",
+                text(word)
+            ))
+        })?;
+        count += 1;
+    }
+    Ok((count, values))
 }
 
 /// The common corners `v`, `v/vt`, `v//vn` and `v/vt/vn` with indices of 1 to 9 digits,

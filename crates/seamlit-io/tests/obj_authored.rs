@@ -1,4 +1,4 @@
-//! OBJ files as their authors wrote them: concave polygons. Every fixture is made here, with expected values computed
+//! OBJ files as their authors wrote them: concave polygons, vertex colours. Every fixture is made here, with expected values computed
 //! independently of the loader.
 
 use std::fmt::Write as _;
@@ -97,4 +97,116 @@ fn a_self_intersecting_polygon_keeps_its_fan() {
     let asset =
         seamlit_io::load(&write(dir.path(), "bow.obj", text), &LoadOptions::default()).unwrap();
     assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2], [0, 2, 3]]);
+}
+
+/// Per triangle corner, the colour's bits.
+fn corner_colors(object: &seamlit_mesh::Object) -> Vec<[u32; 4]> {
+    let colors = object.colors.as_ref().expect("colours");
+    object
+        .triangles
+        .iter()
+        .flatten()
+        .map(|&i| colors[i as usize].to_array().map(f32::to_bits))
+        .collect()
+}
+
+#[test]
+fn vertex_colours_are_read_and_written_back_to_gltf_and_obj() {
+    let text = "o tile\n\
+                v 0 0 0 1 0 0\n\
+                v 1 0 0 0 1 0\n\
+                v 1 1 0 0 0 1 0.25\n\
+                v 0 1 0 0.1 0.2 0.3\n\
+                vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+                f 1/1 2/2 3/3 4/4\n";
+    let dir = tempfile::tempdir().unwrap();
+    let asset =
+        seamlit_io::load(&write(dir.path(), "tile.obj", text), &LoadOptions::default()).unwrap();
+    let object = &asset.model.objects[0];
+    let colors: Vec<[f32; 4]> =
+        object.colors.as_ref().unwrap().iter().map(|c| c.to_array()).collect();
+    assert_eq!(
+        colors,
+        [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 0.25], [0.1, 0.2, 0.3, 1.0]]
+    );
+    let expected = corner_colors(object);
+    for name in ["back.glb", "back.gltf", "back.obj"] {
+        let out = dir.path().join(name);
+        seamlit_io::save(&asset, &out, &seamlit_io::SaveOptions::default()).unwrap();
+        let back = seamlit_io::load(&out, &LoadOptions::default()).unwrap();
+        assert_eq!(corner_colors(&back.model.objects[0]), expected, "{name}");
+    }
+}
+
+#[test]
+fn colours_on_some_vertices_only_are_dropped_with_a_warning() {
+    let text = "o part\nv 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 0 0 1\nf 1 2 3\n";
+    let dir = tempfile::tempdir().unwrap();
+    let asset =
+        seamlit_io::load(&write(dir.path(), "some.obj", text), &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects[0].colors, None);
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("\"part\"") && w.contains("vertex colours")),
+        "{:?}",
+        asset.warnings
+    );
+    // Five numbers are neither a w nor a colour.
+    let path = write(dir.path(), "five.obj", "v 0 0 0\nv 1 0 0 1 0\nv 0 1 0\nf 1 2 3\n");
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(matches!(err, seamlit_io::IoError::Syntax { line: 2, .. }), "{err}");
+}
+
+/// A glTF of one triangle whose COLOR_0 (normalised integers of `component_type`, `kind`
+/// VEC3 or VEC4) is `colors`, each element `stride` bytes apart.
+fn gltf_with_colors(component_type: u32, kind: &str, stride: usize, colors: &[u8]) -> String {
+    let positions: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let mut buffer = positions.clone();
+    buffer.extend(colors);
+    while !buffer.len().is_multiple_of(4) {
+        buffer.push(0);
+    }
+    let data = base64::encode(&buffer);
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"COLOR_0":1}}}}]}}],
+        "buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{data}"}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":{},"byteStride":{stride}}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+        {{"bufferView":1,"componentType":{component_type},"normalized":true,"count":3,"type":"{kind}"}}]}}"#,
+        buffer.len(),
+        colors.len()
+    )
+}
+
+#[test]
+fn gltf_color_0_is_read_as_rgb_or_rgba_of_normalised_integers() {
+    let dir = tempfile::tempdir().unwrap();
+    // Unsigned bytes, RGB (padded to 4 bytes per element, as glTF requires): alpha 1.
+    let bytes = [255, 0, 51, 0, 0, 255, 0, 0, 102, 102, 102, 0];
+    let path = write(dir.path(), "u8.gltf", &gltf_with_colors(5121, "VEC3", 4, &bytes));
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_colors(&asset, [[1.0, 0.0, 0.2, 1.0], [0.0, 1.0, 0.0, 1.0], [0.4, 0.4, 0.4, 1.0]]);
+    // Unsigned shorts, RGBA.
+    let shorts: Vec<u8> = [65535u16, 0, 0, 32768, 0, 65535, 0, 65535, 13107, 13107, 13107, 0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let path = write(dir.path(), "u16.gltf", &gltf_with_colors(5123, "VEC4", 8, &shorts));
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_colors(
+        &asset,
+        [[1.0, 0.0, 0.0, 32768.0 / 65535.0], [0.0, 1.0, 0.0, 1.0], [0.2, 0.2, 0.2, 0.0]],
+    );
+}
+
+/// The first object's colours are `expected`, to rounding (n / 255 or n / 65535 in f32).
+fn assert_colors(asset: &seamlit_io::Asset, expected: [[f32; 4]; 3]) {
+    let colors = asset.model.objects[0].colors.as_ref().expect("colours");
+    assert_eq!(colors.len(), 3);
+    for (got, want) in colors.iter().zip(expected) {
+        assert!(got.abs_diff_eq(glam::Vec4::from_array(want), 1e-6), "{got} vs {want:?}");
+    }
 }
