@@ -3,9 +3,10 @@
 //! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
 //! changing the material inside an object also starts one: both parts keep the name). Faces are
 //! triangulated as fans where they are convex, ear-clipped where not; `vt`, `vn` and vertex
-//! colours (`v x y z r g b [a]`) are kept where every face of the object has them. A file
-//! with a UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement is
-//! an error.
+//! colours (`v x y z r g b [a]`) are kept where every face of the object has them. A
+//! `usemtl` that names no material of the file's libraries gets a warning, and a material
+//! that `newmtl` leaves unnamed (Blender 2.61 writes one) has the empty name. A file with a
+//! UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement is an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
@@ -76,6 +77,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     // below the model's folder (for resolving its texture paths).
     let mut materials: Vec<(tobj::Material, PathBuf, Vec<String>)> = Vec::new();
     let mut by_name: HashMap<String, usize> = HashMap::new();
+    let mut library_missing = false;
     for (name, line) in &parsed.libraries {
         let parts = crate::paths::inside(&[], name).ok_or_else(|| IoError::PathEscapes {
             path: path.to_path_buf(),
@@ -115,6 +117,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                     path.display(),
                     resolved.display()
                 ));
+                library_missing = true;
                 continue;
             }
             Err(err) => return Err(IoError::io(resolved, err)),
@@ -126,6 +129,20 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         for material in library {
             by_name.insert(material.name.clone(), materials.len());
             materials.push((material, resolved.clone(), sub.clone()));
+        }
+    }
+
+    // Names no library defines (unless a library is missing: that warning says it all).
+    if !library_missing {
+        for (name, line) in &parsed.materials_used {
+            if !by_name.contains_key(name) {
+                warnings.push(format!(
+                    "{}:{line}: `usemtl {name}`: no material library of the file defines {}; \
+                     its faces get the default material",
+                    path.display(),
+                    if name.is_empty() { "a material without a name" } else { "it" }
+                ));
+            }
         }
     }
 
@@ -350,8 +367,41 @@ fn read_mtl(text: &str) -> tobj::MTLLoadResult {
     if short_colour(text).is_some() {
         return Err(tobj::LoadError::MaterialParseError);
     }
-    std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
-        .unwrap_or(Err(tobj::LoadError::MaterialParseError))
+    let text = name_unnamed(text);
+    let (mut materials, mut names) =
+        std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
+            .unwrap_or(Err(tobj::LoadError::MaterialParseError))?;
+    for material in &mut materials {
+        if material.name == UNNAMED {
+            material.name.clear();
+        }
+    }
+    if let Some(index) = names.remove(UNNAMED) {
+        names.insert(String::new(), index);
+    }
+    Ok((materials, names))
+}
+
+/// The name given to materials that `newmtl` leaves unnamed while tobj reads them (tobj
+/// refuses an empty name, and Blender 2.61 writes one): a name no file holds.
+const UNNAMED: &str = "\u{0}seamlit: unnamed material\u{0}";
+
+/// The MTL text with every `newmtl` that gives no name given [`UNNAMED`].
+fn name_unnamed(text: &str) -> std::borrow::Cow<'_, str> {
+    let unnamed = |line: &str| line.trim() == "newmtl";
+    if !text.lines().any(unnamed) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 64);
+    for line in text.lines() {
+        out.push_str(line);
+        if unnamed(line) {
+            out.push(' ');
+            out.push_str(UNNAMED);
+        }
+        out.push('\n');
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// The first colour statement of fewer than three numbers: `(line, reason)`.

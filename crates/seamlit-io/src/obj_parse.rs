@@ -84,7 +84,8 @@ pub(crate) struct ParsedObject {
 #[derive(Debug)]
 enum Event {
     Object(String),
-    Material(String),
+    /// A `usemtl`: the material's name (empty where the file gives none) and the line.
+    Material(String, usize),
     Library(String, usize),
 }
 
@@ -114,6 +115,8 @@ pub(crate) struct Parsed {
     /// The objects' parts, in file order.
     objects: Vec<Part>,
     pub libraries: Vec<(String, usize)>,
+    /// Every material name that a `usemtl` gives, once, with the line of its first use.
+    pub materials_used: Vec<(String, usize)>,
     chunks: Vec<Chunk>,
     positions: Vec<Vec3>,
     /// Per position, its colour or [`NO_COLOR`]; empty when no `v` has one.
@@ -251,6 +254,8 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     // Split into objects, following the events in file order.
     let mut objects = Vec::new();
     let mut libraries = Vec::new();
+    let mut materials_used: Vec<(String, usize)> = Vec::new();
+    let mut seen: std::collections::HashSet<String> = std::collections::HashSet::new();
     let mut name = "unnamed_object".to_owned();
     let mut material: Option<String> = None;
     let mut current: Vec<Segment> = Vec::new();
@@ -280,7 +285,10 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
                     by_usemtl = false;
                     name = if new_name.is_empty() { "unnamed_object".to_owned() } else { new_name };
                 }
-                Event::Material(new_material) => {
+                Event::Material(new_material, line) => {
+                    if seen.insert(new_material.clone()) {
+                        materials_used.push((new_material.clone(), line_base + line));
+                    }
                     if material.as_ref() != Some(&new_material) && !current.is_empty() {
                         objects.push((
                             name.clone(),
@@ -318,7 +326,7 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
         uvs.extend(std::mem::take(&mut chunk.uvs));
         normals.extend(std::mem::take(&mut chunk.normals));
     }
-    Ok(Parsed { objects, libraries, chunks, positions, colors, uvs, normals })
+    Ok(Parsed { objects, libraries, materials_used, chunks, positions, colors, uvs, normals })
 }
 
 impl Parsed {
@@ -874,13 +882,9 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                     chunk.events.push((chunk.triangles.len(), Event::Object(name)));
                 }
                 b"usemtl" => {
+                    // An empty name is the name of a material `newmtl` left unnamed.
                     let name = rest_of(&words);
-                    if name.is_empty() {
-                        return Err(fail(ChunkError::Syntax(
-                            "`usemtl` needs a material name".to_owned(),
-                        )));
-                    }
-                    chunk.events.push((chunk.triangles.len(), Event::Material(name)));
+                    chunk.events.push((chunk.triangles.len(), Event::Material(name, line)));
                 }
                 b"mtllib" => {
                     let name = rest_of(&words);

@@ -1,4 +1,5 @@
-//! OBJ files as their authors wrote them: concave polygons, vertex colours. Every fixture is made here, with expected values computed
+//! OBJ files as their authors wrote them: concave polygons, vertex colours, materials with
+//! empty or unknown names. Every fixture is made here, with expected values computed
 //! independently of the loader.
 
 use std::fmt::Write as _;
@@ -209,4 +210,43 @@ fn assert_colors(asset: &seamlit_io::Asset, expected: [[f32; 4]; 3]) {
     for (got, want) in colors.iter().zip(expected) {
         assert!(got.abs_diff_eq(glam::Vec4::from_array(want), 1e-6), "{got} vs {want:?}");
     }
+}
+
+const TRIANGLES: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+
+#[test]
+fn a_material_without_a_name_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // As Blender 2.61 writes it: `newmtl` and `usemtl` with nothing after them.
+    write(dir.path(), "m.mtl", "newmtl\nKd 1 0 0\n\nnewmtl blue\nKd 0 0 1\n");
+    let text = format!("mtllib m.mtl\n{TRIANGLES}usemtl\nf 1 2 3\nusemtl blue\nf 2 4 3\n");
+    let asset =
+        seamlit_io::load(&write(dir.path(), "m.obj", &text), &LoadOptions::default()).unwrap();
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+    let names: Vec<&str> = asset.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["", "blue"]);
+    assert_eq!(asset.materials[0].base_color, [1.0, 0.0, 0.0, 1.0]);
+    let materials: Vec<Option<usize>> = asset.model.objects.iter().map(|o| o.material).collect();
+    assert_eq!(materials, [Some(0), Some(1)]);
+}
+
+#[test]
+fn a_usemtl_of_a_material_no_library_defines_gets_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "m.mtl", "newmtl red\nKd 1 0 0\n");
+    let text = format!(
+        "mtllib m.mtl\n{TRIANGLES}usemtl red\nf 1 2 3\nusemtl green\nf 2 4 3\nusemtl green\nf 1 2 4\n"
+    );
+    let path = write(dir.path(), "m.obj", &text);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    let warning = &asset.warnings[0];
+    assert!(warning.contains("m.obj:8:") && warning.contains("usemtl green"), "{warning}");
+    assert_eq!(asset.model.objects[1].material, None);
+    // Without any library, the same.
+    let text = format!("{TRIANGLES}usemtl green\nf 1 2 3\n");
+    let asset =
+        seamlit_io::load(&write(dir.path(), "bare.obj", &text), &LoadOptions::default()).unwrap();
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    assert!(asset.warnings[0].contains("bare.obj:5:"), "{:?}", asset.warnings);
 }
