@@ -26,13 +26,15 @@ use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
 };
 
-/// Reads an OBJ file and the material libraries and textures it refers to.
+/// Reads an OBJ file and the material libraries and textures it refers to. A file without
+/// a face loads as an empty model here; [`crate::load`] refuses it.
 ///
 /// # Errors
 ///
 /// [`IoError::Io`] / [`IoError::TooLarge`] for the file itself; [`IoError::Syntax`],
 /// [`IoError::ReferenceOutOfRange`] and [`IoError::NotFinite`] with the line for a malformed
-/// OBJ or MTL; [`IoError::MissingFile`] for a missing `.mtl` or texture when
+/// OBJ or MTL; [`IoError::NotText`] with the line for a NUL byte or invalid UTF-8 (or
+/// UTF-16) in a statement; [`IoError::MissingFile`] for a missing `.mtl` or texture when
 /// `options.strict` is set (a warning otherwise); [`IoError::TooManyElements`] past
 /// `options.max_elements`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
