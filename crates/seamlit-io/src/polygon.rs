@@ -13,11 +13,13 @@
 //! 3. otherwise the polygon is projected onto the plane and ear-clipped (the `earcutr` crate,
 //!    Mapbox's earcut), each triangle turned to face the polygon's normal.
 //!
-//! The ear-clipped triangles replace the fan only when they are `n - 2` triangles (every
-//! corner kept) whose areas add up to the polygon's: a self-intersecting polygon, which has no
-//! right triangulation, or one with repeated or collinear corners (which earcut drops) keeps
-//! its fan. Polygons of more than [`MOST_CORNERS`] corners keep theirs too: ear clipping is
-//! quadratic in the worst case, and a hostile file must not make loading take hours.
+//! Earcut drops corners that repeat their neighbour or lie on a straight edge (a T-junction
+//! vertex of a floor plan); they are put back, each splitting the triangle on its edge, so
+//! that every corner stays in the mesh and a polygon still gives `n - 2` triangles. The
+//! ear-clipped triangles replace the fan only when their areas add up to the polygon's: a
+//! self-intersecting polygon, which has no right triangulation, keeps its fan. Polygons of
+//! more than [`MOST_CORNERS`] corners keep theirs too: ear clipping is quadratic in the worst
+//! case, and a hostile file must not make loading take hours.
 
 use glam::{DVec2, DVec3, Vec3};
 
@@ -44,9 +46,9 @@ pub(crate) fn triangulate(
     }
 }
 
-/// The ear-clipped triangles of a polygon (`corners` index `positions`), or `None` where its
-/// fan stays: convex, degenerate, self-intersecting, too large, or with corners that ear
-/// clipping drops.
+/// The ear-clipped triangles of a polygon (`corners` index `positions`), `n - 2` of them, or
+/// `None` where its fan stays: convex, degenerate, self-intersecting, too large, or where
+/// earcut gives up or drops a corner that cannot be put back.
 fn ear_clip(corners: &[u32], positions: &[Vec3]) -> Option<Vec<[u32; 3]>> {
     let n = corners.len();
     if n > MOST_CORNERS {
@@ -65,24 +67,75 @@ fn ear_clip(corners: &[u32], positions: &[Vec3]) -> Option<Vec<[u32; 3]>> {
         .iter()
         .map(|&p| DVec2::new((p - points[0]).dot(u), (p - points[0]).dot(v)))
         .collect();
-    let coordinates: Vec<f64> = flat.iter().flat_map(|p| [p.x, p.y]).collect();
+    // Earcut drops corners that repeat the one before or lie on the line through their
+    // neighbours: they are left out here, and put back below.
+    let kept = on_turns(&flat);
+    let coordinates: Vec<f64> = kept.iter().flat_map(|&k| [flat[k].x, flat[k].y]).collect();
     let indices = earcutr::earcut(&coordinates, &[], 2).ok()?;
-    if indices.len() != 3 * (n - 2) {
+    if kept.len() < 3 || indices.len() != 3 * (kept.len() - 2) {
         return None;
     }
     let twice_area = |[a, b, c]: [usize; 3]| (flat[b] - flat[a]).perp_dot(flat[c] - flat[a]);
-    let mut covered = 0.0;
-    let mut out = Vec::with_capacity(n - 2);
+    let mut triangles = Vec::with_capacity(n - 2);
     for t in indices.chunks_exact(3) {
-        let [a, b, c] = [t[0], t[1], t[2]];
-        let area = twice_area([a, b, c]);
-        covered += area.abs();
+        let [a, b, c] = [kept[t[0]], kept[t[1]], kept[t[2]]];
         // Counter-clockwise about the normal, as the polygon.
-        let [b, c] = if area < 0.0 { [c, b] } else { [b, c] };
-        out.push([corners[a], corners[b], corners[c]]);
+        triangles.push(if twice_area([a, b, c]) < 0.0 { [a, c, b] } else { [a, b, c] });
     }
+    put_back(&mut triangles, &kept, n)?;
+    let covered: f64 = triangles.iter().map(|&t| twice_area(t).abs()).sum();
     let polygon = shoelace(&flat);
-    ((covered - polygon).abs() <= 1e-9 * polygon.max(f64::MIN_POSITIVE)).then_some(out)
+    let whole = (covered - polygon).abs() <= 1e-9 * polygon.max(f64::MIN_POSITIVE);
+    whole.then(|| triangles.iter().map(|t| t.map(|k| corners[k])).collect())
+}
+
+/// The corners of a polygon that earcut keeps (its `filterPoints`, with the same arithmetic):
+/// all but those that equal the next one or lie exactly on the line through their
+/// neighbours, removed one at a time until none is left.
+fn on_turns(flat: &[DVec2]) -> Vec<usize> {
+    let mut kept: Vec<usize> = (0..flat.len()).collect();
+    let mut at = 0;
+    let mut unchanged = 0;
+    while kept.len() > 2 && unchanged < kept.len() {
+        let m = kept.len();
+        let [p, q, r] = [(at + m - 1) % m, at, (at + 1) % m].map(|i| flat[kept[i]]);
+        let turn = (q.y - p.y) * (r.x - q.x) - (q.x - p.x) * (r.y - q.y);
+        if q == r || turn == 0.0 {
+            kept.remove(at);
+            at = (at + m - 2) % (m - 1);
+            unchanged = 0;
+        } else {
+            at = (at + 1) % m;
+            unchanged += 1;
+        }
+    }
+    kept
+}
+
+/// Puts the corners that `kept` leaves out back into `triangles` (counter-clockwise, on
+/// the `n` corners of the polygon): each lies on the boundary edge between its nearest
+/// corners already in, and splits the one triangle on that edge in two. `None` where that
+/// edge is in no triangle (ear clipping went wrong).
+fn put_back(triangles: &mut Vec<[usize; 3]>, kept: &[usize], n: usize) -> Option<()> {
+    let mut placed = vec![false; n];
+    for &k in kept {
+        placed[k] = true;
+    }
+    for d in 0..n {
+        if placed[d] {
+            continue;
+        }
+        let a = (1..n).map(|s| (d + n - s) % n).find(|&i| placed[i])?;
+        let b = (1..n).map(|s| (d + s) % n).find(|&i| placed[i])?;
+        let (t, k) = triangles.iter().enumerate().find_map(|(t, tri)| {
+            (0..3).find(|&k| tri[k] == a && tri[(k + 1) % 3] == b).map(|k| (t, k))
+        })?;
+        let c = triangles[t][(k + 2) % 3];
+        triangles[t] = [a, d, c];
+        triangles.push([d, b, c]);
+        placed[d] = true;
+    }
+    Some(())
 }
 
 /// Newell's normal: twice the area times the unit normal of a planar polygon, the normal of
@@ -130,6 +183,37 @@ mod tests {
         let mut triangles = fan;
         triangulate(&mut triangles, &hexagon, [(0, 6)].into_iter());
         assert_eq!(triangles, fan);
+    }
+
+    #[test]
+    fn corners_on_straight_edges_are_kept() {
+        // An L whose corner 0 cannot see corner 2 (the fan fails), with a repeated corner and a
+        // corner in the middle of its bottom edge: ear clipping drops both, and each goes back
+        // in by splitting the triangle on its edge.
+        let l = [
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+        ];
+        let mut triangles: Vec<[u32; 3]> = (1..7).map(|k| [0, k, k + 1]).collect();
+        triangulate(&mut triangles, &l, [(0, 8)].into_iter());
+        let mut used: Vec<u32> = triangles.as_flattened().to_vec();
+        used.sort_unstable();
+        used.dedup();
+        assert_eq!(used, (0..8).collect::<Vec<u32>>(), "{triangles:?}");
+        let mut area = 0.0;
+        for t in &triangles {
+            let [a, b, c] = t.map(|i| l[i as usize]);
+            let z = (b - a).cross(c - a).z;
+            assert!(z >= 0.0, "{t:?} faces backwards");
+            area += z / 2.0;
+        }
+        assert_eq!(area, 3.0, "{triangles:?}");
     }
 
     #[test]
