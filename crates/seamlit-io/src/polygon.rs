@@ -54,11 +54,13 @@ fn ear_clip(corners: &[u32], positions: &[Vec3]) -> Option<Vec<[u32; 3]>> {
     if n > MOST_CORNERS {
         return None;
     }
-    let points: Vec<DVec3> = corners.iter().map(|&c| positions[c as usize].as_dvec3()).collect();
-    let normal = newell_normal(&points).try_normalize()?;
-    if is_convex(&points, normal) {
+    // The convex case, nearly every polygon, allocates nothing.
+    let point = |i: usize| positions[corners[i % n] as usize].as_dvec3();
+    let normal = newell_normal(n, point).try_normalize()?;
+    if is_convex(n, point, normal) {
         return None;
     }
+    let points: Vec<DVec3> = (0..n).map(point).collect();
     // A right-handed basis of the plane: counter-clockwise about the normal is
     // counter-clockwise in (u, v).
     let u = normal.any_orthonormal_vector();
@@ -140,22 +142,17 @@ fn put_back(triangles: &mut Vec<[usize; 3]>, kept: &[usize], n: usize) -> Option
 
 /// Newell's normal: twice the area times the unit normal of a planar polygon, the normal of
 /// the best-fit plane otherwise.
-fn newell_normal(points: &[DVec3]) -> DVec3 {
-    let origin = points[0];
-    let mut sum = DVec3::ZERO;
-    for (i, &p) in points.iter().enumerate() {
-        let q = points[(i + 1) % points.len()];
-        sum += (p - origin).cross(q - origin);
-    }
-    sum
+/// `point(i)` is corner `i` of `n` (taken modulo `n`).
+fn newell_normal(n: usize, point: impl Fn(usize) -> DVec3) -> DVec3 {
+    let origin = point(0);
+    (0..n).map(|i| (point(i) - origin).cross(point(i + 1) - origin)).sum()
 }
 
 /// Whether every corner turns left about `normal` (corners on a straight line count as
-/// turning either way).
-fn is_convex(points: &[DVec3], normal: DVec3) -> bool {
-    let n = points.len();
+/// turning either way). `point(i)` is corner `i` of `n` (taken modulo `n`).
+fn is_convex(n: usize, point: impl Fn(usize) -> DVec3, normal: DVec3) -> bool {
     (0..n).all(|i| {
-        let (before, at, after) = (points[(i + n - 1) % n], points[i], points[(i + 1) % n]);
+        let (before, at, after) = (point(i + n - 1), point(i), point(i + 1));
         let (e1, e2) = (at - before, after - at);
         e1.cross(e2).dot(normal) >= -1e-9 * e1.length() * e2.length()
     })
