@@ -74,6 +74,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
     let tangents = attribute(u, vertices, |u| {
         Ok(Vec4::from((vec3(u)?, if u.arbitrary::<bool>()? { 1.0 } else { -1.0 })))
     })?;
+    let colors = attribute(u, vertices, |u| Ok(Vec4::from((vec3(u)?, 1.0))))?;
     let transform = if u.ratio(1u8, 4u8)? {
         Some(Mat4::from_cols_array(&std::array::from_fn(|_| float(u).unwrap_or(0.0))))
     } else {
@@ -85,6 +86,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         uvs,
         normals,
         tangents,
+        colors,
         triangles,
         transform,
         material: None,

@@ -48,6 +48,27 @@ pub enum IoError {
         reason: String,
     },
 
+    /// A statement of a text format holds bytes that are not text: a NUL byte or invalid UTF-8
+    /// (or, in a file with a UTF-16 byte-order mark, invalid UTF-16). Comments may hold
+    /// anything.
+    #[error("{}:{line}: {problem}", path.display())]
+    NotText {
+        /// The file.
+        path: PathBuf,
+        /// One-based line number.
+        line: usize,
+        /// What is wrong.
+        problem: NotText,
+    },
+
+    /// The file holds no triangle: nothing to fix, inspect or draw (an empty file, only
+    /// vertices, only statements this reader ignores).
+    #[error("{}: the model has no triangles (no faces to fix or draw)", path.display())]
+    NoTriangles {
+        /// The file.
+        path: PathBuf,
+    },
+
     /// A value in a text format is NaN or infinite.
     #[error("{}:{line}: {what} is not a finite number: {text:?}", path.display())]
     NotFinite {
@@ -289,6 +310,21 @@ pub enum IoError {
         /// What the image crate said.
         reason: String,
     },
+}
+
+/// Why a line of a text file is not text (see [`IoError::NotText`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum NotText {
+    /// A NUL byte in a statement (a binary file, or UTF-16 without a byte-order mark).
+    #[error("a NUL byte in a statement: not a text file (UTF-16 needs a byte-order mark)")]
+    Nul,
+    /// Bytes that are not UTF-8 in a statement.
+    #[error("invalid UTF-8 in a statement")]
+    InvalidUtf8,
+    /// An unpaired surrogate or an odd number of bytes in a file marked as UTF-16.
+    #[error("invalid UTF-16 (an unpaired surrogate or a lone final byte)")]
+    InvalidUtf16,
 }
 
 impl IoError {

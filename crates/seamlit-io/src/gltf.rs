@@ -641,6 +641,14 @@ impl Reader<'_> {
         let f32_only = [DataType::F32];
         self.check_accessor(&position_accessor, Dimensions::Vec3, &f32_only, "POSITION")?;
         self.check_sparse_indices(&position_accessor, buffers)?;
+        // COLOR_0 is RGB or RGBA, of floats or normalised integers.
+        let color_dimensions =
+            primitive.get(&gltf::Semantic::Colors(0)).map_or(Dimensions::Vec4, |a| {
+                match a.dimensions() {
+                    Dimensions::Vec3 => Dimensions::Vec3,
+                    _ => Dimensions::Vec4,
+                }
+            });
         let attributes = [
             (gltf::Semantic::Normals, Dimensions::Vec3, &f32_only[..], "NORMAL"),
             (gltf::Semantic::Tangents, Dimensions::Vec4, &f32_only[..], "TANGENT"),
@@ -649,6 +657,12 @@ impl Reader<'_> {
                 Dimensions::Vec2,
                 &[DataType::F32, DataType::U8, DataType::U16][..],
                 "TEXCOORD_0",
+            ),
+            (
+                gltf::Semantic::Colors(0),
+                color_dimensions,
+                &[DataType::F32, DataType::U8, DataType::U16][..],
+                "COLOR_0",
             ),
         ];
         for (semantic, dimensions, types, name) in attributes {
@@ -735,6 +749,8 @@ impl Reader<'_> {
             reader.read_tangents().map(|it| it.map(Vec4::from_array).collect());
         let uvs: Option<Vec<Vec2>> =
             reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect());
+        let colors: Option<Vec<Vec4>> =
+            reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect());
         if let Some(n) = &normals {
             let accessor = primitive.get(&gltf::Semantic::Normals);
             if n.len() != vertex_count {
@@ -755,6 +771,13 @@ impl Reader<'_> {
                 return Err(short(accessor.as_ref().unwrap_or(&position_accessor), t.len()));
             }
             finite(accessor, "TEXCOORD_0", &|i| t[i].is_finite(), vertex_count)?;
+        }
+        if let Some(c) = &colors {
+            let accessor = primitive.get(&gltf::Semantic::Colors(0));
+            if c.len() != vertex_count {
+                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), c.len()));
+            }
+            finite(accessor, "COLOR_0", &|i| c[i].is_finite(), vertex_count)?;
         }
         let triangles: Vec<[u32; 3]> = match (&index_accessor, reader.read_indices()) {
             (Some(accessor), Some(read)) => {
@@ -788,6 +811,7 @@ impl Reader<'_> {
             uvs,
             normals,
             tangents,
+            colors,
             triangles,
             transform: None,
             material: primitive.material().index(),

@@ -1,7 +1,7 @@
 //! glTF 2.0 and GLB out, through gltf-json.
 //!
 //! Each object becomes a mesh of one triangle primitive (POSITION with min/max, NORMAL,
-//! TANGENT, TEXCOORD_0, indices as u16 where every index fits below 65535, else u32) named
+//! TANGENT, TEXCOORD_0, COLOR_0 as RGBA floats, indices as u16 where every index fits below 65535, else u32) named
 //! after the object. The node hierarchy of the asset is rebuilt when it is consistent with
 //! the objects' transforms (a node carrying several objects gets one child node per object);
 //! otherwise each object gets a root node with its transform. Materials and the textures
@@ -152,6 +152,7 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
         ("uvs", object.uvs.as_ref().map(Vec::len)),
         ("normals", object.normals.as_ref().map(Vec::len)),
         ("tangents", object.tangents.as_ref().map(Vec::len)),
+        ("colors", object.colors.as_ref().map(Vec::len)),
     ];
     for (what, len) in lengths {
         if let Some(len) = len.filter(|&len| len != n) {
@@ -194,6 +195,8 @@ enum Piece<'a> {
     Normals(&'a [Vec3]),
     /// Tangents, made unit length with w = +-1 ([`unit_tangent`]).
     Tangents(&'a [Vec4]),
+    /// Vertex colours, linear RGBA, as they are.
+    Colors(&'a [Vec4]),
     /// Texture coordinates, V flipped (`1 - v`) when `flip` is set.
     Uvs { uvs: &'a [Vec2], flip: bool },
     /// Triangle indices as u16 (every index is below 65535).
@@ -209,7 +212,7 @@ impl Piece<'_> {
     fn len(&self) -> usize {
         match self {
             Self::Positions(v) | Self::Normals(v) => v.len() * 12,
-            Self::Tangents(v) => v.len() * 16,
+            Self::Tangents(v) | Self::Colors(v) => v.len() * 16,
             Self::Uvs { uvs, .. } => uvs.len() * 8,
             Self::Indices16(t) => t.len() * 6,
             Self::Indices32(t) => t.len() * 12,
@@ -232,6 +235,7 @@ impl Piece<'_> {
             Self::Tangents(v) => {
                 v.iter().try_for_each(|&t| floats(out, unit_tangent(t).to_array()))
             }
+            Self::Colors(v) => v.iter().try_for_each(|c| floats(out, c.to_array())),
             Self::Uvs { uvs, flip } => {
                 uvs.iter().try_for_each(|t| floats(out, [t.x, if *flip { 1.0 - t.y } else { t.y }]))
             }
@@ -388,6 +392,12 @@ impl<'a> Writer<'a> {
             attributes.insert(
                 Checked::Valid(Semantic::TexCoords(0)),
                 self.float_accessor(piece, n, Type::Vec2, None),
+            );
+        }
+        if let Some(colors) = &object.colors {
+            attributes.insert(
+                Checked::Valid(Semantic::Colors(0)),
+                self.float_accessor(Piece::Colors(colors), n, Type::Vec4, None),
             );
         }
         let count = object.triangles.len() * 3;

@@ -38,12 +38,13 @@ mod obj_parse;
 mod obj_write;
 mod options;
 mod paths;
+mod polygon;
 mod texture;
 
 use std::path::Path;
 
 pub use asset::{Asset, Material, Node, Texture, TextureRef, TextureSource, UvTransform};
-pub use error::IoError;
+pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};
 
 /// A model file format this crate reads.
@@ -91,10 +92,11 @@ impl Format {
 ///
 /// # Errors
 ///
-/// [`IoError::UnknownFormat`] for an extension no reader handles, and the errors of
-/// [`obj::load`], [`gltf::load`] and [`newell::load`].
+/// [`IoError::UnknownFormat`] for an extension no reader handles, the errors of
+/// [`obj::load`], [`gltf::load`] and [`newell::load`], and [`IoError::NoTriangles`] for a
+/// file that holds no triangle (those readers return such a file as an empty model).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    match Format::of(path) {
+    let asset = match Format::of(path) {
         Some(Format::Obj) => obj::load(path, options),
         Some(Format::Gltf | Format::Glb) => gltf::load(path, options),
         Some(Format::Newell) => newell::load(path, options),
@@ -102,7 +104,11 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             Err(IoError::io(path, std::io::Error::from(std::io::ErrorKind::NotFound)))
         }
         None => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+    }?;
+    if asset.model.triangle_count() == 0 {
+        return Err(IoError::NoTriangles { path: path.to_path_buf() });
     }
+    Ok(asset)
 }
 
 /// Writes an asset, choosing the writer by the extension of `path`: `.gltf` (JSON, with a

@@ -2,7 +2,11 @@
 //!
 //! Every `o` and `g` statement starts an object, keeping its name (as in tobj, `usemtl`
 //! changing the material inside an object also starts one: both parts keep the name). Faces are
-//! triangulated as fans; `vt` and `vn` are kept where every face of the object has them.
+//! triangulated as fans where they are convex, ear-clipped where not; `vt`, `vn` and vertex
+//! colours (`v x y z r g b [a]`) are kept where every face of the object has them. A
+//! `usemtl` that names no material of the file's libraries gets a warning, and a material
+//! that `newmtl` leaves unnamed (Blender 2.61 writes one) has the empty name. A file with a
+//! UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement is an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
 //! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
@@ -22,13 +26,15 @@ use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
 };
 
-/// Reads an OBJ file and the material libraries and textures it refers to.
+/// Reads an OBJ file and the material libraries and textures it refers to. A file without
+/// a face loads as an empty model here; [`crate::load`] refuses it.
 ///
 /// # Errors
 ///
 /// [`IoError::Io`] / [`IoError::TooLarge`] for the file itself; [`IoError::Syntax`],
 /// [`IoError::ReferenceOutOfRange`] and [`IoError::NotFinite`] with the line for a malformed
-/// OBJ or MTL; [`IoError::MissingFile`] for a missing `.mtl` or texture when
+/// OBJ or MTL; [`IoError::NotText`] with the line for a NUL byte or invalid UTF-8 (or
+/// UTF-16) in a statement; [`IoError::MissingFile`] for a missing `.mtl` or texture when
 /// `options.strict` is set (a warning otherwise); [`IoError::TooManyElements`] past
 /// `options.max_elements`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
@@ -42,11 +48,24 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         });
     }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let parsed = match crate::obj_parse::read(file, path) {
+    // A file with a UTF-16 byte-order mark is decoded whole (it is at most
+    // `max_file_bytes`); any other file is read as UTF-8, in blocks.
+    let decoded = match utf16_order(&file).map_err(|e| IoError::io(path, e))? {
+        Some(order) => Some(decode_utf16(&crate::read_bytes(path, options)?, order, path)?),
+        None => None,
+    };
+    let parsed = match &decoded {
+        Some(text) => crate::obj_parse::read(text.as_bytes(), path),
+        None => crate::obj_parse::read(file, path),
+    };
+    let parsed = match parsed {
         Ok(parsed) => parsed,
         Err(ReadError::Placed(err)) => return Err(err),
         Err(ReadError::IndexOutOfRange) => {
-            let text = crate::read_text(path, options)?;
+            let text = match decoded {
+                Some(text) => text,
+                None => crate::read_text(path, options)?,
+            };
             return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
                 path: path.to_path_buf(),
                 reason: "a face index is out of range".to_owned(),
@@ -60,6 +79,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     // below the model's folder (for resolving its texture paths).
     let mut materials: Vec<(tobj::Material, PathBuf, Vec<String>)> = Vec::new();
     let mut by_name: HashMap<String, usize> = HashMap::new();
+    let mut library_missing = false;
     for (name, line) in &parsed.libraries {
         let parts = crate::paths::inside(&[], name).ok_or_else(|| IoError::PathEscapes {
             path: path.to_path_buf(),
@@ -99,6 +119,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                     path.display(),
                     resolved.display()
                 ));
+                library_missing = true;
                 continue;
             }
             Err(err) => return Err(IoError::io(resolved, err)),
@@ -113,6 +134,20 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         }
     }
 
+    // Names no library defines (unless a library is missing: that warning says it all).
+    if !library_missing {
+        for (name, line) in &parsed.materials_used {
+            if !by_name.contains_key(name) {
+                warnings.push(format!(
+                    "{}:{line}: `usemtl {name}`: no material library of the file defines {}; \
+                     its faces get the default material",
+                    path.display(),
+                    if name.is_empty() { "a material without a name" } else { "it" }
+                ));
+            }
+        }
+    }
+
     let mut objects = Vec::new();
     for parsed in parsed.into_objects(|name| by_name.get(name).copied()) {
         let too_many = parsed.positions.len().max(parsed.triangles.len());
@@ -124,9 +159,11 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                 actual: too_many,
             });
         }
-        for (mixed, what) in
-            [(parsed.mixed_uvs, "texture coordinates"), (parsed.mixed_normals, "normals")]
-        {
+        for (mixed, what) in [
+            (parsed.mixed_uvs, "texture coordinates"),
+            (parsed.mixed_normals, "normals"),
+            (parsed.mixed_colors, "vertex colours"),
+        ] {
             if mixed {
                 warnings.push(format!(
                     "{}: object {:?}: some faces have {what} and some do not; {what} dropped",
@@ -140,6 +177,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             positions: parsed.positions,
             uvs: parsed.uvs,
             normals: parsed.normals,
+            colors: parsed.colors,
             tangents: None,
             triangles: parsed.triangles,
             transform: None,
@@ -160,6 +198,59 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
+}
+
+/// How two bytes of UTF-16 make a code unit: `u16::from_le_bytes` or `u16::from_be_bytes`.
+type ByteOrder = fn([u8; 2]) -> u16;
+
+/// The byte order of a file that starts with a UTF-16 byte-order mark (`FF FE`: little
+/// endian, `FE FF`: big endian), read through the handle, which is then rewound.
+fn utf16_order(file: &std::fs::File) -> std::io::Result<Option<ByteOrder>> {
+    use std::io::Read as _;
+    let mut head = [0u8; 2];
+    let mut reader = file;
+    let got = reader.read(&mut head)?;
+    std::io::Seek::rewind(&mut reader)?;
+    Ok(match (got, head) {
+        (2, [0xFF, 0xFE]) => Some(u16::from_le_bytes),
+        (2, [0xFE, 0xFF]) => Some(u16::from_be_bytes),
+        _ => None,
+    })
+}
+
+/// UTF-16 `bytes` (their byte-order mark first) as text.
+///
+/// # Errors
+///
+/// [`IoError::NotText`] on the line of an unpaired surrogate or of a lone final byte.
+fn decode_utf16(bytes: &[u8], order: ByteOrder, path: &Path) -> Result<String, IoError> {
+    let units =
+        bytes.get(2..).unwrap_or_default().chunks_exact(2).map(|pair| order([pair[0], pair[1]]));
+    let mut text = String::with_capacity(bytes.len() / 2);
+    let mut line = 1;
+    for unit in char::decode_utf16(units) {
+        match unit {
+            Ok(c) => {
+                line += usize::from(c == '\n');
+                text.push(c);
+            }
+            Err(_) => {
+                return Err(IoError::NotText {
+                    path: path.to_path_buf(),
+                    line,
+                    problem: crate::NotText::InvalidUtf16,
+                });
+            }
+        }
+    }
+    if bytes.len() % 2 == 1 {
+        return Err(IoError::NotText {
+            path: path.to_path_buf(),
+            line,
+            problem: crate::NotText::InvalidUtf16,
+        });
+    }
+    Ok(text)
 }
 
 /// Finds the first line of an OBJ file with a face index out of range (or another error)
@@ -278,8 +369,41 @@ fn read_mtl(text: &str) -> tobj::MTLLoadResult {
     if short_colour(text).is_some() {
         return Err(tobj::LoadError::MaterialParseError);
     }
-    std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
-        .unwrap_or(Err(tobj::LoadError::MaterialParseError))
+    let text = name_unnamed(text);
+    let (mut materials, mut names) =
+        std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
+            .unwrap_or(Err(tobj::LoadError::MaterialParseError))?;
+    for material in &mut materials {
+        if material.name == UNNAMED {
+            material.name.clear();
+        }
+    }
+    if let Some(index) = names.remove(UNNAMED) {
+        names.insert(String::new(), index);
+    }
+    Ok((materials, names))
+}
+
+/// The name given to materials that `newmtl` leaves unnamed while tobj reads them (tobj
+/// refuses an empty name, and Blender 2.61 writes one): a name no file holds.
+const UNNAMED: &str = "\u{0}seamlit: unnamed material\u{0}";
+
+/// The MTL text with every `newmtl` that gives no name given [`UNNAMED`].
+fn name_unnamed(text: &str) -> std::borrow::Cow<'_, str> {
+    let unnamed = |line: &str| line.trim() == "newmtl";
+    if !text.lines().any(unnamed) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 64);
+    for line in text.lines() {
+        out.push_str(line);
+        if unnamed(line) {
+            out.push(' ');
+            out.push_str(UNNAMED);
+        }
+        out.push('\n');
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// The first colour statement of fewer than three numbers: `(line, reason)`.

@@ -10,26 +10,34 @@
 //!
 //! - `o` and `g` start a new object when the current one has faces, else rename it; `usemtl`
 //!   changing the material inside an object with faces starts a new object of the same name;
-//! - faces are triangulated as fans `(a, b, c), (a, c, d), ...`; faces of fewer than three
+//! - faces are triangulated as fans `(a, b, c), (a, c, d), ...` (*: but for polygons that are
+//!   not convex, which are ear-clipped, see [`crate::polygon`]); faces of fewer than three
 //!   corners (points, lines) and `p` statements are ignored, and so are `l` statements (*:
 //!   tobj makes a polygon of an `l` of three or more points; a polyline is not a surface);
 //! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use; `vt`
 //!   and `vn` are kept only where every corner of the object has them (*: the caller warns);
-//! - `v x y z w` divides by `w`; further values (vertex colours) are ignored.
+//! - `v x y z w` divides by `w`; `v x y z r g b` and `v x y z r g b a` give vertex colours
+//!   (*: tobj reads no alpha), kept where every vertex of the object has one (*: the caller
+//!   warns); other counts of numbers are an error.
 //!
 //! Material libraries are read with tobj (see [`crate::obj`]).
 
 use std::collections::HashMap;
-use std::fs::File;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::io::Read;
 use std::path::Path;
 use std::sync::mpsc;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::IoError;
+use crate::{IoError, NotText};
+
+/// The UTF-8 byte-order mark, which some editors write before the first line.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// "No colour" for a `v` without one, among others with one.
+const NO_COLOR: Vec4 = Vec4::NAN;
 
 /// "No `vt` / `vn` index" in a corner.
 const MISSING: u32 = u32::MAX;
@@ -62,17 +70,22 @@ pub(crate) struct ParsedObject {
     /// `Some` when every corner has a `vt`; `None` when none has.
     pub uvs: Option<Vec<Vec2>>,
     pub normals: Option<Vec<Vec3>>,
+    /// `Some` when every vertex has a colour; `None` when none has.
+    pub colors: Option<Vec<Vec4>>,
     pub triangles: Vec<[u32; 3]>,
     /// Some corners had a `vt` and some did not (texture coordinates dropped).
     pub mixed_uvs: bool,
     /// Some corners had a `vn` and some did not (normals dropped).
     pub mixed_normals: bool,
+    /// Some vertices had a colour and some did not (colours dropped).
+    pub mixed_colors: bool,
 }
 
 #[derive(Debug)]
 enum Event {
     Object(String),
-    Material(String),
+    /// A `usemtl`: the material's name (empty where the file gives none) and the line.
+    Material(String, usize),
     Library(String, usize),
 }
 
@@ -81,6 +94,8 @@ enum Event {
 struct Chunk {
     lines: usize,
     positions: Vec<Vec3>,
+    /// Per position, its colour or [`NO_COLOR`]; empty when no `v` of the chunk has one.
+    colors: Vec<Vec4>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
     /// A negative (relative) index is resolved later, from `relative`.
@@ -90,6 +105,9 @@ struct Chunk {
     relative: Vec<(usize, usize, i64)>,
     /// Events with the chunk-local triangle index they precede.
     events: Vec<(usize, Event)>,
+    /// Faces of more than three corners, fan-triangulated here: their first triangle and
+    /// their number of corners (see [`crate::polygon`]).
+    polygons: Vec<(usize, usize)>,
 }
 
 /// The OBJ file's objects and, in order, its `mtllib` statements (name, line).
@@ -97,8 +115,12 @@ pub(crate) struct Parsed {
     /// The objects' parts, in file order.
     objects: Vec<Part>,
     pub libraries: Vec<(String, usize)>,
+    /// Every material name that a `usemtl` gives, once, with the line of its first use.
+    pub materials_used: Vec<(String, usize)>,
     chunks: Vec<Chunk>,
     positions: Vec<Vec3>,
+    /// Per position, its colour or [`NO_COLOR`]; empty when no `v` has one.
+    colors: Vec<Vec4>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
 }
@@ -111,8 +133,9 @@ pub(crate) enum ReadError {
     IndexOutOfRange,
 }
 
-/// Reads and parses the OBJ file `file` (opened from `path`).
-pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
+/// Reads and parses the OBJ text of `file` (UTF-8, opened from `path`; a UTF-8 byte-order
+/// mark is skipped).
+pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, ReadError> {
     let (blocks, received) = mpsc::sync_channel::<(usize, Vec<u8>)>(READ_AHEAD);
     let (give_back, free) = mpsc::channel::<Vec<u8>>();
     let parsed: Vec<(usize, ChunkResult)> = std::thread::scope(|s| {
@@ -153,7 +176,7 @@ pub(crate) fn read(file: File, path: &Path) -> Result<Parsed, ReadError> {
 /// parsers; buffers come back through `free` to be reused. A line longer than a block makes
 /// its block grow (each byte is read and searched once, however long the line).
 fn read_blocks(
-    mut file: File,
+    mut file: impl Read,
     blocks: &mpsc::SyncSender<(usize, Vec<u8>)>,
     free: &mpsc::Receiver<Vec<u8>>,
 ) -> std::io::Result<()> {
@@ -177,6 +200,9 @@ fn read_blocks(
                 break false;
             }
         };
+        if index == 0 && block.starts_with(UTF8_BOM) {
+            block.drain(..UTF8_BOM.len());
+        }
         if (!block.is_empty() || index == 0) && blocks.send((index, block)).is_err() {
             return Ok(());
         }
@@ -228,6 +254,8 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     // Split into objects, following the events in file order.
     let mut objects = Vec::new();
     let mut libraries = Vec::new();
+    let mut materials_used: Vec<(String, usize)> = Vec::new();
+    let mut seen: std::collections::HashSet<String> = std::collections::HashSet::new();
     let mut name = "unnamed_object".to_owned();
     let mut material: Option<String> = None;
     let mut current: Vec<Segment> = Vec::new();
@@ -257,7 +285,10 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
                     by_usemtl = false;
                     name = if new_name.is_empty() { "unnamed_object".to_owned() } else { new_name };
                 }
-                Event::Material(new_material) => {
+                Event::Material(new_material, line) => {
+                    if seen.insert(new_material.clone()) {
+                        materials_used.push((new_material.clone(), line_base + line));
+                    }
                     if material.as_ref() != Some(&new_material) && !current.is_empty() {
                         objects.push((
                             name.clone(),
@@ -280,12 +311,22 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     let mut positions = Vec::with_capacity(totals[0]);
     let mut uvs = Vec::with_capacity(totals[1]);
     let mut normals = Vec::with_capacity(totals[2]);
+    let mut colors = Vec::new();
+    if chunks.iter().any(|chunk| !chunk.colors.is_empty()) {
+        colors.reserve_exact(totals[0]);
+        for chunk in &mut chunks {
+            match chunk.colors.is_empty() {
+                true => colors.extend(std::iter::repeat_n(NO_COLOR, chunk.positions.len())),
+                false => colors.append(&mut chunk.colors),
+            }
+        }
+    }
     for chunk in &mut chunks {
         positions.extend(std::mem::take(&mut chunk.positions));
         uvs.extend(std::mem::take(&mut chunk.uvs));
         normals.extend(std::mem::take(&mut chunk.normals));
     }
-    Ok(Parsed { objects, libraries, chunks, positions, uvs, normals })
+    Ok(Parsed { objects, libraries, materials_used, chunks, positions, colors, uvs, normals })
 }
 
 impl Parsed {
@@ -306,8 +347,8 @@ impl Parsed {
                 _ => merged.push((name, resolved, segments)),
             }
         }
-        let (chunks, positions, uvs, normals) =
-            (&self.chunks, &self.positions, &self.uvs, &self.normals);
+        let (chunks, positions, uvs, normals, colors) =
+            (&self.chunks, &self.positions, &self.uvs, &self.normals, &self.colors);
         merged
             .into_par_iter()
             .map(|(name, material, segments)| {
@@ -315,26 +356,56 @@ impl Parsed {
                     segments.iter().flat_map(|&(c, start, end)| &chunks[c].triangles[start..end])
                 };
                 let count: usize = segments.iter().map(|&(_, start, end)| end - start).sum();
-                let (keys, triangles) = dense_dedup(triangles(), count)
+                let (keys, mut triangles) = dense_dedup(triangles(), count)
                     .unwrap_or_else(|| hashed_dedup(triangles(), count));
                 let with_vt = keys.iter().filter(|k| k[1] != MISSING).count();
                 let with_vn = keys.iter().filter(|k| k[2] != MISSING).count();
                 let all = keys.len();
+                let positions: Vec<Vec3> = keys.iter().map(|k| positions[k[0] as usize]).collect();
+                crate::polygon::triangulate(
+                    &mut triangles,
+                    &positions,
+                    polygons(chunks, &segments),
+                );
+                let with_color = match colors.is_empty() {
+                    true => 0,
+                    false => keys.iter().filter(|k| !colors[k[0] as usize].x.is_nan()).count(),
+                };
                 ParsedObject {
                     name,
                     material,
-                    positions: keys.iter().map(|k| positions[k[0] as usize]).collect(),
+                    positions,
                     uvs: (with_vt == all && all > 0)
                         .then(|| keys.iter().map(|k| uvs[k[1] as usize]).collect()),
                     normals: (with_vn == all && all > 0)
                         .then(|| keys.iter().map(|k| normals[k[2] as usize]).collect()),
+                    colors: (with_color == all && all > 0)
+                        .then(|| keys.iter().map(|k| colors[k[0] as usize]).collect()),
                     triangles,
                     mixed_uvs: with_vt != 0 && with_vt != all,
                     mixed_normals: with_vn != 0 && with_vn != all,
+                    mixed_colors: with_color != 0 && with_color != all,
                 }
             })
             .collect()
     }
+}
+
+/// The polygons (faces of more than three corners) of an object made of `segments`: their
+/// first triangle in the object and their number of corners, ascending.
+fn polygons<'a>(
+    chunks: &'a [Chunk],
+    segments: &'a [Segment],
+) -> impl Iterator<Item = (usize, usize)> + 'a {
+    let mut base = 0;
+    segments.iter().flat_map(move |&(c, start, end)| {
+        let all = &chunks[c].polygons;
+        let from = all.partition_point(|&(first, _)| first < start);
+        let to = all.partition_point(|&(first, _)| first < end);
+        let offset = base;
+        base += end - start;
+        all[from..to].iter().map(move |&(first, corners)| (offset + first - start, corners))
+    })
 }
 
 /// The distinct corners in order of first use, and the triangles as indices among them.
@@ -540,6 +611,7 @@ type ChunkResult = Result<Chunk, (usize, ChunkError)>;
 enum ChunkError {
     Syntax(String),
     NotFinite(&'static str, String),
+    NotText(NotText),
 }
 
 impl ChunkError {
@@ -549,6 +621,7 @@ impl ChunkError {
             Self::NotFinite(what, text) => {
                 IoError::NotFinite { path: path.to_path_buf(), line, what, text }
             }
+            Self::NotText(problem) => IoError::NotText { path: path.to_path_buf(), line, problem },
         }
     }
 }
@@ -687,7 +760,43 @@ fn rest_of(words: &Cursor<'_>) -> String {
     text(words.rest()).trim().to_owned()
 }
 
+/// Parses a block of whole lines: its statements, and the first error among them or among
+/// its lines that are not text (whichever comes first).
 fn parse_chunk(block: &[u8]) -> ChunkResult {
+    let parsed = parse_statements(block);
+    match (first_line_not_text(block), parsed) {
+        (Some(bad), Err(error)) if error.0 < bad.0 => Err(error),
+        (Some(bad), _) => Err(bad),
+        (None, parsed) => parsed,
+    }
+}
+
+/// The first statement line (not a comment) of `block` that holds a NUL byte or invalid
+/// UTF-8, with what is wrong. A block of ASCII without NUL (nearly every OBJ file) is seen
+/// to have none in one pass that vectorises; others are searched line by line.
+fn first_line_not_text(block: &[u8]) -> Option<(usize, ChunkError)> {
+    // Bit 7 of `b | (b - 1)` is set for NUL (0 - 1 = 0xFF) and for every byte above 127.
+    let ascii = |chunk: &[u8]| chunk.iter().fold(0, |any, &b| any | b | b.wrapping_sub(1)) < 0x80;
+    if block.chunks(64).all(ascii) {
+        return None;
+    }
+    block.split(|&b| b == b'\n').enumerate().find_map(|(i, line)| {
+        let start = line.iter().position(|&b| !blank(b)).unwrap_or(line.len());
+        let problem = if line[start..].starts_with(b"#") {
+            return None;
+        } else if line.contains(&0) {
+            NotText::Nul
+        } else if std::str::from_utf8(line).is_err() {
+            NotText::InvalidUtf8
+        } else {
+            return None;
+        };
+        Some((i + 1, ChunkError::NotText(problem)))
+    })
+}
+
+/// Parses the statements of a block of whole lines.
+fn parse_statements(block: &[u8]) -> ChunkResult {
     let mut chunk = Chunk::default();
     let mut face: Vec<(Corner, [Option<i64>; 3])> = Vec::with_capacity(8);
     let mut words = Cursor { text: block, at: 0 };
@@ -701,20 +810,26 @@ fn parse_chunk(block: &[u8]) -> ChunkResult {
                     let [x, y, z] =
                         numbers::<3>(&mut words, "v", "vertex position").map_err(fail)?;
                     let mut p = Vec3::new(x, y, z);
-                    // `v x y z w`: divide by w; `v x y z r g b`: colours, ignored.
-                    if let (Some(w), None) = (words.word(), words.word()) {
-                        let w = float(w).ok_or_else(|| {
-                            fail(ChunkError::Syntax(format!(
-                                "`v`: expected w, found {:?}",
-                                text(w)
-                            )))
-                        })?;
-                        if w == 0.0 || !w.is_finite() {
+                    // `v x y z w`: divide by w; `v x y z r g b [a]`: a colour.
+                    match more_numbers(&mut words).map_err(fail)? {
+                        (1, [w, ..]) => {
+                            if w == 0.0 {
+                                return Err(fail(ChunkError::Syntax(format!(
+                                    "`v`: w = {w} cannot scale a position"
+                                ))));
+                            }
+                            p /= w;
+                        }
+                        (3, [r, g, b, _]) => chunk.add_color(Vec4::new(r, g, b, 1.0)),
+                        (4, [r, g, b, a]) => chunk.add_color(Vec4::new(r, g, b, a)),
+                        (0, _) => {}
+                        (count, _) => {
                             return Err(fail(ChunkError::Syntax(format!(
-                                "`v`: w = {w} cannot scale a position"
+                                "`v` needs 3 numbers, 4 (x y z w), 6 (x y z r g b) or 7 \
+                                 (x y z r g b a), found {}",
+                                3 + count
                             ))));
                         }
-                        p /= w;
                     }
                     chunk.positions.push(p);
                 }
@@ -742,7 +857,11 @@ fn parse_chunk(block: &[u8]) -> ChunkResult {
                         any_relative |= relative != [None; 3];
                         face.push((corner, relative));
                     }
-                    // Fan triangulation.
+                    // Fan triangulation; polygons that are not convex are triangulated
+                    // again once their positions are known (`crate::polygon`).
+                    if face.len() > 3 {
+                        chunk.polygons.push((chunk.triangles.len(), face.len()));
+                    }
                     for k in 1..face.len().saturating_sub(1) {
                         let triangle = [face[0], face[k], face[k + 1]];
                         if any_relative {
@@ -763,13 +882,9 @@ fn parse_chunk(block: &[u8]) -> ChunkResult {
                     chunk.events.push((chunk.triangles.len(), Event::Object(name)));
                 }
                 b"usemtl" => {
+                    // An empty name is the name of a material `newmtl` left unnamed.
                     let name = rest_of(&words);
-                    if name.is_empty() {
-                        return Err(fail(ChunkError::Syntax(
-                            "`usemtl` needs a material name".to_owned(),
-                        )));
-                    }
-                    chunk.events.push((chunk.triangles.len(), Event::Material(name)));
+                    chunk.events.push((chunk.triangles.len(), Event::Material(name, line)));
                 }
                 b"mtllib" => {
                     let name = rest_of(&words);
@@ -781,7 +896,39 @@ fn parse_chunk(block: &[u8]) -> ChunkResult {
         words.next_line();
     }
     chunk.lines = line;
+    if !chunk.colors.is_empty() {
+        chunk.colors.resize(chunk.positions.len(), NO_COLOR);
+    }
     Ok(chunk)
+}
+
+impl Chunk {
+    /// Gives the position about to be pushed a colour (the ones before without get
+    /// [`NO_COLOR`]).
+    fn add_color(&mut self, color: Vec4) {
+        self.colors.resize(self.positions.len(), NO_COLOR);
+        self.colors.push(color);
+    }
+}
+
+/// The numbers after a `v`'s position (w, or a colour's r g b and a), and how many there
+/// are (5 for more than four).
+fn more_numbers(words: &mut Cursor<'_>) -> Result<(usize, [f32; 4]), ChunkError> {
+    let mut values = [0.0; 4];
+    let mut count = 0;
+    while let Some(word) = words.word() {
+        if count == values.len() {
+            return Ok((count + 1, values));
+        }
+        values[count] = float(word).filter(|v| v.is_finite()).ok_or_else(|| {
+            ChunkError::Syntax(format!(
+                "`v`: expected a number (w, or a colour's r g b [a]), found {:?}",
+                text(word)
+            ))
+        })?;
+        count += 1;
+    }
+    Ok((count, values))
 }
 
 /// The common corners `v`, `v/vt`, `v//vn` and `v/vt/vn` with indices of 1 to 9 digits,

@@ -1,7 +1,8 @@
 //! Wavefront OBJ (+ MTL) out.
 //!
 //! Each object becomes an `o` block with its `usemtl`, `v`, `vt` and `vn` lines and faces
-//! `f v/vt/vn`. OBJ has no transforms: positions (and normals) are moved into model space.
+//! `f v/vt/vn`; vertex colours go on the `v` lines (`v x y z r g b`, and `a` where it is not
+//! 1). OBJ has no transforms: positions (and normals) are moved into model space.
 //! Numbers are written with Rust's shortest round-trip formatting, so reading the file back
 //! gives the same bits. Texture coordinates are flipped (`v' = 1 - v`) when the model's V runs
 //! down (glTF), since OBJ's runs up. Materials go to `NAME.mtl` and the textures they use are
@@ -92,9 +93,16 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
             }
         }
         let transform = object.transform.filter(|&m| m != Mat4::IDENTITY);
-        for &p in &object.positions {
+        for (i, &p) in object.positions.iter().enumerate() {
             let p = transform.map_or(p, |m| m.transform_point3(p));
-            let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+            let _ = write!(out, "v {} {} {}", p.x, p.y, p.z);
+            if let Some(c) = object.colors.as_ref().map(|colors| colors[i]) {
+                let _ = write!(out, " {} {} {}", c.x, c.y, c.z);
+                if c.w != 1.0 {
+                    let _ = write!(out, " {}", c.w);
+                }
+            }
+            out.push('\n');
         }
         if let Some(uvs) = &object.uvs {
             for t in uvs {

@@ -105,6 +105,31 @@ fn every_written_gltf_and_glb_passes_the_validator() {
     }
 }
 
+/// Vertex colours, fixed (split vertices copy theirs), written as COLOR_0: valid glTF.
+#[test]
+fn vertex_colours_pass_the_validator() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tile.obj");
+    let text = "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0.5 0 0 1 0.25\nv 0 1 0 0.5 0.5 0.5\n\
+                f 1 2 3\nf 1 3 4\n";
+    std::fs::write(&obj, text).unwrap();
+    let mut asset = seamlit_io::load(&obj, &LoadOptions::default()).unwrap();
+    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
+    for extension in ["glb", "gltf"] {
+        let out = dir.path().join(format!("tile.{extension}"));
+        seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+        let (errors, report) = validate(&out);
+        assert_eq!(errors, 0, "{}: {report}", out.display());
+    }
+    let json = glb_json(&dir.path().join("tile.glb"));
+    let attributes = &json["meshes"][0]["primitives"][0]["attributes"];
+    let color = &json["accessors"][attributes["COLOR_0"].as_u64().unwrap() as usize];
+    assert_eq!(
+        (color["type"].as_str(), color["componentType"].as_u64()),
+        (Some("VEC4"), Some(5126))
+    );
+}
+
 #[test]
 fn a_fixed_model_with_normals_and_tangents_passes_the_validator() {
     let asset = seamlit_io::load(&model("newell_teaset/teapot"), &LoadOptions::default()).unwrap();

@@ -179,3 +179,128 @@ fn too_large_and_missing_files() {
         .unwrap_err();
     assert!(matches!(err, IoError::UnknownFormat { .. }), "{err}");
 }
+
+/// Writes raw bytes (text that is not UTF-8, UTF-16).
+fn write_bytes(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+#[test]
+fn a_file_without_triangles_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let garbage: Vec<u8> = (0..4000u32).map(|i| b"xq7 #\tzk\n"[(i * 7 % 9) as usize]).collect();
+    let files = [
+        write(dir.path(), "empty.obj", ""),
+        write(dir.path(), "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+        // Faces of fewer than three corners, lines and points are no surface.
+        write(dir.path(), "lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nl 1 2 3\np 1\n"),
+        // Text whose every line is a statement this reader ignores.
+        write_bytes(dir.path(), "garbage.obj", &garbage),
+    ];
+    for path in files {
+        let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+        match &err {
+            IoError::NoTriangles { path: p } => assert_eq!(p, &path),
+            other => panic!("{}: unexpected {other}", path.display()),
+        }
+        let message = err.to_string();
+        assert!(message.starts_with(&path.display().to_string()), "{message}");
+        assert!(!message.contains('\n'), "{message}");
+    }
+    // A glTF without a mesh too.
+    let path = write(dir.path(), "empty.gltf", r#"{"asset":{"version":"2.0"}}"#);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(matches!(err, IoError::NoTriangles { .. }), "{err}");
+}
+
+#[test]
+fn a_nul_byte_or_invalid_utf8_in_a_statement_names_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&str, &[u8], usize, seamlit_io::NotText); 4] = [
+        (
+            "nul.obj",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nvt 0\x00 0\n",
+            5,
+            seamlit_io::NotText::Nul,
+        ),
+        // A NUL in an unknown statement: binary data, not ignored.
+        (
+            "binary.obj",
+            b"v 0 0 0\nv 1 0 0\n\x7fELF\x02\x01\x01\x00\nv 0 1 0\nf 1 2 3\n",
+            3,
+            seamlit_io::NotText::Nul,
+        ),
+        (
+            "latin1.obj",
+            b"o caf\xe9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            1,
+            seamlit_io::NotText::InvalidUtf8,
+        ),
+        // UTF-16 without a byte-order mark.
+        ("utf16.obj", b"v\x00 \x000\x00 \x000\x00 \x000\x00\n\x00", 1, seamlit_io::NotText::Nul),
+    ];
+    for (name, bytes, line, problem) in cases {
+        let path = write_bytes(dir.path(), name, bytes);
+        let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+        match &err {
+            IoError::NotText { path: p, line: l, problem: q } => {
+                assert_eq!((p, *l, *q), (&path, line, problem), "{name}");
+            }
+            other => panic!("{name}: unexpected {other}"),
+        }
+        assert!(err.to_string().contains(&format!("{name}:{line}:")), "{err}");
+    }
+    // Comments may hold anything.
+    let path = write_bytes(
+        dir.path(),
+        "comment.obj",
+        b"# caf\xe9 \x00\n  # \xff\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.triangle_count(), 1);
+}
+
+/// The text as UTF-16 with its byte-order mark, little or big endian.
+fn utf16(text: &str, little: bool) -> Vec<u8> {
+    let mut out = if little { vec![0xFF, 0xFE] } else { vec![0xFE, 0xFF] };
+    for unit in text.encode_utf16() {
+        out.extend(if little { unit.to_le_bytes() } else { unit.to_be_bytes() });
+    }
+    out
+}
+
+#[test]
+fn utf16_and_utf8_byte_order_marks_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "o caf\u{e9}\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+    let plain = seamlit_io::load(&write(dir.path(), "plain.obj", text), &LoadOptions::default())
+        .unwrap()
+        .model;
+    assert_eq!(plain.triangle_count(), 2);
+    assert_eq!(plain.objects[0].name, "caf\u{e9}");
+    for (name, bytes) in [
+        ("le.obj", utf16(text, true)),
+        ("be.obj", utf16(text, false)),
+        ("bom.obj", [b"\xEF\xBB\xBF".as_slice(), text.as_bytes()].concat()),
+    ] {
+        let path = write_bytes(dir.path(), name, &bytes);
+        let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+        assert_eq!(asset.model, plain, "{name}");
+    }
+    // A face index out of range is placed in the decoded text.
+    let path = write_bytes(dir.path(), "range16.obj", &utf16("v 0 0 0\nv 1 0 0\nf 1 2 3\n", true));
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(matches!(err, IoError::ReferenceOutOfRange { line: 3, index: 3, .. }), "{err}");
+    // An unpaired surrogate on line 2.
+    let mut bad = utf16("v 0 0 0\nv ", true);
+    bad.extend([0x00, 0xD8]);
+    bad.extend(&utf16("1 0 0\n", true)[2..]);
+    let path = write_bytes(dir.path(), "surrogate.obj", &bad);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, IoError::NotText { line: 2, problem: seamlit_io::NotText::InvalidUtf16, .. }),
+        "{err}"
+    );
+}

@@ -39,6 +39,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             name: o.name.clone(),
             positions: o.positions.clone(),
             uvs: o.uvs.clone(),
+            colors: o.colors.clone(),
             // Vertices no triangle uses keep their input normal: read from `model` below.
             normals: None,
             tangents: None,
@@ -156,6 +157,7 @@ struct Out<'a> {
     /// The input normals where the object is a copy without them (see [`Out::finish`]).
     input_normals: Option<&'a [Vec3]>,
     uvs: &'a mut Option<Vec<Vec2>>,
+    colors: &'a mut Option<Vec<Vec4>>,
     linear: Option<Linear>,
     /// Whether tangents are written (otherwise they are zero and split nothing).
     tangents_wanted: bool,
@@ -187,6 +189,7 @@ impl<'a> Out<'a> {
             split_from: &mut object.split_from,
             input_normals,
             uvs: &mut object.uvs,
+            colors: &mut object.colors,
             linear,
             tangents_wanted,
             normals,
@@ -239,6 +242,9 @@ impl<'a> Out<'a> {
                 self.split_from.push(source);
                 if let Some(uvs) = self.uvs {
                     uvs.push(uvs[vi]);
+                }
+                if let Some(colors) = self.colors {
+                    colors.push(colors[vi]);
                 }
                 self.normals.push(normal);
                 self.tangents.push(tangent);

@@ -4,6 +4,15 @@
 //! `T = normalize(T - N dot(N, T))` (Gram-Schmidt), and `w = sign(dot(cross(N, T), B))` so
 //! that the renderer rebuilds `B = cross(N, T) * w` (glTF convention). Every step has a
 //! fallback, so no input, however degenerate, gives a NaN.
+//!
+//! **Invariant: every tangent leaves here orthogonal to its normal, |N.T| < 1e-5, whatever
+//! the UVs** (tests/orthogonal_frames.rs). One Gram-Schmidt step does not ensure it: where the
+//! summed tangent lies nearly along the normal (faces whose tangents' parts across the normal
+//! cancel: degenerate, repeated or folded-back UVs), removing the normal part leaves mostly
+//! rounding error, in any direction, and normalising that gave |N.T| up to 0.95. So
+//! [`orthogonal_tangent`] falls back to a surface direction there, and otherwise
+//! orthogonalises twice ("twice is enough": the second step removes what the first's rounding
+//! left along the normal).
 
 use glam::{Mat3, Vec3, Vec4, Vec4Swizzles};
 
@@ -12,10 +21,23 @@ use glam::{Mat3, Vec3, Vec4, Vec4Swizzles};
 #[must_use]
 pub(crate) fn finish(n_sum: Vec3, fallback: Vec3, t_sum: Vec3, b_sum: Vec3) -> (Vec3, Vec4) {
     let n = n_sum.try_normalize().or_else(|| fallback.try_normalize()).unwrap_or(Vec3::Z);
-    let t =
-        (t_sum - n * n.dot(t_sum)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+    let t = orthogonal_tangent(n, t_sum);
     let w = if n.cross(t).dot(b_sum) < 0.0 { -1.0 } else { 1.0 };
     (n, t.extend(w))
+}
+
+/// The unit vector along `t`'s part across the unit normal `n`; where `t` has (nearly) no
+/// such part, a direction across `n` from the surface alone (`any_orthonormal_vector`,
+/// continuous in `n`, as for faces without usable UVs).
+#[must_use]
+pub(crate) fn orthogonal_tangent(n: Vec3, t: Vec3) -> Vec3 {
+    let across = t - n * n.dot(t);
+    // Below a thousandth of |t|, the rounding of `t`'s part along `n` (about 6e-8 |t|) would
+    // tilt the direction by more than 6e-5 before the second step.
+    if across.length_squared() <= 1e-6 * t.length_squared() || !across.is_finite() {
+        return n.any_orthonormal_vector();
+    }
+    (across - n * n.dot(across)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector())
 }
 
 /// A transform's linear part and what is derived from it, for moving frames.
@@ -53,7 +75,8 @@ impl Linear {
 
 fn reframe(n: Vec3, t: Vec3, b: Vec3, n0: Vec3, t0: Vec4) -> (Vec3, Vec4) {
     let n = n.try_normalize().unwrap_or(n0);
-    let t = t.try_normalize().unwrap_or(t0.xyz());
+    // Orthogonal in theory (`N^T M M^-1 T = N.T`), up to the rounding of a stretched transform.
+    let t = orthogonal_tangent(n, t.try_normalize().unwrap_or(t0.xyz()));
     let w = if n.cross(t).dot(b) < 0.0 { -1.0 } else { 1.0 };
     (n, t.extend(w))
 }

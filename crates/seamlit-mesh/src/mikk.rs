@@ -85,8 +85,7 @@ pub(crate) fn tangents(
     for (t, n) in out.iter_mut().zip(corner_normals) {
         // MikkTSpace's tangent is orthogonal to the normal it was given, up to rounding.
         let xyz = Vec3::new(t.x, t.y, t.z);
-        let xyz =
-            (xyz - *n * n.dot(xyz)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+        let xyz = crate::frame::orthogonal_tangent(*n, xyz);
         *t = xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 });
     }
     out

@@ -50,6 +50,12 @@ pub struct Object {
     pub uvs: Option<Vec<Vec2>>,
     /// Vertex normals in local space: as loaded (input), or as computed by [`crate::fix`].
     pub normals: Option<Vec<Vec3>>,
+    /// Vertex colours (COLOR_0), linear RGBA, if the object has them. No colour space is
+    /// converted on the way in or out: glTF's COLOR_0 is linear by definition, and OBJ's
+    /// `v x y z r g b [a]` values are taken as they are written (as Assimp and tobj do),
+    /// alpha 1 where the file gives none. [`crate::fix`] copies a vertex's colour to the
+    /// copies it makes of it.
+    pub colors: Option<Vec<Vec4>>,
     /// Vertex tangents in local space, `w` = +1 or -1 so that
     /// `B = cross(N, T.xyz) * T.w` (glTF convention).
     pub tangents: Option<Vec<Vec4>>,
@@ -63,7 +69,8 @@ pub struct Object {
     /// position needs two frames; the last `split_from.len()` vertices are such copies, and
     /// entry `k` is the index of the input vertex (one of the first
     /// `vertex_count() - split_from.len()`) that the `k`-th copy duplicates. Writers use it to
-    /// duplicate every attribute they carry (colours, joints, morph targets) for the copies.
+    /// duplicate every attribute they carry beyond this type's (joints, morph targets) for the
+    /// copies.
     /// Empty for a loaded model; fixing a fixed model keeps pointing at the first input.
     pub split_from: Vec<u32>,
 }

@@ -112,6 +112,7 @@ fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
         ("uvs", object.uvs.as_ref().map(Vec::len)),
         ("normals", object.normals.as_ref().map(Vec::len)),
         ("tangents", object.tangents.as_ref().map(Vec::len)),
+        ("colors", object.colors.as_ref().map(Vec::len)),
     ];
     for (attribute, len) in lens {
         if let Some(actual) = len.filter(|&l| l != expected) {

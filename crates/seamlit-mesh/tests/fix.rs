@@ -458,3 +458,39 @@ fn split_vertices_record_the_input_vertex_they_copy() {
     bad.objects[0].split_from = vec![0; 30];
     assert!(matches!(fix(&bad, &FixOptions::default()), Err(MeshError::BadSplitFrom { .. })));
 }
+
+/// Vertex colours follow their vertex through the splits, in `fix` and `fix_in_place`, in
+/// every mode, and a wrong length is refused.
+#[test]
+fn split_vertices_keep_their_colour() {
+    let positions: Vec<Vec3> = (0..8)
+        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+        .collect();
+    let quads =
+        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    let colors: Vec<Vec4> = (0..8).map(|i| Vec4::new(i as f32 / 8.0, 0.25, 1.0, 0.5)).collect();
+    let mut object = Object::new("cube", positions, triangles);
+    object.colors = Some(colors.clone());
+    let model = Model::new(vec![object]);
+    for mode in [Mode::Flat, Mode::Object, Mode::Model] {
+        let options = FixOptions::default().with_mode(mode);
+        let fixed = fix(&model, &options).unwrap();
+        let mut in_place = model.clone();
+        fix_in_place(&mut in_place, &options).unwrap();
+        for o in [&fixed.objects[0], &in_place.objects[0]] {
+            assert_eq!(o.vertex_count(), 24, "{mode:?}: each corner split");
+            let got = o.colors.as_ref().expect("colours kept");
+            assert_eq!(got.len(), 24);
+            for v in 0..24 {
+                assert_eq!(got[v as usize], colors[o.source_vertex(v) as usize], "{mode:?} {v}");
+            }
+        }
+    }
+    let mut bad = model.clone();
+    bad.objects[0].colors.as_mut().unwrap().pop();
+    assert!(matches!(
+        fix(&bad, &FixOptions::default()),
+        Err(MeshError::AttributeLength { attribute: "colors", expected: 8, actual: 7, .. })
+    ));
+}

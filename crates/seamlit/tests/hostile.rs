@@ -223,3 +223,38 @@ fn a_panic_in_one_file_of_a_folder_is_its_internal_error_and_the_others_go_on() 
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
     assert!(!output.exists());
 }
+
+/// Files with nothing to fix, or that are not text: every command that loads a model says so
+/// in one line naming the file, with exit status 2, and `fix` writes nothing.
+#[test]
+fn a_model_without_triangles_or_text_is_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let files: [(&str, &[u8], &str); 5] = [
+        ("empty.obj", b"", "no triangles"),
+        ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangles"),
+        ("unknown.obj", b"xyz 1 2\nzq\n\tkk 7\n", "no triangles"),
+        ("nul.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nq \x00\x01\n", "nul.obj:5: a NUL byte"),
+        (
+            "latin1.obj",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\no caf\xe9\nf 1 2 3\n",
+            "latin1.obj:4: invalid UTF-8",
+        ),
+    ];
+    for (name, bytes, needle) in files {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let path = path.display().to_string();
+        let output = dir.path().join("out.glb");
+        let out = output.display().to_string();
+        for args in [vec!["fix", path.as_str(), "-o", out.as_str()], vec!["inspect", &path]] {
+            let o = seamlit(&args);
+            assert_eq!(o.status.code(), Some(2), "{name} {}: {}", args[0], stderr(&o));
+            let err = stderr(&o);
+            let lines: Vec<&str> = err.lines().collect();
+            assert_eq!(lines.len(), 1, "{name} {}: {lines:?}", args[0]);
+            assert!(lines[0].starts_with("error: ") && lines[0].contains(name), "{lines:?}");
+            assert!(lines[0].contains(needle), "{name}: {lines:?} lacks {needle:?}");
+            assert!(!output.exists(), "{name}: {} wrote {out}", args[0]);
+        }
+    }
+}
