@@ -25,8 +25,10 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::gltf_pass::Instance;
 use crate::{
-    Asset, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, GltfSource, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource,
+    UvTransform,
 };
 
 /// Reads a glTF (`.gltf`, with its buffers and images) or GLB file.
@@ -41,7 +43,7 @@ use crate::{
 /// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let mut bytes = crate::read_bytes(path, options)?;
-    let (document, bin) = document(&bytes, path)?;
+    let (document, json, bin) = document(&bytes, path)?;
     // The file's bytes become the BIN chunk's buffer, moved to the front in place: a GLB is
     // never held twice. A JSON file's bytes are freed here.
     let blob = bin.map(|range| {
@@ -51,7 +53,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         bytes.shrink_to_fit();
         bytes
     });
-    let mut asset = read(&document, blob, path, options)?;
+    let mut asset = read(&document, json, blob, path, options)?;
     asset.source = Some(path.to_path_buf());
     Ok(asset)
 }
@@ -63,16 +65,17 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 ///
 /// As [`load`].
 pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let (document, bin) = document(bytes, path)?;
-    read(&document, bin.map(|range| bytes[range].to_vec()), path, options)
+    let (document, json, bin) = document(bytes, path)?;
+    read(&document, json, bin.map(|range| bytes[range].to_vec()), path, options)
 }
 
-/// The validated document of glTF or GLB bytes and, for a GLB with a BIN chunk, where that
-/// chunk's data lies in `bytes`.
+/// The validated document of glTF or GLB bytes, the same JSON as written (for the
+/// pass-through writer) and, for a GLB with a BIN chunk, where that chunk's data lies in
+/// `bytes`.
 fn document(
     bytes: &[u8],
     path: &Path,
-) -> Result<(gltf::Document, Option<std::ops::Range<usize>>), IoError> {
+) -> Result<(gltf::Document, serde_json::Value, Option<std::ops::Range<usize>>), IoError> {
     let (json, bin) = if bytes.starts_with(b"glTF") {
         check_glb_container(bytes, path)?;
         let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
@@ -83,18 +86,50 @@ fn document(
     } else {
         (bytes, None)
     };
-    let root = gltf::json::Root::from_slice(json)
+    let mut root = gltf::json::Root::from_slice(json)
         .map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    // Parsed a second time as plain JSON: what the pass-through writer writes back. The first
+    // parse succeeded, so this one does too.
+    let value =
+        serde_json::from_slice(json).map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
+    check_required_extensions(&root, path)?;
+    // The gltf crate refuses every required extension it does not implement; seamlit passes
+    // through the ones that do not change how geometry is read (checked above).
+    root.extensions_required.clear();
     let document = gltf::Document::from_json(root).map_err(|e| gltf_error(e, path))?;
-    Ok((document, bin))
+    Ok((document, value, bin))
+}
+
+/// Required extensions that change how vertex data is stored: a file that requires one of
+/// these cannot be read without it. Any other required extension (lights, material and
+/// texture extensions, unknown ones) is passed through untouched.
+const GEOMETRY_EXTENSIONS: [&str; 3] =
+    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+
+/// Refuses a file that requires an extension in [`GEOMETRY_EXTENSIONS`].
+fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
+    match root
+        .extensions_required
+        .iter()
+        .enumerate()
+        .find(|(_, e)| GEOMETRY_EXTENSIONS.contains(&e.as_str()))
+    {
+        Some((i, extension)) => Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            place: format!("extensionsRequired[{i}]"),
+            reason: format!("{extension} is required, and seamlit does not read it yet"),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. Buffers are
 /// freed once the geometry is decoded, before textures are.
 fn read(
     document: &gltf::Document,
+    json: serde_json::Value,
     blob: Option<Vec<u8>>,
     path: &Path,
     options: &LoadOptions,
@@ -113,6 +148,8 @@ fn read(
     // Decoded primitives by (mesh, primitive): the object of their first instance, cloned for
     // the other nodes that instance the mesh.
     let mut decoded: HashMap<(usize, usize), usize> = HashMap::new();
+    // Per object: where it came from in the document, for the pass-through writer.
+    let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
         Some(scene) => scene
@@ -187,16 +224,24 @@ fn read(
                 } else {
                     base
                 };
+                // A skinned mesh is placed by its joints, never by its node (glTF 2.0,
+                // "Skins"): it is welded in its bind-pose space.
+                let placed = if node.skin().is_some() { Mat4::IDENTITY } else { global };
                 objects.push(asset.model.objects.len());
+                instances.push(Instance {
+                    node: node.index(),
+                    mesh: mesh.index(),
+                    primitive: primitive.index(),
+                });
                 asset.model.objects.push(Object {
                     name,
-                    transform: (global != Mat4::IDENTITY).then_some(global),
+                    transform: (placed != Mat4::IDENTITY).then_some(placed),
                     ..object
                 });
             }
         }
         asset.nodes.push(Node {
-            name: node_name.unwrap_or_else(|| format!("node{}", node.index())),
+            name: node_name.unwrap_or_default(),
             local_transform: local,
             parent,
             objects,
@@ -206,7 +251,7 @@ fn read(
         }
     }
     asset.model.v_axis = VAxis::Down;
-    drop(buffers);
+    asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
@@ -323,6 +368,33 @@ fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
         other => ("document".to_owned(), other.to_string()),
     };
     IoError::Gltf { path: path.to_path_buf(), place, reason }
+}
+
+/// For the pass-through writer: the file that a URI of the model at `path` names, checked
+/// as the loader checks it (inside the model's folder, links included): the file as named
+/// and its real path when it exists. `None` for a `data:` URI.
+///
+/// # Errors
+///
+/// [`IoError::BadUri`] or [`IoError::LinkEscapes`], as when loading.
+pub(crate) fn resolve_file(
+    path: &Path,
+    uri: &str,
+    what: &str,
+) -> Result<Option<(PathBuf, Option<PathBuf>)>, IoError> {
+    if uri.starts_with("data:") {
+        return Ok(None);
+    }
+    let reader = Reader {
+        path,
+        folder: path.parent().unwrap_or(Path::new("")),
+        options: &LoadOptions::DEFAULT,
+        buffer_bytes: 0,
+    };
+    match reader.resolve(uri, what)? {
+        Resolved::File { file, real } => Ok(Some((file, real))),
+        Resolved::Data(..) => Ok(None),
+    }
 }
 
 /// What a URI resolved to.

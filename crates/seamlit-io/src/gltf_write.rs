@@ -130,7 +130,7 @@ fn json_padded(mut json: Vec<u8>) -> Vec<u8> {
 }
 
 /// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
-fn safe_name(name: &str) -> String {
+pub(crate) fn safe_name(name: &str) -> String {
     let s: String = name
         .chars()
         .map(
@@ -171,12 +171,12 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
 }
 
 /// A normal for the validator: unit length (only non-unit ones are touched).
-fn unit_normal(n: Vec3) -> Vec3 {
+pub(crate) fn unit_normal(n: Vec3) -> Vec3 {
     if (n.length_squared() - 1.0).abs() <= 1e-5 { n } else { n.try_normalize().unwrap_or(Vec3::Z) }
 }
 
 /// A tangent for the validator: unit xyz, w exactly +-1.
-fn unit_tangent(t: Vec4) -> Vec4 {
+pub(crate) fn unit_tangent(t: Vec4) -> Vec4 {
     let xyz = t.truncate();
     let xyz = if (xyz.length_squared() - 1.0).abs() <= 1e-5 {
         xyz
@@ -432,7 +432,7 @@ impl<'a> Writer<'a> {
             let base = self.root.nodes.len();
             for node in &asset.nodes {
                 let mut json_node = node_with_transform(node.local_transform);
-                json_node.name = Some(node.name.clone());
+                json_node.name = (!node.name.is_empty()).then(|| node.name.clone());
                 if let [object] = node.objects[..] {
                     // Named after the object, so that it reads back under the same name.
                     json_node.name = Some(asset.model.objects[object].name.clone());
