@@ -154,7 +154,10 @@ fn fix_file(
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
-    seamlit_io::save(&asset, output, save).map_err(classify_save)?;
+    let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
+    for warning in &saved.warnings {
+        eprintln!("warning: {warning}");
+    }
     let seams = report
         .cross_object
         .max_normal_angle_deg
