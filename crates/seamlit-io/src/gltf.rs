@@ -86,12 +86,14 @@ fn document(
     } else {
         (bytes, None)
     };
-    let mut root = gltf::json::Root::from_slice(json)
-        .map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
-    // Parsed a second time as plain JSON: what the pass-through writer writes back. The first
-    // parse succeeded, so this one does too.
-    let value =
+    // Parsed as plain JSON (what the pass-through writer writes back), then as typed glTF.
+    let value: serde_json::Value =
         serde_json::from_slice(json).map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    let root = match with_scene_nodes(&value) {
+        Some(patched) => serde_json::from_value(patched),
+        None => gltf::json::Root::from_slice(json),
+    };
+    let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
     check_required_extensions(&root, path)?;
@@ -100,6 +102,20 @@ fn document(
     root.extensions_required.clear();
     let document = gltf::Document::from_json(root).map_err(|e| gltf_error(e, path))?;
     Ok((document, value, bin))
+}
+
+/// A scene without `nodes` is valid glTF (an empty scene), but gltf-json 1.4.1 requires the
+/// member: the document with `"nodes": []` added to such scenes, `None` when none lacks it.
+fn with_scene_nodes(document: &serde_json::Value) -> Option<serde_json::Value> {
+    let scenes = document.get("scenes")?.as_array()?;
+    if scenes.iter().all(|scene| !scene.is_object() || scene.get("nodes").is_some()) {
+        return None;
+    }
+    let mut patched = document.clone();
+    for scene in patched["scenes"].as_array_mut()?.iter_mut().filter_map(|s| s.as_object_mut()) {
+        scene.entry("nodes").or_insert_with(|| serde_json::Value::Array(Vec::new()));
+    }
+    Some(patched)
 }
 
 /// Required extensions that change how vertex data is stored: a file that requires one of

@@ -305,3 +305,39 @@ fn a_mesh_used_by_two_nodes_is_two_objects() {
     assert_eq!(asset.nodes.len(), 3);
     assert_eq!(asset.nodes[1].parent, Some(0));
 }
+
+#[test]
+fn required_extensions_are_read_unless_they_change_how_vertices_are_stored() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    document["extensionsUsed"] = json!(["KHR_lights_punctual", "VENDOR_anything"]);
+    document["extensionsRequired"] = json!(["KHR_lights_punctual", "VENDOR_anything"]);
+    let path = write(dir.path(), "lights.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects.len(), 1);
+    for extension in
+        ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"]
+    {
+        document["extensionsUsed"] = json!(["KHR_lights_punctual", extension]);
+        document["extensionsRequired"] = json!(["KHR_lights_punctual", extension]);
+        let err = load(&write(dir.path(), "compressed.gltf", &document));
+        assert!(
+            matches!(&err, IoError::Gltf { place, .. } if place == "extensionsRequired[1]"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn a_scene_without_nodes_is_an_empty_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    document["scenes"] = json!([{ "nodes": [0] }, { "name": "empty" }]);
+    let path = write(dir.path(), "scenes.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects.len(), 1);
+    document["scene"] = json!(1);
+    let path = write(dir.path(), "empty.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert!(asset.model.objects.is_empty());
+}
