@@ -775,33 +775,44 @@ fn instances_that_got_different_normals_become_a_clone_and_the_save_says_so() {
     }
 }
 
+/// Bytes of a second buffer, kept in a file of its own.
+const EXTRA: &[u8] = b"extra buffer, 32 bytes long!!!!!";
+
 #[test]
-fn the_pass_through_copies_external_images_beside_a_gltf_and_embeds_them_in_a_glb() {
+fn the_pass_through_copies_side_files_beside_a_gltf_and_embeds_images_in_a_glb() {
     let dir = tempfile::tempdir().unwrap();
     let source = dir.path().join("in.gltf");
     everything(&source);
-    // Move image 1 (KTX2) out to a file in a subfolder.
+    // Image 1 (KTX2) moves out to a file in a subfolder; a second buffer lives in its own
+    // file, with a view into it (extensions may use such views).
     let mut json: Value = serde_json::from_slice(&std::fs::read(&source).unwrap()).unwrap();
     std::fs::create_dir(dir.path().join("tex")).unwrap();
     std::fs::write(dir.path().join("tex/basis file.ktx2"), KTX2).unwrap();
     json["images"][1] =
         json!({ "uri": "tex/basis%20file.ktx2", "mimeType": "image/ktx2", "name": "basis" });
+    std::fs::write(dir.path().join("extra.bin"), EXTRA).unwrap();
+    json["buffers"].as_array_mut().unwrap().push(json!({ "uri": "extra.bin", "byteLength": 32 }));
+    json["bufferViews"].as_array_mut().unwrap().push(json!({ "buffer": 1, "byteLength": 32 }));
     std::fs::write(&source, serde_json::to_vec(&json).unwrap()).unwrap();
 
-    let folder = dir.path().join("gltf-out");
-    std::fs::create_dir(&folder).unwrap();
-    fix_and_save(&source, &folder.join("out.gltf"));
-    let written = read(&folder.join("out.gltf"));
-    assert_eq!(written.json["images"][1], json["images"][1]);
-    assert_eq!(std::fs::read(folder.join("tex/basis file.ktx2")).unwrap(), KTX2);
-    assert_valid(&folder.join("out.gltf"));
-
-    fix_and_save(&source, &dir.path().join("out.glb"));
-    let written = read(&dir.path().join("out.glb"));
-    let image = &written.json["images"][1];
-    assert!(image.get("uri").is_none(), "{image}");
-    assert_eq!(image["mimeType"], "image/ktx2");
-    assert_eq!(image["name"], "basis");
-    assert_eq!(written.image(1), KTX2);
-    assert_valid(&dir.path().join("out.glb"));
+    for output in ["out.gltf", "out.glb"] {
+        let folder = dir.path().join(format!("{output}-folder"));
+        std::fs::create_dir(&folder).unwrap();
+        let out = folder.join(output);
+        fix_and_save(&source, &out);
+        let written = read(&out);
+        assert_eq!(written.json["buffers"][1], json["buffers"][1], "{output}");
+        assert_eq!(written.buffers[1], EXTRA, "{output}");
+        if output.ends_with(".gltf") {
+            assert_eq!(written.json["images"][1], json["images"][1]);
+            assert_eq!(std::fs::read(folder.join("tex/basis file.ktx2")).unwrap(), KTX2);
+        } else {
+            let image = &written.json["images"][1];
+            assert!(image.get("uri").is_none(), "{image}");
+            assert_eq!(image["mimeType"], "image/ktx2");
+            assert_eq!(image["name"], "basis");
+            assert_eq!(written.image(1), KTX2);
+        }
+        assert_valid(&out);
+    }
 }
