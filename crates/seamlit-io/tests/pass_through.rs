@@ -598,7 +598,11 @@ fn compare(input: &File, output: &File, what: &str) -> usize {
             assert_eq!(strip(primitive, &changing), strip(out_primitive, &changing), "{place}");
             let names = |v: &Value| v.as_object().unwrap().keys().cloned().collect::<BTreeSet<_>>();
             let mut expected = names(&primitive["attributes"]);
-            expected.extend(["NORMAL".to_owned(), "TANGENT".to_owned()]);
+            // NORMAL always; TANGENT where there are texture coordinates to derive it from.
+            expected.insert("NORMAL".to_owned());
+            if primitive["attributes"].get("TEXCOORD_0").is_some() {
+                expected.insert("TANGENT".to_owned());
+            }
             assert_eq!(names(&out_primitive["attributes"]), expected, "{place}: attributes");
             let (ci, co) = (input.corners(primitive), output.corners(out_primitive));
             assert_eq!(ci.len(), co.len(), "{place}: corners");
@@ -814,5 +818,82 @@ fn the_pass_through_copies_side_files_beside_a_gltf_and_embeds_images_in_a_glb()
             assert_eq!(written.image(1), KTX2);
         }
         assert_valid(&out);
+    }
+}
+
+/// A long fold: a ridge of `r` vertices shared by two planes at a right angle (`3 r`
+/// vertices, indices of `component` type 5121 or 5123), where fixing splits every ridge
+/// vertex; and a non-indexed flat quad beside it.
+fn long_fold(path: &Path, r: u16, component: u32) {
+    let mut b = Builder::new();
+    let mut positions = Vec::new();
+    for row in 0..3 {
+        for i in 0..r {
+            let x = f32::from(i);
+            positions.push(match row {
+                0 => [x, 0.0, 0.0],
+                1 => [x, 0.0, 1.0],
+                _ => [x, 1.0, 0.0],
+            });
+        }
+    }
+    let mut corners: Vec<u16> = Vec::new();
+    for i in 0..r - 1 {
+        let (ridge, a, b) = (i, r + i, 2 * r + i);
+        corners.extend([ridge, a, a + 1, ridge, a + 1, ridge + 1]);
+        corners.extend([ridge, ridge + 1, b + 1, ridge, b + 1, b]);
+    }
+    let position = b.floats(&positions, "VEC3", true);
+    let elements: Vec<Vec<u8>> = corners
+        .iter()
+        .map(|&c| {
+            if component == 5121 {
+                vec![u8::try_from(c).unwrap()]
+            } else {
+                c.to_le_bytes().to_vec()
+            }
+        })
+        .collect();
+    let view = b.view(&elements.concat(), None, Some(34963));
+    let indices = b.push(
+        "accessors",
+        json!({ "bufferView": view, "componentType": component, "count": corners.len(), "type": "SCALAR" }),
+    );
+    b.push(
+        "meshes",
+        json!({ "primitives": [{ "attributes": { "POSITION": position }, "indices": indices }] }),
+    );
+    let quad = [
+        [0.0, 5.0, 0.0],
+        [0.0, 5.0, 1.0],
+        [1.0, 5.0, 1.0],
+        [0.0, 5.0, 0.0],
+        [1.0, 5.0, 1.0],
+        [1.0, 5.0, 0.0f32],
+    ];
+    let position = b.floats(&quad, "VEC3", true);
+    b.push("meshes", json!({ "primitives": [{ "attributes": { "POSITION": position } }] }));
+    b.json["nodes"] = json!([{ "mesh": 0 }, { "mesh": 1 }]);
+    b.json["scenes"] = json!([{ "nodes": [0, 1] }]);
+    b.write(path);
+}
+
+#[test]
+fn indices_keep_their_type_where_the_split_vertices_fit_and_widen_to_u32_where_not() {
+    let dir = tempfile::tempdir().unwrap();
+    // 85 ridge vertices: 255 vertices in, 340 out.
+    for (component, expected) in [(5121, 5125), (5123, 5123)] {
+        let source = dir.path().join(format!("fold{component}.glb"));
+        long_fold(&source, 85, component);
+        assert_valid(&source);
+        let out = dir.path().join(format!("out{component}.glb"));
+        fix_and_save(&source, &out);
+        let (a, b) = (read(&source), read(&out));
+        let indices = b.json["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+        assert_eq!(b.json["accessors"][indices]["componentType"], expected, "{component}");
+        assert_eq!(compare(&a, &b, &format!("u{component}")), 85);
+        assert_valid(&out);
+        // The non-indexed quad has nothing to split and stays non-indexed.
+        assert!(b.json["meshes"][1]["primitives"][0].get("indices").is_none());
     }
 }
