@@ -570,7 +570,7 @@ impl<'a> Writer<'a> {
             let extensions = r.transform.map(|t| {
                 self.use_extension("KHR_texture_transform");
                 json::extensions::texture::Info {
-                    texture_transform: Some(texture_transform(t)),
+                    texture_transform: Some(texture_transform(t, r.tex_coord)),
                     others: Default::default(),
                 }
             });
@@ -620,12 +620,18 @@ impl<'a> Writer<'a> {
     }
 }
 
-fn texture_transform(t: UvTransform) -> json::extensions::texture::TextureTransform {
+/// KHR_texture_transform of a texture read through `tex_coord`. The extension's own
+/// `texCoord` repeats the texture info's: gltf-json 1.4.1 writes `None` as `null`, which the
+/// validator rejects.
+fn texture_transform(
+    t: UvTransform,
+    tex_coord: u32,
+) -> json::extensions::texture::TextureTransform {
     json::extensions::texture::TextureTransform {
         offset: json::extensions::texture::TextureTransformOffset(t.offset),
         rotation: json::extensions::texture::TextureTransformRotation(t.rotation),
         scale: json::extensions::texture::TextureTransformScale(t.scale),
-        tex_coord: None,
+        tex_coord: Some(tex_coord),
         extras: Default::default(),
     }
 }

@@ -897,3 +897,21 @@ fn indices_keep_their_type_where_the_split_vertices_fit_and_widen_to_u32_where_n
         assert!(b.json["meshes"][1]["primitives"][0].get("indices").is_none());
     }
 }
+
+#[test]
+fn a_model_that_no_longer_matches_its_source_goes_to_the_generic_writer_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = dir.path().join("in.glb");
+    everything(&source);
+    let mut asset = seamlit_io::load(&source, &LoadOptions::GEOMETRY).unwrap();
+    asset.model.objects.pop();
+    let out = dir.path().join("out.glb");
+    let report = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+    assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+    assert!(report.warnings[0].contains("generic"), "{:?}", report.warnings);
+    // The generic writer's layout: one mesh per object, no skin.
+    let written = read(&out);
+    assert_eq!(written.json["meshes"].as_array().unwrap().len(), asset.model.objects.len());
+    assert!(written.json.get("skins").is_none());
+    assert_valid(&out);
+}
