@@ -25,6 +25,17 @@
 //!
 //! Loading dispatches on the extension: [`load`]. Writing too: [`save`], always to a
 //! temporary file in the destination folder that is then renamed over the destination.
+//!
+//! ## The glTF pass-through
+//!
+//! An asset loaded from glTF or GLB keeps its document ([`Asset::gltf_source`]). Saved as glTF
+//! or GLB, it is written as that document with only what seamlit owns changed: new NORMAL and
+//! TANGENT accessors, new indices, and, for the vertices [`seamlit_mesh::fix`] split, every
+//! other attribute and morph target duplicated from the vertex each copy came from. Skins,
+//! animations, materials and their extensions, images (bytes untouched), cameras, lights,
+//! extras and unknown extensions pass through; existing accessors keep their indices. A mesh
+//! whose instances got different frames is cloned, and [`SaveReport::warnings`] says so.
+//! The design: `docs/gltf-pass-through.md`.
 #![deny(missing_docs)]
 
 mod asset;
