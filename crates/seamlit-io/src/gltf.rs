@@ -141,8 +141,9 @@ fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(),
     }
 }
 
-/// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. Buffers are
-/// freed once the geometry is decoded, before textures are.
+/// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. The buffers and
+/// `json` (the document as written) end in the asset's [`GltfSource`], for the pass-through
+/// writer.
 fn read(
     document: &gltf::Document,
     json: serde_json::Value,
