@@ -936,13 +936,15 @@ impl Reader<'_> {
     }
 }
 
-/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]).
+/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]);
+/// `None` for a texture whose image only an extension names (no `source`: KTX2 through
+/// KHR_texture_basisu, WebP), which seamlit does not decode.
 fn texture_ref(
     texture: &gltf::Texture<'_>,
     tex_coord: u32,
     transform: Option<UvTransform>,
 ) -> Option<TextureRef> {
-    Some(TextureRef { texture: texture.source().index(), tex_coord, transform })
+    Some(TextureRef { texture: texture.source()?.index(), tex_coord, transform })
 }
 
 fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> UvTransform {

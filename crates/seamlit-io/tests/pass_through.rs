@@ -321,10 +321,11 @@ fn everything(path: &Path) {
     ]);
     b.json["samplers"] =
         json!([{ "magFilter": 9729, "minFilter": 9987, "wrapS": 33648, "wrapT": 33071 }]);
-    b.json["textures"] = json!([{
-        "source": 0, "sampler": 0,
-        "extensions": { "KHR_texture_basisu": { "source": 1 } },
-    }]);
+    // Texture 1 has no `source`: only its extension names an image (valid glTF).
+    b.json["textures"] = json!([
+        { "source": 0, "sampler": 0, "extensions": { "KHR_texture_basisu": { "source": 1 } } },
+        { "sampler": 0, "extensions": { "KHR_texture_basisu": { "source": 1 } } },
+    ]);
     let transform = json!({ "KHR_texture_transform": { "offset": [0.25, 0.5], "rotation": 0.125, "scale": [2.0, 3.0], "texCoord": 1 } });
     b.json["materials"] = json!([{
         "name": "skin",
@@ -342,7 +343,7 @@ fn everything(path: &Path) {
         "emissiveTexture": { "index": 0 },
         "emissiveFactor": [0.1, 0.2, 0.3],
         "extensions": {
-            "KHR_materials_clearcoat": { "clearcoatFactor": 0.5, "clearcoatTexture": { "index": 0 } },
+            "KHR_materials_clearcoat": { "clearcoatFactor": 0.5, "clearcoatTexture": { "index": 1 } },
             "KHR_materials_sheen": { "sheenColorFactor": [0.1, 0.2, 0.3], "sheenRoughnessFactor": 0.4 },
             "KHR_materials_transmission": { "transmissionFactor": 0.3 },
             "KHR_materials_ior": { "ior": 1.4 },
