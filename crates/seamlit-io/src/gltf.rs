@@ -89,10 +89,11 @@ fn document(
     // Parsed as plain JSON (what the pass-through writer writes back), then as typed glTF.
     let value: serde_json::Value =
         serde_json::from_slice(json).map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
-    let root = match with_scene_nodes(&value) {
-        Some(patched) => serde_json::from_value(patched),
-        None => gltf::json::Root::from_slice(json),
-    };
+    // A document gltf-json refuses is read again as the specification allows (see
+    // `lenient`); if that fails too, the first error (with its line) is reported.
+    let root = gltf::json::Root::from_slice(json).or_else(|error| {
+        lenient(&value).and_then(|patched| serde_json::from_value(patched).ok()).ok_or(error)
+    });
     let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
@@ -104,18 +105,40 @@ fn document(
     Ok((document, value, bin))
 }
 
-/// A scene without `nodes` is valid glTF (an empty scene), but gltf-json 1.4.1 requires the
-/// member: the document with `"nodes": []` added to such scenes, `None` when none lacks it.
-fn with_scene_nodes(document: &serde_json::Value) -> Option<serde_json::Value> {
-    let scenes = document.get("scenes")?.as_array()?;
-    if scenes.iter().all(|scene| !scene.is_object() || scene.get("nodes").is_some()) {
-        return None;
+/// What the specification allows and gltf-json 1.4.1 refuses, made acceptable to it: a
+/// scene without `nodes` (an empty scene) gets `"nodes": []`, and whole numbers written as
+/// floats (`"count": 3.0`) become integers (float fields read integers as well). `None`
+/// when there is nothing to change.
+fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
+    fn patch(value: &mut serde_json::Value, changed: &mut bool) {
+        match value {
+            serde_json::Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(f64::NAN);
+                if x.fract() == 0.0 && (-9.0e15..9.0e15).contains(&x) {
+                    #[expect(clippy::cast_possible_truncation, reason = "a whole number, checked")]
+                    let whole = x as i64;
+                    *value = serde_json::Value::from(whole);
+                    *changed = true;
+                }
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(|v| patch(v, changed)),
+            serde_json::Value::Object(members) => {
+                members.values_mut().for_each(|v| patch(v, changed));
+            }
+            _ => {}
+        }
     }
     let mut patched = document.clone();
-    for scene in patched["scenes"].as_array_mut()?.iter_mut().filter_map(|s| s.as_object_mut()) {
-        scene.entry("nodes").or_insert_with(|| serde_json::Value::Array(Vec::new()));
+    let mut changed = false;
+    patch(&mut patched, &mut changed);
+    let scenes = patched.get_mut("scenes").and_then(serde_json::Value::as_array_mut);
+    for scene in scenes.into_iter().flatten().filter_map(serde_json::Value::as_object_mut) {
+        if !scene.contains_key("nodes") {
+            scene.insert("nodes".to_owned(), serde_json::Value::Array(Vec::new()));
+            changed = true;
+        }
     }
-    Some(patched)
+    changed.then_some(patched)
 }
 
 /// Required extensions that change how vertex data is stored: a file that requires one of

@@ -129,7 +129,20 @@ impl Source {
 
 /// A non-negative integer member of a JSON object.
 fn uint(value: &Value, key: &str) -> Option<usize> {
-    value.get(key)?.as_u64().and_then(|n| usize::try_from(n).ok())
+    value.get(key).and_then(integer).and_then(|n| usize::try_from(n).ok())
+}
+
+/// A non-negative integer, also when written as a float (`3.0`, which glTF allows).
+fn integer(value: &Value) -> Option<u64> {
+    value.as_u64().or_else(|| {
+        let x = value.as_f64()?;
+        #[expect(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "x is a whole number in u64's range, checked first"
+        )]
+        (x.fract() == 0.0 && (0.0..1.8e19).contains(&x)).then_some(x as u64)
+    })
 }
 
 /// `ARRAY_BUFFER` and `ELEMENT_ARRAY_BUFFER`, buffer view targets.
@@ -429,7 +442,7 @@ impl<'a> Output<'a> {
             return None;
         }
         let template = input.map(|a| self.source.json["accessors"][a].clone());
-        let wanted = template.as_ref().and_then(|a| a["componentType"].as_u64());
+        let wanted = template.as_ref().and_then(|a| integer(&a["componentType"]));
         let fits = |component: u64| match component {
             UNSIGNED_BYTE => n <= usize::from(u8::MAX),
             UNSIGNED_SHORT => n <= usize::from(u16::MAX),
@@ -474,7 +487,7 @@ impl<'a> Output<'a> {
             accessor,
             reason,
         };
-        let Some(index) = index.as_u64().and_then(|i| usize::try_from(i).ok()) else {
+        let Some(index) = integer(index).and_then(|i| usize::try_from(i).ok()) else {
             return Err(bad(usize::MAX, format!("an attribute names accessor {index}")));
         };
         let elements = read_elements(source, index, object.input_vertex_count())?;
@@ -712,7 +725,7 @@ fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Eleme
         accessor: index,
         reason,
     };
-    let component: usize = match accessor["componentType"].as_u64() {
+    let component: usize = match integer(&accessor["componentType"]) {
         Some(5120 | 5121) => 1,
         Some(5122 | 5123) => 2,
         Some(5125 | 5126) => 4,
@@ -763,7 +776,7 @@ fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Eleme
     if let Some(sparse) = accessor.get("sparse") {
         let n = uint(sparse, "count").ok_or_else(|| bad("sparse without count".to_owned()))?;
         let indices = &sparse["indices"];
-        let index_size = match indices["componentType"].as_u64() {
+        let index_size = match integer(&indices["componentType"]) {
             Some(UNSIGNED_BYTE) => 1,
             Some(UNSIGNED_SHORT) => 2,
             Some(UNSIGNED_INT) => 4,

@@ -341,3 +341,52 @@ fn a_scene_without_nodes_is_an_empty_scene() {
     let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
     assert!(asset.model.objects.is_empty());
 }
+
+#[test]
+fn whole_numbers_written_as_floats_are_integers() {
+    let dir = tempfile::tempdir().unwrap();
+    let document = triangle(POSITIONS, [0, 1, 2]);
+    // Every integer of the document written as a float: `"count": 3.0`, `"mesh": 0.0`...
+    let text = serde_json::to_string(&document).unwrap();
+    let floats = with_integers_as_floats(&text);
+    assert!(floats.contains("\"count\":3.0"), "{floats}");
+    let path = dir.path().join("floats.gltf");
+    std::fs::write(&path, &floats).unwrap();
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
+    // The pass-through reads them too, and writes them back as they were.
+    let out = dir.path().join("out.gltf");
+    let report = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let written: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(written["accessors"][0]["count"], json!(3.0));
+    assert_eq!(written["nodes"][0]["mesh"], json!(0.0));
+}
+
+/// `text` with every integer outside strings written as a float (`3` -> `3.0`).
+fn with_integers_as_floats(text: &str) -> String {
+    let mut out = String::new();
+    let (mut in_string, mut escaped, mut number) = (false, false, String::new());
+    for c in text.chars() {
+        if in_string {
+            out.push(c);
+            in_string = escaped || c != '"';
+            escaped = !escaped && c == '\\';
+            continue;
+        }
+        if c.is_ascii_digit() || c == '-' || c == '.' || c == 'e' || c == 'E' || c == '+' {
+            number.push(c);
+            continue;
+        }
+        if !number.is_empty() {
+            out.push_str(&number);
+            if !number.contains(['.', 'e', 'E']) {
+                out.push_str(".0");
+            }
+            number.clear();
+        }
+        in_string = c == '"';
+        out.push(c);
+    }
+    out
+}
