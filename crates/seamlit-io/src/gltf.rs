@@ -469,7 +469,8 @@ impl Reader<'_> {
         }
     }
 
-    /// Resolves a URI: `data:` URIs are decoded, relative paths are percent-decoded and
+    /// Resolves a URI: `data:` URIs are decoded (base64 or percent-encoded), relative paths
+    /// are percent-decoded and
     /// joined to the model's folder; anything that would leave the folder is refused.
     fn resolve(&self, uri: &str, what: &str) -> Result<Resolved, IoError> {
         if let Some(data) = uri.strip_prefix("data:") {
@@ -480,11 +481,15 @@ impl Reader<'_> {
                     "a data: URI needs a comma before its payload",
                 ));
             };
-            let Some(mime) = header.strip_suffix(";base64") else {
-                return Err(self.bad_uri(what, uri, "only base64 data: URIs are supported"));
+            // RFC 2397: base64, or the bytes themselves, percent-encoded where needed.
+            let (mime, bytes) = match header.strip_suffix(";base64") {
+                Some(mime) => (
+                    mime,
+                    base64::decode(payload)
+                        .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?,
+                ),
+                None => (header, percent_encoding::percent_decode_str(payload).collect()),
             };
-            let bytes = base64::decode(payload)
-                .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?;
             return Ok(Resolved::Data(bytes, mime.to_owned()));
         }
         if uri.contains("://") || uri.split_once(':').is_some_and(|(s, _)| s.len() > 1) {

@@ -390,3 +390,21 @@ fn with_integers_as_floats(text: &str) -> String {
     }
     out
 }
+
+#[test]
+fn a_percent_encoded_data_uri_is_read_like_a_base64_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    let uri = document["buffers"][0]["uri"].as_str().unwrap().to_owned();
+    let base64 = uri.split_once(',').unwrap().1;
+    let bytes = base64::decode(base64).unwrap();
+    // Every byte percent-encoded (RFC 2397 without `;base64`).
+    let encoded: String = bytes.iter().map(|b| format!("%{b:02X}")).collect();
+    document["buffers"][0]["uri"] = json!(format!("data:application/octet-stream,{encoded}"));
+    let path = write(dir.path(), "percent.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    let positions: Vec<f32> =
+        asset.model.objects[0].positions.iter().flat_map(|p| p.to_array()).collect();
+    assert_eq!(positions, POSITIONS);
+    assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
+}
