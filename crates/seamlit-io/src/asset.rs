@@ -6,6 +6,8 @@ use std::sync::Arc;
 
 use seamlit_mesh::Model;
 
+pub use crate::gltf_pass::GltfSource;
+
 /// A loaded model file: geometry plus materials and textures.
 ///
 /// `model.objects[i].material` indexes [`Asset::materials`]; a material's texture references
@@ -25,12 +27,17 @@ pub struct Asset {
     pub source: Option<PathBuf>,
     /// Problems that did not stop loading (a missing texture, an unsupported extension).
     pub warnings: Vec<String>,
+    /// For an asset loaded from glTF or GLB: the input document and its buffers, so that
+    /// [`crate::save`] to `.gltf` or `.glb` writes the input back with only what seamlit owns
+    /// changed (normals, tangents, split vertices, indices). `None` for other formats; set it
+    /// to `None` to write with the generic writer instead. See [`GltfSource`].
+    pub gltf_source: Option<GltfSource>,
 }
 
 /// A node of the scene hierarchy (glTF): its name, local transform and parent.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node {
-    /// The node's name.
+    /// The node's name, empty when the file gives none (none is invented).
     pub name: String,
     /// Transform relative to the parent.
     pub local_transform: glam::Mat4,

@@ -25,8 +25,10 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::gltf_pass::Instance;
 use crate::{
-    Asset, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, GltfSource, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource,
+    UvTransform,
 };
 
 /// Reads a glTF (`.gltf`, with its buffers and images) or GLB file.
@@ -41,7 +43,7 @@ use crate::{
 /// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let mut bytes = crate::read_bytes(path, options)?;
-    let (document, bin) = document(&bytes, path)?;
+    let (document, json, bin) = document(&bytes, path)?;
     // The file's bytes become the BIN chunk's buffer, moved to the front in place: a GLB is
     // never held twice. A JSON file's bytes are freed here.
     let blob = bin.map(|range| {
@@ -51,7 +53,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         bytes.shrink_to_fit();
         bytes
     });
-    let mut asset = read(&document, blob, path, options)?;
+    let mut asset = read(&document, json, blob, path, options)?;
     asset.source = Some(path.to_path_buf());
     Ok(asset)
 }
@@ -63,16 +65,17 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 ///
 /// As [`load`].
 pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let (document, bin) = document(bytes, path)?;
-    read(&document, bin.map(|range| bytes[range].to_vec()), path, options)
+    let (document, json, bin) = document(bytes, path)?;
+    read(&document, json, bin.map(|range| bytes[range].to_vec()), path, options)
 }
 
-/// The validated document of glTF or GLB bytes and, for a GLB with a BIN chunk, where that
-/// chunk's data lies in `bytes`.
+/// The validated document of glTF or GLB bytes, the same JSON as written (for the
+/// pass-through writer) and, for a GLB with a BIN chunk, where that chunk's data lies in
+/// `bytes`.
 fn document(
     bytes: &[u8],
     path: &Path,
-) -> Result<(gltf::Document, Option<std::ops::Range<usize>>), IoError> {
+) -> Result<(gltf::Document, serde_json::Value, Option<std::ops::Range<usize>>), IoError> {
     let (json, bin) = if bytes.starts_with(b"glTF") {
         check_glb_container(bytes, path)?;
         let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
@@ -83,18 +86,90 @@ fn document(
     } else {
         (bytes, None)
     };
-    let root = gltf::json::Root::from_slice(json)
-        .map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    // Parsed as plain JSON (what the pass-through writer writes back), then as typed glTF.
+    let value: serde_json::Value =
+        serde_json::from_slice(json).map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    // A document gltf-json refuses is read again as the specification allows (see
+    // `lenient`); if that fails too, the first error (with its line) is reported.
+    let root = gltf::json::Root::from_slice(json).or_else(|error| {
+        lenient(&value).and_then(|patched| serde_json::from_value(patched).ok()).ok_or(error)
+    });
+    let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
+    check_required_extensions(&root, path)?;
+    // The gltf crate refuses every required extension it does not implement; seamlit passes
+    // through the ones that do not change how geometry is read (checked above).
+    root.extensions_required.clear();
     let document = gltf::Document::from_json(root).map_err(|e| gltf_error(e, path))?;
-    Ok((document, bin))
+    Ok((document, value, bin))
 }
 
-/// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. Buffers are
-/// freed once the geometry is decoded, before textures are.
+/// What the specification allows and gltf-json 1.4.1 refuses, made acceptable to it: a
+/// scene without `nodes` (an empty scene) gets `"nodes": []`, and whole numbers written as
+/// floats (`"count": 3.0`) become integers (float fields read integers as well). `None`
+/// when there is nothing to change.
+fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
+    fn patch(value: &mut serde_json::Value, changed: &mut bool) {
+        match value {
+            serde_json::Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(f64::NAN);
+                if x.fract() == 0.0 && (-9.0e15..9.0e15).contains(&x) {
+                    #[expect(clippy::cast_possible_truncation, reason = "a whole number, checked")]
+                    let whole = x as i64;
+                    *value = serde_json::Value::from(whole);
+                    *changed = true;
+                }
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(|v| patch(v, changed)),
+            serde_json::Value::Object(members) => {
+                members.values_mut().for_each(|v| patch(v, changed));
+            }
+            _ => {}
+        }
+    }
+    let mut patched = document.clone();
+    let mut changed = false;
+    patch(&mut patched, &mut changed);
+    let scenes = patched.get_mut("scenes").and_then(serde_json::Value::as_array_mut);
+    for scene in scenes.into_iter().flatten().filter_map(serde_json::Value::as_object_mut) {
+        if !scene.contains_key("nodes") {
+            scene.insert("nodes".to_owned(), serde_json::Value::Array(Vec::new()));
+            changed = true;
+        }
+    }
+    changed.then_some(patched)
+}
+
+/// Required extensions that change how vertex data is stored: a file that requires one of
+/// these cannot be read without it. Any other required extension (lights, material and
+/// texture extensions, unknown ones) is passed through untouched.
+const GEOMETRY_EXTENSIONS: [&str; 3] =
+    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+
+/// Refuses a file that requires an extension in [`GEOMETRY_EXTENSIONS`].
+fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
+    match root
+        .extensions_required
+        .iter()
+        .enumerate()
+        .find(|(_, e)| GEOMETRY_EXTENSIONS.contains(&e.as_str()))
+    {
+        Some((i, extension)) => Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            place: format!("extensionsRequired[{i}]"),
+            reason: format!("{extension} is required, and seamlit does not read it yet"),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. The buffers and
+/// `json` (the document as written) end in the asset's [`GltfSource`], for the pass-through
+/// writer.
 fn read(
     document: &gltf::Document,
+    json: serde_json::Value,
     blob: Option<Vec<u8>>,
     path: &Path,
     options: &LoadOptions,
@@ -113,6 +188,8 @@ fn read(
     // Decoded primitives by (mesh, primitive): the object of their first instance, cloned for
     // the other nodes that instance the mesh.
     let mut decoded: HashMap<(usize, usize), usize> = HashMap::new();
+    // Per object: where it came from in the document, for the pass-through writer.
+    let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
         Some(scene) => scene
@@ -187,16 +264,24 @@ fn read(
                 } else {
                     base
                 };
+                // A skinned mesh is placed by its joints, never by its node (glTF 2.0,
+                // "Skins"): it is welded in its bind-pose space.
+                let placed = if node.skin().is_some() { Mat4::IDENTITY } else { global };
                 objects.push(asset.model.objects.len());
+                instances.push(Instance {
+                    node: node.index(),
+                    mesh: mesh.index(),
+                    primitive: primitive.index(),
+                });
                 asset.model.objects.push(Object {
                     name,
-                    transform: (global != Mat4::IDENTITY).then_some(global),
+                    transform: (placed != Mat4::IDENTITY).then_some(placed),
                     ..object
                 });
             }
         }
         asset.nodes.push(Node {
-            name: node_name.unwrap_or_else(|| format!("node{}", node.index())),
+            name: node_name.unwrap_or_default(),
             local_transform: local,
             parent,
             objects,
@@ -206,7 +291,7 @@ fn read(
         }
     }
     asset.model.v_axis = VAxis::Down;
-    drop(buffers);
+    asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
@@ -325,6 +410,33 @@ fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
     IoError::Gltf { path: path.to_path_buf(), place, reason }
 }
 
+/// For the pass-through writer: the file that a URI of the model at `path` names, checked
+/// as the loader checks it (inside the model's folder, links included): the file as named
+/// and its real path when it exists. `None` for a `data:` URI.
+///
+/// # Errors
+///
+/// [`IoError::BadUri`] or [`IoError::LinkEscapes`], as when loading.
+pub(crate) fn resolve_file(
+    path: &Path,
+    uri: &str,
+    what: &str,
+) -> Result<Option<(PathBuf, Option<PathBuf>)>, IoError> {
+    if uri.starts_with("data:") {
+        return Ok(None);
+    }
+    let reader = Reader {
+        path,
+        folder: path.parent().unwrap_or(Path::new("")),
+        options: &LoadOptions::DEFAULT,
+        buffer_bytes: 0,
+    };
+    match reader.resolve(uri, what)? {
+        Resolved::File { file, real } => Ok(Some((file, real))),
+        Resolved::Data(..) => Ok(None),
+    }
+}
+
 /// What a URI resolved to.
 enum Resolved {
     /// Decoded `data:` bytes, with the MIME type the URI declared.
@@ -357,7 +469,8 @@ impl Reader<'_> {
         }
     }
 
-    /// Resolves a URI: `data:` URIs are decoded, relative paths are percent-decoded and
+    /// Resolves a URI: `data:` URIs are decoded (base64 or percent-encoded), relative paths
+    /// are percent-decoded and
     /// joined to the model's folder; anything that would leave the folder is refused.
     fn resolve(&self, uri: &str, what: &str) -> Result<Resolved, IoError> {
         if let Some(data) = uri.strip_prefix("data:") {
@@ -368,11 +481,15 @@ impl Reader<'_> {
                     "a data: URI needs a comma before its payload",
                 ));
             };
-            let Some(mime) = header.strip_suffix(";base64") else {
-                return Err(self.bad_uri(what, uri, "only base64 data: URIs are supported"));
+            // RFC 2397: base64, or the bytes themselves, percent-encoded where needed.
+            let (mime, bytes) = match header.strip_suffix(";base64") {
+                Some(mime) => (
+                    mime,
+                    base64::decode(payload)
+                        .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?,
+                ),
+                None => (header, percent_encoding::percent_decode_str(payload).collect()),
             };
-            let bytes = base64::decode(payload)
-                .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?;
             return Ok(Resolved::Data(bytes, mime.to_owned()));
         }
         if uri.contains("://") || uri.split_once(':').is_some_and(|(s, _)| s.len() > 1) {
@@ -871,13 +988,15 @@ impl Reader<'_> {
     }
 }
 
-/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]).
+/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]);
+/// `None` for a texture whose image only an extension names (no `source`: KTX2 through
+/// KHR_texture_basisu, WebP), which seamlit does not decode.
 fn texture_ref(
     texture: &gltf::Texture<'_>,
     tex_coord: u32,
     transform: Option<UvTransform>,
 ) -> Option<TextureRef> {
-    Some(TextureRef { texture: texture.source().index(), tex_coord, transform })
+    Some(TextureRef { texture: texture.source()?.index(), tex_coord, transform })
 }
 
 fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> UvTransform {

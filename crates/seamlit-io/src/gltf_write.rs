@@ -130,7 +130,7 @@ fn json_padded(mut json: Vec<u8>) -> Vec<u8> {
 }
 
 /// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
-fn safe_name(name: &str) -> String {
+pub(crate) fn safe_name(name: &str) -> String {
     let s: String = name
         .chars()
         .map(
@@ -172,12 +172,12 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
 }
 
 /// A normal for the validator: unit length (only non-unit ones are touched).
-fn unit_normal(n: Vec3) -> Vec3 {
+pub(crate) fn unit_normal(n: Vec3) -> Vec3 {
     if (n.length_squared() - 1.0).abs() <= 1e-5 { n } else { n.try_normalize().unwrap_or(Vec3::Z) }
 }
 
 /// A tangent for the validator: unit xyz, w exactly +-1.
-fn unit_tangent(t: Vec4) -> Vec4 {
+pub(crate) fn unit_tangent(t: Vec4) -> Vec4 {
     let xyz = t.truncate();
     let xyz = if (xyz.length_squared() - 1.0).abs() <= 1e-5 {
         xyz
@@ -442,7 +442,7 @@ impl<'a> Writer<'a> {
             let base = self.root.nodes.len();
             for node in &asset.nodes {
                 let mut json_node = node_with_transform(node.local_transform);
-                json_node.name = Some(node.name.clone());
+                json_node.name = (!node.name.is_empty()).then(|| node.name.clone());
                 if let [object] = node.objects[..] {
                     // Named after the object, so that it reads back under the same name.
                     json_node.name = Some(asset.model.objects[object].name.clone());
@@ -580,7 +580,7 @@ impl<'a> Writer<'a> {
             let extensions = r.transform.map(|t| {
                 self.use_extension("KHR_texture_transform");
                 json::extensions::texture::Info {
-                    texture_transform: Some(texture_transform(t)),
+                    texture_transform: Some(texture_transform(t, r.tex_coord)),
                     others: Default::default(),
                 }
             });
@@ -630,12 +630,18 @@ impl<'a> Writer<'a> {
     }
 }
 
-fn texture_transform(t: UvTransform) -> json::extensions::texture::TextureTransform {
+/// KHR_texture_transform of a texture read through `tex_coord`. The extension's own
+/// `texCoord` repeats the texture info's: gltf-json 1.4.1 writes `None` as `null`, which the
+/// validator rejects.
+fn texture_transform(
+    t: UvTransform,
+    tex_coord: u32,
+) -> json::extensions::texture::TextureTransform {
     json::extensions::texture::TextureTransform {
         offset: json::extensions::texture::TextureTransformOffset(t.offset),
         rotation: json::extensions::texture::TextureTransformRotation(t.rotation),
         scale: json::extensions::texture::TextureTransformScale(t.scale),
-        tex_coord: None,
+        tex_coord: Some(tex_coord),
         extras: Default::default(),
     }
 }

@@ -25,12 +25,24 @@
 //!
 //! Loading dispatches on the extension: [`load`]. Writing too: [`save`], always to a
 //! temporary file in the destination folder that is then renamed over the destination.
+//!
+//! ## The glTF pass-through
+//!
+//! An asset loaded from glTF or GLB keeps its document ([`Asset::gltf_source`]). Saved as glTF
+//! or GLB, it is written as that document with only what seamlit owns changed: new NORMAL and
+//! TANGENT accessors, new indices, and, for the vertices [`seamlit_mesh::fix`] split, every
+//! other attribute and morph target duplicated from the vertex each copy came from. Skins,
+//! animations, materials and their extensions, images (bytes untouched), cameras, lights,
+//! extras and unknown extensions pass through; existing accessors keep their indices. A mesh
+//! whose instances got different frames is cloned, and [`SaveReport::warnings`] says so.
+//! The design: `docs/gltf-pass-through.md`.
 #![deny(missing_docs)]
 
 mod asset;
 mod atomic;
 mod error;
 pub mod gltf;
+mod gltf_pass;
 mod gltf_write;
 pub mod newell;
 pub mod obj;
@@ -43,7 +55,9 @@ mod texture;
 
 use std::path::Path;
 
-pub use asset::{Asset, Material, Node, Texture, TextureRef, TextureSource, UvTransform};
+pub use asset::{
+    Asset, GltfSource, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+};
 pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};
 
@@ -115,6 +129,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// `.bin` buffer and the textures beside it), `.glb` (one binary file, textures embedded) or
 /// `.obj` (with a `.mtl` and the textures beside it).
 ///
+/// An asset loaded from glTF or GLB ([`Asset::gltf_source`]) and saved as `.gltf` or `.glb`
+/// goes through the pass-through writer: the output is the input document with only NORMAL,
+/// TANGENT, the split vertices and the indices changed (see `docs/gltf-pass-through.md`).
+/// Other assets, and a glTF asset whose model no longer matches its source (objects added or
+/// removed; a warning says so), go through the generic writer.
+///
 /// Each file is written to a temporary name in the destination folder, then renamed.
 ///
 /// # Errors
@@ -122,20 +142,47 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::WouldOverwriteInput`] when `path` is the asset's own source and
 /// `options.overwrite_input` is not set; [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
-/// inconsistent; [`IoError::Io`] when writing fails.
-pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<(), IoError> {
+/// inconsistent; [`IoError::AccessorOutOfRange`] or [`IoError::BadAccessor`] for a source
+/// accessor the pass-through cannot copy; [`IoError::Io`] when writing fails.
+pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveReport, IoError> {
     if !options.overwrite_input
         && asset.source.as_deref().is_some_and(|source| same_file(source, path))
     {
         return Err(IoError::WouldOverwriteInput { path: path.to_path_buf() });
     }
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let mut report = SaveReport::default();
     match extension.as_deref() {
-        Some("gltf") => gltf_write::save(asset, path, false),
-        Some("glb") => gltf_write::save(asset, path, true),
-        Some("obj") => obj_write::save(asset, path),
-        _ => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+        Some(extension @ ("gltf" | "glb")) => {
+            let binary = extension == "glb";
+            if let Some(source) = &asset.gltf_source {
+                match source.lines_up(&asset.model) {
+                    Ok(()) => {
+                        report.warnings = gltf_pass::save(asset, source, path, binary)?;
+                        return Ok(report);
+                    }
+                    Err(reason) => report.warnings.push(format!(
+                        "{}: written by the generic glTF writer (materials, skins, animations and extensions of the source are not kept): {reason}",
+                        path.display()
+                    )),
+                }
+            }
+            gltf_write::save(asset, path, binary)?;
+        }
+        Some("obj") => obj_write::save(asset, path)?,
+        _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
+    Ok(report)
+}
+
+/// What [`save`] reports besides the files it wrote.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct SaveReport {
+    /// Problems that did not stop writing, one sentence each: a glTF mesh cloned because its
+    /// instances got different normals, an image file that could not be copied beside the
+    /// output, a glTF source the model no longer matches.
+    pub warnings: Vec<String>,
 }
 
 /// Whether two paths name the same file (by canonical path when both exist).

@@ -4,33 +4,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::model;
+use common::{model, validate};
 use seamlit_io::{LoadOptions, SaveOptions, TextureSource};
-
-/// Runs tests/validate.cjs (the Khronos glTF Validator, npm package `gltf-validator`, which
-/// `.ci/run` installs into .ci/node) and returns (errors, the whole report line).
-///
-/// Panics (fails the test) when node or the validator is missing: run `.ci/run`, or
-/// `npm install --prefix .ci/node gltf-validator` once.
-fn validate(file: &Path) -> (u64, String) {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/validate.cjs");
-    let output = Command::new("node")
-        .arg(script)
-        .arg(file)
-        .output()
-        .expect("node is needed for the glTF validator test (Debian package nodejs)");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(
-        output.status.success(),
-        "the glTF validator did not run (install it: npm install --prefix .ci/node gltf-validator): {}{}",
-        stdout,
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_str(stdout.trim()).expect("validator report");
-    (report["errors"].as_u64().expect("error count"), stdout)
-}
 
 /// The JSON chunk of a GLB, read with plain byte handling (independent of the loader).
 fn glb_json(path: &Path) -> serde_json::Value {

@@ -305,3 +305,112 @@ fn a_mesh_used_by_two_nodes_is_two_objects() {
     assert_eq!(asset.nodes.len(), 3);
     assert_eq!(asset.nodes[1].parent, Some(0));
 }
+
+#[test]
+fn required_extensions_are_read_unless_they_change_how_vertices_are_stored() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    document["extensionsUsed"] = json!(["KHR_lights_punctual", "VENDOR_anything"]);
+    document["extensionsRequired"] = json!(["KHR_lights_punctual", "VENDOR_anything"]);
+    let path = write(dir.path(), "lights.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects.len(), 1);
+    for extension in
+        ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"]
+    {
+        document["extensionsUsed"] = json!(["KHR_lights_punctual", extension]);
+        document["extensionsRequired"] = json!(["KHR_lights_punctual", extension]);
+        let err = load(&write(dir.path(), "compressed.gltf", &document));
+        assert!(
+            matches!(&err, IoError::Gltf { place, .. } if place == "extensionsRequired[1]"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn a_scene_without_nodes_is_an_empty_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    document["scenes"] = json!([{ "nodes": [0] }, { "name": "empty" }]);
+    let path = write(dir.path(), "scenes.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects.len(), 1);
+    document["scene"] = json!(1);
+    let path = write(dir.path(), "empty.gltf", &document);
+    // The glTF reader accepts it (the validator does); `seamlit_io::load`, which every command
+    // uses, refuses a model with nothing to fix.
+    let asset = seamlit_io::gltf::load(&path, &LoadOptions::default()).unwrap();
+    assert!(asset.model.objects.is_empty());
+    assert!(matches!(
+        seamlit_io::load(&path, &LoadOptions::default()),
+        Err(seamlit_io::IoError::NoTriangles { .. })
+    ));
+}
+
+#[test]
+fn whole_numbers_written_as_floats_are_integers() {
+    let dir = tempfile::tempdir().unwrap();
+    let document = triangle(POSITIONS, [0, 1, 2]);
+    // Every integer of the document written as a float: `"count": 3.0`, `"mesh": 0.0`...
+    let text = serde_json::to_string(&document).unwrap();
+    let floats = with_integers_as_floats(&text);
+    assert!(floats.contains("\"count\":3.0"), "{floats}");
+    let path = dir.path().join("floats.gltf");
+    std::fs::write(&path, &floats).unwrap();
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
+    // The pass-through reads them too, and writes them back as they were.
+    let out = dir.path().join("out.gltf");
+    let report = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let written: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(written["accessors"][0]["count"], json!(3.0));
+    assert_eq!(written["nodes"][0]["mesh"], json!(0.0));
+}
+
+/// `text` with every integer outside strings written as a float (`3` -> `3.0`).
+fn with_integers_as_floats(text: &str) -> String {
+    let mut out = String::new();
+    let (mut in_string, mut escaped, mut number) = (false, false, String::new());
+    for c in text.chars() {
+        if in_string {
+            out.push(c);
+            in_string = escaped || c != '"';
+            escaped = !escaped && c == '\\';
+            continue;
+        }
+        if c.is_ascii_digit() || c == '-' || c == '.' || c == 'e' || c == 'E' || c == '+' {
+            number.push(c);
+            continue;
+        }
+        if !number.is_empty() {
+            out.push_str(&number);
+            if !number.contains(['.', 'e', 'E']) {
+                out.push_str(".0");
+            }
+            number.clear();
+        }
+        in_string = c == '"';
+        out.push(c);
+    }
+    out
+}
+
+#[test]
+fn a_percent_encoded_data_uri_is_read_like_a_base64_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    let uri = document["buffers"][0]["uri"].as_str().unwrap().to_owned();
+    let base64 = uri.split_once(',').unwrap().1;
+    let bytes = base64::decode(base64).unwrap();
+    // Every byte percent-encoded (RFC 2397 without `;base64`).
+    let encoded: String = bytes.iter().map(|b| format!("%{b:02X}")).collect();
+    document["buffers"][0]["uri"] = json!(format!("data:application/octet-stream,{encoded}"));
+    let path = write(dir.path(), "percent.gltf", &document);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    let positions: Vec<f32> =
+        asset.model.objects[0].positions.iter().flat_map(|p| p.to_array()).collect();
+    assert_eq!(positions, POSITIONS);
+    assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
+}

@@ -694,3 +694,156 @@ fn a_screenshot_that_cannot_be_written_fails_the_viewer() {
     assert!(errors[0].contains("taken.png"), "{errors:?}");
     assert!(shot.is_dir());
 }
+
+/// A GLB built here: one skinned fold (two quads at a right angle, so fixing splits the two
+/// vertices of the hard edge) with JOINTS_0 and WEIGHTS_0, a two-joint skin with inverse
+/// bind matrices, and an animation of one joint.
+fn skinned_glb(path: &Path) -> serde_json::Value {
+    use serde_json::json;
+    struct Glb {
+        bin: Vec<u8>,
+        views: Vec<serde_json::Value>,
+        accessors: Vec<serde_json::Value>,
+    }
+    impl Glb {
+        fn add(&mut self, bytes: &[u8], target: Option<u32>, accessor: serde_json::Value) -> usize {
+            while !self.bin.len().is_multiple_of(4) {
+                self.bin.push(0);
+            }
+            let mut view =
+                json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() });
+            if let Some(target) = target {
+                view["target"] = json!(target);
+            }
+            self.bin.extend_from_slice(bytes);
+            self.views.push(view);
+            let mut accessor = accessor;
+            accessor["bufferView"] = json!(self.views.len() - 1);
+            self.accessors.push(accessor);
+            self.accessors.len() - 1
+        }
+    }
+    fn f32s(values: &[f32]) -> Vec<u8> {
+        values.iter().flat_map(|x| x.to_le_bytes()).collect()
+    }
+    let mut glb = Glb { bin: Vec::new(), views: Vec::new(), accessors: Vec::new() };
+    let positions =
+        [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0];
+    let position = glb.add(
+        &f32s(&positions),
+        Some(34962),
+        json!({ "componentType": 5126, "count": 6, "type": "VEC3", "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0] }),
+    );
+    let indices: Vec<u8> =
+        [0u16, 3, 2, 0, 2, 1, 0, 4, 5, 0, 5, 3].iter().flat_map(|i| i.to_le_bytes()).collect();
+    let indices = glb.add(
+        &indices,
+        Some(34963),
+        json!({ "componentType": 5123, "count": 12, "type": "SCALAR" }),
+    );
+    let joints: Vec<u8> = (0..6u8).flat_map(|v| [v % 2, 1 - v % 2, 0, 0]).collect();
+    let joints =
+        glb.add(&joints, Some(34962), json!({ "componentType": 5121, "count": 6, "type": "VEC4" }));
+    let weights: Vec<f32> = (0..6)
+        .flat_map(|v| {
+            let a = 0.125 * (v + 1) as f32;
+            [a, 1.0 - a, 0.0, 0.0]
+        })
+        .collect();
+    let weights = glb.add(
+        &f32s(&weights),
+        Some(34962),
+        json!({ "componentType": 5126, "count": 6, "type": "VEC4" }),
+    );
+    let mut ibm = [0.0f32; 32];
+    for m in 0..2 {
+        for d in 0..4 {
+            ibm[16 * m + 5 * d] = 1.0;
+        }
+    }
+    ibm[16 + 13] = -1.0;
+    let ibm =
+        glb.add(&f32s(&ibm), None, json!({ "componentType": 5126, "count": 2, "type": "MAT4" }));
+    let times = glb.add(
+        &f32s(&[0.0, 1.0]),
+        None,
+        json!({ "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0.0], "max": [1.0] }),
+    );
+    let rotations = glb.add(
+        &f32s(&[0.0, 0.0, 0.0, 1.0, 0.6, 0.0, 0.0, 0.8]),
+        None,
+        json!({ "componentType": 5126, "count": 2, "type": "VEC4" }),
+    );
+    let mut bin = glb.bin;
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let document = json!({
+        "asset": { "version": "2.0" },
+        "buffers": [{ "byteLength": bin.len() }],
+        "bufferViews": glb.views,
+        "accessors": glb.accessors,
+        "meshes": [{ "primitives": [{
+            "attributes": { "POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights },
+            "indices": indices,
+        }] }],
+        "skins": [{ "joints": [1, 2], "inverseBindMatrices": ibm }],
+        "animations": [{
+            "samplers": [{ "input": times, "output": rotations }],
+            "channels": [{ "sampler": 0, "target": { "node": 2, "path": "rotation" } }],
+        }],
+        "nodes": [
+            { "mesh": 0, "skin": 0 },
+            { "name": "root", "children": [2] },
+            { "name": "tip", "translation": [0.0, 1.0, 0.0] },
+        ],
+        "scenes": [{ "nodes": [0, 1] }],
+        "scene": 0,
+    });
+    let mut json = serde_json::to_vec(&document).unwrap();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut bytes = Vec::new();
+    bytes.extend_from_slice(b"glTF");
+    bytes.extend_from_slice(&2u32.to_le_bytes());
+    bytes.extend_from_slice(&((28 + json.len() + bin.len()) as u32).to_le_bytes());
+    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(b"JSON");
+    bytes.extend_from_slice(&json);
+    bytes.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(b"BIN\0");
+    bytes.extend_from_slice(&bin);
+    std::fs::write(path, bytes).unwrap();
+    document
+}
+
+/// The JSON chunk of a GLB, read by hand.
+fn glb_json(path: &Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + length]).unwrap()
+}
+
+#[test]
+fn fix_keeps_the_skin_joints_weights_and_animation_of_a_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("rig.glb");
+    let document = skinned_glb(&input);
+    let out = dir.path().join("out.glb");
+    let o = seamlit(&["fix", &input.display().to_string(), "-o", &out.display().to_string()]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let written = glb_json(&out);
+    for key in ["skins", "animations", "nodes", "scenes", "scene"] {
+        assert_eq!(written[key], document[key], "{key}");
+    }
+    let attributes = &written["meshes"][0]["primitives"][0]["attributes"];
+    for name in ["POSITION", "NORMAL", "JOINTS_0", "WEIGHTS_0"] {
+        assert!(attributes.get(name).is_some(), "{name} missing: {attributes}");
+    }
+    // The hard edge split its two vertices: every attribute has the new count.
+    for name in ["POSITION", "JOINTS_0", "WEIGHTS_0"] {
+        let accessor = attributes[name].as_u64().unwrap() as usize;
+        assert_eq!(written["accessors"][accessor]["count"], 8, "{name}");
+    }
+}

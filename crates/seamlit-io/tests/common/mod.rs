@@ -1,9 +1,11 @@
-//! Helpers shared by the integration tests: model paths and an independent OBJ counter.
+//! Helpers shared by the integration tests: model paths, an independent OBJ counter and the
+//! Khronos glTF Validator.
 
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use std::collections::{HashMap, HashSet};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use seamlit_mesh::Model;
 
@@ -78,4 +80,27 @@ fn shared(sets: impl Iterator<Item = HashSet<[u32; 3]>>) -> usize {
         }
     }
     users.values().filter(|&&n| n >= 2).count()
+}
+
+/// Runs tests/validate.cjs (the Khronos glTF Validator, npm package `gltf-validator`, which
+/// `.ci/run` installs into .ci/node) and returns (errors, the whole report line).
+///
+/// Panics (fails the test) when node or the validator is missing: run `.ci/run`, or
+/// `npm install --prefix .ci/node gltf-validator` once.
+pub fn validate(file: &Path) -> (u64, String) {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/validate.cjs");
+    let output = Command::new("node")
+        .arg(script)
+        .arg(file)
+        .output()
+        .expect("node is needed for the glTF validator test (Debian package nodejs)");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "the glTF validator did not run (install it: npm install --prefix .ci/node gltf-validator): {}{}",
+        stdout,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_str(stdout.trim()).expect("validator report");
+    (report["errors"].as_u64().expect("error count"), stdout)
 }

@@ -156,7 +156,10 @@ fn fix_file(
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
     crate::output::prepare_folder_of(output)?;
-    seamlit_io::save(&asset, output, save).map_err(classify_save)?;
+    let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
+    for warning in &saved.warnings {
+        eprintln!("warning: {warning}");
+    }
     let seams = report
         .cross_object
         .max_normal_angle_deg
