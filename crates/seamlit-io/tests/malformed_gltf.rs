@@ -344,7 +344,7 @@ fn a_scene_without_nodes_is_an_empty_scene() {
     assert!(asset.model.objects.is_empty());
     assert!(matches!(
         seamlit_io::load(&path, &LoadOptions::default()),
-        Err(seamlit_io::IoError::NoTriangles { .. })
+        Err(IoError::NoTriangles { .. })
     ));
 }
 
