@@ -486,3 +486,80 @@ proptest::proptest! {
         proptest::prop_assert_eq!(fix(&model, &keep).expect("valid"), model);
     }
 }
+
+/// FNV-1a over the bits of everything `fix` writes.
+fn digest(m: &Model) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: u32| {
+        for b in x.to_le_bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for o in &m.objects {
+        o.positions.iter().flat_map(|p| p.to_array()).for_each(|f| eat(f.to_bits()));
+        o.uvs.iter().flatten().flat_map(|p| p.to_array()).for_each(|f| eat(f.to_bits()));
+        o.normals.iter().flatten().flat_map(|p| p.to_array()).for_each(|f| eat(f.to_bits()));
+        o.tangents.iter().flatten().flat_map(|p| p.to_array()).for_each(|f| eat(f.to_bits()));
+        o.triangles.iter().flatten().for_each(|&i| eat(i));
+        o.split_from.iter().for_each(|&i| eat(i));
+        eat(0xFFFF_FFFF);
+    }
+    h
+}
+
+/// Fixtures with authored normals and tangents that today's fix ignored.
+fn fixtures() -> Vec<Model> {
+    let with_authored = |mut m: Model| {
+        for (k, o) in m.objects.iter_mut().enumerate() {
+            let n = o.positions.len();
+            o.normals = Some(
+                (0..n).map(|i| Vec3::new(0.3, (i % 7) as f32 * 0.1, 1.0 + k as f32)).collect(),
+            );
+            o.tangents =
+                Some((0..n).map(|i| Vec4::new(1.0, 0.0, (i % 3) as f32 * 0.1, 1.0)).collect());
+        }
+        m
+    };
+    let torus = common::split(&common::torus(24, 32), &[0, 1, 2, 3, 1, 2], || Vec3::ZERO).0;
+    let sphere = common::split(&common::uv_sphere(10, 16), &[0, 1, 1, 2], || Vec3::ZERO).0;
+    vec![with_authored(torus), with_authored(sphere)]
+}
+
+/// `recompute` is the fix as it was before the normal policy existed, bit for bit: the
+/// digests below are what commit 2b58f04 (the last without `NormalPolicy`) gave for these
+/// fixtures and options, with this same digest (computed there, not by the code under test).
+#[test]
+fn recompute_equals_the_fix_before_policies_bit_for_bit() {
+    let mut out = Vec::new();
+    for m in fixtures() {
+        for mode in [Mode::Model, Mode::Object, Mode::Flat] {
+            for tangents in [TangentMethod::Seamlit, TangentMethod::Mikktspace, TangentMethod::None]
+            {
+                let fixed = fix(&m, &FixOptions { tangents, ..RECOMPUTE.with_mode(mode) }).unwrap();
+                out.push(digest(&fixed));
+            }
+        }
+    }
+    let before: [u64; 18] = [
+        0x5dd7dc7a8ddb07b,
+        0x1825e505567f5028,
+        0x3190e174cf6d861f,
+        0x7cae52a4b6e9847b,
+        0xed3bf80bb90a9b1,
+        0x9829d59903bcb2c4,
+        0x5585f32db503ee9a,
+        0x5585f32db503ee9a,
+        0xe81ee64b18989480,
+        0xe0d3f23bff2fe20c,
+        0x2eb217b6b6a23c85,
+        0x54325e6c08d20982,
+        0x40ceda5722d6d,
+        0x9430c4052257549a,
+        0x66d760303f280ede,
+        0xc4bae7c34f642304,
+        0xc4bae7c34f642304,
+        0xe6fd0db7200f8d42,
+    ];
+    assert_eq!(out, before);
+}
