@@ -1,14 +1,15 @@
 //! `seamlit_mesh::fix` and `report` on arbitrary models: positions that include NaN,
 //! infinities, huge and tiny values; indices in and out of range; optional UVs, normals,
-//! tangents (of the right length or not) and transforms; every mode, weighting, tolerance and
-//! tangent method. Errors are fine; panics, hangs and runaway memory are not.
+//! tangents (of the right length or not) and transforms; every mode, weighting, tolerance,
+//! tangent method and normal policy. Errors are fine; panics, hangs and runaway memory are not.
 #![no_main]
 
 use arbitrary::{Arbitrary, Unstructured};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use libfuzzer_sys::fuzz_target;
 use seamlit_mesh::{
-    FixOptions, Mode, Model, Object, ReportOptions, TangentMethod, VAxis, Weighting, WeldTolerance,
+    FixOptions, Mode, Model, NormalPolicy, Object, ReportOptions, TangentMethod, VAxis, Weighting,
+    WeldTolerance,
 };
 
 /// A float biased toward the values that break geometry code.
@@ -116,6 +117,8 @@ fn options(u: &mut Unstructured<'_>) -> arbitrary::Result<FixOptions> {
         ])?,
         tangent_angle_deg: float(u)?,
         split_mirrored: u.arbitrary()?,
+        // Drawn last, in `build`, so that older inputs decode to the models they did.
+        normals: NormalPolicy::Recompute,
     })
 }
 
@@ -125,7 +128,10 @@ fn build(data: &[u8]) -> arbitrary::Result<(Model, FixOptions)> {
     let count = u.int_in_range(0..=4usize)?;
     let objects = (0..count).map(|i| object(&mut u, i)).collect::<arbitrary::Result<Vec<_>>>()?;
     let v_axis = if u.arbitrary::<bool>()? { VAxis::Up } else { VAxis::Down };
-    Ok((Model { objects, v_axis }, options))
+    // Exhausted input chooses the first: `recompute`, what older inputs ran.
+    let normals =
+        *u.choose(&[NormalPolicy::Recompute, NormalPolicy::Auto, NormalPolicy::Keep])?;
+    Ok((Model { objects, v_axis }, FixOptions { normals, ..options }))
 }
 
 fuzz_target!(|data: &[u8]| {

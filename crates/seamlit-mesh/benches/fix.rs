@@ -8,7 +8,9 @@
 mod common;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use seamlit_mesh::{FixOptions, Mode, Model, TangentMethod, fix, fix_in_place, reference};
+use seamlit_mesh::{
+    FixOptions, Mode, Model, NormalPolicy, TangentMethod, fix, fix_in_place, reference,
+};
 
 /// Tessellations giving about 10k, 100k, 1M and 2M triangles (32 patches x 2 n^2).
 const SIZES: [u32; 4] = [13, 40, 125, 177];
@@ -85,6 +87,25 @@ fn bench_fix(c: &mut Criterion) {
                 BatchSize::LargeInput,
             );
         });
+        // A model that carries normals and tangents (the teapot's own, computed once): the
+        // seam-only repair of `--normals auto` against `--normals recompute`, in place as
+        // `seamlit fix` runs them (the copy made outside the timing).
+        let recompute = FixOptions::DEFAULT.with_normals(NormalPolicy::Recompute);
+        let authored = fix(&model, &recompute.with_mode(Mode::Object)).expect("valid");
+        for (name, opts) in
+            [("authored-auto", FixOptions::DEFAULT), ("authored-recompute", recompute)]
+        {
+            group.bench_with_input(BenchmarkId::new(name, tris), &authored, |b, m| {
+                b.iter_batched(
+                    || m.clone(),
+                    |mut m| {
+                        fix_in_place(&mut m, &opts).expect("valid");
+                        m
+                    },
+                    BatchSize::LargeInput,
+                );
+            });
+        }
         let normals_only = FixOptions { tangents: TangentMethod::None, ..FixOptions::DEFAULT };
         group.bench_with_input(BenchmarkId::new("model-normals-only", tris), &model, |b, m| {
             b.iter(|| fix(m, &normals_only).expect("valid"));

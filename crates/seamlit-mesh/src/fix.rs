@@ -1,5 +1,7 @@
 //! The fix pipeline: validate and flatten, weld, smooth, then write each object back with its
-//! vertices split where one position needs several values.
+//! vertices split where one position needs several values; under [`NormalPolicy::Auto`] and
+//! [`NormalPolicy::Keep`], objects that carry normals keep them and [`crate::repair`] repairs
+//! the seams between objects.
 
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -7,23 +9,31 @@ use rayon::prelude::*;
 use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
+use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
 use crate::weld;
-use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
+use crate::{
+    Changes, FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ObjectChanges, TangentMethod,
+};
 
 /// Computes seam-free normals and tangents for every object of `model`.
 ///
 /// Returns a copy of the model in which every object has `normals`, and `tangents` where it
-/// has UVs (unless `options.tangents` is [`TangentMethod::None`]). Input normals and tangents
-/// are ignored and replaced. Vertices are split where one position needs several values: at a
-/// crease, across a change of UV handedness, between tangents further apart than the tangent
-/// angle. Split vertices are appended after the object's original vertices, which keep their
-/// indices. Vertices on a boundary between objects get bit-identical values in model space
-/// (up to each object's transform back to its local space) in [`Mode::Model`].
+/// has UVs (unless `options.tangents` is [`TangentMethod::None`]). Which input normals and
+/// tangents are kept is `options.normals`' choice ([`NormalPolicy`]): with
+/// [`NormalPolicy::Recompute`] every one is ignored and computed; otherwise objects that carry
+/// normals keep them (with [`NormalPolicy::Auto`] in [`Mode::Model`], repaired where objects
+/// meet), and the others get them computed. Vertices are split where one position needs several
+/// values: at a crease, across a change of UV handedness, between tangents further apart than
+/// the tangent angle. Split vertices are appended after the object's original vertices, which
+/// keep their indices, and recorded in [`Object::split_from`]. Vertices on a boundary between
+/// objects get bit-identical normals in model space (up to each object's transform back to
+/// its local space) in [`Mode::Model`], unless the policy is [`NormalPolicy::Keep`].
 ///
 /// The result does not depend on the number of threads: every sum runs in a fixed order.
-/// Fixing a fixed model changes nothing. [`fix_in_place`] does the same without the copy.
+/// Fixing a fixed model changes nothing. [`fix_in_place`] does the same without the copy, and
+/// says what it changed.
 ///
 /// # Errors
 ///
@@ -32,17 +42,20 @@ use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 /// transform) or UVs, or more than [`crate::MAX_ELEMENTS`] vertices or corners.
 pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
     let flat = validate::flatten(model)?;
+    let authored = Authored::of(model, options);
     let objects = model
         .objects
         .iter()
-        .map(|o| Object {
+        .enumerate()
+        .map(|(i, o)| Object {
             name: o.name.clone(),
             positions: o.positions.clone(),
             uvs: o.uvs.clone(),
             colors: o.colors.clone(),
-            // Vertices no triangle uses keep their input normal: read from `model` below.
-            normals: None,
-            tangents: None,
+            // Kept normals are copied; computed objects' vertices that no triangle uses keep
+            // their input normal, read from `model` below.
+            normals: if authored.normals[i] { o.normals.clone() } else { None },
+            tangents: if authored.tangents[i] { o.tangents.clone() } else { None },
             triangles: o.triangles.clone(),
             transform: o.transform,
             material: o.material,
@@ -50,25 +63,112 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    run(&mut out, flat, options, Some(model));
+    run(&mut out, flat, options, Some(model), &authored)?;
     Ok(out)
 }
 
-/// [`fix`], in place: the model's normals and tangents are replaced (reusing their memory),
-/// and split vertices are appended to its objects. On an error the model is unchanged.
+/// [`fix`], in place: the model's normals and tangents are replaced where they are computed
+/// (reusing their memory), and split vertices are appended to its objects. Returns what
+/// changed, object by object. On an error the model is unchanged.
 ///
 /// # Errors
 ///
 /// As [`fix`].
-pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<(), MeshError> {
+pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
     let flat = validate::flatten(model)?;
-    run(model, flat, options, None);
-    Ok(())
+    let authored = Authored::of(model, options);
+    run(model, flat, options, None, &authored)
 }
 
-/// Fixes `model`; `input`, where the model is a copy, is the original (for the normals of
-/// vertices no triangle uses).
-fn run(model: &mut Model, mut flat: Flat, options: &FixOptions, input: Option<&Model>) {
+/// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
+/// (see [`compute`]). Objects marked in `authored` carry their input normals (and tangents
+/// where marked), the others none or their input ones, which are replaced.
+fn run(
+    model: &mut Model,
+    flat: Flat,
+    options: &FixOptions,
+    input: Option<&Model>,
+    authored: &Authored,
+) -> Result<Changes, MeshError> {
+    let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
+    if !authored.any() {
+        let changed = compute(model, flat, options, input, &authored.normals);
+        return Ok(tally(model, &vertices, &changed, authored));
+    }
+    // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
+    //    objects that keep theirs are left as they are. Vertices may have been split since
+    //    the model was flattened: flatten it again.
+    let (flat, mut changed) = if authored.all() {
+        (flat, vec![0; model.objects.len()])
+    } else {
+        let changed = compute(model, flat, options, input, &authored.normals);
+        (validate::flatten(model)?, changed)
+    };
+    let mut flat = flat;
+    // 2. Authored tangents that are not kept go (they are computed in step 5).
+    for (o, object) in model.objects.iter_mut().enumerate() {
+        if authored.normals[o] && !authored.tangents[o] {
+            object.tangents = None;
+        }
+    }
+    let wants_tangents = |o: usize| {
+        authored.normals[o]
+            && !authored.tangents[o]
+            && options.tangents != TangentMethod::None
+            && model.objects[o].uvs.is_some()
+    };
+    let tangents_needed: Vec<bool> = (0..model.objects.len()).map(wants_tangents).collect();
+    let repairs = options.normals == NormalPolicy::Auto && options.mode == Mode::Model;
+    // 3. The weld, where the repair or the tangents need it.
+    let roots =
+        (options.mode != Mode::Flat && (repairs || tangents_needed.contains(&true))).then(|| {
+            let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
+            let roots = roots_for_mode(&flat, tolerance, options.mode);
+            weld::snap_to_roots(&mut flat.positions, &roots);
+            roots
+        });
+    // 4. The seam-only repair.
+    if repairs && let Some(roots) = &roots {
+        let repaired = repair::repair_seams(model, &flat, roots, options);
+        for (o, n) in repaired.into_iter().enumerate() {
+            changed[o] += n;
+        }
+    }
+    // 5. Tangents where kept normals came without them.
+    repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
+    Ok(tally(model, &vertices, &changed, authored))
+}
+
+/// The [`Changes`]: `vertices` and `changed` per object, before the fix.
+fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Authored) -> Changes {
+    let objects = model
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(o, object)| ObjectChanges {
+            name: object.name.clone(),
+            kept_normals: authored.normals[o],
+            kept_tangents: authored.tangents[o],
+            vertices: vertices[o],
+            normals_changed: changed[o].min(vertices[o]),
+            vertices_split: object.vertex_count() - vertices[o],
+        })
+        .collect();
+    Changes { objects }
+}
+
+/// Computes the normals and tangents of every object not marked in `skip` (objects marked
+/// are not written), from the faces of all objects: the paper's way, and the whole fix under
+/// [`NormalPolicy::Recompute`]. `input`, where the model is a copy, is the original (for the
+/// normals of vertices no triangle uses). Returns, per object, how many of its vertices'
+/// normals are not the input ones.
+fn compute(
+    model: &mut Model,
+    mut flat: Flat,
+    options: &FixOptions,
+    input: Option<&Model>,
+    skip: &[bool],
+) -> Vec<usize> {
     let input_normals = |o: usize| input.and_then(|m| m.objects[o].normals.as_deref());
     let want_tangents = options.tangents != TangentMethod::None;
     let tangents_of = |object: &Object| want_tangents && object.uvs.is_some();
@@ -76,13 +176,20 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions, input: Option<&M
         // Flat shading: each corner takes its face's frame.
         let v_axis = model.v_axis;
         let flat = &flat;
-        model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
-            let tangents = tangents_of(object);
-            write_corners(o, object, flat, tangents, input_normals(o), |_, p, uv| {
-                [face_frame(&face(p, uv, v_axis)); 3]
-            });
-        });
-        return;
+        return model
+            .objects
+            .par_iter_mut()
+            .enumerate()
+            .map(|(o, object)| {
+                if skip[o] {
+                    return 0;
+                }
+                let tangents = tangents_of(object);
+                write_corners(o, object, flat, tangents, input_normals(o), |_, p, uv| {
+                    [face_frame(&face(p, uv, v_axis)); 3]
+                })
+            })
+            .collect();
     }
 
     let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
@@ -104,22 +211,40 @@ fn run(model: &mut Model, mut flat: Flat, options: &FixOptions, input: Option<&M
         let tangents =
             crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
         drop((triangles, uvs));
-        model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
-            let tangents_wanted = tangents_of(object);
-            let first = flat.triangle_start[o] as usize * 3;
-            write_corners(o, object, flat, tangents_wanted, input_normals(o), |t, _, _| {
-                let c = first + t * 3;
-                std::array::from_fn(|k| Frame { normal: normals[c + k], tangent: tangents[c + k] })
-            });
-        });
-        return;
+        return model
+            .objects
+            .par_iter_mut()
+            .enumerate()
+            .map(|(o, object)| {
+                if skip[o] {
+                    return 0;
+                }
+                let tangents_wanted = tangents_of(object);
+                let first = flat.triangle_start[o] as usize * 3;
+                write_corners(o, object, flat, tangents_wanted, input_normals(o), |t, _, _| {
+                    let c = first + t * 3;
+                    std::array::from_fn(|k| Frame {
+                        normal: normals[c + k],
+                        tangent: tangents[c + k],
+                    })
+                })
+            })
+            .collect();
     }
 
     let smooth = &smooth;
-    model.objects.par_iter_mut().enumerate().for_each(|(o, object)| {
-        let tangents = tangents_of(object);
-        write_smooth(o, object, flat, smooth, tangents, input_normals(o));
-    });
+    model
+        .objects
+        .par_iter_mut()
+        .enumerate()
+        .map(|(o, object)| {
+            if skip[o] {
+                return 0;
+            }
+            let tangents = tangents_of(object);
+            write_smooth(o, object, flat, smooth, tangents, input_normals(o))
+        })
+        .collect()
 }
 
 /// The length of the diagonal of the model-space bounding box.
@@ -148,7 +273,7 @@ pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32
 
 /// One object's output, built vertex by vertex: a frame per vertex, and a copy of a vertex
 /// wherever one of its corners needs another frame.
-struct Out<'a> {
+pub(crate) struct Out<'a> {
     positions: &'a mut Vec<Vec3>,
     /// The object's [`Object::split_from`], extended for every copy made here.
     split_from: &'a mut Vec<u32>,
@@ -156,6 +281,12 @@ struct Out<'a> {
     input_count: usize,
     /// The input normals where the object is a copy without them (see [`Out::finish`]).
     input_normals: Option<&'a [Vec3]>,
+    /// Whether the object had input normals (its own, or `input_normals`).
+    had_normals: bool,
+    /// Whether the normals are the object's own, kept: vertices no corner sets keep theirs.
+    keep_normals: bool,
+    /// Input vertices whose normal was set to other bits than the input's.
+    changed: usize,
     uvs: &'a mut Option<Vec<Vec2>>,
     colors: &'a mut Option<Vec<Vec4>>,
     linear: Option<Linear>,
@@ -177,6 +308,7 @@ impl<'a> Out<'a> {
         input_normals: Option<&'a [Vec3]>,
     ) -> Self {
         let n = object.positions.len();
+        let had_normals = input_normals.is_some() || object.normals.is_some();
         // Reuse the input's memory. Input normals stay where no triangle overwrites them.
         let mut normals = object.normals.take().unwrap_or_default();
         normals.resize(n, Vec3::ZERO);
@@ -188,6 +320,9 @@ impl<'a> Out<'a> {
             positions: &mut object.positions,
             split_from: &mut object.split_from,
             input_normals,
+            had_normals,
+            keep_normals: false,
+            changed: 0,
             uvs: &mut object.uvs,
             colors: &mut object.colors,
             linear,
@@ -197,6 +332,19 @@ impl<'a> Out<'a> {
             is_set: vec![false; n],
             next: Vec::new(),
         }
+    }
+
+    /// An output for new tangents of an object whose normals (in local space) stay: frames
+    /// are given with [`Self::put_local`], and vertices no corner sets keep their normal.
+    pub fn keeping_normals(object: &'a mut Object) -> Self {
+        let mut out = Self::new(object, None, true, None);
+        out.keep_normals = true;
+        out
+    }
+
+    /// The normal of vertex `v`: the input one until a corner sets it.
+    pub fn normal(&self, v: u32) -> Vec3 {
+        self.normals[v as usize]
     }
 
     /// A model-space frame in the object's local space.
@@ -210,19 +358,32 @@ impl<'a> Out<'a> {
 
     /// Sets the frame of vertex `v`, which no corner has set yet.
     fn set(&mut self, v: usize, f: Frame) {
-        (self.normals[v], self.tangents[v]) = self.local(f);
+        let (n, t) = self.local(f);
+        self.set_local(v, n, t);
+    }
+
+    /// [`Self::set`] in local space.
+    fn set_local(&mut self, v: usize, normal: Vec3, tangent: Vec4) {
+        let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
+        self.changed += usize::from(!self.had_normals || vec3_bits(input) != vec3_bits(normal));
+        (self.normals[v], self.tangents[v]) = (normal, tangent);
         self.is_set[v] = true;
     }
 
     /// Gives a corner at vertex `v` the frame `f`: returns `v`, or the copy of `v` that has
     /// this frame (made if none has).
     fn put(&mut self, v: u32, f: Frame) -> u32 {
+        let (normal, tangent) = self.local(f);
+        self.put_local(v, normal, tangent)
+    }
+
+    /// [`Self::put`] in local space.
+    pub fn put_local(&mut self, v: u32, normal: Vec3, tangent: Vec4) -> u32 {
         let vi = v as usize;
         if !self.is_set[vi] {
-            self.set(vi, f);
+            self.set_local(vi, normal, tangent);
             return v;
         }
-        let (normal, tangent) = self.local(f);
         let key = bits(normal, tangent);
         if self.next.is_empty() {
             self.next = vec![u32::MAX; self.is_set.len()];
@@ -257,14 +418,18 @@ impl<'a> Out<'a> {
         }
     }
 
-    /// Vertices no triangle uses keep their input normal, or +Z; then the result goes into
-    /// the object.
-    fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
+    /// Vertices no triangle uses keep their input normal (normalised, or +Z; as it is where
+    /// the normals are kept); then the result goes into the object.
+    pub fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
         for v in 0..self.is_set.len() {
             if !self.is_set[v] {
                 let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
                 let n = input.try_normalize().unwrap_or(Vec3::Z);
-                self.normals[v] = n;
+                if !self.keep_normals {
+                    self.changed +=
+                        usize::from(!self.had_normals || vec3_bits(input) != vec3_bits(n));
+                    self.normals[v] = n;
+                }
                 self.tangents[v] = n.any_orthonormal_vector().extend(1.0);
             }
         }
@@ -277,9 +442,13 @@ fn bits(n: Vec3, t: Vec4) -> [u32; 7] {
     [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(f32::to_bits)
 }
 
+fn vec3_bits(n: Vec3) -> [u32; 3] {
+    n.to_array().map(f32::to_bits)
+}
+
 /// Writes one object corner by corner, `frames(t, positions, uvs)` giving the model-space
 /// frames of triangle `t`'s corners (from its model-space positions and UVs). `input_normals`:
-/// see [`Out`].
+/// see [`Out`]. Returns how many input vertices' normals changed.
 fn write_corners(
     o: usize,
     object: &mut Object,
@@ -287,7 +456,7 @@ fn write_corners(
     tangents: bool,
     input_normals: Option<&[Vec3]>,
     frames: impl Fn(usize, [Vec3; 3], Option<[Vec2; 3]>) -> [Frame; 3],
-) {
+) -> usize {
     let base = flat.vertex_start[o];
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
@@ -300,12 +469,15 @@ fn write_corners(
             tri[k] = out.put(tri[k], f[k]);
         }
     }
+    let changed = out.changed;
     out.finish(&mut normals, &mut out_tangents);
     (object.normals, object.tangents, object.triangles) = (normals, out_tangents, triangles);
+    changed
 }
 
 /// Writes one object from the smoothed frames: every vertex at a simple position takes its
 /// position's frame; the corners of complex positions are placed one by one, in corner order.
+/// Returns how many input vertices' normals changed.
 fn write_smooth(
     o: usize,
     object: &mut Object,
@@ -313,7 +485,7 @@ fn write_smooth(
     smooth: &Smooth,
     tangents: bool,
     input_normals: Option<&[Vec3]>,
-) {
+) -> usize {
     let base = flat.vertex_start[o] as usize;
     let first = flat.triangle_start[o];
     let complex = &smooth.complex[smooth.complex_range(first..flat.triangle_start[o + 1])];
@@ -332,6 +504,8 @@ fn write_smooth(
         let corner = &mut triangles[c / 3][c % 3];
         *corner = out.put(*corner, smooth.frames[e as u32 as usize]);
     }
+    let changed = out.changed;
     out.finish(&mut normals, &mut out_tangents);
     (object.normals, object.tangents, object.triangles) = (normals, out_tangents, triangles);
+    changed
 }

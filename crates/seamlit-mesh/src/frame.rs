@@ -66,11 +66,26 @@ impl Linear {
         reframe(self.inverse.transpose() * n, self.m * t.xyz(), self.m * b, n, t)
     }
 
+    /// A normal only, model -> local: the normal [`Self::frame_to_local`] gives.
+    #[must_use]
+    pub fn normal_to_local(&self, n: Vec3) -> Vec3 {
+        (self.m.transpose() * n).try_normalize().unwrap_or(n)
+    }
+
     /// A normal only, local -> model.
     #[must_use]
     pub fn normal_to_model(&self, n: Vec3) -> Vec3 {
         (self.inverse.transpose() * n).try_normalize().unwrap_or(n)
     }
+}
+
+/// Gram-Schmidt: `t` made orthogonal to the unit normal `n`, unit length, its `w` kept (any
+/// vector orthogonal to `n` where `t` is parallel to it).
+#[must_use]
+pub(crate) fn orthogonalise(t: Vec4, n: Vec3) -> Vec4 {
+    let xyz = t.xyz();
+    let xyz = (xyz - n * n.dot(xyz)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+    xyz.extend(t.w)
 }
 
 fn reframe(n: Vec3, t: Vec3, b: Vec3, n0: Vec3, t0: Vec4) -> (Vec3, Vec4) {

@@ -37,6 +37,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod changes;
 mod error;
 mod face;
 mod fix;
@@ -46,15 +47,17 @@ mod mikk;
 mod model;
 mod options;
 pub mod reference;
+mod repair;
 mod report;
 mod smooth;
 mod validate;
 pub mod weld;
 
+pub use changes::{Changes, ObjectChanges};
 pub use error::MeshError;
 pub use fix::{fix, fix_in_place};
 pub use model::{Model, Object, VAxis};
-pub use options::{FixOptions, Mode, TangentMethod, Weighting, WeldTolerance};
+pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
 
 /// The largest number of vertices (and of triangle corners) a model may have: indices are

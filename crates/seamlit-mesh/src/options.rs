@@ -77,6 +77,31 @@ pub enum TangentMethod {
     Mikktspace,
 }
 
+/// Which normals (and tangents) `fix` computes, and which it keeps as the model carries them.
+/// See docs/normals.md.
+///
+/// An object *carries* normals when it has a normal for every vertex, each finite and
+/// non-zero; an object whose normals are missing or unusable gets them computed under every
+/// policy. Tangents follow the normals: an object whose normals are kept keeps its tangents
+/// (re-orthogonalised where its normal changed, handedness kept), and gets them computed where
+/// it has none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NormalPolicy {
+    /// Objects that carry normals keep them, except where objects meet ([`Mode::Model`]
+    /// only): at a position that two or more objects share, the vertices whose normals lie
+    /// within the crease angle of each other get one normal, their weighted average, the same
+    /// on every side (the seam-only repair). Every other normal stays bit for bit.
+    #[default]
+    Auto,
+    /// Objects that carry normals keep them bit for bit everywhere, seams included; only
+    /// missing normals are computed.
+    Keep,
+    /// Every normal and tangent is computed from the faces; the input ones are ignored (the
+    /// paper's way, and seamlit's only behaviour before this option existed).
+    Recompute,
+}
+
 /// Options of [`crate::fix`]. `FixOptions::default()` is what the `seamlit` binary uses.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -98,11 +123,15 @@ pub struct FixOptions {
     /// Whether faces of opposite UV handedness (mirrored UVs) are kept apart when tangents are
     /// averaged. The paper averages them together.
     pub split_mirrored: bool,
+    /// Which normals are computed and which are kept.
+    pub normals: NormalPolicy,
 }
 
 impl FixOptions {
     /// The defaults: whole-model smoothing, a relative weld tolerance of 1e-6, angle weighting,
-    /// a 60 degree crease, seamlit tangents within 45 degrees and split at mirrored UVs.
+    /// a 60 degree crease, seamlit tangents within 45 degrees and split at mirrored UVs;
+    /// normals the model carries are kept, with the seams between objects repaired
+    /// ([`NormalPolicy::Auto`]).
     pub const DEFAULT: Self = Self {
         mode: Mode::Model,
         weld_tolerance: WeldTolerance::Relative(1e-6),
@@ -111,11 +140,12 @@ impl FixOptions {
         tangents: TangentMethod::Seamlit,
         tangent_angle_deg: 45.0,
         split_mirrored: true,
+        normals: NormalPolicy::Auto,
     };
 
     /// The paper's semantics on the fast path: exact position equality, a uniform average of
-    /// every face at a position (no crease, no tangent angle limit, no split at mirrored UVs).
-    /// The result equals [`crate::reference::fix`] up to floating-point summation order.
+    /// every face at a position (no crease, no tangent angle limit, no split at mirrored UVs),
+    /// every normal computed ([`NormalPolicy::Recompute`]). The result equals [`crate::reference::fix`] up to floating-point summation order.
     pub const PAPER: Self = Self {
         mode: Mode::Model,
         weld_tolerance: WeldTolerance::Exact,
@@ -124,6 +154,7 @@ impl FixOptions {
         tangents: TangentMethod::Seamlit,
         tangent_angle_deg: 180.0,
         split_mirrored: false,
+        normals: NormalPolicy::Recompute,
     };
 
     /// The paper's Figure 11: smoothing within each object only.
@@ -136,6 +167,13 @@ impl FixOptions {
     #[must_use]
     pub const fn with_mode(mut self, mode: Mode) -> Self {
         self.mode = mode;
+        self
+    }
+
+    /// These options with another normal policy (builder style).
+    #[must_use]
+    pub const fn with_normals(mut self, normals: NormalPolicy) -> Self {
+        self.normals = normals;
         self
     }
 }

@@ -119,15 +119,7 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
     let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
     let roots = weld::roots(&flat.positions, tolerance);
 
-    // Per root: whether another object has a vertex there. A vertex's root is its smallest
-    // index, so a root below the object's first vertex belongs to an earlier object.
-    let mut shared = vec![false; roots.len()];
-    for w in flat.vertex_start.windows(2) {
-        let start = w[0] as usize;
-        for &r in &roots[start..w[1] as usize] {
-            shared[r as usize] |= (r as usize) < start;
-        }
-    }
+    let shared = flat.shared_positions(&roots);
     let near_miss = weld::near_misses(&flat.positions, &roots);
     weld::snap_to_roots(&mut flat.positions, &roots);
 

@@ -76,6 +76,20 @@ impl Flat {
         entries
     }
 
+    /// Per root (see [`crate::weld`]; index by root): whether vertices of two or more objects
+    /// are welded to it. A vertex's root is the smallest index of its set, so a root below
+    /// the first vertex of the vertex's own object belongs to an earlier object.
+    pub fn shared_positions(&self, roots: &[u32]) -> Vec<bool> {
+        let mut shared = vec![false; roots.len()];
+        for w in self.vertex_start.windows(2) {
+            let start = w[0] as usize;
+            for &r in &roots[start..w[1] as usize] {
+                shared[r as usize] |= (r as usize) < start;
+            }
+        }
+        shared
+    }
+
     /// Every triangle, indexing the concatenated positions.
     pub fn triangles(&self, model: &Model) -> Vec<[u32; 3]> {
         let mut out = Vec::with_capacity(*self.triangle_start.last().unwrap_or(&0) as usize);

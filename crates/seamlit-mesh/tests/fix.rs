@@ -4,8 +4,8 @@ mod common;
 
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 use seamlit_mesh::{
-    FixOptions, MeshError, Mode, Model, Object, ReportOptions, TangentMethod, Weighting, fix,
-    fix_in_place, reference, report,
+    FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ReportOptions, TangentMethod,
+    Weighting, fix, fix_in_place, reference, report,
 };
 
 fn quad(name: &str, corners: [Vec3; 4], uvs: [Vec2; 4]) -> Object {
@@ -353,8 +353,10 @@ fn fixing_twice_changes_nothing() {
         cube(false),
     ];
     for m in &models {
-        for opts in [FixOptions::default(), FixOptions::OBJECT, FixOptions::FLAT, FixOptions::PAPER]
-        {
+        let presets =
+            [FixOptions::default(), FixOptions::OBJECT, FixOptions::FLAT, FixOptions::PAPER];
+        let recompute = presets.map(|o| o.with_normals(NormalPolicy::Recompute));
+        for opts in presets.into_iter().chain(recompute) {
             let once = fix(m, &opts).unwrap();
             let twice = fix(&once, &opts).unwrap();
             assert_eq!(once, twice, "{opts:?}");
@@ -371,6 +373,7 @@ fn one_thread_and_many_give_the_same_bits() {
     for opts in [
         FixOptions::default(),
         FixOptions { tangents: TangentMethod::Mikktspace, ..FixOptions::default() },
+        FixOptions::default().with_normals(NormalPolicy::Recompute),
     ] {
         let a = one.install(|| fix(&m, &opts)).unwrap();
         let b = four.install(|| fix(&m, &opts)).unwrap();
@@ -405,9 +408,11 @@ fn a_vertex_no_triangle_uses_keeps_its_input_normal() {
     object.normals = Some(vec![Vec3::X, Vec3::X, Vec3::X, Vec3::new(0.0, 3.0, 4.0)]);
     let model = Model::new(vec![object]);
 
-    let copied = fix(&model, &FixOptions::DEFAULT).expect("valid");
+    // Recompute: the input normals are replaced by the faces' (auto would keep them all).
+    let recompute = FixOptions::DEFAULT.with_normals(NormalPolicy::Recompute);
+    let copied = fix(&model, &recompute).expect("valid");
     let mut in_place = model.clone();
-    fix_in_place(&mut in_place, &FixOptions::DEFAULT).expect("valid");
+    fix_in_place(&mut in_place, &recompute).expect("valid");
     for fixed in [&copied, &in_place] {
         let n = normals(&fixed.objects[0]);
         assert_eq!(&n[..3], &[Vec3::Z; 3], "the triangle's own normal");

@@ -7,8 +7,12 @@ use glam::Vec3;
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, VAxis};
 
 fn fix_and_report_return(model: &Model, options: &FixOptions) {
-    let fixed = std::panic::catch_unwind(|| seamlit_mesh::fix(model, options));
-    assert!(fixed.is_ok(), "fix panicked on {model:?} with {options:?}");
+    use seamlit_mesh::NormalPolicy;
+    for normals in [NormalPolicy::Recompute, NormalPolicy::Auto, NormalPolicy::Keep] {
+        let options = &options.with_normals(normals);
+        let fixed = std::panic::catch_unwind(|| seamlit_mesh::fix(model, options));
+        assert!(fixed.is_ok(), "fix panicked on {model:?} with {options:?}");
+    }
     let report =
         std::panic::catch_unwind(|| seamlit_mesh::report(model, &ReportOptions::from(options)));
     assert!(report.is_ok(), "report panicked on {model:?} with {options:?}");
@@ -50,6 +54,7 @@ fn fuzz_input_7d43bd64_as_decoded() {
         tangent_angle_deg: -1.0,
         split_mirrored: true,
         mode: seamlit_mesh::Mode::Model,
+        normals: seamlit_mesh::NormalPolicy::Recompute,
     };
     fix_and_report_return(&model, &options);
 }

@@ -484,7 +484,7 @@ path = "teapot.obj"
 translate = [1, 2, 3]
 rotate = [0, 90, 0]
 scale = 2
-fix = { mode = "object", crease_angle_deg = 30 }
+fix = { mode = "object", crease_angle_deg = 30, normals = "keep" }
 
 [[model.material]]
 base_color = [1, 0, 0]
@@ -508,6 +508,7 @@ fov_deg = 50
         assert_eq!(m.name, "teapot");
         assert_eq!(m.fix.mode, seamlit_mesh::Mode::Object);
         assert_eq!(m.fix.crease_angle_deg, 30.0);
+        assert_eq!(m.fix.normals, seamlit_mesh::NormalPolicy::Keep);
         // Unnamed FixOptions fields keep their defaults.
         assert_eq!(m.fix.weighting, FixOptions::DEFAULT.weighting);
         // Scale 2, then 90 degrees about Y (+X goes to -Z), then translate.

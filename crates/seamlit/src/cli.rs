@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use seamlit_mesh::{FixOptions, Mode, TangentMethod, Weighting, WeldTolerance};
+use seamlit_mesh::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 use seamlit_render::{DebugView, LightingModel};
 
 /// seamlit makes multi-object 3D models light correctly: it welds positions across all
@@ -175,10 +175,14 @@ pub struct FixFlags {
     /// How face normals are weighted in the average at a vertex (default angle).
     #[arg(long, value_enum, value_name = "W")]
     pub weighting: Option<WeightingArg>,
-    /// Tangent generator (default seamlit; mikktspace matches maps baked by Blender,
-    /// Substance or xNormal; none drops tangents).
+    /// Tangent generator (default: mikktspace for a model with a normal map and no
+    /// tangents, as glTF viewers do; otherwise seamlit; none drops tangents).
     #[arg(long, value_enum, value_name = "T")]
     pub tangents: Option<TangentsArg>,
+    /// Which normals are computed (default auto: objects that carry normals keep them and
+    /// only the seams between objects are repaired; see docs/normals.md).
+    #[arg(long, value_enum, value_name = "POLICY")]
+    pub normals: Option<NormalsArg>,
 }
 
 impl FixFlags {
@@ -197,6 +201,9 @@ impl FixFlags {
         }
         if let Some(t) = self.tangents {
             o.tangents = t.into();
+        }
+        if let Some(n) = self.normals {
+            o.normals = n.into();
         }
         o
     }
@@ -306,6 +313,28 @@ impl From<TangentsArg> for TangentMethod {
             TangentsArg::Seamlit => Self::Seamlit,
             TangentsArg::Mikktspace => Self::Mikktspace,
             TangentsArg::None => Self::None,
+        }
+    }
+}
+
+/// `--normals`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalsArg {
+    /// Keep the normals objects carry, repair them only where objects meet; compute the
+    /// missing ones.
+    Auto,
+    /// Keep the normals objects carry everywhere, seams included; compute the missing ones.
+    Keep,
+    /// Compute every normal from the faces, ignoring the file's (the paper's way).
+    Recompute,
+}
+
+impl From<NormalsArg> for NormalPolicy {
+    fn from(n: NormalsArg) -> Self {
+        match n {
+            NormalsArg::Auto => Self::Auto,
+            NormalsArg::Keep => Self::Keep,
+            NormalsArg::Recompute => Self::Recompute,
         }
     }
 }
@@ -492,6 +521,9 @@ mod tests {
         let flags = FixFlags { crease: Some(30.0), ..FixFlags::default() };
         let o = flags.apply(FixOptions::PAPER);
         assert_eq!(o.crease_angle_deg, 30.0);
+        assert_eq!(o.normals, FixOptions::PAPER.normals);
+        let keep = FixFlags { normals: Some(NormalsArg::Keep), ..FixFlags::default() };
+        assert_eq!(keep.apply(FixOptions::DEFAULT).normals, NormalPolicy::Keep);
         assert_eq!(o.weighting, FixOptions::PAPER.weighting);
         assert_eq!(o.weld_tolerance, FixOptions::PAPER.weld_tolerance);
     }

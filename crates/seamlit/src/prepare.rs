@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use seamlit_io::{Asset, LoadOptions};
-use seamlit_mesh::{FixOptions, Mode};
+use seamlit_mesh::{FixOptions, Mode, TangentMethod};
 use seamlit_render::Light;
 use seamlit_scene::{
     Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
@@ -33,15 +33,33 @@ pub struct FixOverride {
 }
 
 impl FixOverride {
-    /// The options for a model whose scene gives `base`.
+    /// The options for `asset`, a model whose scene gives `base`.
     #[must_use]
-    pub fn apply(&self, base: FixOptions) -> FixOptions {
+    pub fn apply(&self, base: FixOptions, asset: &Asset) -> FixOptions {
         let o = self.flags.apply(base);
-        match self.mode {
+        let o = match self.mode {
             Some(m) => o.with_mode(m),
             None => o,
-        }
+        };
+        default_tangents(asset, o, self.flags.tangents.is_some())
     }
+}
+
+/// `options` with [`TangentMethod::Mikktspace`] where an object of `asset` has a normal map
+/// but no tangents, unless the command line `asked` for a tangent generator: the glTF
+/// specification tells viewers to use MikkTSpace then, so that is what the map was baked
+/// for (docs/normals.md).
+#[must_use]
+pub fn default_tangents(asset: &Asset, options: FixOptions, asked: bool) -> FixOptions {
+    let normal_mapped = |material: Option<usize>| {
+        material.and_then(|m| asset.materials.get(m)).is_some_and(|m| m.normal_texture.is_some())
+    };
+    let unmapped =
+        asset.model.objects.iter().any(|o| o.tangents.is_none() && normal_mapped(o.material));
+    if asked || !unmapped || options.tangents == TangentMethod::None {
+        return options;
+    }
+    FixOptions { tangents: TangentMethod::Mikktspace, ..options }
 }
 
 impl SceneArgs {
@@ -92,7 +110,7 @@ impl Loaded {
     pub fn build(&self, fix: &FixOverride) -> Result<Asset, Failure> {
         let mut assets = Vec::with_capacity(self.parts.len());
         for (model, asset) in &self.parts {
-            let options = fix.apply(model.fix);
+            let options = fix.apply(model.fix, asset);
             let fixed = seamlit_mesh::fix(&asset.model, &options)
                 .map_err(|e| Failure::input(format!("{}: {e}", model.path.display())))?;
             let mut out = Asset { model: fixed, ..asset.clone() };

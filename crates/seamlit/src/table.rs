@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use seamlit_mesh::SeamReport;
+use seamlit_mesh::{Changes, FixOptions, NormalPolicy, SeamReport, TangentMethod};
 
 /// `n` and the noun, singular for one: `count(1, "object")` is "1 object", `count(2,
 /// "object")` "2 objects".
@@ -64,6 +64,71 @@ pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {
             let _ = write!(out, "  {cell:>w$}", w = widths[c]);
         }
         out.push('\n');
+    }
+    out
+}
+
+/// One line saying what a fix changed: whose normals were kept, how many changed, how many
+/// vertices were split, and the tangent generator.
+#[must_use]
+pub fn changes_line(changes: &Changes, options: &FixOptions) -> String {
+    let total = changes.objects.len();
+    let kept: Vec<&str> =
+        changes.objects.iter().filter(|o| o.kept_normals).map(|o| o.name.as_str()).collect();
+    let policy = match options.normals {
+        NormalPolicy::Auto => "auto",
+        NormalPolicy::Keep => "keep",
+        NormalPolicy::Recompute => "recompute",
+    };
+    let kept = match kept.len() {
+        0 => "computed in every object".to_owned(),
+        n if n == total => "kept in every object".to_owned(),
+        n => {
+            const SHOWN: usize = 6;
+            let more = if n > SHOWN { format!(", {} more", n - SHOWN) } else { String::new() };
+            let names = kept[..n.min(SHOWN)].iter().map(|s| format!("{s:?}")).collect::<Vec<_>>();
+            format!(
+                "kept in {n} of {total} objects ({}{more}), computed in the others",
+                names.join(", ")
+            )
+        }
+    };
+    let tangents = match options.tangents {
+        TangentMethod::None => "none",
+        TangentMethod::Seamlit => "seamlit",
+        TangentMethod::Mikktspace => "mikktspace",
+    };
+    format!(
+        "normals ({policy}): {kept}; changed at {} of {} vertices; {} vertices split; tangents: {tangents}",
+        changes.normals_changed(),
+        changes.vertices(),
+        changes.vertices_split()
+    )
+}
+
+/// What a fix changed, one row per object.
+#[must_use]
+pub fn changes_table(changes: &Changes) -> String {
+    let mut out = String::new();
+    let width =
+        changes.objects.iter().map(|o| o.name.chars().count()).chain([6]).max().unwrap_or(6);
+    let _ = writeln!(
+        out,
+        "{:width$}  {:>8}  {:>8}  {:>8}  {:>15}  {:>5}",
+        "object", "normals", "tangents", "vertices", "normals changed", "split"
+    );
+    for o in &changes.objects {
+        let source = |kept: bool| if kept { "kept" } else { "computed" };
+        let _ = writeln!(
+            out,
+            "{:width$}  {:>8}  {:>8}  {:>8}  {:>15}  {:>5}",
+            o.name,
+            source(o.kept_normals),
+            source(o.kept_tangents),
+            o.vertices,
+            o.normals_changed,
+            o.vertices_split
+        );
     }
     out
 }

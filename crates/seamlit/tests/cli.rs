@@ -106,6 +106,7 @@ fn help_explains_every_subcommand_and_option() {
         "--weld-tolerance",
         "--weighting",
         "--tangents",
+        "--normals",
         "--output",
         "--format",
     ] {
@@ -247,6 +248,118 @@ fn fix_writes_a_model_with_normals_and_tangents() {
     assert_eq!(asset.model.objects.len(), 32);
     assert!(asset.model.objects.iter().all(|o| o.normals.is_some() && o.tangents.is_some()));
     assert_eq!(listing(dir.path()), ["teapot.glb"]);
+}
+
+/// Two objects sharing the edge x = 1, each with its own face normal authored: they disagree
+/// there by about 11.3 degrees.
+const SEAM_OBJ: &str = "o a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+    vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n\
+    o b\nv 1 0 0\nv 2 0 -0.2\nv 2 1 -0.2\nv 1 1 0\nvn 0.19611613 0 0.98058068\n\
+    f 5/1/2 6/2/2 7/3/2\nf 5/1/2 7/3/2 8/4/2\n";
+
+#[test]
+fn fix_keeps_authored_normals_repairs_the_seam_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "seam.obj", SEAM_OBJ);
+    let out = dir.path().join("out.glb").display().to_string();
+    let run = |policy: Option<&str>| {
+        let mut args = vec!["fix", input.as_str(), "-o", out.as_str()];
+        args.extend(policy.map(|p| ["--normals", p]).into_iter().flatten());
+        let o = seamlit(&args);
+        assert_eq!(o.status.code(), Some(0), "{policy:?}: {}", String::from_utf8_lossy(&o.stderr));
+        stdout(&o)
+    };
+    let auto = run(None);
+    assert_eq!(run(Some("auto")), auto);
+    assert!(auto.contains("normals across seams within 0.00°"), "{auto}");
+    assert!(
+        auto.contains(
+            "normals (auto): kept in every object; changed at 4 of 8 vertices; 0 vertices split"
+        ),
+        "{auto}"
+    );
+    let keep = run(Some("keep"));
+    assert!(keep.contains("normals across seams within 11.31°"), "{keep}");
+    assert!(
+        keep.contains("normals (keep): kept in every object; changed at 0 of 8 vertices"),
+        "{keep}"
+    );
+    let recompute = run(Some("recompute"));
+    assert!(recompute.contains("normals across seams within 0.00°"), "{recompute}");
+    assert!(recompute.contains("normals (recompute): computed in every object"), "{recompute}");
+}
+
+#[test]
+fn a_normal_map_without_tangents_gets_mikktspace_unless_asked_otherwise() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([128, 128, 255, 255]))
+        .save(dir.path().join("n.png"))
+        .unwrap();
+    write(dir.path(), "seam.mtl", "newmtl mapped\nnorm n.png\n");
+    let mapped = format!("mtllib seam.mtl\nusemtl mapped\n{SEAM_OBJ}");
+    let input = write(dir.path(), "mapped.obj", &mapped);
+    let plain = write(dir.path(), "plain.obj", SEAM_OBJ);
+    let out = dir.path().join("out.glb").display().to_string();
+    let run = |args: &[&str]| {
+        let o = seamlit(&[&["fix", "-o", out.as_str()][..], args].concat());
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        stdout(&o)
+    };
+    assert!(run(&[&input]).contains("; tangents: mikktspace"), "{}", run(&[&input]));
+    assert!(run(&[&input, "--tangents", "seamlit"]).contains("; tangents: seamlit"));
+    assert!(run(&[&plain]).contains("; tangents: seamlit"), "no normal map");
+}
+
+#[test]
+fn inspect_says_what_fix_keeps_in_text_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "seam.obj", SEAM_OBJ);
+    let o = seamlit(&["inspect", &input]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = stdout(&o);
+    assert!(text.contains("What `fix` changes (model mode): normals (auto): kept in every object"));
+    let row = |name: &str| {
+        let line = text.lines().find(|l| l.starts_with(name)).unwrap_or_default();
+        line.split_whitespace().map(str::to_owned).collect::<Vec<_>>()
+    };
+    // object, normals, tangents, vertices, normals changed, split
+    assert_eq!(row("a "), ["a", "kept", "computed", "4", "2", "0"], "{text}");
+    assert_eq!(row("b "), ["b", "kept", "computed", "4", "2", "0"], "{text}");
+
+    let o = seamlit(&["inspect", &input, "--json", "--normals", "recompute"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["options"]["normals"], "recompute");
+    let model = &v["changes"]["model"]["objects"];
+    assert_eq!(model[0]["kept_normals"], false);
+    assert_eq!(model[1]["name"], "b");
+    let o = seamlit(&["inspect", &input, "--json", "--normals", "keep"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["changes"]["model"]["objects"][0]["kept_normals"], true);
+    assert_eq!(v["changes"]["model"]["objects"][0]["normals_changed"], 0);
+    let seam = v["model"]["cross_object"]["max_normal_angle_deg"].as_f64().unwrap();
+    assert!(seam > 11.0, "keep leaves the seam: {seam}");
+}
+
+#[test]
+fn every_command_takes_normals_and_refuses_a_bad_policy() {
+    for command in ["fix", "inspect", "render", "compare", "view"] {
+        let help = stdout(&seamlit(&[command, "--help"]));
+        assert!(help.contains("--normals") && help.contains("recompute"), "{command} --help");
+        // clap checks the value as it reads it, before missing arguments.
+        let o = seamlit(&[command, "--normals", "sometimes", "a.obj"]);
+        assert_eq!(o.status.code(), Some(2), "{command}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stderr).contains("sometimes"), "{command}");
+    }
+    // render and compare run with it (fix and inspect: the tests above).
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "seam.obj", SEAM_OBJ);
+    for command in ["render", "compare"] {
+        let png = dir.path().join(format!("{command}.png")).display().to_string();
+        let o = seamlit(&[command, &input, "-o", &png, "--size", "64x48", "--normals", "keep"]);
+        assert_eq!(o.status.code(), Some(0), "{command}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(Path::new(&png).is_file(), "{command}");
+    }
 }
 
 #[test]

@@ -9,7 +9,7 @@ use seamlit_io::{Asset, SaveOptions};
 use seamlit_mesh::{FixOptions, Mode};
 use seamlit_scene::{Scene, SceneModel, demo};
 
-use crate::cli::{DemoArgs, FixFlags, LightingArg, ViewArg, ViewFlags};
+use crate::cli::{DemoArgs, FixFlags, LightingArg, TangentsArg, ViewArg, ViewFlags};
 use crate::cmd::compare::{MODES, grid, render_modes};
 use crate::cmd::inspect::Reports;
 use crate::failure::{Classify, Failure};
@@ -38,7 +38,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     );
     println!("after = `model` mode, seamlit's default.\n");
     print!("{}", reports.table());
-    let [_, (_, object), (_, model)] = &reports.modes;
+    let [_, (_, object, _), (_, model, _)] = &reports.modes;
     let fmt = |a: Option<f32>| a.map_or_else(|| "-".into(), |a| format!("{a:.2}°"));
     println!(
         "\nAcross the {} mesh edges where patches meet, normals differ by up to {} before and {} after.\n",
@@ -57,8 +57,7 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         no_normal_map: false,
         tbn: false,
     };
-    let (images, gpu) =
-        render_modes(&loaded, &FixFlags::default(), &view, Path::new(TEAPOT_NAME), None)?;
+    let (images, gpu) = render_modes(&loaded, &demo_flags(), &view, Path::new(TEAPOT_NAME), None)?;
     let mut written: Vec<PathBuf> = Vec::new();
     for (image, (_, name, _)) in images.iter().zip(MODES) {
         let path = args.out.join(format!("{name}.png"));
@@ -108,4 +107,11 @@ fn demo_scene(asset: Asset) -> Loaded {
         cameras: vec![demo::camera()],
     };
     Loaded { scene, parts: vec![(model, asset)] }
+}
+
+/// The demo's fix flags: seamlit's own tangents, named, since the brick map is drawn in code
+/// in UV space (baked against no tangent generator), so the MikkTSpace default for normal
+/// maps without tangents does not apply.
+fn demo_flags() -> FixFlags {
+    FixFlags { tangents: Some(TangentsArg::Seamlit), ..FixFlags::default() }
 }

@@ -22,7 +22,8 @@ use seamlit_mesh::{FixOptions, ReportOptions};
 
 use crate::cli::FixArgs;
 use crate::failure::{Classify, Failure};
-use crate::table::count;
+use crate::prepare::default_tangents;
+use crate::table::{changes_line, count};
 
 /// Runs `seamlit fix`.
 ///
@@ -38,8 +39,10 @@ pub fn run(args: &FixArgs) -> Result<(), Failure> {
     }
     check_output_extension(&args.output)?;
     let _quiet = QuietPanics::install();
-    let line =
-        guarded(&args.input, || fix_file(&args.input, &args.output, &options, &load, &save))?;
+    let asked = args.fix.tangents.is_some();
+    let line = guarded(&args.input, || {
+        fix_file(&args.input, &args.output, &options, asked, &load, &save)
+    })?;
     println!("{line}");
     Ok(())
 }
@@ -135,11 +138,14 @@ impl Drop for QuietPanics {
     }
 }
 
-/// Loads, fixes and writes one model; returns a one-line summary.
+/// Loads, fixes and writes one model; returns a summary: what was written, then what the fix
+/// changed. `tangents_asked`: whether the command line named a tangent generator (otherwise
+/// a model with a normal map and no tangents gets MikkTSpace).
 fn fix_file(
     input: &Path,
     output: &Path,
     options: &FixOptions,
+    tangents_asked: bool,
     load: &LoadOptions,
     save: &SaveOptions,
 ) -> Result<String, Failure> {
@@ -150,8 +156,9 @@ fn fix_file(
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");
     }
-    // Fixed in place: the loaded normals and tangents are overwritten, never copied.
-    seamlit_mesh::fix_in_place(&mut asset.model, options)
+    let options = &default_tangents(&asset, *options, tangents_asked);
+    // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
+    let changes = seamlit_mesh::fix_in_place(&mut asset.model, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
@@ -165,11 +172,12 @@ fn fix_file(
         .max_normal_angle_deg
         .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
     Ok(format!(
-        "wrote {}: {}, {}, {} shared by 2+ objects{seams}",
+        "wrote {}: {}, {}, {} shared by 2+ objects{seams}\n  {}",
         output.display(),
         count(report.objects, "object"),
         count(report.triangles, "triangle"),
         count(report.shared_positions, "position"),
+        changes_line(&changes, options)
     ))
 }
 
@@ -212,7 +220,8 @@ fn run_folder(
         let relative = input.strip_prefix(&args.input).unwrap_or(input);
         bar.set_message(relative.display().to_string());
         let output = output_name(relative, &args.output, args.format.extension(), &mut used);
-        match guarded(input, || fix_file(input, &output, options, load, save)) {
+        let asked = args.fix.tangents.is_some();
+        match guarded(input, || fix_file(input, &output, options, asked, load, save)) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
                 failed += 1;

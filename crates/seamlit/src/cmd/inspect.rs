@@ -3,18 +3,19 @@
 use std::path::Path;
 
 use seamlit_io::LoadOptions;
-use seamlit_mesh::{FixOptions, Mode, Model, ReportOptions, SeamReport};
+use seamlit_mesh::{Changes, FixOptions, Mode, Model, ReportOptions, SeamReport};
 
 use crate::cli::InspectArgs;
 use crate::failure::{Classify, Failure};
-use crate::table::report_table;
+use crate::prepare::default_tangents;
+use crate::table::{changes_line, changes_table, report_table};
 
 /// The model's reports: as loaded, then after `fix` in each mode.
 pub struct Reports {
     /// The model as the file gave it.
     pub as_loaded: SeamReport,
-    /// After each mode, in the order flat, object, model.
-    pub modes: [(Mode, SeamReport); 3],
+    /// After each mode, in the order flat, object, model, with what the fix changed.
+    pub modes: [(Mode, SeamReport, Changes); 3],
 }
 
 impl Reports {
@@ -26,9 +27,11 @@ impl Reports {
         let report_options = ReportOptions::from(options);
         let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
         let as_loaded = seamlit_mesh::report(model, &report_options).map_err(bad)?;
-        let one = |mode: Mode| -> Result<(Mode, SeamReport), Failure> {
-            let fixed = seamlit_mesh::fix(model, &options.with_mode(mode)).map_err(bad)?;
-            Ok((mode, seamlit_mesh::report(&fixed, &report_options).map_err(bad)?))
+        let one = |mode: Mode| -> Result<(Mode, SeamReport, Changes), Failure> {
+            let mut fixed = model.clone();
+            let changes =
+                seamlit_mesh::fix_in_place(&mut fixed, &options.with_mode(mode)).map_err(bad)?;
+            Ok((mode, seamlit_mesh::report(&fixed, &report_options).map_err(bad)?, changes))
         };
         Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
     }
@@ -36,7 +39,7 @@ impl Reports {
     /// The readable table.
     #[must_use]
     pub fn table(&self) -> String {
-        let [(_, flat), (_, object), (_, model)] = &self.modes;
+        let [(_, flat, _), (_, object, _), (_, model, _)] = &self.modes;
         report_table(&[
             ("as loaded", &self.as_loaded),
             ("flat", flat),
@@ -45,10 +48,11 @@ impl Reports {
         ])
     }
 
-    /// The JSON document `inspect --json` prints.
+    /// The JSON document `inspect --json` prints: the reports, and under `changes` what the
+    /// fix changed in each mode.
     #[must_use]
     pub fn json(&self, file: &Path, options: &FixOptions) -> serde_json::Value {
-        let [(_, flat), (_, object), (_, model)] = &self.modes;
+        let [(_, flat, cf), (_, object, co), (_, model, cm)] = &self.modes;
         serde_json::json!({
             "file": file.display().to_string(),
             "options": options,
@@ -56,6 +60,7 @@ impl Reports {
             "flat": flat,
             "object": object,
             "model": model,
+            "changes": { "flat": cf, "object": co, "model": cm },
         })
     }
 }
@@ -75,7 +80,8 @@ pub fn run(args: &InspectArgs) -> Result<(), Failure> {
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");
     }
-    let options = args.fix.apply(FixOptions::DEFAULT);
+    let options =
+        default_tangents(&asset, args.fix.apply(FixOptions::DEFAULT), args.fix.tangents.is_some());
     let reports = Reports::measure(&asset.model, &options, &args.input)?;
     if args.json {
         let text =
@@ -90,6 +96,9 @@ pub fn run(args: &InspectArgs) -> Result<(), Failure> {
             crate::cli::weighting_flag(options.weighting),
         );
         print!("{}", reports.table());
+        let (_, _, changes) = &reports.modes[2];
+        println!("\nWhat `fix` changes (model mode): {}\n", changes_line(changes, &options));
+        print!("{}", changes_table(changes));
     }
     Ok(())
 }

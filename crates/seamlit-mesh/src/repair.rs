@@ -1,0 +1,334 @@
+//! Keeping what the artist authored: which objects keep their normals and tangents, the
+//! seam-only repair of kept normals, and tangents for kept normals that came without them.
+//! docs/normals.md explains the policies.
+//!
+//! # The seam-only repair
+//!
+//! Only positions that vertices of two or more objects share (after the weld) are visited.
+//! At each, the vertices there are grouped: two vertices join when their normals lie within
+//! the crease angle of each other (connected components, as [`crate::group`] groups faces).
+//! A group whose vertices all belong to one object, or whose normals are already bit-equal in
+//! model space, is left alone; every other group gets one normal, the weighted average of its
+//! corners' normals (each corner weighted by [`crate::Weighting`], in corner order), the same
+//! model-space value for every vertex of the group. A kept normal is one value per vertex, so
+//! all corners of a vertex fall into one group and the repair never splits a vertex. Where a
+//! normal changes, the vertex's tangent (if it has one) is made orthogonal to the new normal,
+//! its handedness kept.
+//!
+//! **Invariant:** every vertex not at a shared position, and every vertex whose group lies
+//! within one object, keeps its normal and tangent bit for bit
+//! (`tests/normals.rs`: `auto_repairs_the_seam_and_nothing_else`,
+//! `one_object_with_a_hard_edge_is_left_alone`).
+//!
+//! Cost: the corners at shared positions are gathered and sorted ([`Flat::corners_at`]); each
+//! position is settled by one task, its vertices compared pairwise. Nothing is computed for
+//! the rest of the model.
+
+use glam::{Vec3, Vec4, Vec4Swizzles};
+use rayon::prelude::*;
+
+use crate::face::face;
+use crate::fix::Out;
+use crate::frame::{Linear, orthogonalise};
+use crate::group::{Frame, Rules, weight};
+use crate::smooth::{self, face_frame};
+use crate::validate::Flat;
+use crate::weld::union;
+use crate::{FixOptions, Mode, Model, NormalPolicy, Object, TangentMethod, Weighting};
+
+/// Per object: whether its authored normals and tangents are kept.
+pub(crate) struct Authored {
+    pub normals: Vec<bool>,
+    pub tangents: Vec<bool>,
+}
+
+impl Authored {
+    /// Which objects keep what they carry under `options`: normals where the policy is not
+    /// [`NormalPolicy::Recompute`] and the object has a finite, non-zero normal for every
+    /// vertex; tangents where the normals are kept, tangents are wanted, and the object has a
+    /// finite tangent with a non-zero direction for every vertex.
+    pub fn of(model: &Model, options: &FixOptions) -> Self {
+        let keep = options.normals != NormalPolicy::Recompute;
+        let normals: Vec<bool> =
+            model.objects.iter().map(|o| keep && usable_normals(o.normals.as_deref())).collect();
+        let tangents = model
+            .objects
+            .iter()
+            .zip(&normals)
+            .map(|(o, &n)| {
+                n && options.tangents != TangentMethod::None
+                    && usable_tangents(o.tangents.as_deref())
+            })
+            .collect();
+        Self { normals, tangents }
+    }
+
+    /// Whether any object keeps its normals.
+    pub fn any(&self) -> bool {
+        self.normals.iter().any(|&k| k)
+    }
+
+    /// Whether every object keeps its normals.
+    pub fn all(&self) -> bool {
+        self.normals.iter().all(|&k| k)
+    }
+}
+
+fn usable_normals(normals: Option<&[Vec3]>) -> bool {
+    normals.is_some_and(|ns| ns.iter().all(|n| n.is_finite() && *n != Vec3::ZERO))
+}
+
+fn usable_tangents(tangents: Option<&[Vec4]>) -> bool {
+    tangents.is_some_and(|ts| ts.iter().all(|t| t.is_finite() && t.xyz() != Vec3::ZERO))
+}
+
+/// A vertex at a shared position whose normal the repair sets.
+struct Update {
+    object: u32,
+    vertex: u32,
+    /// The group's normal, in model space, unit length.
+    normal: Vec3,
+}
+
+/// The seam-only repair (see the module docs): gives the vertices at every position shared by
+/// two or more objects one normal per group. `flat` holds the model's positions snapped to
+/// their `roots` (welded across the whole model); every object has normals. Returns, per
+/// object, how many vertices' normals changed.
+pub(crate) fn repair_seams(
+    model: &mut Model,
+    flat: &Flat,
+    roots: &[u32],
+    options: &FixOptions,
+) -> Vec<usize> {
+    let shared = flat.shared_positions(roots);
+    let entries = flat.corners_at(model, roots, |r| shared[r as usize]);
+    drop(shared);
+    let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+    let rules = Rules::new(options, false);
+    let view: &Model = model;
+    let updates: Vec<Update> = entries
+        .par_chunk_by(|a, b| a >> 32 == b >> 32)
+        .fold(Vec::new, |mut out, run| {
+            repair_position(view, flat, &linear, run, rules.weighting, rules.crease_cos, &mut out);
+            out
+        })
+        .flatten_iter()
+        .collect();
+    apply(model, &linear, &updates)
+}
+
+/// A vertex at one position, as the repair sees it.
+struct SeamVertex {
+    object: u32,
+    vertex: u32,
+    /// Its normal in model space, as stored (before normalising): equal bits mean agreement.
+    stored: Vec3,
+    /// Unit length.
+    unit: Vec3,
+}
+
+/// Groups the vertices at one position (`run`: its corners, `root << 32 | corner`, ascending)
+/// and pushes an [`Update`] for every vertex of every group that needs one normal.
+fn repair_position(
+    model: &Model,
+    flat: &Flat,
+    linear: &[Option<Linear>],
+    run: &[u64],
+    weighting: Weighting,
+    crease_cos: Option<f32>,
+    out: &mut Vec<Update>,
+) {
+    // The position's vertices, in order of first corner, and each corner's vertex and weight.
+    let mut vertices: Vec<SeamVertex> = Vec::new();
+    let mut corners: Vec<(usize, f32)> = Vec::with_capacity(run.len());
+    for &e in run {
+        let c = e as u32 as usize;
+        let t = c / 3;
+        let o = flat.object_of_triangle(t);
+        let local = t - flat.triangle_start[o] as usize;
+        let object = &model.objects[o];
+        let v = object.triangles[local][c % 3];
+        let at = vertices.iter().position(|x| x.object == o as u32 && x.vertex == v);
+        let index = at.unwrap_or_else(|| {
+            let n = object.normals.as_ref().map_or(Vec3::Z, |ns| ns[v as usize]);
+            let stored = linear[o].as_ref().map_or(n, |l| l.normal_to_model(n));
+            let unit = stored.try_normalize().unwrap_or(Vec3::Z);
+            vertices.push(SeamVertex { object: o as u32, vertex: v, stored, unit });
+            vertices.len() - 1
+        });
+        let positions = flat.corners(model, o, local).positions;
+        corners.push((index, weight(weighting, &face(positions, None, model.v_axis), c % 3)));
+    }
+
+    // Groups: vertices whose normals lie within the crease angle, joined transitively.
+    let k = vertices.len();
+    let mut parent: Vec<u32> = (0..k as u32).collect();
+    for a in 0..k {
+        for b in a + 1..k {
+            if crease_cos.is_none_or(|cos| vertices[a].unit.dot(vertices[b].unit) >= cos) {
+                union(&mut parent, a as u32, b as u32);
+            }
+        }
+    }
+    for a in 0..k {
+        // Roots are the smallest members: one pass points every vertex at its root.
+        parent[a] = parent[parent[a] as usize];
+    }
+
+    // One normal per group that spans objects and does not agree already.
+    let bits = |n: Vec3| n.to_array().map(f32::to_bits);
+    for g in 0..k {
+        if parent[g] as usize != g {
+            continue;
+        }
+        let members = || (0..k).filter(|&a| parent[a] as usize == g);
+        let first = &vertices[g];
+        let spans_objects = members().any(|a| vertices[a].object != first.object);
+        let agrees = members().all(|a| bits(vertices[a].stored) == bits(first.stored));
+        if !spans_objects || agrees {
+            continue;
+        }
+        let mut sum = Vec3::ZERO;
+        for &(a, w) in &corners {
+            if parent[a] as usize == g {
+                sum += vertices[a].unit * w;
+            }
+        }
+        let normal = sum
+            .try_normalize()
+            .or_else(|| members().map(|a| vertices[a].unit).sum::<Vec3>().try_normalize())
+            .unwrap_or(first.unit);
+        out.extend(members().map(|a| Update {
+            object: vertices[a].object,
+            vertex: vertices[a].vertex,
+            normal,
+        }));
+    }
+}
+
+/// Writes the repaired normals into the objects (in each object's local space), with their
+/// tangents made orthogonal to them; returns, per object, the vertices whose normal changed.
+fn apply(model: &mut Model, linear: &[Option<Linear>], updates: &[Update]) -> Vec<usize> {
+    let mut changed = vec![0; model.objects.len()];
+    for u in updates {
+        let (o, v) = (u.object as usize, u.vertex as usize);
+        let object = &mut model.objects[o];
+        let Some(normals) = object.normals.as_mut() else { continue };
+        let n = linear[o].as_ref().map_or(u.normal, |l| l.normal_to_local(u.normal));
+        if normals[v].to_array().map(f32::to_bits) == n.to_array().map(f32::to_bits) {
+            continue;
+        }
+        normals[v] = n;
+        changed[o] += 1;
+        if let Some(tangents) = object.tangents.as_mut() {
+            tangents[v] = orthogonalise(tangents[v], n.try_normalize().unwrap_or(Vec3::Z));
+        }
+    }
+    changed
+}
+
+/// Computes tangents for the objects marked in `which` (objects whose normals were kept and
+/// that have UVs but no tangents to keep), against their normals as they are: each corner
+/// takes the tangent the generator of `options` gives it, made orthogonal to the vertex's
+/// normal, its handedness taken against that normal; a vertex whose corners get different
+/// tangents is split. `flat` holds the model's positions (snapped to `roots` where the mode
+/// welds; `roots` is `None` in [`Mode::Flat`]).
+pub(crate) fn compute_tangents(
+    model: &mut Model,
+    flat: &Flat,
+    roots: Option<Vec<u32>>,
+    options: &FixOptions,
+    which: &[bool],
+) {
+    if !which.iter().any(|&w| w) {
+        return;
+    }
+    let frames = corner_frames(model, flat, roots, options);
+    let frames = &frames;
+    model.objects.par_iter_mut().enumerate().filter(|(o, _)| which[*o]).for_each(|(o, object)| {
+        let first = flat.triangle_start[o] as usize * 3;
+        let linear = flat.linear[o].map(Linear::new);
+        write_tangents(object, linear, &frames[first..]);
+    });
+}
+
+/// The model-space frame of every corner of the model (`triangle * 3 + k`) as the tangent
+/// generator of `options` gives it: face frames in [`Mode::Flat`], MikkTSpace over the whole
+/// model with the model's normals, or seamlit's smoothed frames.
+fn corner_frames(
+    model: &Model,
+    flat: &Flat,
+    roots: Option<Vec<u32>>,
+    options: &FixOptions,
+) -> Vec<Frame> {
+    let triangles = flat.triangles(model);
+    let corner_object = |c: usize| flat.object_of_triangle(c / 3);
+    match (options.mode, options.tangents, roots) {
+        (Mode::Flat, ..) | (_, _, None) => (0..triangles.len())
+            .into_par_iter()
+            .flat_map_iter(|t| {
+                let o = flat.object_of_triangle(t);
+                let c = flat.corners(model, o, t - flat.triangle_start[o] as usize);
+                [face_frame(&face(c.positions, c.uvs, model.v_axis)); 3]
+            })
+            .collect(),
+        (_, TangentMethod::Mikktspace, _) => {
+            let linear: Vec<Option<Linear>> =
+                flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+            let normals: Vec<Vec3> = triangles
+                .as_flattened()
+                .par_iter()
+                .enumerate()
+                .map(|(c, &v)| {
+                    let o = corner_object(c);
+                    let object = &model.objects[o];
+                    let n = object
+                        .normals
+                        .as_ref()
+                        .map_or(Vec3::Z, |ns| ns[(v - flat.vertex_start[o]) as usize]);
+                    linear[o].as_ref().map_or(n, |l| l.normal_to_model(n)).normalize_or(Vec3::Z)
+                })
+                .collect();
+            let uvs = flat.uvs(model);
+            let tangents =
+                crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
+            normals
+                .into_iter()
+                .zip(tangents)
+                .map(|(normal, tangent)| Frame { normal, tangent })
+                .collect()
+        }
+        (_, _, Some(roots)) => {
+            let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true));
+            triangles
+                .as_flattened()
+                .par_iter()
+                .enumerate()
+                .map(|(c, &v)| smooth.corner_frame(c as u32, v as usize))
+                .collect()
+        }
+    }
+}
+
+/// Writes one object's tangents from its corners' model-space `frames`, keeping its normals.
+fn write_tangents(object: &mut Object, linear: Option<Linear>, frames: &[Frame]) {
+    let mut triangles = std::mem::take(&mut object.triangles);
+    let mut out = Out::keeping_normals(object);
+    for (tri, f) in triangles.iter_mut().zip(frames.chunks_exact(3)) {
+        for k in 0..3 {
+            let (n0, t0) = match &linear {
+                Some(l) => l.frame_to_local(f[k].normal, f[k].tangent),
+                None => (f[k].normal, f[k].tangent),
+            };
+            let n = out.normal(tri[k]);
+            let unit = n.try_normalize().unwrap_or(n0);
+            let bitangent = n0.cross(t0.xyz()) * t0.w;
+            let t = orthogonalise(t0, unit);
+            let w = if unit.cross(t.xyz()).dot(bitangent) < 0.0 { -1.0 } else { 1.0 };
+            tri[k] = out.put_local(tri[k], n, t.xyz().extend(w));
+        }
+    }
+    let (mut normals, mut tangents) = (None, None);
+    out.finish(&mut normals, &mut tangents);
+    (object.normals, object.tangents, object.triangles) = (normals, tangents, triangles);
+}
