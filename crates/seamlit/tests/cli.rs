@@ -960,3 +960,27 @@ fn fix_keeps_the_skin_joints_weights_and_animation_of_a_glb() {
         assert_eq!(written["accessors"][accessor]["count"], 8, "{name}");
     }
 }
+
+/// A bare model is framed tightly and centred, as glTF viewers frame one: Spot's silhouette
+/// spans most of the picture one way and sits in its middle.
+#[test]
+fn a_bare_model_fills_the_frame_and_sits_in_its_middle() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("spot.png");
+    let spot = models().join("spot/spot_triangulated.obj").display().to_string();
+    let o = seamlit(&["render", &spot, "-o", &out.display().to_string(), "--size", "200x150"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgba8();
+    let bg = img.get_pixel(0, 0).0;
+    let (mut lo, mut hi) = ((u32::MAX, u32::MAX), (0, 0));
+    for (x, y, p) in img.enumerate_pixels() {
+        let d: i32 = (0..3).map(|k| (i32::from(p.0[k]) - i32::from(bg[k])).abs()).sum();
+        if d > 30 {
+            (lo, hi) = ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y)));
+        }
+    }
+    let (w, h) = (f64::from(hi.0 - lo.0 + 1) / 200.0, f64::from(hi.1 - lo.1 + 1) / 150.0);
+    assert!(w.max(h) > 0.7, "the model spans only {w:.2} x {h:.2} of the picture");
+    let centre = (f64::from(lo.0 + hi.0) / 400.0, f64::from(lo.1 + hi.1) / 300.0);
+    assert!((centre.0 - 0.5).abs() < 0.1 && (centre.1 - 0.5).abs() < 0.1, "centre {centre:?}");
+}
