@@ -75,6 +75,8 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         Ok(Vec4::from((vec3(u)?, if u.arbitrary::<bool>()? { 1.0 } else { -1.0 })))
     })?;
     let colors = attribute(u, vertices, |u| Ok(Vec4::from((vec3(u)?, 1.0))))?;
+    // Usually one group per triangle, sometimes a wrong length.
+    let smoothing_groups = attribute(u, triangles_len, |u| u.int_in_range(0u32..=3))?;
     let transform = if u.ratio(1u8, 4u8)? {
         Some(Mat4::from_cols_array(&std::array::from_fn(|_| float(u).unwrap_or(0.0))))
     } else {
@@ -90,6 +92,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         triangles,
         transform,
         material: None,
+        smoothing_groups,
         split_from: Vec::new(),
     })
 }

@@ -16,9 +16,10 @@ use crate::{FixOptions, MeshError, Mode, Model, Object, TangentMethod};
 ///
 /// Returns a copy of the model in which every object has `normals`, and `tangents` where it
 /// has UVs (unless `options.tangents` is [`TangentMethod::None`]). Input normals and tangents
-/// are ignored and replaced. Vertices are split where one position needs several values: at a
-/// crease, across a change of UV handedness, between tangents further apart than the tangent
-/// angle. Split vertices are appended after the object's original vertices, which keep their
+/// are ignored and replaced. Faces share a normal only within their smoothing group, where the
+/// objects have them ([`Object::smoothing_groups`]). Vertices are split where one position
+/// needs several values: at a crease, between smoothing groups, across a change of UV
+/// handedness, between tangents further apart than the tangent angle. Split vertices are appended after the object's original vertices, which keep their
 /// indices. Vertices on a boundary between objects get bit-identical values in model space
 /// (up to each object's transform back to its local space) in [`Mode::Model`].
 ///
@@ -46,6 +47,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             triangles: o.triangles.clone(),
             transform: o.transform,
             material: o.material,
+            smoothing_groups: o.smoothing_groups.clone(),
             split_from: o.split_from.clone(),
         })
         .collect();
