@@ -182,7 +182,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             triangles: parsed.triangles,
             transform: None,
             material: parsed.material,
-            smoothing_groups: None,
+            smoothing_groups: parsed.smoothing_groups,
             split_from: Vec::new(),
         });
     }
