@@ -1,11 +1,11 @@
-//! OBJ smoothing groups (`s N`, `s off`, `s 0`): read per triangle and used by `fix`. Every
-//! expected value is written out by hand from the fixture's text.
+//! OBJ smoothing groups (`s N`, `s off`, `s 0`): read per triangle, written back, and used by
+//! `fix`. Every expected value is written out by hand from the fixture's text.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use seamlit_io::{IoError, LoadOptions};
+use seamlit_io::{IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, fix};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -95,6 +95,47 @@ fn groups_carry_across_the_parser_s_blocks() {
         "first difference at {:?}",
         got.iter().zip(&expected).position(|(a, b)| a != b)
     );
+}
+
+#[test]
+fn groups_survive_an_obj_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{VERTICES}f 1 2 3\ns 1\nf 1 3 4\ns off\nf 1 4 5\ns 7\nf 1 5 6\n");
+    let asset = load(dir.path(), "in.obj", &text);
+    let out = dir.path().join("out.obj");
+    seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+    let back = seamlit_io::load(&out, &LoadOptions::default()).unwrap();
+    assert_eq!(groups(&back), [Some(vec![0, 1, 0, 7])]);
+}
+
+#[test]
+fn objects_without_groups_are_written_in_a_group_of_their_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let triangle =
+        || seamlit_mesh::Object::new("t", vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]);
+    let objects = vec![
+        triangle().with_smoothing_groups(vec![3]),
+        triangle(),
+        triangle().with_smoothing_groups(vec![0]),
+        triangle(),
+    ];
+    let mut asset = seamlit_io::Asset {
+        model: seamlit_mesh::Model::new(objects),
+        ..seamlit_io::Asset::default()
+    };
+    let out = dir.path().join("out.obj");
+    seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap();
+    let back = seamlit_io::load(&out, &LoadOptions::default()).unwrap();
+    // One above the largest group used (3), shared by both objects without groups.
+    let expected = [Some(vec![3]), Some(vec![4]), Some(vec![0]), Some(vec![4])];
+    assert_eq!(groups(&back), expected);
+
+    // A wrong length is refused, naming the object, and nothing is written.
+    asset.model.objects[1].smoothing_groups = Some(vec![1, 1]);
+    let out = dir.path().join("bad.obj");
+    let err = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("2 smoothing groups for 1 triangles"), "{err}");
+    assert!(!out.exists());
 }
 
 /// The cube [-1, 1]^3 as six objects (`o` per side, each its own four `v`), side `i` in
