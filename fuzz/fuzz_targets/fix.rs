@@ -75,8 +75,6 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         Ok(Vec4::from((vec3(u)?, if u.arbitrary::<bool>()? { 1.0 } else { -1.0 })))
     })?;
     let colors = attribute(u, vertices, |u| Ok(Vec4::from((vec3(u)?, 1.0))))?;
-    // Usually one group per triangle, sometimes a wrong length.
-    let smoothing_groups = attribute(u, triangles_len, |u| u.int_in_range(0u32..=3))?;
     let transform = if u.ratio(1u8, 4u8)? {
         Some(Mat4::from_cols_array(&std::array::from_fn(|_| float(u).unwrap_or(0.0))))
     } else {
@@ -92,7 +90,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         triangles,
         transform,
         material: None,
-        smoothing_groups,
+        smoothing_groups: None,
         split_from: Vec::new(),
     })
 }
@@ -126,8 +124,15 @@ fn build(data: &[u8]) -> arbitrary::Result<(Model, FixOptions)> {
     let mut u = Unstructured::new(data);
     let options = options(&mut u)?;
     let count = u.int_in_range(0..=4usize)?;
-    let objects = (0..count).map(|i| object(&mut u, i)).collect::<arbitrary::Result<Vec<_>>>()?;
+    let mut objects =
+        (0..count).map(|i| object(&mut u, i)).collect::<arbitrary::Result<Vec<_>>>()?;
     let v_axis = if u.arbitrary::<bool>()? { VAxis::Up } else { VAxis::Down };
+    // Smoothing groups last, so that inputs found before they existed decode as they did
+    // (an exhausted input gives none): usually one per triangle, sometimes a wrong length.
+    for object in &mut objects {
+        let triangles = object.triangles.len();
+        object.smoothing_groups = attribute(&mut u, triangles, |u| u.int_in_range(0u32..=3))?;
+    }
     Ok((Model { objects, v_axis }, options))
 }
 
