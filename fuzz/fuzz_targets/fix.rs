@@ -91,6 +91,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         triangles,
         transform,
         material: None,
+        smoothing_groups: None,
         split_from: Vec::new(),
     })
 }
@@ -126,11 +127,18 @@ fn build(data: &[u8]) -> arbitrary::Result<(Model, FixOptions)> {
     let mut u = Unstructured::new(data);
     let options = options(&mut u)?;
     let count = u.int_in_range(0..=4usize)?;
-    let objects = (0..count).map(|i| object(&mut u, i)).collect::<arbitrary::Result<Vec<_>>>()?;
+    let mut objects =
+        (0..count).map(|i| object(&mut u, i)).collect::<arbitrary::Result<Vec<_>>>()?;
     let v_axis = if u.arbitrary::<bool>()? { VAxis::Up } else { VAxis::Down };
     // Exhausted input chooses the first: `recompute`, what older inputs ran.
     let normals =
         *u.choose(&[NormalPolicy::Recompute, NormalPolicy::Auto, NormalPolicy::Keep])?;
+    // Smoothing groups last, so that inputs found before they existed decode as they did
+    // (an exhausted input gives none): usually one per triangle, sometimes a wrong length.
+    for object in &mut objects {
+        let triangles = object.triangles.len();
+        object.smoothing_groups = attribute(&mut u, triangles, |u| u.int_in_range(0u32..=3))?;
+    }
     Ok((Model { objects, v_axis }, FixOptions { normals, ..options }))
 }
 

@@ -932,6 +932,7 @@ impl Reader<'_> {
             triangles,
             transform: None,
             material: primitive.material().index(),
+            smoothing_groups: None,
             split_from: Vec::new(),
         }))
     }

@@ -159,6 +159,12 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
             return Err(invalid(format!("{len} {what} for {n} positions")));
         }
     }
+    if let Some(groups) = object.smoothing_groups.as_ref().map(Vec::len) {
+        let triangles = object.triangles.len();
+        if groups != triangles {
+            return Err(invalid(format!("{groups} smoothing groups for {triangles} triangles")));
+        }
+    }
     if n >= u32::MAX as usize {
         return Err(invalid(format!("{n} vertices do not fit 32-bit indices")));
     }

@@ -182,6 +182,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             triangles: parsed.triangles,
             transform: None,
             material: parsed.material,
+            smoothing_groups: parsed.smoothing_groups,
             split_from: Vec::new(),
         });
     }

@@ -1,4 +1,5 @@
-//! The OBJ geometry parser: `v`, `vt`, `vn`, `f`, `o`, `g`, `usemtl`, `mtllib`, in parallel.
+//! The OBJ geometry parser: `v`, `vt`, `vn`, `f`, `o`, `g`, `s`, `usemtl`, `mtllib`, in
+//! parallel.
 //!
 //! tobj reads a 1M-triangle OBJ in about 2.4 s on the project's machine (one thread, a
 //! `String` per line, a hash lookup per face corner). This parser reads the file in blocks of
@@ -18,7 +19,11 @@
 //!   and `vn` are kept only where every corner of the object has them (*: the caller warns);
 //! - `v x y z w` divides by `w`; `v x y z r g b` and `v x y z r g b a` give vertex colours
 //!   (*: tobj reads no alpha), kept where every vertex of the object has one (*: the caller
-//!   warns); other counts of numbers are an error.
+//!   warns); other counts of numbers are an error;
+//! - (*: tobj ignores `s`) `s N` puts the faces that follow in smoothing group `N`, `s off`
+//!   and `s 0` in none; a polygon's triangles are in its group. A file without `s` gives no
+//!   groups (`Object::smoothing_groups` is `None`); in a file with `s`, faces before the
+//!   first are in none (0), the OBJ default.
 //!
 //! Material libraries are read with tobj (see [`crate::obj`]).
 
@@ -73,6 +78,8 @@ pub(crate) struct ParsedObject {
     /// `Some` when every vertex has a colour; `None` when none has.
     pub colors: Option<Vec<Vec4>>,
     pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, its smoothing group (0 = off); `None` when the file has no `s`.
+    pub smoothing_groups: Option<Vec<u32>>,
     /// Some corners had a `vt` and some did not (texture coordinates dropped).
     pub mixed_uvs: bool,
     /// Some corners had a `vn` and some did not (normals dropped).
@@ -108,6 +115,10 @@ struct Chunk {
     /// Faces of more than three corners, fan-triangulated here: their first triangle and
     /// their number of corners (see [`crate::polygon`]).
     polygons: Vec<(usize, usize)>,
+    /// `s` statements: the chunk-local triangle they precede and the group (0 = off).
+    smoothing: Vec<(usize, u32)>,
+    /// The smoothing group in force at the chunk's first triangle (set in [`assemble`]).
+    smoothing_at_start: u32,
 }
 
 /// The OBJ file's objects and, in order, its `mtllib` statements (name, line).
@@ -123,6 +134,8 @@ pub(crate) struct Parsed {
     colors: Vec<Vec4>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
+    /// Whether the file has an `s` statement.
+    has_smoothing: bool,
 }
 
 /// Why [`read`] failed.
@@ -308,6 +321,13 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
     if !current.is_empty() {
         objects.push((name, material, current, by_usemtl));
     }
+    // The smoothing group in force where each chunk starts: 0 (off) before any `s`.
+    let has_smoothing = chunks.iter().any(|chunk| !chunk.smoothing.is_empty());
+    let mut group = 0;
+    for chunk in &mut chunks {
+        chunk.smoothing_at_start = group;
+        group = chunk.smoothing.last().map_or(group, |&(_, g)| g);
+    }
     let mut positions = Vec::with_capacity(totals[0]);
     let mut uvs = Vec::with_capacity(totals[1]);
     let mut normals = Vec::with_capacity(totals[2]);
@@ -326,7 +346,17 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
         uvs.extend(std::mem::take(&mut chunk.uvs));
         normals.extend(std::mem::take(&mut chunk.normals));
     }
-    Ok(Parsed { objects, libraries, materials_used, chunks, positions, colors, uvs, normals })
+    Ok(Parsed {
+        objects,
+        libraries,
+        materials_used,
+        chunks,
+        positions,
+        colors,
+        uvs,
+        normals,
+        has_smoothing,
+    })
 }
 
 impl Parsed {
@@ -349,6 +379,7 @@ impl Parsed {
         }
         let (chunks, positions, uvs, normals, colors) =
             (&self.chunks, &self.positions, &self.uvs, &self.normals, &self.colors);
+        let has_smoothing = self.has_smoothing;
         merged
             .into_par_iter()
             .map(|(name, material, segments)| {
@@ -382,6 +413,7 @@ impl Parsed {
                     colors: (with_color == all && all > 0)
                         .then(|| keys.iter().map(|k| colors[k[0] as usize]).collect()),
                     triangles,
+                    smoothing_groups: has_smoothing.then(|| smoothing_groups(chunks, &segments)),
                     mixed_uvs: with_vt != 0 && with_vt != all,
                     mixed_normals: with_vn != 0 && with_vn != all,
                     mixed_colors: with_color != 0 && with_color != all,
@@ -406,6 +438,28 @@ fn polygons<'a>(
         base += end - start;
         all[from..to].iter().map(move |&(first, corners)| (offset + first - start, corners))
     })
+}
+
+/// The smoothing group of each triangle of an object made of `segments`, in order.
+fn smoothing_groups(chunks: &[Chunk], segments: &[Segment]) -> Vec<u32> {
+    let mut groups = Vec::new();
+    for &(c, start, end) in segments {
+        let chunk = &chunks[c];
+        // The statements at or before `start` decide the first triangle's group.
+        let mut next = chunk.smoothing.partition_point(|&(at, _)| at <= start);
+        let mut group =
+            next.checked_sub(1).map_or(chunk.smoothing_at_start, |i| chunk.smoothing[i].1);
+        for t in start..end {
+            while let Some(&(at, g)) = chunk.smoothing.get(next)
+                && at <= t
+            {
+                group = g;
+                next += 1;
+            }
+            groups.push(group);
+        }
+    }
+    groups
 }
 
 /// The distinct corners in order of first use, and the triangles as indices among them.
@@ -760,6 +814,20 @@ fn rest_of(words: &Cursor<'_>) -> String {
     text(words.rest()).trim().to_owned()
 }
 
+/// The group of an `s` statement from its first word: a number, 0 and `off` for none.
+fn smoothing_group(word: Option<&[u8]>) -> Result<u32, ChunkError> {
+    let word = text(word.unwrap_or_default());
+    match &*word {
+        "off" => Ok(0),
+        _ => word.parse().map_err(|_| {
+            ChunkError::Syntax(format!(
+                "`s` needs a smoothing group number (0 to {}) or `off`, found {word:?}",
+                u32::MAX
+            ))
+        }),
+    }
+}
+
 /// Parses a block of whole lines: its statements, and the first error among them or among
 /// its lines that are not text (whichever comes first).
 fn parse_chunk(block: &[u8]) -> ChunkResult {
@@ -885,6 +953,10 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                     // An empty name is the name of a material `newmtl` left unnamed.
                     let name = rest_of(&words);
                     chunk.events.push((chunk.triangles.len(), Event::Material(name, line)));
+                }
+                b"s" => {
+                    let group = smoothing_group(words.word()).map_err(fail)?;
+                    chunk.smoothing.push((chunk.triangles.len(), group));
                 }
                 b"mtllib" => {
                     let name = rest_of(&words);

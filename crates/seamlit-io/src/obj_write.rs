@@ -3,6 +3,9 @@
 //! Each object becomes an `o` block with its `usemtl`, `v`, `vt` and `vn` lines and faces
 //! `f v/vt/vn`; vertex colours go on the `v` lines (`v x y z r g b`, and `a` where it is not
 //! 1). OBJ has no transforms: positions (and normals) are moved into model space.
+//! Smoothing groups go out as `s N` / `s off` wherever the group changes; where some objects
+//! have groups, those without get one number of their own (one above the largest used), which
+//! is what `None` means.
 //! Numbers are written with Rust's shortest round-trip formatting, so reading the file back
 //! gives the same bits. Texture coordinates are flipped (`v' = 1 - v`) when the model's V runs
 //! down (glTF), since OBJ's runs up. Materials go to `NAME.mtl` and the textures they use are
@@ -16,6 +19,41 @@ use glam::{Mat3, Mat4};
 use seamlit_mesh::VAxis;
 
 use crate::{Asset, IoError, Material, TextureRef};
+
+/// The `s` statement in force while faces are written, and the group of objects without
+/// groups.
+struct SmoothingState {
+    /// `None` before the first `s` (and for files without groups).
+    current: Option<u32>,
+    /// The number written for objects without groups; `None` where no object has groups.
+    ungrouped: Option<u32>,
+}
+
+impl SmoothingState {
+    fn new<'a>(objects: impl IntoIterator<Item = &'a seamlit_mesh::Object>) -> Self {
+        let mut any = false;
+        let mut largest = 0;
+        for groups in objects.into_iter().filter_map(|o| o.smoothing_groups.as_ref()) {
+            any = true;
+            largest = groups.iter().copied().fold(largest, u32::max);
+        }
+        Self { current: None, ungrouped: any.then(|| largest.saturating_add(1)) }
+    }
+
+    /// Writes an `s` line before triangle `t` of `object` where its group differs from the
+    /// one in force.
+    fn write(&mut self, out: &mut String, object: &seamlit_mesh::Object, t: usize) {
+        let Some(ungrouped) = self.ungrouped else { return };
+        let group = object.smoothing_groups.as_ref().map_or(ungrouped, |g| g[t]);
+        if self.current != Some(group) {
+            self.current = Some(group);
+            let _ = match group {
+                0 => writeln!(out, "s off"),
+                g => writeln!(out, "s {g}"),
+            };
+        }
+    }
+}
 
 /// Writes `asset` as OBJ at `path`, with `STEM.mtl` and the textures beside it.
 pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
@@ -82,6 +120,7 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
         let _ = writeln!(out, "mtllib {stem}.mtl");
     }
     let (mut v_base, mut vt_base, mut vn_base) = (1usize, 1usize, 1usize);
+    let mut smoothing = SmoothingState::new(objects);
     for object in objects {
         let name = one_line(&object.name);
         let _ = writeln!(out, "o {}", if name.is_empty() { "object" } else { &name });
@@ -121,7 +160,8 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
             }
         }
         let (has_vt, has_vn) = (object.uvs.is_some(), object.normals.is_some());
-        for t in &object.triangles {
+        for (k, t) in object.triangles.iter().enumerate() {
+            smoothing.write(&mut out, object, k);
             out.push('f');
             for &i in t {
                 let i = i as usize;

@@ -80,6 +80,20 @@ pub enum MeshError {
         /// The attribute's length.
         actual: usize,
     },
+    /// [`crate::Object::smoothing_groups`] does not have one entry per triangle.
+    #[error(
+        "object {object} ({name:?}): smoothing_groups has {actual} entries, expected one per triangle ({expected})"
+    )]
+    SmoothingGroupsLength {
+        /// Index of the object in the model.
+        object: usize,
+        /// The object's name.
+        name: String,
+        /// `triangles.len()`.
+        expected: usize,
+        /// The length of `smoothing_groups`.
+        actual: usize,
+    },
     /// The object's transform is not finite or not invertible.
     #[error("object {object} ({name:?}): its transform is not finite or not invertible")]
     BadTransform {

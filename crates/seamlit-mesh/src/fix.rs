@@ -24,12 +24,14 @@ use crate::{
 /// tangents are kept is `options.normals`' choice ([`NormalPolicy`]): with
 /// [`NormalPolicy::Recompute`] every one is ignored and computed; otherwise objects that carry
 /// normals keep them (with [`NormalPolicy::Auto`] in [`Mode::Model`], repaired where objects
-/// meet), and the others get them computed. Vertices are split where one position needs several
-/// values: at a crease, across a change of UV handedness, between tangents further apart than
-/// the tangent angle. Split vertices are appended after the object's original vertices, which
-/// keep their indices, and recorded in [`Object::split_from`]. Vertices on a boundary between
-/// objects get bit-identical normals in model space (up to each object's transform back to
-/// its local space) in [`Mode::Model`], unless the policy is [`NormalPolicy::Keep`].
+/// meet), and the others get them computed. Computed normals are shared by faces only within
+/// their smoothing group, where the objects have them ([`Object::smoothing_groups`]). Vertices
+/// are split where one position needs several values: at a crease, between smoothing groups,
+/// across a change of UV handedness, between tangents further apart than the tangent angle.
+/// Split vertices are appended after the object's original vertices, which keep their indices,
+/// and recorded in [`Object::split_from`]. Vertices on a boundary between objects get
+/// bit-identical normals in model space (up to each object's transform back to its local
+/// space) in [`Mode::Model`], unless the policy is [`NormalPolicy::Keep`].
 ///
 /// The result does not depend on the number of threads: every sum runs in a fixed order.
 /// Fixing a fixed model changes nothing. [`fix_in_place`] does the same without the copy, and
@@ -59,6 +61,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             triangles: o.triangles.clone(),
             transform: o.transform,
             material: o.material,
+            smoothing_groups: o.smoothing_groups.clone(),
             split_from: o.split_from.clone(),
         })
         .collect();

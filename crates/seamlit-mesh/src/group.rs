@@ -3,7 +3,9 @@
 //!
 //! Around a position, faces whose normals are within the crease angle of each other join the
 //! same *normal group* (connected components of that relation); a crease angle of 180 degrees
-//! or more joins every face at the position, as the paper does. Within a normal group, faces
+//! or more joins every face at the position, as the paper does. Where the model has smoothing
+//! groups ([`crate::Object::smoothing_groups`]), only faces of the same nonzero group are
+//! related: a face of group 0 is a normal group of its own (flat). Within a normal group, faces
 //! join the same *tangent group* when their UV handedness agrees (unless that split is off)
 //! and their tangents are within the tangent angle. Corners of faces whose UVs are degenerate
 //! form one more tangent group per normal group, whose tangent is the average over all the
@@ -23,7 +25,7 @@ use glam::{Vec3, Vec4};
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face};
 use crate::frame::finish;
 use crate::weld::union;
-use crate::{FixOptions, Weighting};
+use crate::{FixOptions, Model, Object, Weighting};
 
 /// The averaged frame of one group, in model space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,6 +68,18 @@ impl Rules {
     fn tangents_unconditional(&self) -> bool {
         self.tangent_cos.is_none() && !self.split_mirrored
     }
+}
+
+/// Whether any object of `model` has smoothing groups.
+pub(crate) fn has_smoothing_groups(model: &Model) -> bool {
+    model.objects.iter().any(|o| o.smoothing_groups.is_some())
+}
+
+/// The smoothing group of triangle `t` of `object` as a key that faces must share to share a
+/// normal: the group number, 0 for none (flat), and for an object without groups one key
+/// beyond every number, shared by all such objects.
+pub(crate) fn smoothing_key(object: &Object, t: usize) -> u64 {
+    object.smoothing_groups.as_ref().map_or(1 << 32, |g| u64::from(g[t]))
 }
 
 /// Weight of corner `k` of face `f`.
@@ -113,10 +127,13 @@ fn flatten(parent: &mut [u32]) {
 /// leaves in `scratch.local_group` each corner's index into `frames`.
 ///
 /// `corners` are the position's corners (`triangle * 3 + k`), ascending; `faces[a]` is the
-/// face of `corners[a]`. Quadratic in the number of corners.
+/// face of `corners[a]`; `groups[a]` its smoothing key ([`smoothing_key`]), or `groups` is
+/// empty when the model has no smoothing groups (one group). Faces share a normal group only
+/// where they share a nonzero key. Quadratic in the number of corners.
 pub(crate) fn group_position(
     corners: &[u32],
     faces: &[Face],
+    groups: &[u64],
     rules: Rules,
     s: &mut Scratch,
     frames: &mut Vec<Frame>,
@@ -128,9 +145,11 @@ pub(crate) fn group_position(
     // Normal groups.
     let np = &mut s.normal_parent;
     np.clear();
+    let grouped = !groups.is_empty();
+    let same_group = |a: usize, b: usize| !grouped || (groups[a] == groups[b] && groups[a] != 0);
     match rules.crease_cos {
-        None => np.resize(k, 0),
-        Some(cos) => {
+        None if !grouped => np.resize(k, 0),
+        cos => {
             np.extend(0..k as u32);
             for a in 1..k {
                 if face_of(a) == face_of(a - 1) {
@@ -144,7 +163,8 @@ pub(crate) fn group_position(
                 }
                 for b in a + 1..k {
                     let fb = &faces[b];
-                    if !fb.is(DEGENERATE) && fa.normal.dot(fb.normal) >= cos {
+                    let within = cos.is_none_or(|cos| fa.normal.dot(fb.normal) >= cos);
+                    if !fb.is(DEGENERATE) && within && same_group(a, b) {
                         union(np, a as u32, b as u32);
                     }
                 }

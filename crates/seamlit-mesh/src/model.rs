@@ -65,6 +65,15 @@ pub struct Object {
     pub transform: Option<Mat4>,
     /// Index of the object's material in the file's material list, if any.
     pub material: Option<usize>,
+    /// The smoothing group of each triangle (OBJ `s N`), one entry per triangle; `None`:
+    /// every triangle of the object is in one group, shared with every other object without
+    /// groups (and with no numbered group).
+    ///
+    /// When [`crate::fix`] computes normals, faces share a normal only where they are in the
+    /// same nonzero group (and within the crease angle): faces of different groups meet at a
+    /// hard edge, and a face in group 0 (`s off`) is flat. A group number means the same in
+    /// every object, so objects in one group smooth across their boundary.
+    pub smoothing_groups: Option<Vec<u32>>,
     /// Where split vertices came from. [`crate::fix`] appends a copy of a vertex where one
     /// position needs two frames; the last `split_from.len()` vertices are such copies, and
     /// entry `k` is the index of the input vertex (one of the first
@@ -86,6 +95,14 @@ impl Object {
     #[must_use]
     pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Self {
         self.uvs = Some(uvs);
+        self
+    }
+
+    /// Sets the smoothing group of every triangle (builder style; see
+    /// [`Object::smoothing_groups`]).
+    #[must_use]
+    pub fn with_smoothing_groups(mut self, groups: Vec<u32>) -> Self {
+        self.smoothing_groups = Some(groups);
         self
     }
 

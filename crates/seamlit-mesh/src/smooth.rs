@@ -11,6 +11,7 @@
 //! (freed once the positions are settled) and a flag byte per vertex.
 //!
 //! A position takes this shortcut only when the grouping would make one group of it anyway:
+//! - where the model has smoothing groups, all its faces are in one nonzero group;
 //! - no degenerate triangle touches it, the normal sum does not vanish;
 //! - with tangents: some face with usable UVs touches it, and (when mirrored UVs are split)
 //!   not faces of both handednesses;
@@ -159,9 +160,13 @@ fn smooth_with(
     let mut cones: Vec<Cone> = (0..n).into_par_iter().map(|_| Cone::default()).collect();
     accumulate(model, flat, rules, &mut slots, &mut cones, &mut flags);
     merge(&roots, &mut slots, &mut cones, &mut flags);
+    let grouped = group::has_smoothing_groups(model);
+    if grouped {
+        mark_group_boundaries(model, flat, &roots, &mut flags);
+    }
     finish_positions(&roots, &mut slots, &cones, &mut flags, rules, all_complex);
     drop(cones);
-    let (complex, frames) = group_complex(model, flat, &roots, &flags, rules);
+    let (complex, frames) = group_complex(model, flat, &roots, &flags, rules, grouped);
     Smooth { roots, slots, flags, complex, frames }
 }
 
@@ -276,6 +281,57 @@ fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [u8]
     }
 }
 
+/// Per vertex in [`mark_group_boundaries`]: no face seen yet.
+const NO_GROUP_YET: u64 = u64::MAX;
+/// Per vertex in [`mark_group_boundaries`]: faces of more than one group, or of group 0.
+const MIXED_GROUPS: u64 = u64::MAX - 1;
+
+/// What a vertex's faces so far (`seen`) and one more face or vertex (`next`) say together.
+fn join_groups(seen: u64, next: u64) -> u64 {
+    match (seen, next) {
+        (NO_GROUP_YET, g) | (g, NO_GROUP_YET) => g,
+        (a, b) if a == b => a,
+        _ => MIXED_GROUPS,
+    }
+}
+
+/// Flags complex every position whose faces are not all in one nonzero smoothing group (see
+/// [`crate::Object::smoothing_groups`]): only the grouping keeps such faces apart. Runs only
+/// for models with smoothing groups; a vertex's group is found per object (one task each),
+/// then merged into its root in vertex order.
+fn mark_group_boundaries(model: &Model, flat: &Flat, roots: &[u32], flags: &mut [u8]) {
+    let parts: Vec<Vec<u64>> = model
+        .objects
+        .par_iter()
+        .map(|object| {
+            let mut seen = vec![NO_GROUP_YET; object.positions.len()];
+            for (t, tri) in object.triangles.iter().enumerate() {
+                let g = match group::smoothing_key(object, t) {
+                    0 => MIXED_GROUPS,
+                    g => g,
+                };
+                for &i in tri {
+                    seen[i as usize] = join_groups(seen[i as usize], g);
+                }
+            }
+            seen
+        })
+        .collect();
+    let mut seen = parts.concat();
+    debug_assert_eq!(seen.len(), flat.positions.len());
+    for v in 0..roots.len() {
+        let r = roots[v] as usize;
+        if r != v {
+            seen[r] = join_groups(seen[r], seen[v]);
+        }
+    }
+    flags.par_iter_mut().zip(&seen).for_each(|(f, &g)| {
+        if g == MIXED_GROUPS {
+            *f |= COMPLEX;
+        }
+    });
+}
+
 /// Turns the sums at every root into the position's frame, or flags the position complex.
 fn finish_positions(
     roots: &[u32],
@@ -289,7 +345,8 @@ fn finish_positions(
     let crease = rules.crease_half_cos.unwrap_or(-1.0);
     let tangent_cone = rules.tangent_half_cos.filter(|_| rules.tangents).unwrap_or(-1.0);
     slots.par_iter_mut().zip(flags.par_iter_mut()).enumerate().for_each(|(v, (s, f))| {
-        if roots[v] as usize != v || *f & HAS_FACE == 0 {
+        // Already complex: faces of several smoothing groups (see `mark_group_boundaries`).
+        if roots[v] as usize != v || *f & (HAS_FACE | COMPLEX) != HAS_FACE {
             return;
         }
         let cone = &cones[v];
@@ -323,6 +380,7 @@ fn group_complex(
     roots: &[u32],
     flags: &[u8],
     rules: Rules,
+    grouped: bool,
 ) -> (Vec<u64>, Vec<Frame>) {
     let mut entries = flat.corners_at(model, roots, |r| flags[r as usize] & COMPLEX != 0);
     if entries.is_empty() {
@@ -343,22 +401,26 @@ fn group_complex(
     let parts: Vec<(Vec<u32>, Vec<Frame>)> = batches
         .into_par_iter()
         .map_init(
-            || (Scratch::default(), Vec::new(), Vec::new()),
-            |(scratch, corners, faces), range| {
+            || (Scratch::default(), Vec::new(), Vec::new(), Vec::new()),
+            |(scratch, corners, faces, keys), range| {
                 let mut groups = Vec::with_capacity(range.len());
                 let mut frames = Vec::new();
                 for run in entries[range].chunk_by(|a, b| a >> 32 == b >> 32) {
                     corners.clear();
                     corners.extend(run.iter().map(|&e| e as u32));
                     faces.clear();
-                    faces.extend(corners.iter().map(|&c| {
+                    keys.clear();
+                    for &c in corners.iter() {
                         let t = c as usize / 3;
                         let o = flat.object_of_triangle(t);
                         let local = t - flat.triangle_start[o] as usize;
                         let c = flat.corners(model, o, local);
-                        face(c.positions, c.uvs, model.v_axis)
-                    }));
-                    group::group_position(corners, faces, rules, scratch, &mut frames);
+                        faces.push(face(c.positions, c.uvs, model.v_axis));
+                        if grouped {
+                            keys.push(group::smoothing_key(&model.objects[o], local));
+                        }
+                    }
+                    group::group_position(corners, faces, keys, rules, scratch, &mut frames);
                     groups.extend_from_slice(&scratch.local_group);
                 }
                 (groups, frames)
@@ -429,9 +491,33 @@ mod tests {
         Model::new(vec![part(0..7), part(6..ny)])
     }
 
+    /// [`sheet`] with smoothing groups in bands of columns (1, 2, then 0 = off), numbered
+    /// alike in both objects.
+    fn grouped_sheet() -> Model {
+        let mut model = sheet();
+        for object in &mut model.objects {
+            // Two triangles per grid cell, 24 cells per row.
+            let groups = (0..object.triangles.len())
+                .map(|t| match (t / 2) % 24 {
+                    0..10 => 1,
+                    10..20 => 2,
+                    _ => 0,
+                })
+                .collect();
+            object.smoothing_groups = Some(groups);
+        }
+        model
+    }
+
     #[test]
     fn the_shortcut_and_the_grouping_agree() {
-        let model = sheet();
+        for model in [sheet(), grouped_sheet()] {
+            shortcut_and_grouping_agree_on(&model);
+        }
+    }
+
+    fn shortcut_and_grouping_agree_on(model: &Model) {
+        let model = model.clone();
         // Without tangents, only the normal cones decide; with them, the tangent cones too.
         for (options, tangents) in
             [(FixOptions::DEFAULT, true), (FixOptions::DEFAULT, false), (FixOptions::PAPER, true)]

@@ -139,6 +139,16 @@ fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
             });
         }
     }
+    if let Some(groups) = &object.smoothing_groups
+        && groups.len() != object.triangles.len()
+    {
+        return Err(MeshError::SmoothingGroupsLength {
+            object: index,
+            name: object.name.clone(),
+            expected: object.triangles.len(),
+            actual: groups.len(),
+        });
+    }
     let Some(input_vertices) = expected.checked_sub(object.split_from.len()) else {
         return Err(MeshError::BadSplitFrom {
             object: index,
