@@ -1,7 +1,9 @@
 //! # seamlit-io
 //!
-//! Model files in and out for seamlit: Wavefront OBJ (+ MTL) through tobj, glTF 2.0 and GLB
-//! through the gltf crate, Newell's Bezier patch files, and textures through the image crate.
+//! Model files in and out for seamlit: Wavefront OBJ through seamlit's own parser (MTL through
+//! tobj), glTF 2.0 and GLB through the gltf crate (written back as a pass-through of the input
+//! document when the model came from glTF), Newell's Bezier patch files, and textures through
+//! the image crate.
 //! Every file becomes an [`Asset`]: a [`seamlit_mesh::Model`] of named objects plus the
 //! materials and textures that lighting needs.
 //!
