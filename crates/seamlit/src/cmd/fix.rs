@@ -7,9 +7,9 @@
 //! hook records the message instead of printing it (with a backtrace hint) through the
 //! progress bar; with `RUST_BACKTRACE` set (not `0`) the standard report is printed as well.
 //!
-//! Debugging aid, not shown in `--help`: with `SEAMLIT_DEBUG_PANIC_ON=TEXT` set, processing a
-//! file whose name contains TEXT panics, so that this path can be exercised (the binary's
-//! tests do).
+//! Test hook, in debug builds only (the binary's tests run one; a release build, what users
+//! install, has none): with `SEAMLIT_DEBUG_PANIC_ON=TEXT` set, processing a file whose name
+//! contains TEXT panics, so that this path can be exercised.
 
 use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, PanicHookInfo};
@@ -87,9 +87,12 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".to_owned())
 }
 
-/// The `SEAMLIT_DEBUG_PANIC_ON` debugging aid (see the module docs): panics when the file's
-/// name contains the variable's text.
+/// The `SEAMLIT_DEBUG_PANIC_ON` test hook (see the module docs): panics when the file's name
+/// contains the variable's text. Compiled out of release builds.
 fn debug_panic(input: &Path) {
+    if !cfg!(debug_assertions) {
+        return;
+    }
     let Some(text) = std::env::var_os("SEAMLIT_DEBUG_PANIC_ON") else { return };
     let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     if !text.is_empty() && name.contains(&*text.to_string_lossy()) {
