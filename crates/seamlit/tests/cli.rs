@@ -984,3 +984,15 @@ fn a_bare_model_fills_the_frame_and_sits_in_its_middle() {
     let centre = (f64::from(lo.0 + hi.0) / 400.0, f64::from(lo.1 + hi.1) / 300.0);
     assert!((centre.0 - 0.5).abs() < 0.1 && (centre.1 - 0.5).abs() < 0.1, "centre {centre:?}");
 }
+
+/// `--camera side` on a bare model (which has only the framing camera) names the cameras there
+/// are, in one line, exit status 2.
+#[test]
+fn an_unknown_camera_on_a_bare_model_lists_the_cameras_there_are() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png").display().to_string();
+    let spot = models().join("spot/spot_triangulated.obj").display().to_string();
+    let o = seamlit(&["render", &spot, "-o", &out, "--camera", "side"]);
+    assert_bad_input(&o, &["spot_triangulated.obj", "\"side\"", "there are: default"]);
+    assert!(!Path::new(&out).exists());
+}
