@@ -644,35 +644,9 @@ impl<'a> Output<'a> {
             }
             return crate::atomic::write(self.path, &serialise(&self.json, true)?);
         }
-        let mut json = serialise(&self.json, false)?;
-        while !json.len().is_multiple_of(4) {
-            json.push(b' ');
-        }
-        let bin = if has_host { host_length.next_multiple_of(4) } else { 0 };
-        let length = 12 + 8 + json.len() + if has_host { 8 + bin } else { 0 };
-        let word = |n: usize| {
-            u32::try_from(n).map_err(|_| IoError::InvalidAsset {
-                path: self.path.to_path_buf(),
-                object: String::new(),
-                reason: format!("a GLB holds at most 4 GiB; this one would take {length} bytes"),
-            })
-        };
-        let (length, json_length, bin_length) = (word(length)?, word(json.len())?, word(bin)?);
-        crate::atomic::write_with(self.path, |out| {
-            out.write_all(b"glTF")?;
-            out.write_all(&2u32.to_le_bytes())?;
-            out.write_all(&length.to_le_bytes())?;
-            out.write_all(&json_length.to_le_bytes())?;
-            out.write_all(b"JSON")?;
-            out.write_all(&json)?;
-            if has_host {
-                out.write_all(&bin_length.to_le_bytes())?;
-                out.write_all(b"BIN\0")?;
-                self.write_host(out, host_length)?;
-                out.write_all(&[0; 3][..bin - host_length])?;
-            }
-            Ok(())
-        })
+        let json = serialise(&self.json, false)?;
+        let bin = has_host.then_some(host_length);
+        crate::gltf_write::write_glb(self.path, json, bin, |out| self.write_host(out, host_length))
     }
 
     /// Writes buffer 0: the input's bytes, then the appended pieces, `length` bytes in all.

@@ -90,11 +90,29 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
     if !binary {
         return crate::atomic::write(path, &json_bytes);
     }
-    // GLB: a 12-byte header, the JSON chunk (padded with spaces), the BIN chunk (padded with
-    // zeros), each chunk behind an 8-byte header of its length and type.
-    let json_bytes = json_padded(json_bytes);
-    let bin_padded = writer.bin_len.next_multiple_of(4);
-    let length = 12 + 8 + json_bytes.len() + if bin_padded > 0 { 8 + bin_padded } else { 0 };
+    let bin = (writer.bin_len > 0).then_some(writer.bin_len);
+    write_glb(path, json_bytes, bin, |out| writer.write_bin(out))
+}
+
+/// Writes a GLB atomically: a 12-byte header, the JSON chunk (padded with spaces), and, when
+/// `bin_len` is given, the BIN chunk of that many bytes that `write_bin` writes (padded with
+/// zeros), each chunk behind an 8-byte header of its length and type.
+///
+/// # Errors
+///
+/// [`IoError::InvalidAsset`] for a file over the format's 4 GiB; [`IoError::Io`] when writing
+/// fails.
+pub(crate) fn write_glb(
+    path: &Path,
+    mut json: Vec<u8>,
+    bin_len: Option<usize>,
+    write_bin: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), IoError> {
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let bin_padded = bin_len.map(|n| n.next_multiple_of(4));
+    let length = 12 + 8 + json.len() + bin_padded.map_or(0, |b| 8 + b);
     let word = |n: usize| {
         u32::try_from(n).map_err(|_| IoError::InvalidAsset {
             path: path.to_path_buf(),
@@ -102,31 +120,23 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
             reason: format!("a GLB holds at most 4 GiB; this one would take {length} bytes"),
         })
     };
-    let (length, json_length, bin_length) =
-        (word(length)?, word(json_bytes.len())?, word(bin_padded)?);
+    let (length, json_length) = (word(length)?, word(json.len())?);
+    let bin_chunk_length = bin_padded.map(word).transpose()?;
     crate::atomic::write_with(path, |out| {
         out.write_all(b"glTF")?;
         out.write_all(&2u32.to_le_bytes())?;
         out.write_all(&length.to_le_bytes())?;
         out.write_all(&json_length.to_le_bytes())?;
         out.write_all(b"JSON")?;
-        out.write_all(&json_bytes)?;
-        if bin_padded > 0 {
-            out.write_all(&bin_length.to_le_bytes())?;
+        out.write_all(&json)?;
+        if let (Some(chunk), Some(len), Some(padded)) = (bin_chunk_length, bin_len, bin_padded) {
+            out.write_all(&chunk.to_le_bytes())?;
             out.write_all(b"BIN\0")?;
-            writer.write_bin(out)?;
-            out.write_all(&[0; 3][..bin_padded - writer.bin_len])?;
+            write_bin(out)?;
+            out.write_all(&[0; 3][..padded - len])?;
         }
         Ok(())
     })
-}
-
-/// JSON chunk padded with spaces to a multiple of four bytes, as GLB requires.
-fn json_padded(mut json: Vec<u8>) -> Vec<u8> {
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    json
 }
 
 /// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).

@@ -172,27 +172,16 @@ fn compute(
     input: Option<&Model>,
     skip: &[bool],
 ) -> Vec<usize> {
-    let input_normals = |o: usize| input.and_then(|m| m.objects[o].normals.as_deref());
     let want_tangents = options.tangents != TangentMethod::None;
-    let tangents_of = |object: &Object| want_tangents && object.uvs.is_some();
     if options.mode == Mode::Flat {
         // Flat shading: each corner takes its face's frame.
         let v_axis = model.v_axis;
         let flat = &flat;
-        return model
-            .objects
-            .par_iter_mut()
-            .enumerate()
-            .map(|(o, object)| {
-                if skip[o] {
-                    return 0;
-                }
-                let tangents = tangents_of(object);
-                write_corners(o, object, flat, tangents, input_normals(o), |_, p, uv| {
-                    [face_frame(&face(p, uv, v_axis)); 3]
-                })
+        return write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+            write_corners(o, object, flat, tangents, input, |_, p, uv| {
+                [face_frame(&face(p, uv, v_axis)); 3]
             })
-            .collect();
+        });
     }
 
     let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
@@ -214,28 +203,39 @@ fn compute(
         let tangents =
             crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
         drop((triangles, uvs));
-        return model
-            .objects
-            .par_iter_mut()
-            .enumerate()
-            .map(|(o, object)| {
-                if skip[o] {
-                    return 0;
-                }
-                let tangents_wanted = tangents_of(object);
+        return write_objects(
+            model,
+            skip,
+            want_tangents,
+            input,
+            |o, object, tangents_wanted, input| {
                 let first = flat.triangle_start[o] as usize * 3;
-                write_corners(o, object, flat, tangents_wanted, input_normals(o), |t, _, _| {
+                write_corners(o, object, flat, tangents_wanted, input, |t, _, _| {
                     let c = first + t * 3;
                     std::array::from_fn(|k| Frame {
                         normal: normals[c + k],
                         tangent: tangents[c + k],
                     })
                 })
-            })
-            .collect();
+            },
+        );
     }
 
     let smooth = &smooth;
+    write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+        write_smooth(o, object, flat, smooth, tangents, input)
+    })
+}
+
+/// Writes every object not marked in `skip` with `write(o, object, tangents wanted, input
+/// normals)`, in parallel; returns each one's count of changed normals (0 for those skipped).
+fn write_objects(
+    model: &mut Model,
+    skip: &[bool],
+    want_tangents: bool,
+    input: Option<&Model>,
+    write: impl Fn(usize, &mut Object, bool, Option<&[Vec3]>) -> usize + Sync,
+) -> Vec<usize> {
     model
         .objects
         .par_iter_mut()
@@ -244,8 +244,8 @@ fn compute(
             if skip[o] {
                 return 0;
             }
-            let tangents = tangents_of(object);
-            write_smooth(o, object, flat, smooth, tangents, input_normals(o))
+            let tangents = want_tangents && object.uvs.is_some();
+            write(o, object, tangents, input.and_then(|m| m.objects[o].normals.as_deref()))
         })
         .collect()
 }

@@ -112,15 +112,7 @@ fn seam_report_sees_the_seam_and_its_repair() {
 /// A unit cube, one object per face (the Cornell box situation), or one object with shared
 /// corners.
 fn cube(one_object: bool) -> Model {
-    let faces: [(Vec3, Vec3, Vec3); 6] = [
-        (Vec3::X, Vec3::NEG_Z, Vec3::Y),
-        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
-        (Vec3::Y, Vec3::X, Vec3::NEG_Z),
-        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
-        (Vec3::Z, Vec3::X, Vec3::Y),
-        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
-    ];
-    let quads: Vec<Object> = faces
+    let quads: Vec<Object> = common::CUBE_SIDES
         .iter()
         .enumerate()
         .map(|(i, &(n, u, v))| {
@@ -429,15 +421,11 @@ fn a_vertex_no_triangle_uses_keeps_its_input_normal() {
 /// vertex each copy duplicates.
 #[test]
 fn split_vertices_record_the_input_vertex_they_copy() {
-    let positions: Vec<Vec3> = (0..8)
-        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
-        .collect();
-    let quads =
-        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    let cube = common::shared_corner_cube();
+    let positions = cube.positions.clone();
     // Distinct UVs per input vertex, so a copy's UV tells its source too.
     let uvs = (0..8).map(|i| Vec2::new(i as f32, 0.5)).collect();
-    let model = Model::new(vec![Object::new("cube", positions.clone(), triangles).with_uvs(uvs)]);
+    let model = Model::new(vec![cube.with_uvs(uvs)]);
     let fixed = fix(&model, &FixOptions::default()).unwrap();
     let o = &fixed.objects[0];
     assert_eq!(o.input_vertex_count(), 8);
@@ -468,14 +456,8 @@ fn split_vertices_record_the_input_vertex_they_copy() {
 /// every mode, and a wrong length is refused.
 #[test]
 fn split_vertices_keep_their_colour() {
-    let positions: Vec<Vec3> = (0..8)
-        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
-        .collect();
-    let quads =
-        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
     let colors: Vec<Vec4> = (0..8).map(|i| Vec4::new(i as f32 / 8.0, 0.25, 1.0, 0.5)).collect();
-    let mut object = Object::new("cube", positions, triangles);
+    let mut object = common::shared_corner_cube();
     object.colors = Some(colors.clone());
     let model = Model::new(vec![object]);
     for mode in [Mode::Flat, Mode::Object, Mode::Model] {

@@ -11,15 +11,7 @@ use seamlit_mesh::{FixOptions, MeshError, Model, Object, TangentMethod, fix};
 /// (90 degrees apart at every corner) send every corner through the grouping; without, the
 /// cube's corners take the one-pass shortcut unless the groups forbid it: the tests try both.
 fn cube(groups: [u32; 6], uvs: bool) -> Model {
-    let sides: [(Vec3, Vec3, Vec3); 6] = [
-        (Vec3::X, Vec3::NEG_Z, Vec3::Y),
-        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
-        (Vec3::Y, Vec3::X, Vec3::NEG_Z),
-        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
-        (Vec3::Z, Vec3::X, Vec3::Y),
-        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
-    ];
-    let objects = sides
+    let objects = common::CUBE_SIDES
         .iter()
         .zip(groups)
         .enumerate()

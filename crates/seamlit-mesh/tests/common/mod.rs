@@ -155,3 +155,26 @@ pub fn teapot(n: u32) -> Model {
         .collect();
     Model::new(objects)
 }
+
+/// The six sides of the cube [-1, 1]^3, in the order +X, -X, +Y, -Y, +Z, -Z: each its outward
+/// normal and two in-plane directions (u, v) with u x v = normal.
+pub const CUBE_SIDES: [(Vec3, Vec3, Vec3); 6] = [
+    (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+    (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+    (Vec3::Y, Vec3::X, Vec3::NEG_Z),
+    (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+    (Vec3::Z, Vec3::X, Vec3::Y),
+    (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
+];
+
+/// The unit cube [0, 1]^3 as one object of 8 shared corners (vertex i at the bits of i) and 12
+/// triangles: each corner meets three faces at 90 degrees.
+pub fn shared_corner_cube() -> Object {
+    let positions: Vec<Vec3> = (0..8)
+        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+        .collect();
+    let quads =
+        [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    Object::new("cube", positions, triangles)
+}
