@@ -173,9 +173,9 @@ pub fn most_different_window(
 /// neighbour: nothing smoothed in or out, so a seam looks exactly as sharp as it is).
 #[must_use]
 pub fn zoom(image: &RgbaImage, rect: Rect, factor: u32) -> RgbaImage {
-    RgbaImage::from_fn(rect.width * factor, rect.height * factor, |x, y| {
-        *image.get_pixel(rect.x + x / factor, rect.y + y / factor)
-    })
+    use image::imageops::{FilterType, crop_imm, resize};
+    let window = crop_imm(image, rect.x, rect.y, rect.width, rect.height);
+    resize(&*window, rect.width * factor, rect.height * factor, FilterType::Nearest)
 }
 
 /// Draws a 2-pixel frame just outside `rect` (the pixels inside stay as rendered), clipped
