@@ -15,9 +15,11 @@
 //!   document names are copied beside the output.
 //!
 //! Everything else is the input JSON, kept as a [`serde_json::Value`]: unknown extensions,
-//! extras, skins, animations, cameras, materials, node transforms as written. Existing
-//! accessors, buffer views and buffers keep their indices (extensions may point at them):
-//! new ones are appended, and the accessors no primitive uses any more are left in place.
+//! extras, skins, animations, cameras, materials, node transforms as written. Accessors,
+//! buffer views and buffers the output still uses keep their indices (skins, animations and
+//! extensions point at them); the ones only the replaced data used give their places and
+//! bytes to the new data ([`crate::gltf_prune`]), unless an extension seamlit does not know
+//! could point at them.
 
 use std::collections::BTreeMap;
 use std::io::{Read, Write};
@@ -28,6 +30,7 @@ use seamlit_mesh::{Model, Object};
 use serde_json::{Map, Value, json};
 
 use crate::IoError;
+use crate::gltf_prune::Kept;
 use crate::gltf_write::{check_object, unit_normal, unit_tangent};
 
 /// The glTF document an [`crate::Asset`] was loaded from: the JSON as written, the buffers'
@@ -127,6 +130,11 @@ impl Source {
     }
 }
 
+/// An index (a non-negative integer, also written as a float).
+pub(crate) fn index(value: &Value) -> Option<usize> {
+    integer(value).and_then(|n| usize::try_from(n).ok())
+}
+
 /// A non-negative integer member of a JSON object.
 fn uint(value: &Value, key: &str) -> Option<usize> {
     value.get(key).and_then(integer).and_then(|n| usize::try_from(n).ok())
@@ -168,6 +176,7 @@ pub(crate) fn save(
     for group in instance_groups(&asset.model, &source.0.instances) {
         out.mesh(&asset.model, &group)?;
     }
+    out.prune();
     out.place_buffers_and_images()?;
     out.write()?;
     Ok(out.warnings)
@@ -268,8 +277,11 @@ struct Output<'a> {
     source: &'a Source,
     /// The output document: the input's, changed in place.
     json: Value,
-    /// Where appended data starts in buffer 0: its input length, padded to 4.
+    /// Where appended data starts in buffer 0: its input length (or, once pruned, its kept
+    /// bytes' length), padded to 4.
     base: usize,
+    /// How buffer 0's input bytes were packed by pruning; `None`: kept as they were.
+    kept: Option<Kept>,
     /// Appended data, each piece starting at a multiple of 4 bytes from `base`.
     pieces: Vec<Vec<u8>>,
     /// Bytes appended so far (pieces and their padding).
@@ -288,6 +300,7 @@ impl<'a> Output<'a> {
             source,
             json: source.json.clone(),
             base: host.next_multiple_of(4),
+            kept: None,
             pieces: Vec::new(),
             appended: 0,
             copies: Vec::new(),
@@ -333,6 +346,15 @@ impl<'a> Output<'a> {
         let accessors = self.array("accessors");
         accessors.push(accessor);
         accessors.len() - 1
+    }
+
+    /// Drops what only the input's replaced data used ([`crate::gltf_prune`]) and packs
+    /// buffer 0's remaining input bytes.
+    fn prune(&mut self) {
+        if let Some(kept) = crate::gltf_prune::prune(&self.source.json, &mut self.json, self.base) {
+            self.base = kept.length;
+            self.kept = Some(kept);
+        }
     }
 
     /// Writes one group: its primitives into the mesh, or into a clone the group's nodes
@@ -649,13 +671,33 @@ impl<'a> Output<'a> {
         crate::gltf_write::write_glb(self.path, json, bin, |out| self.write_host(out, host_length))
     }
 
-    /// Writes buffer 0: the input's bytes, then the appended pieces, `length` bytes in all.
+    /// Writes buffer 0: the input's bytes (those pruning kept), then the appended pieces,
+    /// `length` bytes in all.
     fn write_host(&self, out: &mut dyn Write, length: usize) -> std::io::Result<()> {
         let input_length = if self.appended > 0 { self.base } else { length };
         let input = self.source.buffers.first().map_or(&[][..], Vec::as_slice);
-        let kept = input.len().min(input_length);
-        out.write_all(&input[..kept])?;
-        std::io::copy(&mut std::io::repeat(0).take((input_length - kept) as u64), out)?;
+        let zeros = |out: &mut dyn Write, n: usize| {
+            std::io::copy(&mut std::io::repeat(0).take(n as u64), out).map(|_| ())
+        };
+        match &self.kept {
+            None => {
+                let kept = input.len().min(input_length);
+                out.write_all(&input[..kept])?;
+                zeros(out, input_length - kept)?;
+            }
+            Some(kept) => {
+                let mut at = 0;
+                for (range, start) in &kept.ranges {
+                    zeros(out, start - at)?;
+                    let bytes = input.get(range.start.min(input.len())..range.end.min(input.len()));
+                    let bytes = bytes.unwrap_or_default();
+                    out.write_all(bytes)?;
+                    zeros(out, range.len() - bytes.len())?;
+                    at = start + range.len();
+                }
+                zeros(out, input_length - at)?;
+            }
+        }
         let mut written = 0usize;
         for piece in &self.pieces {
             let padding = written.next_multiple_of(4) - written;

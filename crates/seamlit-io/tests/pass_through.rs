@@ -203,6 +203,16 @@ const KTX2: &[u8] = b"\xABKTX 20\xBB\r\n\x1A\nnot a real texture, kept byte for 
 /// camera, a light, KTX2 and PNG images, TRS and matrix nodes, extras and an unknown
 /// extension.
 fn everything(path: &Path) {
+    everything_with(path, true);
+}
+
+/// [`everything`] without its unknown extension (`VENDOR_materials_unknown`): every index in
+/// it is one the writer knows, so the data only replaced normals used may be pruned.
+fn everything_known(path: &Path) {
+    everything_with(path, false);
+}
+
+fn everything_with(path: &Path, unknown_extension: bool) {
     let mut b = Builder::new();
     // Mesh 0, skinned: two folds, with JOINTS_0 (u8, 4 bytes) and WEIGHTS_0.
     let mut primitives = Vec::new();
@@ -388,6 +398,16 @@ fn everything(path: &Path) {
         "VENDOR_materials_unknown",
     ]);
     b.json["extensionsRequired"] = json!(["KHR_lights_punctual"]);
+    if !unknown_extension {
+        b.json["materials"][0]["extensions"]
+            .as_object_mut()
+            .unwrap()
+            .remove("VENDOR_materials_unknown");
+        b.json["extensionsUsed"]
+            .as_array_mut()
+            .unwrap()
+            .retain(|e| e != "VENDOR_materials_unknown");
+    }
     b.json["extras"] = json!({ "pipeline": { "stage": 2 } });
     b.write(path);
 }
@@ -537,7 +557,7 @@ const CHANGED: [&str; 5] = ["accessors", "bufferViews", "buffers", "meshes", "im
 /// Compares a written file with its input as the module docs say; returns how many vertices
 /// the output has more than the input (split copies), so callers can check that the
 /// fixture really split.
-fn compare(input: &File, output: &File, what: &str) -> usize {
+fn compare(input: &File, output: &File, what: &str, pruning: Pruning) -> usize {
     // Every member but those the pass-through may change, equal.
     let members = |f: &File| f.json.as_object().unwrap().keys().cloned().collect::<BTreeSet<_>>();
     assert_eq!(members(input), members(output), "{what}: top-level members");
@@ -546,18 +566,66 @@ fn compare(input: &File, output: &File, what: &str) -> usize {
             assert_eq!(input.json[&key], output.json[&key], "{what}: {key}");
         }
     }
-    // Existing accessors and buffer views: never renumbered, never changed.
-    for key in ["accessors", "bufferViews"] {
-        let (a, b) = (input.json[key].as_array().unwrap(), output.json[key].as_array().unwrap());
-        assert!(b.len() >= a.len(), "{what}: {key} lost entries");
-        assert_eq!(&b[..a.len()], &a[..], "{what}: existing {key}");
-    }
-    // Buffers: as many; buffer 0 starts with the input's bytes.
     let (a, b) =
         (input.json["buffers"].as_array().unwrap(), output.json["buffers"].as_array().unwrap());
     assert_eq!(a.len(), b.len(), "{what}: buffers");
-    let kept = a[0]["byteLength"].as_u64().unwrap() as usize;
-    assert_eq!(&output.buffers[0][..kept], &input.buffers[0][..kept], "{what}: buffer 0 bytes");
+    match pruning {
+        Pruning::Off => {
+            // Existing accessors and buffer views: never renumbered, never changed; buffer 0
+            // starts with the input's bytes.
+            for key in ["accessors", "bufferViews"] {
+                let (a, b) =
+                    (input.json[key].as_array().unwrap(), output.json[key].as_array().unwrap());
+                assert!(b.len() >= a.len(), "{what}: {key} lost entries");
+                assert_eq!(&b[..a.len()], &a[..], "{what}: existing {key}");
+            }
+            let kept = a[0]["byteLength"].as_u64().unwrap() as usize;
+            assert_eq!(
+                &output.buffers[0][..kept],
+                &input.buffers[0][..kept],
+                "{what}: buffer 0 bytes"
+            );
+        }
+        Pruning::On => {
+            // What the output uses besides its meshes (skins, animations) and what the input
+            // left unused: the same index, the same JSON, the same bytes.
+            let (used_in, used_out) = (References::of(&input.json), References::of(&output.json));
+            let unused_in = used_in.unused(&input.json);
+            let accessors: BTreeSet<usize> =
+                used_in.outside_meshes.union(&unused_in.0).copied().collect();
+            for &i in &accessors {
+                assert_eq!(
+                    input.json["accessors"][i], output.json["accessors"][i],
+                    "{what}: accessor {i}"
+                );
+                assert_eq!(input.elements(i), output.elements(i), "{what}: accessor {i} elements");
+            }
+            let mut views: BTreeSet<usize> = unused_in.1.clone();
+            views.extend(used_in.images.iter().copied());
+            for &i in &accessors {
+                views.extend(References::views_of(&input.json["accessors"][i]));
+            }
+            for &v in &views {
+                let strip = |f: &File| {
+                    let mut view = f.json["bufferViews"][v].as_object().unwrap().clone();
+                    view.remove("byteOffset");
+                    view
+                };
+                assert_eq!(strip(input), strip(output), "{what}: buffer view {v}");
+                assert_eq!(input.view(v), output.view(v), "{what}: buffer view {v} bytes");
+            }
+            // Nothing unused but what the input left unused.
+            let unused_out = used_out.unused(&output.json);
+            assert!(
+                unused_out.0.is_subset(&unused_in.0),
+                "{what}: unused accessors {unused_out:?}, the input's {unused_in:?}"
+            );
+            assert!(
+                unused_out.1.is_subset(&unused_in.1),
+                "{what}: unused buffer views {unused_out:?}, the input's {unused_in:?}"
+            );
+        }
+    }
     // Images: the same entries, the same bytes.
     let images = input.json["images"].as_array().map_or(0, Vec::len);
     assert_eq!(output.json["images"].as_array().map_or(0, Vec::len), images, "{what}: images");
@@ -648,6 +716,96 @@ fn compare(input: &File, output: &File, what: &str) -> usize {
     added
 }
 
+/// Whether the writer may prune the input's replaced data (no unknown extension in it).
+#[derive(Clone, Copy, Debug)]
+enum Pruning {
+    On,
+    Off,
+}
+
+/// Where a document uses accessors and buffer views, read here from the specification's
+/// list of places (not with the writer's code).
+#[derive(Debug, Default)]
+struct References {
+    /// Accessors named by mesh primitives (attributes, indices, morph targets).
+    meshes: BTreeSet<usize>,
+    /// Accessors named elsewhere: skins, animation samplers, EXT_mesh_gpu_instancing.
+    outside_meshes: BTreeSet<usize>,
+    /// Buffer views named by accessors (sparse included).
+    accessor_views: BTreeSet<usize>,
+    /// Buffer views named by images.
+    images: BTreeSet<usize>,
+}
+
+impl References {
+    fn of(json: &Value) -> Self {
+        let mut r = Self::default();
+        let ids = |v: &Value| {
+            v.as_object()
+                .into_iter()
+                .flatten()
+                .filter_map(|(_, i)| i.as_u64())
+                .map(|i| i as usize)
+                .collect::<Vec<_>>()
+        };
+        for mesh in json["meshes"].as_array().into_iter().flatten() {
+            for p in mesh["primitives"].as_array().into_iter().flatten() {
+                r.meshes.extend(ids(&p["attributes"]));
+                r.meshes.extend(p["indices"].as_u64().map(|i| i as usize));
+                for t in p["targets"].as_array().into_iter().flatten() {
+                    r.meshes.extend(ids(t));
+                }
+            }
+        }
+        for skin in json["skins"].as_array().into_iter().flatten() {
+            r.outside_meshes.extend(skin["inverseBindMatrices"].as_u64().map(|i| i as usize));
+        }
+        for animation in json["animations"].as_array().into_iter().flatten() {
+            for sampler in animation["samplers"].as_array().into_iter().flatten() {
+                for key in ["input", "output"] {
+                    r.outside_meshes.extend(sampler[key].as_u64().map(|i| i as usize));
+                }
+            }
+        }
+        for node in json["nodes"].as_array().into_iter().flatten() {
+            r.outside_meshes
+                .extend(ids(&node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]));
+        }
+        for accessor in json["accessors"].as_array().into_iter().flatten() {
+            r.accessor_views.extend(Self::views_of(accessor));
+        }
+        for image in json["images"].as_array().into_iter().flatten() {
+            r.images.extend(image["bufferView"].as_u64().map(|i| i as usize));
+        }
+        r
+    }
+
+    /// The buffer views an accessor reads.
+    fn views_of(accessor: &Value) -> Vec<usize> {
+        [
+            &accessor["bufferView"],
+            &accessor["sparse"]["indices"]["bufferView"],
+            &accessor["sparse"]["values"]["bufferView"],
+        ]
+        .into_iter()
+        .filter_map(Value::as_u64)
+        .map(|i| i as usize)
+        .collect()
+    }
+
+    /// The accessors and buffer views nothing uses.
+    fn unused(&self, json: &Value) -> (BTreeSet<usize>, BTreeSet<usize>) {
+        let count = |key: &str| json[key].as_array().map_or(0, Vec::len);
+        let accessors = (0..count("accessors"))
+            .filter(|i| !self.meshes.contains(i) && !self.outside_meshes.contains(i))
+            .collect();
+        let views = (0..count("bufferViews"))
+            .filter(|i| !self.accessor_views.contains(i) && !self.images.contains(i))
+            .collect();
+        (accessors, views)
+    }
+}
+
 /// Loads `input`, fixes it in place, saves it as `output`; returns the save's warnings.
 fn fix_and_save(input: &Path, output: &Path) -> Vec<String> {
     let mut asset = seamlit_io::load(input, &LoadOptions::GEOMETRY).unwrap();
@@ -685,10 +843,39 @@ fn a_fixed_gltf_keeps_everything_seamlit_does_not_own() {
             let out = folder.join(output);
             let warnings = fix_and_save(&source, &out);
             assert!(warnings.is_empty(), "{warnings:?}");
-            let added = compare(&read(&source), &read(&out), &format!("{input} -> {output}"));
+            let added =
+                compare(&read(&source), &read(&out), &format!("{input} -> {output}"), Pruning::Off);
             // Each fold splits its two crease vertices: 4 primitives, at least 8 copies.
             assert!(added >= 8, "{input} -> {output}: only {added} vertices were split");
             assert_valid(&out);
+        }
+    }
+}
+
+#[test]
+fn the_data_only_replaced_normals_used_leaves_the_file_and_nothing_else_moves() {
+    let dir = tempfile::tempdir().unwrap();
+    for input in ["in.glb", "in.gltf"] {
+        let source = dir.path().join(input);
+        everything_known(&source);
+        assert_valid(&source);
+        for output in ["out.glb", "out.gltf"] {
+            let folder = dir.path().join(format!("{input}-{output}"));
+            std::fs::create_dir(&folder).unwrap();
+            let out = folder.join(output);
+            let warnings = fix_and_save(&source, &out);
+            assert!(warnings.is_empty(), "{warnings:?}");
+            let (a, b) = (read(&source), read(&out));
+            let added = compare(&a, &b, &format!("{input} -> {output}"), Pruning::On);
+            assert!(added >= 8, "{input} -> {output}: only {added} vertices were split");
+            assert_valid(&out);
+            // The fixture's input holds no unused data, and neither may the output.
+            assert_eq!(References::of(&a.json).unused(&a.json), Default::default());
+            // Buffer 0 holds no more than the input's bytes plus what the splits added:
+            // every attribute of a split primitive was rewritten, so at most the input's
+            // size again (with padding).
+            let length = |f: &File| f.json["buffers"][0]["byteLength"].as_u64().unwrap();
+            assert!(length(&b) < 2 * length(&a), "{} -> {}", length(&a), length(&b));
         }
     }
 }
@@ -892,7 +1079,7 @@ fn indices_keep_their_type_where_the_split_vertices_fit_and_widen_to_u32_where_n
         let (a, b) = (read(&source), read(&out));
         let indices = b.json["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
         assert_eq!(b.json["accessors"][indices]["componentType"], expected, "{component}");
-        assert_eq!(compare(&a, &b, &format!("u{component}")), 85);
+        assert_eq!(compare(&a, &b, &format!("u{component}"), Pruning::On), 85);
         assert_valid(&out);
         // The non-indexed quad has nothing to split and stays non-indexed.
         assert!(b.json["meshes"][1]["primitives"][0].get("indices").is_none());
