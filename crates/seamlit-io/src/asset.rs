@@ -144,3 +144,28 @@ pub enum TextureSource {
     /// Made in code (the demo's brick normal map); writers encode it as PNG.
     Generated,
 }
+
+impl Asset {
+    /// `options` as `seamlit fix` uses them for this asset: where an object has a normal map
+    /// but no tangents, [`TangentMethod::Mikktspace`](seamlit_mesh::TangentMethod) unless
+    /// the caller `asked` for a tangent generator (or none). The glTF specification tells
+    /// viewers to use MikkTSpace then, so that is what the map was baked for
+    /// (docs/normals.md).
+    #[must_use]
+    pub fn fix_options(
+        &self,
+        options: seamlit_mesh::FixOptions,
+        asked: bool,
+    ) -> seamlit_mesh::FixOptions {
+        use seamlit_mesh::TangentMethod;
+        let normal_mapped = |material: Option<usize>| {
+            material.and_then(|m| self.materials.get(m)).is_some_and(|m| m.normal_texture.is_some())
+        };
+        let unmapped =
+            self.model.objects.iter().any(|o| o.tangents.is_none() && normal_mapped(o.material));
+        if asked || !unmapped || options.tangents == TangentMethod::None {
+            return options;
+        }
+        seamlit_mesh::FixOptions { tangents: TangentMethod::Mikktspace, ..options }
+    }
+}

@@ -48,6 +48,41 @@ impl Default for WeldTolerance {
     }
 }
 
+/// The command line's spelling: `exact`, `rel:FRACTION` (of the bounding-box diagonal) or a
+/// distance `>= 0` in model units (`0` is `exact`).
+impl std::str::FromStr for WeldTolerance {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad =
+            || format!("{s:?} is not a tolerance: use a distance >= 0, rel:FRACTION or exact");
+        if s.eq_ignore_ascii_case("exact") {
+            return Ok(Self::Exact);
+        }
+        let number = |t: &str| t.parse::<f32>().ok().filter(|v| v.is_finite() && *v >= 0.0);
+        if let Some(rest) = s.strip_prefix("rel:") {
+            return number(rest).map(Self::Relative).ok_or_else(bad);
+        }
+        match number(s) {
+            Some(0.0) => Ok(Self::Exact),
+            Some(d) => Ok(Self::Absolute(d)),
+            None => Err(bad()),
+        }
+    }
+}
+
+/// The spelling [`WeldTolerance::from_str`](std::str::FromStr) reads: `exact`, `rel:1e-6`,
+/// `0.001`.
+impl std::fmt::Display for WeldTolerance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Self::Exact | Self::Absolute(0.0) => f.write_str("exact"),
+            Self::Relative(r) => write!(f, "rel:{r:e}"),
+            Self::Absolute(d) => write!(f, "{d}"),
+        }
+    }
+}
+
 impl WeldTolerance {
     /// The absolute tolerance for a model whose bounding-box diagonal is `diagonal`;
     /// `0.0` means exact bit equality.

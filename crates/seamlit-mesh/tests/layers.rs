@@ -53,7 +53,7 @@ fn the_geometry_and_file_crates_never_reach_the_gpu_stack() {
     for gpu in ["wgpu", "winit", "egui"] {
         assert!(binary.contains(gpu), "the parse lost {gpu} under the binary");
     }
-    for library in ["seamlit-mesh", "seamlit-io"] {
+    for library in ["seamlit-mesh", "seamlit-io", "seamlit-py"] {
         let reach = reachable(&graph, library);
         assert!(reach.len() > 5, "{library}: {reach:?}");
         for gpu in ["wgpu", "winit", "egui", "seamlit-render", "naga"] {

@@ -450,11 +450,7 @@ fn parse_angle(s: &str) -> Result<f32, String> {
 /// `rel:1e-6`, `0.001`.
 #[must_use]
 pub fn tolerance_flag(t: WeldTolerance) -> String {
-    match t {
-        WeldTolerance::Exact | WeldTolerance::Absolute(0.0) => "exact".to_owned(),
-        WeldTolerance::Relative(r) => format!("rel:{r:e}"),
-        WeldTolerance::Absolute(d) => d.to_string(),
-    }
+    t.to_string()
 }
 
 /// A weighting as `--weighting` spells it: `angle`, `area`, `angle-area`, `uniform`.
@@ -464,19 +460,7 @@ pub fn weighting_flag(w: Weighting) -> String {
 }
 
 fn parse_tolerance(s: &str) -> Result<WeldTolerance, String> {
-    let bad = || format!("{s:?} is not a tolerance: use a distance >= 0, rel:FRACTION or exact");
-    if s.eq_ignore_ascii_case("exact") {
-        return Ok(WeldTolerance::Exact);
-    }
-    let number = |t: &str| t.parse::<f32>().ok().filter(|v| v.is_finite() && *v >= 0.0);
-    if let Some(rest) = s.strip_prefix("rel:") {
-        return number(rest).map(WeldTolerance::Relative).ok_or_else(bad);
-    }
-    match number(s) {
-        Some(0.0) => Ok(WeldTolerance::Exact),
-        Some(d) => Ok(WeldTolerance::Absolute(d)),
-        None => Err(bad()),
-    }
+    s.parse()
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use seamlit_io::{Asset, LoadOptions};
-use seamlit_mesh::{FixOptions, Mode, TangentMethod};
+use seamlit_mesh::{FixOptions, Mode};
 use seamlit_render::Light;
 use seamlit_scene::{
     Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
@@ -45,21 +45,11 @@ impl FixOverride {
     }
 }
 
-/// `options` with [`TangentMethod::Mikktspace`] where an object of `asset` has a normal map
-/// but no tangents, unless the command line `asked` for a tangent generator: the glTF
-/// specification tells viewers to use MikkTSpace then, so that is what the map was baked
-/// for (docs/normals.md).
+/// `options` with the tangent generator a model with a normal map and no tangents needs,
+/// unless the command line `asked` for one ([`Asset::fix_options`]).
 #[must_use]
 pub fn default_tangents(asset: &Asset, options: FixOptions, asked: bool) -> FixOptions {
-    let normal_mapped = |material: Option<usize>| {
-        material.and_then(|m| asset.materials.get(m)).is_some_and(|m| m.normal_texture.is_some())
-    };
-    let unmapped =
-        asset.model.objects.iter().any(|o| o.tangents.is_none() && normal_mapped(o.material));
-    if asked || !unmapped || options.tangents == TangentMethod::None {
-        return options;
-    }
-    FixOptions { tangents: TangentMethod::Mikktspace, ..options }
+    asset.fix_options(options, asked)
 }
 
 impl SceneArgs {

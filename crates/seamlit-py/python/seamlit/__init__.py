@@ -1,0 +1,199 @@
+"""seamlit: normals and tangents that agree across the objects of a model.
+
+Artists deliver one surface as several objects (a head and a body, the 32 patches of a
+teapot). Each object carries its own copy of the vertices along the shared boundary, so
+normals computed object by object show a line where the objects meet under per-pixel
+lighting. seamlit smooths across all objects of the model, re-orthogonalises the tangent
+frame and keeps its handedness, so the seam is gone.
+
+Three calls, the same steps as the ``seamlit`` command line:
+
+- :func:`fix_file` -- ``seamlit fix INPUT -o OUTPUT``: a model file in, a fixed file out
+  (glTF and GLB keep everything seamlit does not own);
+- :func:`inspect` -- ``seamlit inspect``: the seam report, as loaded and after a fix;
+- :func:`fix` -- the fix on NumPy arrays, for meshes you hold in memory.
+
+Options mirror the command line's flags (``--mode``, ``--crease``, ``--weld-tolerance``,
+``--weighting``, ``--tangents``, ``--normals``); see ``seamlit fix --help``. Errors are
+:class:`SeamlitError` (a ``ValueError``) with the command line's one-line message, naming
+the file and the place, or ``FileNotFoundError`` for a missing file.
+
+For trimesh users, :func:`seamlit.trimesh.fix_scene` fixes a ``trimesh.Scene`` in place.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _seamlit
+from ._seamlit import SeamlitError, __version__
+
+__all__ = ["SeamlitError", "__version__", "fix", "fix_file", "inspect"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+_MODES = ("flat", "object", "model")
+_WEIGHTINGS = ("angle", "area", "angle-area", "uniform")
+_TANGENTS = ("seamlit", "mikktspace", "none")
+_NORMALS = ("auto", "keep", "recompute")
+
+
+def _choice(name: str, value: Optional[str], allowed: Sequence[str]) -> Optional[str]:
+    if value is None:
+        return None
+    if value not in allowed:
+        raise SeamlitError(f"{name}={value!r}: expected one of {', '.join(allowed)}")
+    return value
+
+
+def _settings(
+    mode: str,
+    crease: Optional[float],
+    weld_tolerance: Union[str, float, None],
+    weighting: Optional[str],
+    tangents: Optional[str],
+    normals: Optional[str],
+    **more: Any,
+) -> str:
+    """What the native module takes (JSON): the fix options by their Rust names, the
+    tolerance in the command line's spelling, and the other flags."""
+    options: Dict[str, Any] = {"mode": _choice("mode", mode, _MODES)}
+    if crease is not None:
+        crease = float(crease)
+        if not 0.0 <= crease <= 180.0:
+            raise SeamlitError(f"crease={crease}: expected an angle between 0 and 180 degrees")
+        options["crease_angle_deg"] = crease
+    if weighting is not None:
+        options["weighting"] = _choice("weighting", weighting, _WEIGHTINGS)
+    if tangents is not None:
+        options["tangents"] = _choice("tangents", tangents, _TANGENTS)
+    if normals is not None:
+        options["normals"] = _choice("normals", normals, _NORMALS)
+    settings: Dict[str, Any] = {"fix": options, "tangents_asked": tangents is not None}
+    if weld_tolerance is not None:
+        settings["weld_tolerance"] = str(weld_tolerance)
+    settings.update(more)
+    return json.dumps(settings)
+
+
+def fix_file(
+    input: PathLike,
+    output: PathLike,
+    *,
+    mode: str = "model",
+    crease: Optional[float] = None,
+    weld_tolerance: Union[str, float, None] = None,
+    weighting: Optional[str] = None,
+    tangents: Optional[str] = None,
+    normals: Optional[str] = None,
+    tessellation: int = 16,
+    overwrite_input: bool = False,
+) -> Dict[str, Any]:
+    """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does.
+
+    The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``). A
+    glTF or GLB input written as glTF or GLB is the input document with only normals,
+    tangents, split vertices and indices changed.
+
+    Returns a dict: ``input``, ``output``, ``options`` (as used), ``report`` (the seam
+    report after the fix), ``changes`` (per object: normals kept or computed, vertices
+    changed and split) and ``warnings``.
+    """
+    settings = _settings(
+        mode,
+        crease,
+        weld_tolerance,
+        weighting,
+        tangents,
+        normals,
+        tessellation=int(tessellation),
+        overwrite_input=bool(overwrite_input),
+    )
+    text = _seamlit.fix_file(os.fspath(input), os.fspath(output), settings)
+    return json.loads(text)
+
+
+def inspect(
+    path: PathLike,
+    *,
+    mode: str = "model",
+    crease: Optional[float] = None,
+    weld_tolerance: Union[str, float, None] = None,
+    weighting: Optional[str] = None,
+    tangents: Optional[str] = None,
+    normals: Optional[str] = None,
+    tessellation: int = 16,
+) -> Dict[str, Any]:
+    """The seam report of a model file, as loaded and after a fix; nothing is written.
+
+    Returns a dict: ``file``, ``options``, ``as_loaded`` and ``fixed`` (seam reports: shared
+    positions, the largest normal and tangent angles across object boundaries in
+    ``cross_object``...), ``changes`` and ``warnings``.
+    """
+    settings = _settings(
+        mode, crease, weld_tolerance, weighting, tangents, normals, tessellation=int(tessellation)
+    )
+    text = _seamlit.inspect(os.fspath(path), settings)
+    return json.loads(text)
+
+
+def _array(value: Any, dtype: type, name: str, index: int) -> Optional[np.ndarray]:
+    if value is None:
+        return None
+    array = np.ascontiguousarray(value, dtype=dtype)
+    if array.ndim != 2:
+        raise SeamlitError(f"object {index}: {name} must be a 2-D array, not {array.ndim}-D")
+    return array
+
+
+def fix(
+    objects: Sequence[Mapping[str, Any]],
+    *,
+    mode: str = "model",
+    crease: Optional[float] = None,
+    weld_tolerance: Union[str, float, None] = None,
+    weighting: Optional[str] = None,
+    tangents: Optional[str] = None,
+    normals: Optional[str] = None,
+) -> List[Dict[str, Any]]:
+    """Fix normals and tangents across several objects held as NumPy arrays.
+
+    Each object is a mapping with ``positions`` (n x 3 float32), ``triangles`` (m x 3
+    uint32) and optionally ``uvs`` (n x 2), ``normals`` (n x 3), ``tangents`` (n x 4, w the
+    handedness), ``transform`` (4 x 4, row-major, translation in the last column: the
+    object's placement in the model) and ``name``. Arrays of other dtypes are converted;
+    contiguous arrays of the right dtype are read without a copy.
+
+    The objects are fixed together, so the normals agree where they meet. Returns, per
+    object, a dict: ``normals`` (n' x 3), ``tangents`` (n' x 4, or ``None`` without UVs),
+    ``remap`` (n': the input vertex each output vertex copies; ``n' > n`` where a vertex
+    needed two frames and was split) and ``triangles`` (m x 3, indexing the output
+    vertices). The GIL is released while the fix runs.
+
+    Without ``normals``, an object's normals are computed; with them, ``normals="auto"``
+    (the default) keeps them and repairs only where objects meet.
+    """
+    settings = _settings(mode, crease, weld_tolerance, weighting, tangents, normals)
+    arrays = []
+    for i, o in enumerate(objects):
+        if "positions" not in o or "triangles" not in o:
+            raise SeamlitError(f"object {i}: needs 'positions' and 'triangles'")
+        arrays.append(
+            (
+                str(o.get("name", f"object{i}")),
+                _array(o["positions"], np.float32, "positions", i),
+                _array(o["triangles"], np.uint32, "triangles", i),
+                _array(o.get("uvs"), np.float32, "uvs", i),
+                _array(o.get("normals"), np.float32, "normals", i),
+                _array(o.get("tangents"), np.float32, "tangents", i),
+                _array(o.get("transform"), np.float32, "transform", i),
+            )
+        )
+    fixed = _seamlit.fix(arrays, settings)
+    return [
+        {"normals": n, "tangents": t, "remap": r, "triangles": tri} for (n, t, r, tri) in fixed
+    ]

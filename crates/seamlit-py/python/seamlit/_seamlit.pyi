@@ -1,0 +1,36 @@
+"""Type stubs for the native module (crates/seamlit-py/src/lib.rs). Call the functions of
+the ``seamlit`` package instead: they check and convert their arguments."""
+
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class SeamlitError(ValueError):
+    """A model seamlit cannot read or fix, or options it does not accept."""
+
+def fix_file(input: str, output: str, settings: str) -> str: ...
+def inspect(path: str, settings: str) -> str: ...
+def fix(
+    objects: Sequence[
+        Tuple[
+            str,
+            npt.NDArray[np.float32],
+            npt.NDArray[np.uint32],
+            Optional[npt.NDArray[np.float32]],
+            Optional[npt.NDArray[np.float32]],
+            Optional[npt.NDArray[np.float32]],
+            Optional[npt.NDArray[np.float32]],
+        ]
+    ],
+    settings: str,
+) -> List[
+    Tuple[
+        npt.NDArray[np.float32],
+        Optional[npt.NDArray[np.float32]],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.uint32],
+    ]
+]: ...

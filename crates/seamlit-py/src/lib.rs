@@ -1,0 +1,293 @@
+//! `seamlit._seamlit`: the native half of the `seamlit` Python package.
+//!
+//! The package's public functions live in `python/seamlit/__init__.py`, which checks and
+//! converts the caller's arguments (NumPy dtypes, keyword options) and calls the three
+//! functions here. Each runs the same steps as the command line and releases the GIL while
+//! the geometry work runs:
+//!
+//! - [`fix_file`]: load, choose the options for the asset ([`Asset::fix_options`]), fix in
+//!   place, measure the seams, save: `seamlit fix INPUT -o OUTPUT`;
+//! - [`inspect`]: load, measure the seams as loaded and after a fix: `seamlit inspect`;
+//! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory.
+//!
+//! Options arrive as JSON ([`Settings`]): the fix options by their serde names (e.g.
+//! `{"fix": {"mode": "model", "crease_angle_deg": 60}, "weld_tolerance": "rel:1e-6"}`).
+//! Results and reports go back as JSON text (the Python side parses it) or NumPy arrays.
+//! Errors are [`SeamlitError`] with the command line's one-line message, or
+//! `FileNotFoundError` for a missing input.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::prelude::*;
+use seamlit_io::{Asset, LoadOptions, SaveOptions};
+use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
+
+pyo3::create_exception!(
+    _seamlit,
+    SeamlitError,
+    PyValueError,
+    "A model seamlit cannot read or fix, or options it does not accept; the message names the file and the place."
+);
+
+/// The error for a message.
+fn error(message: impl std::fmt::Display) -> PyErr {
+    SeamlitError::new_err(message.to_string())
+}
+
+/// What a call asks for, as the Python side sends it (JSON): the fix options (serde names;
+/// absent members keep the defaults), the weld tolerance in the command line's spelling,
+/// and what the command line's other flags say.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Settings {
+    #[serde(default)]
+    fix: FixOptions,
+    #[serde(default)]
+    weld_tolerance: Option<String>,
+    /// Whether the caller named a tangent generator (else [`Asset::fix_options`] chooses).
+    #[serde(default)]
+    tangents_asked: bool,
+    #[serde(default = "default_tessellation")]
+    tessellation: u32,
+    #[serde(default)]
+    overwrite_input: bool,
+}
+
+/// `--tessellation`'s default.
+fn default_tessellation() -> u32 {
+    16
+}
+
+impl Settings {
+    /// The settings of a call, with the weld tolerance applied to the fix options.
+    fn parse(json: &str) -> PyResult<Self> {
+        let mut settings: Self =
+            serde_json::from_str(json).map_err(|e| error(format!("options: {e}")))?;
+        if let Some(t) = &settings.weld_tolerance {
+            settings.fix.weld_tolerance =
+                t.parse::<WeldTolerance>().map_err(|e| error(format!("weld_tolerance: {e}")))?;
+        }
+        Ok(settings)
+    }
+}
+
+/// Loads a model file as the command line does: a missing file is `FileNotFoundError`.
+fn load(path: &Path, options: &LoadOptions) -> PyResult<Asset> {
+    if !path.is_file() {
+        let what =
+            if path.is_dir() { "is a folder, expected a model file" } else { "no such file" };
+        return Err(PyFileNotFoundError::new_err(format!("{}: {what}", path.display())));
+    }
+    seamlit_io::load(path, options).map_err(error)
+}
+
+/// JSON text of a value that serialises (seamlit's reports always do).
+fn json(value: &serde_json::Value) -> PyResult<String> {
+    serde_json::to_string(value).map_err(error)
+}
+
+/// Loads `input`, fixes it, writes `output`; returns the JSON of `{"input", "output",
+/// "options", "report", "changes", "warnings"}`.
+#[pyfunction]
+fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> PyResult<String> {
+    let settings = Settings::parse(settings)?;
+    let load_options = LoadOptions { tessellation: settings.tessellation, ..LoadOptions::DEFAULT };
+    let save = SaveOptions { overwrite_input: settings.overwrite_input };
+    let run = || -> PyResult<serde_json::Value> {
+        let mut asset = load(&input, &load_options)?;
+        let options = asset.fix_options(settings.fix, settings.tangents_asked);
+        let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", input.display()));
+        let changes = seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(|e| at(&e))?;
+        let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(&options))
+            .map_err(|e| at(&e))?;
+        let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
+        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved.warnings).collect();
+        Ok(serde_json::json!({
+            "input": input.display().to_string(),
+            "output": output.display().to_string(),
+            "options": options,
+            "report": report,
+            "changes": changes,
+            "warnings": warnings,
+        }))
+    };
+    json(&py.detach(run)?)
+}
+
+/// Loads `path` and measures its seams as loaded and after a fix, without writing
+/// anything; returns the JSON of `{"file", "options", "as_loaded", "fixed", "changes",
+/// "warnings"}`.
+#[pyfunction]
+fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
+    let settings = Settings::parse(settings)?;
+    let load_options = LoadOptions { tessellation: settings.tessellation, ..LoadOptions::GEOMETRY };
+    let run = || -> PyResult<serde_json::Value> {
+        let mut asset = load(&path, &load_options)?;
+        let options = asset.fix_options(settings.fix, settings.tangents_asked);
+        let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", path.display()));
+        let report_options = ReportOptions::from(&options);
+        let as_loaded = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
+        let changes = seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(|e| at(&e))?;
+        let fixed = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
+        Ok(serde_json::json!({
+            "file": path.display().to_string(),
+            "options": options,
+            "as_loaded": as_loaded,
+            "fixed": fixed,
+            "changes": changes,
+            "warnings": asset.warnings,
+        }))
+    };
+    json(&py.detach(run)?)
+}
+
+/// One object as the Python side passes it: positions (n x 3), triangles (m x 3), optional
+/// UVs (n x 2), normals (n x 3), tangents (n x 4) and a 4 x 4 transform (row-major, the
+/// translation in the last column, as NumPy users write it).
+type ObjectArrays<'py> = (
+    String,
+    PyReadonlyArray2<'py, f32>,
+    PyReadonlyArray2<'py, u32>,
+    Option<PyReadonlyArray2<'py, f32>>,
+    Option<PyReadonlyArray2<'py, f32>>,
+    Option<PyReadonlyArray2<'py, f32>>,
+    Option<PyReadonlyArray2<'py, f32>>,
+);
+
+/// One fixed object for the Python side: normals (n' x 3), tangents (n' x 4, or none),
+/// for every vertex the input vertex it copies (n'), and the triangles (m x 3).
+type FixedArrays<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Option<Bound<'py, PyArray2<f32>>>,
+    Bound<'py, numpy::PyArray1<u32>>,
+    Bound<'py, PyArray2<u32>>,
+);
+
+/// Rows of `columns` values of a 2-D array, checked: `what` of object `index` names it in
+/// the error.
+fn rows<T: numpy::Element + Copy, const N: usize>(
+    array: &PyReadonlyArray2<'_, T>,
+    index: usize,
+    what: &str,
+) -> PyResult<Vec<[T; N]>> {
+    let shape = array.shape();
+    if shape[1] != N {
+        return Err(error(format!(
+            "object {index}: {what} must have shape (n, {N}), not ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    let values = array
+        .as_slice()
+        .map_err(|_| error(format!("object {index}: {what} is not a contiguous array")))?;
+    Ok(values.chunks_exact(N).map(|c| std::array::from_fn(|i| c[i])).collect())
+}
+
+/// A model object from the arrays of object `index`.
+fn object(index: usize, arrays: &ObjectArrays<'_>) -> PyResult<Object> {
+    let (name, positions, triangles, uvs, normals, tangents, transform) = arrays;
+    let positions = rows::<f32, 3>(positions, index, "positions")?;
+    let n = positions.len();
+    let per_vertex = |what: &str, count: usize| {
+        if count == n {
+            Ok(())
+        } else {
+            Err(error(format!("object {index}: {what} has {count} rows, positions {n}")))
+        }
+    };
+    let mut object = Object::new(
+        name.clone(),
+        positions.into_iter().map(Vec3::from_array).collect(),
+        rows::<u32, 3>(triangles, index, "triangles")?,
+    );
+    if let Some(uvs) = uvs {
+        let uvs = rows::<f32, 2>(uvs, index, "uvs")?;
+        per_vertex("uvs", uvs.len())?;
+        object.uvs = Some(uvs.into_iter().map(Vec2::from_array).collect());
+    }
+    if let Some(normals) = normals {
+        let normals = rows::<f32, 3>(normals, index, "normals")?;
+        per_vertex("normals", normals.len())?;
+        object.normals = Some(normals.into_iter().map(Vec3::from_array).collect());
+    }
+    if let Some(tangents) = tangents {
+        let tangents = rows::<f32, 4>(tangents, index, "tangents")?;
+        per_vertex("tangents", tangents.len())?;
+        object.tangents = Some(tangents.into_iter().map(Vec4::from_array).collect());
+    }
+    if let Some(transform) = transform {
+        let rows = rows::<f32, 4>(transform, index, "transform")?;
+        let [r0, r1, r2, r3]: [[f32; 4]; 4] = rows
+            .try_into()
+            .map_err(|_| error(format!("object {index}: transform must be 4 x 4")))?;
+        object.transform = Some(Mat4::from_cols_array_2d(&[r0, r1, r2, r3]).transpose());
+    }
+    Ok(object)
+}
+
+/// Fixes the objects together (one model); returns per object its normals, tangents, the
+/// input vertex each output vertex copies, and the triangles.
+#[pyfunction]
+fn fix<'py>(
+    py: Python<'py>,
+    objects: Vec<ObjectArrays<'py>>,
+    settings: &str,
+) -> PyResult<Vec<FixedArrays<'py>>> {
+    let options = Settings::parse(settings)?.fix;
+    let objects =
+        objects.iter().enumerate().map(|(i, arrays)| object(i, arrays)).collect::<PyResult<_>>()?;
+    let mut model = Model::new(objects);
+    py.detach(|| seamlit_mesh::fix_in_place(&mut model, &options)).map_err(error)?;
+    model
+        .objects
+        .into_iter()
+        .map(|object| {
+            let n = object.vertex_count();
+            let remap: Vec<u32> = (0..n as u32).map(|v| object.source_vertex(v)).collect();
+            // Normals and triangles are handed over without a copy; tangents (16-byte
+            // aligned `Vec4`s) are copied into plain floats.
+            let normals = object.normals.unwrap_or_default();
+            let normals = Array2::from_shape_vec(
+                (normals.len(), 3),
+                bytemuck::allocation::cast_vec::<Vec3, f32>(normals),
+            )
+            .map_err(error)?;
+            let tangents = object
+                .tangents
+                .map(|t| {
+                    Array2::from_shape_vec(
+                        (t.len(), 4),
+                        t.iter().flat_map(|v| v.to_array()).collect(),
+                    )
+                })
+                .transpose()
+                .map_err(error)?;
+            let triangles = Array2::from_shape_vec(
+                (object.triangles.len(), 3),
+                bytemuck::allocation::cast_vec::<[u32; 3], u32>(object.triangles),
+            )
+            .map_err(error)?;
+            Ok((
+                normals.into_pyarray(py),
+                tangents.map(|t| t.into_pyarray(py)),
+                remap.into_pyarray(py),
+                triangles.into_pyarray(py),
+            ))
+        })
+        .collect()
+}
+
+/// The module: the three functions and the error type.
+#[pymodule]
+fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("SeamlitError", m.py().get_type::<SeamlitError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(fix_file, m)?)?;
+    m.add_function(wrap_pyfunction!(inspect, m)?)?;
+    m.add_function(wrap_pyfunction!(fix, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,107 @@
+"""The Blender add-on (blender/seamlit_seams), run headless with the `bpy` package (Blender
+as a Python module): two objects sharing an edge, the operator, the custom normals read back.
+"""
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bpy
+
+REPO = Path(os.environ.get("SEAMLIT_REPO", Path(__file__).resolve().parents[3]))
+sys.path.insert(0, str(REPO / "blender"))
+
+import seamlit_seams  # noqa: E402
+
+
+@pytest.fixture(scope="module", autouse=True)
+def add_on():
+    seamlit_seams.register()
+    yield
+    seamlit_seams.unregister()
+
+
+def quad(name, corners, location=(0.0, 0.0, 0.0)):
+    """A mesh object of one quad with smooth shading, placed at `location`."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
+    mesh.shade_smooth()
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location = location
+    bpy.context.scene.collection.objects.link(obj)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    return obj
+
+
+def corner_normals(obj):
+    n = np.empty(len(obj.data.loops) * 3, np.float32)
+    obj.data.corner_normals.foreach_get("vector", n)
+    return n.reshape(-1, 3)
+
+
+def world_corners(obj):
+    """Per loop: world position and world normal."""
+    mesh = obj.data
+    m = np.array(obj.matrix_world)
+    co = np.array([mesh.vertices[l.vertex_index].co for l in mesh.loops])
+    world = co @ m[:3, :3].T + m[:3, 3]
+    n = corner_normals(obj) @ np.linalg.inv(m[:3, :3])
+    return world, n / np.linalg.norm(n, axis=1, keepdims=True)
+
+
+def seam(a, b):
+    """The largest angle between normals of a and b at positions both have."""
+    (pa, na), (pb, nb) = world_corners(a), world_corners(b)
+    worst = 0.0
+    for p, n in zip(pa, na):
+        for q, m in zip(pb, nb):
+            if np.allclose(p, q, atol=1e-5):
+                worst = max(worst, np.degrees(np.arccos(np.clip(np.dot(n, m), -1, 1))))
+    return worst
+
+
+def scene():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    flat = quad("flat", [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    # The tilted quad is modelled around its own origin and placed by its object transform.
+    tilted = quad("tilted", [(0, 0, 0), (c, 0, s), (c, 1, s), (0, 1, 0)], location=(1.0, 0.0, 0.0))
+    return flat, tilted
+
+
+def test_the_operator_closes_the_seam_and_keeps_every_other_corner(capfd):
+    flat, tilted = scene()
+    assert seam(flat, tilted) > 29.0
+    before = {o.name: corner_normals(o).copy() for o in (flat, tilted)}
+    uvs_before = len(flat.data.uv_layers)
+    assert bpy.ops.object.seamlit_fix_seams(crease=180.0) == {"FINISHED"}
+    assert seam(flat, tilted) < 0.01
+    # Corners away from the shared edge (x = 0 of the flat quad, the far edge of the tilted
+    # one) keep their normals.
+    for obj in (flat, tilted):
+        world, _ = world_corners(obj)
+        away = ~np.isclose(world[:, 0], 1.0, atol=1e-5)
+        assert away.sum() == 2
+        np.testing.assert_allclose(corner_normals(obj)[away], before[obj.name][away], atol=1e-6)
+    # The objects stay separate, their vertices and UV layers untouched.
+    assert len(flat.data.vertices) == 4 and len(tilted.data.vertices) == 4
+    assert len(flat.data.uv_layers) == uvs_before
+    out = capfd.readouterr()
+    assert "seams 30.00° before, 0.00° after" in out.out + out.err
+
+
+def test_per_object_mode_leaves_the_seam():
+    flat, tilted = scene()
+    assert bpy.ops.object.seamlit_fix_seams(mode="object", crease=180.0) == {"FINISHED"}
+    assert seam(flat, tilted) > 29.0
+
+
+def test_the_operator_registers_for_undo():
+    # Blender snapshots the meshes an UNDO operator changes; `bpy.ops.ed.undo` itself needs
+    # a window, which Blender as a Python module has not, so the flag is what is checked.
+    assert "UNDO" in seamlit_seams.OBJECT_OT_seamlit_fix_seams.bl_options
+    assert "REGISTER" in seamlit_seams.OBJECT_OT_seamlit_fix_seams.bl_options
