@@ -45,6 +45,7 @@ mod atomic;
 mod error;
 pub mod gltf;
 mod gltf_pass;
+mod gltf_spec;
 mod gltf_write;
 pub mod newell;
 pub mod obj;
