@@ -12,8 +12,8 @@
 //!   against its buffer, before a byte is read; every index against the vertex count; every
 //!   attribute for NaN and infinity.
 //!
-//! Every primitive of every mesh instance in the default scene (or the first scene) becomes an
-//! object, its transform the composition of the node transforms above it (a mesh used by two
+//! Every primitive of every mesh instance in the default scene (or the first scene; in a file
+//! without scenes, under the nodes that are no node's child) becomes an object, its transform the composition of the node transforms above it (a mesh used by two
 //! nodes is two objects). An object is named after its node (else its mesh, else
 //! `mesh{index}`), with `.{primitive}` appended when the mesh has several primitives.
 
@@ -192,18 +192,17 @@ fn read(
     // Per object: where it came from in the document, for the pass-through writer.
     let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
-    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
-        Some(scene) => scene
-            .nodes()
-            .collect::<Vec<_>>()
-            .into_iter()
-            .rev()
-            .map(|n| (n, None, Mat4::IDENTITY))
-            .collect(),
-        None => Vec::new(),
+    let roots: Vec<gltf::Node<'_>> = match &scene {
+        Some(scene) => scene.nodes().collect(),
+        None => crate::gltf_spec::root_nodes(document),
     };
+    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> =
+        roots.into_iter().rev().map(|n| (n, None, Mat4::IDENTITY)).collect();
     if scene.is_none() && document.meshes().len() > 0 {
-        warnings.push(format!("{}: no scene; nothing is placed", path.display()));
+        warnings.push(format!(
+            "{}: no scene; the nodes that are no node's child are placed as one",
+            path.display()
+        ));
     }
     let mut visited = vec![false; document.nodes().len()];
     let mut triangles = 0usize;

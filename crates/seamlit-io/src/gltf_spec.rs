@@ -19,6 +19,11 @@
 //! `KHR_animation_pointer` does); seamlit does not read animations, and the pass-through
 //! writes the document as written.
 //!
+//! A file without scenes "SHOULD be treated as a library of individual entities such as
+//! materials or meshes" (glTF 2.0, 3.5.1): seamlit places the nodes that are no node's child
+//! as if one scene listed them ([`root_nodes`]), as Blender's importer does, so that `fix`
+//! has their meshes to fix. Meshes that no node instances stay unplaced.
+//!
 //! A buffer without `uri` that is not a GLB's BIN chunk has data that "MAY be provided by
 //! an extension or other means"; seamlit has none for it. It loads as an empty buffer, and
 //! a primitive that reads from one is skipped with a warning ([`without_data`]), as one
@@ -158,4 +163,13 @@ pub(crate) fn zeros_without_view<T: Clone + Default>(
         }
         _ => read,
     }
+}
+
+/// The nodes that are no node's child, in index order: the scene of a file without scenes.
+pub(crate) fn root_nodes(document: &gltf::Document) -> Vec<gltf::Node<'_>> {
+    let mut child = vec![false; document.nodes().len()];
+    for c in document.nodes().flat_map(|n| n.children()) {
+        child[c.index()] = true;
+    }
+    document.nodes().filter(|n| !child[n.index()]).collect()
 }
