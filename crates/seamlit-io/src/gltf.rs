@@ -13,8 +13,9 @@
 //!   attribute for NaN and infinity.
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene; in a file
-//! without scenes, under the nodes that are no node's child) becomes an object, its transform the composition of the node transforms above it (a mesh used by two
-//! nodes is two objects). An object is named after its node (else its mesh, else
+//! without scenes, under the nodes that are no node's child) becomes an object, its
+//! transform the composition of the node transforms above it (a mesh used by two nodes is
+//! two objects). An object is named after its node (else its mesh, else
 //! `mesh{index}`), with `.{primitive}` appended when the mesh has several primitives.
 
 use std::collections::HashMap;
@@ -406,7 +407,7 @@ fn glb_chunks(bytes: &[u8], path: &Path) -> Result<(Range<usize>, Option<Range<u
         )),
         [(kind, _), ..] => Err(err(format!(
             "the first chunk is {}, not JSON",
-            String::from_utf8_lossy(&kind.to_le_bytes())
+            String::from_utf8_lossy(&kind.to_le_bytes()).trim_end_matches('\0')
         ))),
         [] => Err(err("no JSON chunk".to_owned())),
     }

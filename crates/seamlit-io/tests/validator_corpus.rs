@@ -202,3 +202,58 @@ fn an_index_accessor_without_data_is_zeros() {
     let asset = seamlit_io::gltf::load(&file, &LoadOptions::default()).unwrap();
     assert_eq!(asset.model.objects[0].triangles, vec![[0, 0, 0], [0, 0, 0]]);
 }
+
+/// A GLB: the 12-byte header, then each chunk (type, data padded to 4 bytes), then `trailing`
+/// bytes after the declared length.
+fn glb(chunks: &[(&[u8; 4], &[u8])], trailing: &[u8]) -> Vec<u8> {
+    let mut body = Vec::new();
+    for (kind, data) in chunks {
+        let padded = data.len().next_multiple_of(4);
+        body.extend_from_slice(&u32::try_from(padded).unwrap().to_le_bytes());
+        body.extend_from_slice(*kind);
+        body.extend_from_slice(data);
+        body.resize(body.len() + padded - data.len(), if *kind == b"JSON" { b' ' } else { 0 });
+    }
+    let mut file = b"glTF".to_vec();
+    file.extend_from_slice(&2u32.to_le_bytes());
+    file.extend_from_slice(&u32::try_from(12 + body.len()).unwrap().to_le_bytes());
+    file.extend(body);
+    file.extend_from_slice(trailing);
+    file
+}
+
+/// "Client implementations MUST ignore chunks with unknown types" (glTF 2.0, 4.4.3), and
+/// bytes after the declared length are not part of the GLB.
+#[test]
+fn a_glb_with_an_unknown_chunk_and_trailing_bytes_loads() {
+    let positions: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .into_iter()
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let json = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "buffers": [{ "byteLength": 36 }],
+        "bufferViews": [{ "buffer": 0, "byteLength": 36 }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0] }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 } }] }],
+        "nodes": [{ "mesh": 0 }],
+        "scenes": [{ "nodes": [0] }],
+    });
+    let json = serde_json::to_vec(&json).unwrap();
+    let bytes = glb(&[(b"JSON", &json), (b"BIN\0", &positions), (b"XTRA", b"unknown")], b"end");
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("chunks.glb");
+    std::fs::write(&file, &bytes).unwrap();
+    assert_eq!(common::validate(&file).0, 0, "the fixture is valid glTF");
+    let asset = seamlit_io::gltf::load(&file, &LoadOptions::default()).unwrap();
+    let read: Vec<[f32; 3]> =
+        asset.model.objects[0].positions.iter().map(|p| p.to_array()).collect();
+    assert_eq!(read, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+
+    // The JSON chunk must come first.
+    let swapped = glb(&[(b"BIN\0", &positions), (b"JSON", &json)], b"");
+    std::fs::write(&file, &swapped).unwrap();
+    let error = seamlit_io::gltf::load(&file, &LoadOptions::default()).unwrap_err().to_string();
+    assert!(error.contains("GLB container: the first chunk is BIN"), "{error}");
+}
