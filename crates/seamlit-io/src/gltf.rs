@@ -1,8 +1,9 @@
 //! glTF 2.0 and GLB in, through the gltf crate.
 //!
-//! The JSON (and GLB container) is parsed and validated by `gltf::Gltf::from_slice`; buffers
-//! and images are resolved here, so that this reader decides what a URI may point to and
-//! names the place of every problem:
+//! The JSON is parsed and validated by gltf-json, less the few rules in which it is stricter
+//! than the specification (`gltf_spec`); the GLB container is split by its chunk headers
+//! here. Buffers and images are resolved here, so that this reader decides what a URI may
+//! point to and names the place of every problem:
 //!
 //! - buffers and images come from the GLB `BIN` chunk, `data:` URIs (base64) or files beside
 //!   the model; a URI that leaves the model's folder (`../`, an absolute path, a symbolic
@@ -11,12 +12,14 @@
 //!   against its buffer, before a byte is read; every index against the vertex count; every
 //!   attribute for NaN and infinity.
 //!
-//! Every primitive of every mesh instance in the default scene (or the first scene) becomes an
-//! object, its transform the composition of the node transforms above it (a mesh used by two
-//! nodes is two objects). An object is named after its node (else its mesh, else
+//! Every primitive of every mesh instance in the default scene (or the first scene; in a file
+//! without scenes, under the nodes that are no node's child) becomes an object, its
+//! transform the composition of the node transforms above it (a mesh used by two nodes is
+//! two objects). An object is named after its node (else its mesh, else
 //! `mesh{index}`), with `.{primitive}` appended when the mesh has several primitives.
 
 use std::collections::HashMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -75,13 +78,9 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
 fn document(
     bytes: &[u8],
     path: &Path,
-) -> Result<(gltf::Document, serde_json::Value, Option<std::ops::Range<usize>>), IoError> {
+) -> Result<(gltf::Document, serde_json::Value, Option<Range<usize>>), IoError> {
     let (json, bin) = if bytes.starts_with(b"glTF") {
-        check_glb_container(bytes, path)?;
-        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| gltf_error(e, path))?;
-        // 12-byte header, 8-byte chunk header, JSON, 8-byte chunk header, BIN.
-        let json = 20..20 + glb.json.len();
-        let bin = glb.bin.as_ref().map(|bin| json.end + 8..json.end + 8 + bin.len());
+        let (json, bin) = glb_chunks(bytes, path)?;
         (&bytes[json], bin)
     } else {
         (bytes, None)
@@ -101,14 +100,16 @@ fn document(
     // The gltf crate refuses every required extension it does not implement; seamlit passes
     // through the ones that do not change how geometry is read (checked above).
     root.extensions_required.clear();
-    let document = gltf::Document::from_json(root).map_err(|e| gltf_error(e, path))?;
+    crate::gltf_spec::validate(&root).map_err(|e| gltf_error(e, path))?;
+    let document = gltf::Document::from_json_without_validation(root);
     Ok((document, value, bin))
 }
 
 /// What the specification allows and gltf-json 1.4.1 refuses, made acceptable to it: a
-/// scene without `nodes` (an empty scene) gets `"nodes": []`, and whole numbers written as
-/// floats (`"count": 3.0`) become integers (float fields read integers as well). `None`
-/// when there is nothing to change.
+/// scene without `nodes` (an empty scene) gets `"nodes": []`, whole numbers written as
+/// floats (`"count": 3.0`) become integers (float fields read integers as well), and
+/// animation channels without a target node are dropped (see `gltf_spec`). `None` when
+/// there is nothing to change.
 fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
     fn patch(value: &mut serde_json::Value, changed: &mut bool) {
         match value {
@@ -129,7 +130,7 @@ fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
         }
     }
     let mut patched = document.clone();
-    let mut changed = false;
+    let mut changed = crate::gltf_spec::drop_channels_without_node(&mut patched);
     patch(&mut patched, &mut changed);
     let scenes = patched.get_mut("scenes").and_then(serde_json::Value::as_array_mut);
     for scene in scenes.into_iter().flatten().filter_map(serde_json::Value::as_object_mut) {
@@ -176,9 +177,10 @@ fn read(
 ) -> Result<Asset, IoError> {
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
+    let without_data = crate::gltf_spec::buffers_without_data(document, blob.is_some());
     let buffers = reader.buffers(document, blob)?;
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
-    reader.check_views(document, &buffers)?;
+    reader.check_views(document, &buffers, &without_data)?;
 
     let mut asset = Asset::default();
     let mut warnings = Vec::new();
@@ -191,18 +193,17 @@ fn read(
     // Per object: where it came from in the document, for the pass-through writer.
     let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
-    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> = match &scene {
-        Some(scene) => scene
-            .nodes()
-            .collect::<Vec<_>>()
-            .into_iter()
-            .rev()
-            .map(|n| (n, None, Mat4::IDENTITY))
-            .collect(),
-        None => Vec::new(),
+    let roots: Vec<gltf::Node<'_>> = match &scene {
+        Some(scene) => scene.nodes().collect(),
+        None => crate::gltf_spec::root_nodes(document),
     };
+    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> =
+        roots.into_iter().rev().map(|n| (n, None, Mat4::IDENTITY)).collect();
     if scene.is_none() && document.meshes().len() > 0 {
-        warnings.push(format!("{}: no scene; nothing is placed", path.display()));
+        warnings.push(format!(
+            "{}: no scene; the nodes that are no node's child are placed as one",
+            path.display()
+        ));
     }
     let mut visited = vec![false; document.nodes().len()];
     let mut triangles = 0usize;
@@ -236,6 +237,17 @@ fn read(
                 let object = match decoded.get(&key) {
                     Some(&first) => asset.model.objects[first].clone(),
                     None => {
+                        if let Some(reason) =
+                            crate::gltf_spec::without_data(&primitive, &without_data)
+                        {
+                            warnings.push(format!(
+                                "{}: mesh {} primitive {} skipped: {reason}",
+                                path.display(),
+                                mesh.index(),
+                                primitive.index()
+                            ));
+                            continue;
+                        }
                         let Some(object) =
                             reader.primitive(&mesh, &primitive, &buffers, &mut warnings)?
                         else {
@@ -342,9 +354,12 @@ fn check_image_sources(root: &gltf::json::Root, path: &Path) -> Result<(), IoErr
     Ok(())
 }
 
-/// Checks the 12-byte GLB header and the chunk headers against the file's length, so a
-/// truncated file gets a message that says how much is missing.
-fn check_glb_container(bytes: &[u8], path: &Path) -> Result<(), IoError> {
+/// The JSON chunk's and, when the second chunk is one, the BIN chunk's data in GLB `bytes`,
+/// after checking the 12-byte header and the chunk headers against the declared length, so
+/// that a truncated file gets a message that says how much is missing. As the
+/// specification allows, bytes after the declared length and chunks of other types after
+/// the first two are ignored.
+fn glb_chunks(bytes: &[u8], path: &Path) -> Result<(Range<usize>, Option<Range<usize>>), IoError> {
     let err = |reason: String| IoError::Gltf {
         path: path.to_path_buf(),
         place: "GLB container".to_owned(),
@@ -368,6 +383,7 @@ fn check_glb_container(bytes: &[u8], path: &Path) -> Result<(), IoError> {
     }
     let mut at = 12;
     let mut chunk = 0;
+    let mut chunks = Vec::new();
     while at < declared {
         let (Some(length), Some(kind)) = (word(at), word(at + 4)) else {
             return Err(err(format!("truncated: chunk {chunk} header at byte {at} is incomplete")));
@@ -380,14 +396,30 @@ fn check_glb_container(bytes: &[u8], path: &Path) -> Result<(), IoError> {
                 at + 8
             )));
         }
+        chunks.push((kind, at + 8..end as usize));
         at = end as usize;
         chunk += 1;
     }
-    if chunk == 0 {
-        return Err(err("no JSON chunk".to_owned()));
+    match chunks.as_slice() {
+        [(JSON_CHUNK, json), rest @ ..] => Ok((
+            json.clone(),
+            rest.first().filter(|(kind, _)| *kind == BIN_CHUNK).map(|(_, bin)| bin.clone()),
+        )),
+        [(kind, _), ..] => Err(err(format!(
+            "the first chunk is {}, not JSON",
+            String::from_utf8_lossy(&kind.to_le_bytes()).trim_end_matches('\0')
+        ))),
+        [] => Err(err("no JSON chunk".to_owned())),
     }
-    Ok(())
 }
+
+/// GLB chunk types: `JSON` and `BIN\0`, little-endian.
+const JSON_CHUNK: u32 = 0x4E4F_534A;
+const BIN_CHUNK: u32 = 0x004E_4942;
+
+/// The bytes an accessor without a buffer view (zeros, plus sparse values) may take when the
+/// file's buffers hold fewer: small all-zero accessors need no buffer at all.
+const ZEROS_FLOOR: u64 = 1 << 20;
 
 fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
     let (place, reason) = match error {
@@ -545,12 +577,14 @@ impl Reader<'_> {
         for buffer in document.buffers() {
             let what = format!("buffer {}", buffer.index());
             let data = match buffer.source() {
-                gltf::buffer::Source::Bin => blob.take().ok_or_else(|| IoError::Gltf {
-                    path: self.path.to_path_buf(),
-                    place: format!("buffers[{}]", buffer.index()),
-                    reason: "refers to the GLB BIN chunk, which is missing (or used twice)"
-                        .to_owned(),
-                })?,
+                gltf::buffer::Source::Bin => match blob.take() {
+                    Some(blob) => blob,
+                    // No uri and not the BIN chunk: no data (see `gltf_spec`).
+                    None => {
+                        buffers.push(Vec::new());
+                        continue;
+                    }
+                },
                 gltf::buffer::Source::Uri(uri) => match self.resolve(uri, &what)? {
                     Resolved::Data(bytes, _) => bytes,
                     Resolved::File { file, real } => {
@@ -583,9 +617,15 @@ impl Reader<'_> {
         Ok(buffers)
     }
 
-    /// Every buffer view must lie inside its buffer.
-    fn check_views(&self, document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), IoError> {
-        for view in document.views() {
+    /// Every buffer view must lie inside its buffer (but those of buffers `without_data`,
+    /// which no primitive reads).
+    fn check_views(
+        &self,
+        document: &gltf::Document,
+        buffers: &[Vec<u8>],
+        without_data: &[usize],
+    ) -> Result<(), IoError> {
+        for view in document.views().filter(|v| !without_data.contains(&v.buffer().index())) {
             let end = (view.offset() as u64).saturating_add(view.length() as u64);
             let available = buffers.get(view.buffer().index()).map_or(0, Vec::len) as u64;
             if end > available {
@@ -658,15 +698,12 @@ impl Reader<'_> {
         };
         match (accessor.view(), accessor.sparse()) {
             (Some(view), _) => check(view, accessor.offset() as u64, count, element)?,
-            (None, None) => {
-                return Err(bad(format!("{attribute} has neither a buffer view nor sparse data")));
-            }
-            // A sparse accessor without a view is zeros plus its sparse values: its count
-            // costs memory that the file does not hold, so it may not exceed the file's bytes.
-            (None, Some(_)) => {
-                if count.saturating_mul(element) > self.buffer_bytes {
+            // An accessor without a view is zeros (plus its sparse values): its count costs
+            // memory that the file does not hold, so it may not exceed the file's bytes.
+            (None, _) => {
+                if count.saturating_mul(element) > self.buffer_bytes.max(ZEROS_FLOOR) {
                     return Err(bad(format!(
-                        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes can hold",
+                        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes (or 1 MiB) can hold",
                         self.buffer_bytes
                     )));
                 }
@@ -828,10 +865,13 @@ impl Reader<'_> {
         }
 
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-        let positions: Vec<Vec3> = reader
-            .read_positions()
-            .map(|it| it.map(Vec3::from_array).collect())
-            .unwrap_or_default();
+        // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
+        let get = |semantic| primitive.get(&semantic);
+        let positions: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
+            Some(&position_accessor),
+            reader.read_positions().map(|it| it.map(Vec3::from_array).collect()),
+        )
+        .unwrap_or_default();
         let short = |accessor: &gltf::Accessor<'_>, got: usize| IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
@@ -860,14 +900,22 @@ impl Reader<'_> {
             &|i| positions[i].is_finite(),
             vertex_count,
         )?;
-        let normals: Option<Vec<Vec3>> =
-            reader.read_normals().map(|it| it.map(Vec3::from_array).collect());
-        let tangents: Option<Vec<Vec4>> =
-            reader.read_tangents().map(|it| it.map(Vec4::from_array).collect());
-        let uvs: Option<Vec<Vec2>> =
-            reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect());
-        let colors: Option<Vec<Vec4>> =
-            reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect());
+        let normals: Option<Vec<Vec3>> = crate::gltf_spec::zeros_without_view(
+            get(gltf::Semantic::Normals).as_ref(),
+            reader.read_normals().map(|it| it.map(Vec3::from_array).collect()),
+        );
+        let tangents: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
+            get(gltf::Semantic::Tangents).as_ref(),
+            reader.read_tangents().map(|it| it.map(Vec4::from_array).collect()),
+        );
+        let uvs: Option<Vec<Vec2>> = crate::gltf_spec::zeros_without_view(
+            get(gltf::Semantic::TexCoords(0)).as_ref(),
+            reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect()),
+        );
+        let colors: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
+            get(gltf::Semantic::Colors(0)).as_ref(),
+            reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect()),
+        );
         if let Some(n) = &normals {
             let accessor = primitive.get(&gltf::Semantic::Normals);
             if n.len() != vertex_count {
@@ -896,9 +944,13 @@ impl Reader<'_> {
             }
             finite(accessor, "COLOR_0", &|i| c[i].is_finite(), vertex_count)?;
         }
-        let triangles: Vec<[u32; 3]> = match (&index_accessor, reader.read_indices()) {
+        let indices = crate::gltf_spec::zeros_without_view(
+            index_accessor.as_ref(),
+            reader.read_indices().map(|read| read.into_u32().collect::<Vec<u32>>()),
+        );
+        let triangles: Vec<[u32; 3]> = match (&index_accessor, indices) {
             (Some(accessor), Some(read)) => {
-                let mut read = read.into_u32();
+                let mut read = read.into_iter();
                 let mut triangles = Vec::with_capacity(accessor.count() / 3);
                 while let (Some(a), Some(b), Some(c)) = (read.next(), read.next(), read.next()) {
                     triangles.push([a, b, c]);

@@ -552,6 +552,9 @@ impl<'a> Output<'a> {
             }
             self.copy(&uri, &what)?;
         }
+        if self.host_without_data() {
+            return self.keep_host_without_data();
+        }
         if buffer_count == 0 {
             if self.appended == 0 {
                 return Ok(());
@@ -645,7 +648,7 @@ impl<'a> Output<'a> {
                 std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ())
             })?;
         }
-        let has_host = self.json["buffers"].get(0).is_some();
+        let has_host = self.json["buffers"].get(0).is_some() && !self.host_without_data();
         let host_length = self.json["buffers"].get(0).and_then(|b| uint(b, "byteLength"));
         let host_length = host_length.unwrap_or(0);
         let folder = self.path.parent().unwrap_or(Path::new(""));
@@ -850,4 +853,34 @@ fn view_bytes(
         });
     };
     Ok((data, uint(view, "byteStride").unwrap_or(element)))
+}
+
+impl Output<'_> {
+    /// Whether buffer 0 of the input has no data: no `uri` and not a GLB's BIN chunk (valid
+    /// glTF: its data "MAY be provided by an extension or other means"; see `gltf_spec`).
+    fn host_without_data(&self) -> bool {
+        let host = &self.source.json["buffers"][0];
+        host.is_object()
+            && host.get("uri").is_none()
+            && self.source.buffers.first().map_or(0, Vec::len)
+                < uint(host, "byteLength").unwrap_or(0)
+    }
+
+    /// Buffer 0 without data is written as it was (no `uri`) in a `.gltf`. A GLB cannot
+    /// hold it (there, buffer 0 without `uri` is the BIN chunk), and nothing can be appended
+    /// to it.
+    fn keep_host_without_data(&self) -> Result<(), IoError> {
+        let reason = if self.binary {
+            "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere), and a GLB's buffer 0 without uri is its BIN chunk: write it as .gltf"
+        } else if self.appended > 0 {
+            "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere): the new normals and tangents cannot be appended to it"
+        } else {
+            return Ok(());
+        };
+        Err(IoError::InvalidAsset {
+            path: self.path.to_path_buf(),
+            object: String::new(),
+            reason: reason.to_owned(),
+        })
+    }
 }

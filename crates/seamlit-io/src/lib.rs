@@ -46,6 +46,7 @@ mod error;
 pub mod gltf;
 mod gltf_pass;
 mod gltf_prune;
+mod gltf_spec;
 mod gltf_write;
 pub mod newell;
 pub mod obj;

@@ -1,6 +1,8 @@
-// Runs the Khronos glTF Validator (npm package gltf-validator) on one .gltf or .glb file.
-// Usage: node validate.cjs FILE
-// Prints one JSON line: {"errors": N, "warnings": N, "messages": [first error messages]}.
+// Runs the Khronos glTF Validator (npm package gltf-validator) on .gltf or .glb files.
+// Usage: node validate.cjs FILE [FILE...]
+// Prints one JSON line per file, in order: {"file": FILE, "errors": N, "warnings": N,
+// "messages": [first error messages], "warning_messages": [...]}. One node start-up for
+// many files saves about a quarter of a second per file.
 // The validator is looked up in the repository's .ci/node (installed by .ci/run), then in
 // the ordinary module path.
 "use strict";
@@ -16,35 +18,41 @@ function loadValidator() {
   }
 }
 
-const file = process.argv[2];
+function validate(file) {
+  const bytes = fs.readFileSync(file);
+  return validator
+    .validateBytes(new Uint8Array(bytes), {
+      uri: path.basename(file),
+      maxIssues: 100,
+      externalResourceFunction: (uri) =>
+        new Promise((resolve, reject) => {
+          fs.readFile(path.resolve(path.dirname(file), decodeURIComponent(uri)), (err, data) =>
+            err ? reject(err.toString()) : resolve(new Uint8Array(data)));
+        }),
+    })
+    .then((report) => {
+      const messages = report.issues.messages
+        .filter((m) => m.severity === 0)
+        .slice(0, 10)
+        .map((m) => `${m.code} at ${m.pointer || ""}: ${m.message}`);
+      const warnings = report.issues.messages
+        .filter((m) => m.severity === 1)
+        .slice(0, 10)
+        .map((m) => `${m.code} at ${m.pointer || ""}: ${m.message}`);
+      console.log(JSON.stringify({
+        file,
+        errors: report.issues.numErrors,
+        warnings: report.issues.numWarnings,
+        messages,
+        warning_messages: warnings,
+      }));
+    });
+}
+
 const validator = loadValidator();
-const bytes = fs.readFileSync(file);
-validator
-  .validateBytes(new Uint8Array(bytes), {
-    uri: path.basename(file),
-    maxIssues: 100,
-    externalResourceFunction: (uri) =>
-      new Promise((resolve, reject) => {
-        fs.readFile(path.resolve(path.dirname(file), decodeURIComponent(uri)), (err, data) =>
-          err ? reject(err.toString()) : resolve(new Uint8Array(data)));
-      }),
-  })
-  .then((report) => {
-    const messages = report.issues.messages
-      .filter((m) => m.severity === 0)
-      .slice(0, 10)
-      .map((m) => `${m.code} at ${m.pointer || ""}: ${m.message}`);
-    const warnings = report.issues.messages
-      .filter((m) => m.severity === 1)
-      .slice(0, 10)
-      .map((m) => `${m.code} at ${m.pointer || ""}: ${m.message}`);
-    console.log(JSON.stringify({
-      errors: report.issues.numErrors,
-      warnings: report.issues.numWarnings,
-      messages,
-      warning_messages: warnings,
-    }));
-  })
+process.argv
+  .slice(2)
+  .reduce((done, file) => done.then(() => validate(file)), Promise.resolve())
   .catch((error) => {
     console.error("validator failed: " + error);
     process.exit(2);

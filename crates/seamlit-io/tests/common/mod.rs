@@ -104,3 +104,30 @@ pub fn validate(file: &Path) -> (u64, String) {
     let report: serde_json::Value = serde_json::from_str(stdout.trim()).expect("validator report");
     (report["errors"].as_u64().expect("error count"), stdout)
 }
+
+/// Runs the Khronos glTF Validator on many files with one node start-up: per file, in order,
+/// the number of errors and the report line (as [`validate`]).
+pub fn validate_many(files: &[PathBuf]) -> Vec<(u64, String)> {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/validate.cjs");
+    let output = Command::new("node")
+        .arg(script)
+        .args(files)
+        .output()
+        .expect("node is needed for the glTF validator test (Debian package nodejs)");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "the glTF validator did not run (install it: npm install --prefix .ci/node gltf-validator): {}{}",
+        stdout,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let reports: Vec<(u64, String)> = stdout
+        .lines()
+        .map(|line| {
+            let report: serde_json::Value = serde_json::from_str(line).expect("validator report");
+            (report["errors"].as_u64().expect("error count"), line.to_owned())
+        })
+        .collect();
+    assert_eq!(reports.len(), files.len(), "one report per file: {stdout}");
+    reports
+}
