@@ -49,6 +49,7 @@ mod gltf_write;
 pub mod newell;
 pub mod obj;
 mod obj_parse;
+mod obj_pass;
 mod obj_write;
 mod options;
 mod paths;
@@ -58,7 +59,7 @@ mod texture;
 use std::path::Path;
 
 pub use asset::{
-    Asset, GltfSource, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, GltfSource, Material, Node, ObjSource, Texture, TextureRef, TextureSource, UvTransform,
 };
 pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};
@@ -171,7 +172,22 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             }
             gltf_write::save(asset, path, binary)?;
         }
-        Some("obj") => obj_write::save(asset, path)?,
+        Some("obj") => {
+            report.warnings.extend(obj_pass::tangents_not_written(&asset.model, path));
+            if let Some(source) = &asset.obj_source {
+                match source.lines_up(&asset.model) {
+                    Ok(()) => {
+                        report.warnings.extend(obj_pass::save(asset, source, path)?);
+                        return Ok(report);
+                    }
+                    Err(reason) => report.warnings.push(format!(
+                        "{}: written by the generic OBJ writer (the material library is regenerated from seamlit's materials; comments, groups and statements seamlit does not use are not kept): {reason}",
+                        path.display()
+                    )),
+                }
+            }
+            obj_write::save(asset, path)?;
+        }
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)
