@@ -15,6 +15,9 @@
 //! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
 //! model's folder are refused. An index out of range is placed by a diagnostic pass over the
 //! text that names the line.
+//!
+//! The loaded asset keeps the file's text and where each object's faces are in it
+//! ([`crate::ObjSource`]), for the OBJ pass-through writer (`obj_pass`).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -3,8 +3,9 @@
 //!
 //! What changes (design: `docs/obj-pass-through.md`):
 //!
-//! - the input's `vn` lines are left out, and each object's fixed normals (distinct values,
-//!   in vertex order) are written as `vn` lines just before its first face;
+//! - the input's `vn` lines are left out, and each object's fixed normals are written as
+//!   `vn` lines just before its first face: each distinct value once in the file, in vertex
+//!   order (an object's normals that an earlier object wrote are not repeated);
 //! - each face corner's normal reference points at its corner's fixed normal (`v//vn`,
 //!   `v/vt/vn`; a corner written `v` or `v/vt` gets one); its `v` and `vt` references stay as
 //!   written, relative ones too, and a face keeps its corners, however seamlit triangulated
@@ -202,20 +203,16 @@ struct Run {
     local: usize,
 }
 
-/// Each object's normals as written: the OBJ index of its first `vn` line, and per vertex
-/// which of its distinct normals it has.
-struct WrittenNormals {
-    base: usize,
-    of_vertex: Vec<u32>,
-}
+/// The normals written so far: each distinct value (bits) once, with its OBJ index.
+type Written = HashMap<[u32; 3], usize>;
 
 /// The input text with the `vn` lines replaced by the model's and the faces' normal
 /// references pointing at them; `Err` says where the text and the model disagree.
 fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, String> {
     let runs = file_order_runs(&source.objects);
-    let mut written: Vec<Option<WrittenNormals>> = Vec::new();
-    written.resize_with(model.objects.len(), || None);
-    let mut next_normal = 1;
+    // Per object, once its first face is reached: the OBJ index of each vertex's normal.
+    let mut normal_index: Vec<Option<Vec<usize>>> = vec![None; model.objects.len()];
+    let mut written = Written::new();
     let mut triangle = 0;
     let mut run = 0;
     let (bom, body) = match source.text.strip_prefix(UTF8_BOM) {
@@ -243,9 +240,9 @@ fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, String> {
                 let first = place.local + (triangle - place.first);
                 triangle += count;
                 let object = &model.objects[place.object];
-                let normals = match &mut written[place.object] {
+                let normals = match &mut normal_index[place.object] {
                     Some(normals) => normals,
-                    slot => slot.insert(write_normals(&mut out, object, &mut next_normal, line)),
+                    slot => slot.insert(write_normals(&mut out, object, &mut written, line)),
                 };
                 let normal_of = |c: usize| {
                     let (t, slot) = corner_place(
@@ -259,12 +256,7 @@ fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, String> {
                         format!("line {}: corner {} is not in its triangles", number + 1, c + 1)
                     })?;
                     let vertex = object.triangles[t][slot] as usize;
-                    Ok::<_, String>(
-                        object
-                            .normals
-                            .as_ref()
-                            .map(|_| normals.base + normals.of_vertex[vertex] as usize),
-                    )
+                    Ok::<_, String>(object.normals.as_ref().map(|_| normals[vertex]))
                 };
                 let mut references = Vec::with_capacity(corners.len());
                 for c in 0..corners.len() {
@@ -300,34 +292,29 @@ fn file_order_runs(objects: &[SourceObject]) -> Vec<Run> {
     runs
 }
 
-/// Writes `object`'s distinct normals as `vn` lines (ending as `line` ends) and says which
-/// each vertex has. An object without normals writes none.
+/// Writes the normals of `object` that no earlier object wrote as `vn` lines (ending as
+/// `line` ends), each distinct value once; returns the OBJ index of each vertex's normal
+/// (none for an object without normals).
 fn write_normals(
     out: &mut Vec<u8>,
     object: &Object,
-    next_normal: &mut usize,
+    written: &mut Written,
     line: &[u8],
-) -> WrittenNormals {
+) -> Vec<usize> {
     let end: &[u8] = if line.ends_with(b"\r\n") { b"\r\n" } else { b"\n" };
-    let base = *next_normal;
-    let Some(normals) = &object.normals else {
-        return WrittenNormals { base, of_vertex: Vec::new() };
-    };
-    let mut distinct: HashMap<[u32; 3], u32> = HashMap::new();
-    let of_vertex = normals
+    let Some(normals) = &object.normals else { return Vec::new() };
+    normals
         .iter()
         .map(|n| {
-            let next = distinct.len() as u32;
-            *distinct.entry(n.to_array().map(f32::to_bits)).or_insert_with(|| {
+            let next = written.len() + 1;
+            *written.entry(n.to_array().map(f32::to_bits)).or_insert_with(|| {
                 // Writing to a Vec<u8> cannot fail.
                 let _ = write!(out, "vn {} {} {}", n.x, n.y, n.z);
                 out.extend_from_slice(end);
                 next
             })
         })
-        .collect();
-    *next_normal += distinct.len();
-    WrittenNormals { base, of_vertex }
+        .collect()
 }
 
 /// Where corner `c` of the face of `n` corners whose triangles start at `first` lies: the
