@@ -375,3 +375,23 @@ fn a_missing_library_is_a_warning_and_the_output_still_names_it() {
     );
     assert!(std::fs::read_to_string(output).unwrap().contains("mtllib scene.mtl\r\n"));
 }
+
+#[test]
+fn a_utf8_byte_order_mark_is_kept_and_utf16_is_written_as_utf8() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_scene(dir.path());
+    let (_, plain, _) = fix_and_save(&input, dir.path());
+    let plain = std::fs::read(plain).unwrap();
+
+    let bom = dir.path().join("in/bom.obj");
+    std::fs::write(&bom, [b"\xEF\xBB\xBF", SCENE.as_bytes()].concat()).unwrap();
+    let (_, output, _) = fix_and_save(&bom, dir.path());
+    assert_eq!(std::fs::read(output).unwrap(), [b"\xEF\xBB\xBF", &plain[..]].concat());
+
+    let wide = dir.path().join("in/wide.obj");
+    let utf16: Vec<u8> =
+        [0xFF, 0xFE].into_iter().chain(SCENE.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+    std::fs::write(&wide, utf16).unwrap();
+    let (_, output, _) = fix_and_save(&wide, dir.path());
+    assert_eq!(String::from_utf8(std::fs::read(output).unwrap()).unwrap().as_bytes(), plain);
+}
