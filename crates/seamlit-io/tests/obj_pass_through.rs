@@ -395,3 +395,22 @@ fn a_utf8_byte_order_mark_is_kept_and_utf16_is_written_as_utf8() {
     let (_, output, _) = fix_and_save(&wide, dir.path());
     assert_eq!(String::from_utf8(std::fs::read(output).unwrap()).unwrap().as_bytes(), plain);
 }
+
+#[test]
+fn objects_split_and_merged_by_usemtl_and_named_again_line_up() {
+    // Faces before any `o`; `usemtl` parts that merge back (no library: every name resolves
+    // to no material); a `g` without faces; a name used twice; `v` lines between faces.
+    // Not planar, so that every vertex gets a normal of its own.
+    let text = "v 0 0 0\nv 1 0 0.3\nv 1 1 -0.2\nv 0 1 0.4\nf 1 2 3\n\
+                o a\nusemtl m1\nf 1 3 4\nusemtl m2\nf -3 -2 -1\ng empty\n\
+                o b\nv 2 0 0.1\nv 2 1 0.5\nf 2 5 6 3\n\
+                o a\nv 0 2 0.2\nf 4 3 7\nusemtl m1\nf 3 6 7\n";
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("parts.obj");
+    std::fs::write(&input, text).unwrap();
+    let (fixed, output, report) = fix_and_save(&input, dir.path());
+    let names: Vec<&str> = fixed.model.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["unnamed_object", "a", "b", "a"]);
+    assert!(!report.warnings.iter().any(|w| w.contains("generic OBJ writer")), "{report:?}");
+    check_pass_through(&input, &output, &fixed);
+}
