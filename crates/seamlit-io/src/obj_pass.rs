@@ -209,73 +209,116 @@ type Written = HashMap<[u32; 3], usize>;
 /// The input text with the `vn` lines replaced by the model's and the faces' normal
 /// references pointing at them; `Err` says where the text and the model disagree.
 fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, String> {
-    let runs = file_order_runs(&source.objects);
-    // Per object, once its first face is reached: the OBJ index of each vertex's normal.
-    let mut normal_index: Vec<Option<Vec<usize>>> = vec![None; model.objects.len()];
-    let mut written = Written::new();
-    let mut triangle = 0;
-    let mut run = 0;
     let (bom, body) = match source.text.strip_prefix(UTF8_BOM) {
         Some(body) => (UTF8_BOM, body),
         None => (&[][..], &source.text[..]),
     };
-    let mut out = Vec::with_capacity(source.text.len() + source.text.len() / 4);
-    out.extend_from_slice(bom);
+    let mut rewriter = Rewriter::new(model, source);
+    rewriter.out.extend_from_slice(bom);
     for (number, line) in body.split_inclusive(|&b| b == b'\n').enumerate() {
-        let words = words(line);
-        match words.first().map(|&(start, end)| &line[start..end]) {
-            Some(b"vn") => {}
-            Some(b"f") if words.len() >= 4 => {
-                let corners = &words[1..];
-                let count = corners.len() - 2;
-                while runs.get(run).is_some_and(|r| r.first + r.len <= triangle) {
-                    run += 1;
-                }
-                let place = runs
-                    .get(run)
-                    .filter(|r| r.first <= triangle && triangle + count <= r.first + r.len)
-                    .ok_or_else(|| {
-                        format!("line {}: the face is not among the loaded triangles", number + 1)
-                    })?;
-                let first = place.local + (triangle - place.first);
-                triangle += count;
-                let object = &model.objects[place.object];
-                let normals = match &mut normal_index[place.object] {
-                    Some(normals) => normals,
-                    slot => slot.insert(write_normals(&mut out, object, &mut written, line)),
-                };
-                let normal_of = |c: usize| {
-                    let (t, slot) = corner_place(
-                        object,
-                        &source.objects[place.object],
-                        first,
-                        corners.len(),
-                        c,
-                    )
-                    .ok_or_else(|| {
-                        format!("line {}: corner {} is not in its triangles", number + 1, c + 1)
-                    })?;
-                    let vertex = object.triangles[t][slot] as usize;
-                    Ok::<_, String>(object.normals.as_ref().map(|_| normals[vertex]))
-                };
-                let mut references = Vec::with_capacity(corners.len());
-                for c in 0..corners.len() {
-                    references.push(normal_of(c)?);
-                }
-                write_face(&mut out, line, corners, &references);
-            }
-            Some(b"f") => {
-                let references = vec![None; words.len() - 1];
-                write_face(&mut out, line, &words[1..], &references);
-            }
-            _ => out.extend_from_slice(line),
+        rewriter.line(number + 1, line)?;
+    }
+    rewriter.finish()
+}
+
+/// The state of [`rewrite`] between lines.
+struct Rewriter<'a> {
+    model: &'a Model,
+    source: &'a Source,
+    /// The objects' runs of triangles in file order, and the one the next face is in.
+    runs: Vec<Run>,
+    run: usize,
+    /// The next face's first triangle, counted over the file.
+    triangle: usize,
+    /// Per object, once its first face is reached: the OBJ index of each vertex's normal.
+    normal_index: Vec<Option<Vec<usize>>>,
+    written: Written,
+    /// The current line's words (reused).
+    words: Vec<(usize, usize)>,
+    out: Vec<u8>,
+}
+
+impl<'a> Rewriter<'a> {
+    fn new(model: &'a Model, source: &'a Source) -> Self {
+        Self {
+            model,
+            source,
+            runs: file_order_runs(&source.objects),
+            run: 0,
+            triangle: 0,
+            normal_index: vec![None; model.objects.len()],
+            written: Written::new(),
+            words: Vec::new(),
+            out: Vec::with_capacity(source.text.len() + source.text.len() / 4),
         }
     }
-    let loaded: usize = runs.iter().map(|r| r.len).sum();
-    if triangle != loaded {
-        return Err(format!("the file's faces give {triangle} triangles, {loaded} were loaded"));
+
+    /// Leaves out a `vn` line, rewrites an `f` line, copies any other.
+    fn line(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
+        words(line, &mut self.words);
+        match self.words.first().map(|&(start, end)| &line[start..end]) {
+            Some(b"vn") => {}
+            Some(b"f") if self.words.len() >= 4 => self.face(number, line)?,
+            // No triangle: the normal references go, since the input's `vn` lines do.
+            Some(b"f") => {
+                let references = vec![None; self.words.len() - 1];
+                write_face(&mut self.out, line, &self.words[1..], &references);
+            }
+            _ => self.out.extend_from_slice(line),
+        }
+        Ok(())
     }
-    Ok(out)
+
+    /// A face of three corners or more: where its triangles are, its object's normals (before
+    /// the object's first face), and each corner's normal reference.
+    fn face(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
+        let corners = self.words.len() - 1;
+        let (o, first) = self
+            .place(corners - 2)
+            .ok_or_else(|| format!("line {number}: the face is not among the loaded triangles"))?;
+        let object = &self.model.objects[o];
+        let normals = match &mut self.normal_index[o] {
+            Some(normals) => normals,
+            slot => slot.insert(write_normals(&mut self.out, object, &mut self.written, line)),
+        };
+        let mut references = Vec::with_capacity(corners);
+        for c in 0..corners {
+            let (t, k) = corner_place(object, &self.source.objects[o], first, corners, c)
+                .ok_or_else(|| {
+                    format!("line {number}: corner {} is not in its triangles", c + 1)
+                })?;
+            let vertex = object.triangles[t][k] as usize;
+            references.push(object.normals.as_ref().map(|_| normals[vertex]));
+        }
+        write_face(&mut self.out, line, &self.words[1..], &references);
+        Ok(())
+    }
+
+    /// The object and first triangle there of the next face, which gives `count` triangles.
+    fn place(&mut self, count: usize) -> Option<(usize, usize)> {
+        let triangle = self.triangle;
+        while self.runs.get(self.run).is_some_and(|r| r.first + r.len <= triangle) {
+            self.run += 1;
+        }
+        let run = self
+            .runs
+            .get(self.run)
+            .filter(|r| r.first <= triangle && triangle + count <= r.first + r.len)?;
+        self.triangle += count;
+        Some((run.object, run.local + (triangle - run.first)))
+    }
+
+    /// The output, once every loaded triangle has had its face.
+    fn finish(self) -> Result<Vec<u8>, String> {
+        let loaded: usize = self.runs.iter().map(|r| r.len).sum();
+        if self.triangle != loaded {
+            return Err(format!(
+                "the file's faces give {} triangles, {loaded} were loaded",
+                self.triangle
+            ));
+        }
+        Ok(self.out)
+    }
 }
 
 /// The objects' runs of triangles, in file order.
@@ -373,10 +416,11 @@ fn write_face(
     out.extend_from_slice(&line[at..]);
 }
 
-/// The words of a line (start and end), split at blanks as the parser splits them.
-fn words(line: &[u8]) -> Vec<(usize, usize)> {
+/// The words of a line (start and end) into `words`, split at blanks as the parser splits
+/// them.
+fn words(line: &[u8], words: &mut Vec<(usize, usize)>) {
     let blank = |b: u8| matches!(b, b' ' | b'\t' | b'\r' | 0x0c | b'\n');
-    let mut words = Vec::new();
+    words.clear();
     let mut at = 0;
     while at < line.len() {
         while at < line.len() && blank(line[at]) {
@@ -390,7 +434,6 @@ fn words(line: &[u8]) -> Vec<(usize, usize)> {
             words.push((start, at));
         }
     }
-    words
 }
 
 /// The material libraries and textures to copy beside the output, and what is missing.
@@ -514,7 +557,8 @@ mod tests {
     #[test]
     fn a_face_keeps_its_blanks_and_indices_and_gets_normal_references() {
         let line = b"f  1/2/9\t-3//8 4/5 6\r\n";
-        let w = words(line);
+        let mut w = Vec::new();
+        words(line, &mut w);
         let mut out = Vec::new();
         write_face(&mut out, line, &w[1..], &[Some(10), Some(11), Some(12), Some(13)]);
         assert_eq!(out, b"f  1/2/10\t-3//11 4/5/12 6//13\r\n");
