@@ -351,6 +351,16 @@ fn a_model_that_no_longer_lines_up_goes_through_the_generic_writer() {
     );
     assert!(std::fs::read_to_string(&output).unwrap().starts_with("# written by seamlit"));
 
+    // Nor does an object with a transform (OBJ positions are written as the input's).
+    let mut asset = seamlit_io::load(&input, &LoadOptions::default()).unwrap();
+    asset.model.objects[1].transform = Some(glam::Mat4::from_translation(glam::Vec3::X));
+    let report = seamlit_io::save(&asset, &output, &SaveOptions::default()).unwrap();
+    assert!(
+        report.warnings.iter().any(|w| w.contains("\"ramp  # the ramp\u{e9}\" has a transform")),
+        "{:?}",
+        report.warnings
+    );
+
     // Triangles changed in place (same counts) do not line up either.
     let mut asset = seamlit_io::load(&input, &LoadOptions::default()).unwrap();
     asset.model.objects[0].triangles[0].swap(1, 2);
