@@ -7,6 +7,7 @@ use std::sync::Arc;
 use seamlit_mesh::Model;
 
 pub use crate::gltf_pass::GltfSource;
+pub use crate::obj_pass::ObjSource;
 
 /// A loaded model file: geometry plus materials and textures.
 ///
@@ -32,6 +33,12 @@ pub struct Asset {
     /// changed (normals, tangents, split vertices, indices). `None` for other formats; set it
     /// to `None` to write with the generic writer instead. See [`GltfSource`].
     pub gltf_source: Option<GltfSource>,
+    /// For an asset loaded from OBJ: the input text and where each object's faces are in it,
+    /// so that [`crate::save`] to `.obj` writes the input back with only the normals and the
+    /// faces' normal references changed, and copies its material libraries as written.
+    /// `None` for other formats; set it to `None` to write with the generic writer instead.
+    /// See [`ObjSource`].
+    pub obj_source: Option<ObjSource>,
 }
 
 /// A node of the scene hierarchy (glTF): its name, local transform and parent.

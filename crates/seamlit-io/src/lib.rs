@@ -38,6 +38,16 @@
 //! extras and unknown extensions pass through; existing accessors keep their indices. A mesh
 //! whose instances got different frames is cloned, and [`SaveReport::warnings`] says so.
 //! The design: `docs/gltf-pass-through.md`.
+//!
+//! ## The OBJ pass-through
+//!
+//! An asset loaded from OBJ keeps its text ([`Asset::obj_source`]). Saved as OBJ, it is
+//! written as that text with only the `vn` lines new and each face corner's normal reference
+//! pointing at its fixed normal; every other line (comments, `o`/`g` names, `s`, `usemtl`,
+//! vertex colours, `vt`, `l`, unknown statements, line ends) is copied byte for byte, faces
+//! keep their corners and `v`/`vt` references, and the material libraries and their textures
+//! are copied beside the output as written. OBJ has no tangents: [`SaveReport::warnings`] says
+//! when computed ones are not written. The design: `docs/obj-pass-through.md`.
 #![deny(missing_docs)]
 
 mod asset;
@@ -51,6 +61,7 @@ mod gltf_write;
 pub mod newell;
 pub mod obj;
 mod obj_parse;
+mod obj_pass;
 mod obj_write;
 mod options;
 mod paths;
@@ -60,7 +71,7 @@ mod texture;
 use std::path::Path;
 
 pub use asset::{
-    Asset, GltfSource, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, GltfSource, Material, Node, ObjSource, Texture, TextureRef, TextureSource, UvTransform,
 };
 pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};
@@ -136,8 +147,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// An asset loaded from glTF or GLB ([`Asset::gltf_source`]) and saved as `.gltf` or `.glb`
 /// goes through the pass-through writer: the output is the input document with only NORMAL,
 /// TANGENT, the split vertices and the indices changed (see `docs/gltf-pass-through.md`).
-/// Other assets, and a glTF asset whose model no longer matches its source (objects added or
-/// removed; a warning says so), go through the generic writer.
+/// An asset loaded from OBJ ([`Asset::obj_source`]) and saved as `.obj` goes through the OBJ
+/// pass-through: the input file with only the `vn` lines and the faces' normal references
+/// changed, its material libraries and textures copied as written (see
+/// `docs/obj-pass-through.md`). Other assets, and an asset whose model no longer matches its
+/// source (objects added or removed; a warning says so), go through the generic writers.
+/// OBJ holds no tangents: an OBJ output of a model with tangents gets a warning.
 ///
 /// Each file is written to a temporary name in the destination folder, then renamed.
 ///
@@ -173,7 +188,22 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             }
             gltf_write::save(asset, path, binary)?;
         }
-        Some("obj") => obj_write::save(asset, path)?,
+        Some("obj") => {
+            report.warnings.extend(obj_pass::tangents_not_written(&asset.model, path));
+            if let Some(source) = &asset.obj_source {
+                match source.lines_up(&asset.model) {
+                    Ok(()) => {
+                        report.warnings.extend(obj_pass::save(asset, source, path)?);
+                        return Ok(report);
+                    }
+                    Err(reason) => report.warnings.push(format!(
+                        "{}: written by the generic OBJ writer (the material library is regenerated from seamlit's materials; comments, groups and statements seamlit does not use are not kept): {reason}",
+                        path.display()
+                    )),
+                }
+            }
+            obj_write::save(asset, path)?;
+        }
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)
@@ -185,7 +215,8 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
 pub struct SaveReport {
     /// Problems that did not stop writing, one sentence each: a glTF mesh cloned because its
     /// instances got different normals, an image file that could not be copied beside the
-    /// output, a glTF source the model no longer matches.
+    /// output, a glTF or OBJ source the model no longer matches, a material library or texture
+    /// of an OBJ that is missing, tangents that an OBJ output cannot hold.
     pub warnings: Vec<String>,
 }
 

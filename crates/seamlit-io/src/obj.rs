@@ -15,6 +15,9 @@
 //! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
 //! model's folder are refused. An index out of range is placed by a diagnostic pass over the
 //! text that names the line.
+//!
+//! The loaded asset keeps the file's text and where each object's faces are in it
+//! ([`crate::ObjSource`]), for the OBJ pass-through writer (`obj_pass`).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -22,6 +25,7 @@ use std::path::{Path, PathBuf};
 use seamlit_mesh::{Model, Object, VAxis};
 
 use crate::obj_parse::ReadError;
+use crate::obj_pass::{ObjSource, SourceObject};
 use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
 };
@@ -148,7 +152,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         }
     }
 
+    let libraries = parsed.libraries.clone();
     let mut objects = Vec::new();
+    let mut sources = Vec::new();
     for parsed in parsed.into_objects(|name| by_name.get(name).copied()) {
         let too_many = parsed.positions.len().max(parsed.triangles.len());
         if too_many > options.max_elements {
@@ -172,6 +178,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                 ));
             }
         }
+        sources.push(SourceObject {
+            vertices: parsed.positions.len(),
+            fingerprint: crate::obj_pass::fingerprint(parsed.triangles.iter().copied()),
+            runs: parsed.runs,
+            clipped: parsed.clipped,
+        });
         objects.push(Object {
             name: parsed.name,
             positions: parsed.positions,
@@ -196,6 +208,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         asset.materials.push(material);
     }
     asset.source = Some(path.to_path_buf());
+    // The text as parsed, for the pass-through writer (`crate::obj_pass`).
+    let text = match decoded {
+        Some(text) => text.into_bytes(),
+        None => crate::read_bytes(path, options)?,
+    };
+    asset.obj_source = Some(ObjSource::new(text, path, libraries, sources));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
@@ -485,15 +503,15 @@ fn convert_material(
 
 /// The options of an MTL texture statement (`map_Kd -o 0.5 0.5 file.png`).
 #[derive(Debug, PartialEq)]
-struct MapOptions {
-    file: String,
+pub(crate) struct MapOptions {
+    pub(crate) file: String,
     bump_multiplier: f32,
     offset: [f32; 2],
     scale: [f32; 2],
 }
 
 impl MapOptions {
-    fn parse(spec: &str) -> Self {
+    pub(crate) fn parse(spec: &str) -> Self {
         let mut out = Self {
             file: String::new(),
             bump_multiplier: 1.0,

@@ -86,6 +86,13 @@ pub(crate) struct ParsedObject {
     pub mixed_normals: bool,
     /// Some vertices had a colour and some did not (colours dropped).
     pub mixed_colors: bool,
+    /// Where the object's triangles come from in the file: runs of consecutive triangles,
+    /// each its first triangle counted over the whole file (every face of `n >= 3` corners
+    /// gives `n - 2`, in file order) and its length, in the object's order.
+    pub runs: Vec<(usize, usize)>,
+    /// The polygons ear-clipped rather than fanned: first triangle and corners (see
+    /// [`crate::polygon::triangulate`]).
+    pub clipped: Vec<(usize, Vec<u32>)>,
 }
 
 #[derive(Debug)]
@@ -380,6 +387,15 @@ impl Parsed {
         let (chunks, positions, uvs, normals, colors) =
             (&self.chunks, &self.positions, &self.uvs, &self.normals, &self.colors);
         let has_smoothing = self.has_smoothing;
+        // Where each chunk's triangles start among the file's.
+        let chunk_bases: Vec<usize> = chunks
+            .iter()
+            .scan(0, |next, chunk| {
+                let base = *next;
+                *next += chunk.triangles.len();
+                Some(base)
+            })
+            .collect();
         merged
             .into_par_iter()
             .map(|(name, material, segments)| {
@@ -393,11 +409,13 @@ impl Parsed {
                 let with_vn = keys.iter().filter(|k| k[2] != MISSING).count();
                 let all = keys.len();
                 let positions: Vec<Vec3> = keys.iter().map(|k| positions[k[0] as usize]).collect();
-                crate::polygon::triangulate(
+                let clipped = crate::polygon::triangulate(
                     &mut triangles,
                     &positions,
                     polygons(chunks, &segments),
                 );
+                let runs =
+                    segments.iter().map(|&(c, start, end)| (chunk_bases[c] + start, end - start));
                 let with_color = match colors.is_empty() {
                     true => 0,
                     false => keys.iter().filter(|k| !colors[k[0] as usize].x.is_nan()).count(),
@@ -417,6 +435,8 @@ impl Parsed {
                     mixed_uvs: with_vt != 0 && with_vt != all,
                     mixed_normals: with_vn != 0 && with_vn != all,
                     mixed_colors: with_color != 0 && with_color != all,
+                    runs: runs.collect(),
+                    clipped,
                 }
             })
             .collect()

@@ -1,4 +1,7 @@
-//! Wavefront OBJ (+ MTL) out.
+//! Wavefront OBJ (+ MTL) out: the generic writer, for assets that did not come from OBJ or
+//! whose model no longer lines up with the OBJ it came from (an OBJ that does goes through
+//! `obj_pass`, which keeps the input file). No tangents are written: OBJ has no statement
+//! for them.
 //!
 //! Each object becomes an `o` block with its `usemtl`, `v`, `vt` and `vn` lines and faces
 //! `f v/vt/vn`; vertex colours go on the `v` lines (`v x y z r g b`, and `a` where it is not

@@ -29,11 +29,18 @@ pub(crate) const MOST_CORNERS: usize = 1024;
 /// Triangulates again the polygons that are not convex. `triangles` holds every polygon as a
 /// fan; `polygons` gives, ascending, each polygon's first triangle in `triangles` and its
 /// number of corners; `positions` are the vertices the triangles index.
+///
+/// Returns the polygons whose fan was replaced: their first triangle and their corners (the
+/// vertices, in the order the face gives them), so that a writer can find each corner among
+/// the new triangles (the OBJ pass-through, `obj_pass`). A polygon that keeps its fan is
+/// not listed: its corner `0` is its first triangle's corner 0, corner `k` (`0 < k < n - 1`)
+/// triangle `k - 1`'s corner 1, and corner `n - 1` the last triangle's corner 2.
 pub(crate) fn triangulate(
     triangles: &mut [[u32; 3]],
     positions: &[Vec3],
     polygons: impl Iterator<Item = (usize, usize)>,
-) {
+) -> Vec<(usize, Vec<u32>)> {
+    let mut clipped_polygons = Vec::new();
     let mut corners = Vec::new();
     for (first, n) in polygons {
         let fan = &mut triangles[first..first + n - 2];
@@ -42,8 +49,10 @@ pub(crate) fn triangulate(
         corners.extend(fan.iter().map(|t| t[2]));
         if let Some(clipped) = ear_clip(&corners, positions) {
             fan.copy_from_slice(&clipped);
+            clipped_polygons.push((first, corners.clone()));
         }
     }
+    clipped_polygons
 }
 
 /// The ear-clipped triangles of a polygon (`corners` index `positions`), `n - 2` of them, or

@@ -135,12 +135,21 @@ fn saving_refuses_to_overwrite_the_input_unless_asked() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("quad.obj");
     std::fs::write(&path, "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n").unwrap();
-    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    let mut asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
     let err = seamlit_io::save(&asset, &path, &SaveOptions::default()).unwrap_err();
     assert!(matches!(err, seamlit_io::IoError::WouldOverwriteInput { .. }), "{err}");
-    assert!(std::fs::read_to_string(&path).unwrap().starts_with("o quad"));
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n"
+    );
     seamlit_io::save(&asset, &path, &SaveOptions { overwrite_input: true }).unwrap();
-    assert!(std::fs::read_to_string(&path).unwrap().starts_with("# written by seamlit"));
+    // The OBJ pass-through: the input with the fixed normals (distinct values; fix's
+    // normalisation leaves one a bit below 1) added.
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 1\nvn 0 0 0.99999994\nf 1//1 2//1 3//2\n"
+    );
     // No temporary files are left behind.
     let names: Vec<_> =
         std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
