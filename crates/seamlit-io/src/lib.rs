@@ -59,7 +59,8 @@ mod texture;
 use std::path::Path;
 
 pub use asset::{
-    Asset, GltfSource, Material, Node, Texture, TextureRef, TextureSource, UvTransform,
+    AlphaMode, Asset, GltfSource, Material, Node, PunctualKind, PunctualLight, Texture, TextureRef,
+    TextureSource, UvTransform,
 };
 pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};
