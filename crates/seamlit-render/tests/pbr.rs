@@ -260,3 +260,33 @@ fn emissive_light_adds_to_the_lit_colour() {
         assert_pixel(&image, x, y, e, 2.0, "emissive plane");
     }
 }
+
+#[test]
+fn blended_objects_are_drawn_back_to_front_and_unlit_ones_show_their_base_colour() {
+    // Two unlit half-transparent planes, the near (green) one first in the model: drawn in
+    // model order, the far (red) one would land on top. Over black, back to front gives
+    // green * a + red * a * (1 - a), in linear light.
+    let a = 0.5;
+    let unlit = |rgb: [f32; 3]| Material {
+        base_color: [rgb[0], rgb[1], rgb[2], a],
+        alpha_mode: AlphaMode::Blend,
+        unlit: true,
+        ..Material::default()
+    };
+    let mut near = plane(1.5);
+    near.material = Some(0);
+    let mut far =
+        plane(1.5).with_transform(glam::Mat4::from_translation(Vec3::new(0.0, 0.0, -1.0)));
+    far.material = Some(1);
+    let asset = Asset {
+        model: seamlit_mesh::Model::new(vec![near, far]),
+        materials: vec![unlit([0.0, 1.0, 0.0]), unlit([1.0, 0.0, 0.0])],
+        ..Asset::default()
+    };
+    let image = render(&asset, "pbr_blend_order");
+    let a = f64::from(a);
+    let expected = [srgb(a * (1.0 - a)), srgb(a), 0.0];
+    for (x, y) in PIXELS {
+        assert_pixel(&image, x, y, expected, 2.0, "near green over far red");
+    }
+}
