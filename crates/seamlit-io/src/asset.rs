@@ -28,6 +28,8 @@ pub struct Asset {
     pub source: Option<PathBuf>,
     /// Problems that did not stop loading (a missing texture, an unsupported extension).
     pub warnings: Vec<String>,
+    /// The lights the file carries (glTF KHR_lights_punctual), in model space.
+    pub lights: Vec<PunctualLight>,
     /// For an asset loaded from glTF or GLB: the input document and its buffers, so that
     /// [`crate::save`] to `.gltf` or `.glb` writes the input back with only what seamlit owns
     /// changed (normals, tangents, split vertices, indices). `None` for other formats; set it
@@ -57,7 +59,8 @@ pub struct Node {
 /// A material: what the renderer needs for per-pixel lighting with normal mapping.
 ///
 /// Colours are linear RGB(A). Read from OBJ `.mtl` (Kd, Ks, Ns, d, map_Kd, map_Bump / bump /
-/// norm) and glTF (baseColor, normalTexture, metallic-roughness).
+/// norm) and glTF (baseColor, normalTexture, metallic-roughness, occlusion, emissive,
+/// alphaMode, doubleSided, KHR_materials_emissive_strength, KHR_materials_unlit).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// The material's name.
@@ -82,6 +85,73 @@ pub struct Material {
     pub roughness: f32,
     /// Whether back faces are drawn.
     pub double_sided: bool,
+    /// glTF metallic-roughness texture (linear): blue is metalness, green roughness, each
+    /// multiplied by its factor.
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// glTF ambient occlusion texture (linear, red channel).
+    pub occlusion_texture: Option<TextureRef>,
+    /// How much the occlusion texture darkens: 0 none, 1 all of it (glTF `strength`).
+    pub occlusion_strength: f32,
+    /// Emitted light, linear RGB (glTF `emissiveFactor` times
+    /// KHR_materials_emissive_strength's `emissiveStrength`).
+    pub emissive: [f32; 3],
+    /// Emissive texture (sRGB), multiplied by `emissive`.
+    pub emissive_texture: Option<TextureRef>,
+    /// How the base colour's alpha is used (glTF `alphaMode`, `alphaCutoff`).
+    pub alpha_mode: AlphaMode,
+    /// KHR_materials_unlit: the base colour is shown as it is, without lighting.
+    pub unlit: bool,
+}
+
+/// A light from a glTF file (KHR_lights_punctual), placed by its node in model space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PunctualLight {
+    /// The light's name, empty when the file gives none.
+    pub name: String,
+    /// Directional, point or spot.
+    pub kind: PunctualKind,
+    /// Linear RGB colour.
+    pub color: [f32; 3],
+    /// Directional: illuminance in lux; point and spot: luminous intensity in candela.
+    pub intensity: f32,
+    /// The origin of the light's node, in model space (point and spot).
+    pub position: glam::Vec3,
+    /// The unit direction the light travels: its node's -Z, in model space (directional and
+    /// spot).
+    pub direction: glam::Vec3,
+    /// The distance where the light's contribution reaches zero; `None`: unlimited.
+    pub range: Option<f32>,
+}
+
+/// The kinds of KHR_lights_punctual light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PunctualKind {
+    /// Parallel light.
+    Directional,
+    /// Light from a point in all directions.
+    Point,
+    /// A cone of light.
+    Spot {
+        /// Half-angle of full intensity, radians.
+        inner_cone_angle: f32,
+        /// Half-angle where the intensity reaches zero, radians.
+        outer_cone_angle: f32,
+    },
+}
+
+/// glTF `alphaMode`: what the base colour's alpha does.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored; the surface is fully opaque.
+    #[default]
+    Opaque,
+    /// Pixels whose alpha is below the cutoff are not drawn; the rest are opaque.
+    Mask {
+        /// glTF `alphaCutoff` (0.5 when the file gives none).
+        cutoff: f32,
+    },
+    /// The surface is blended over what lies behind it by its alpha.
+    Blend,
 }
 
 impl Default for Material {
@@ -98,6 +168,13 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 0.5,
             double_sided: false,
+            metallic_roughness_texture: None,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive: [0.0; 3],
+            emissive_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            unlit: false,
         }
     }
 }

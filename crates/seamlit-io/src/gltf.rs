@@ -303,6 +303,7 @@ fn read(
         }
     }
     asset.model.v_axis = VAxis::Down;
+    asset.lights = punctual_lights(document, scene.as_ref(), &mut warnings);
     asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
@@ -1102,5 +1103,117 @@ fn material(m: &gltf::Material<'_>) -> Material {
         metallic,
         roughness,
         double_sided: m.double_sided(),
+        metallic_roughness_texture: pbr.metallic_roughness_texture().and_then(|i| info_ref(&i)),
+        occlusion_texture: m.occlusion_texture().and_then(|o| {
+            let transform = o.extension_value("KHR_texture_transform").map(uv_transform_json);
+            texture_ref(&o.texture(), o.tex_coord(), transform)
+        }),
+        occlusion_strength: m.occlusion_texture().map_or(1.0, |o| o.strength()),
+        emissive: m.emissive_factor().map(|c| c * emissive_strength(m)),
+        emissive_texture: m.emissive_texture().and_then(|i| info_ref(&i)),
+        alpha_mode: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => crate::AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => {
+                crate::AlphaMode::Mask { cutoff: m.alpha_cutoff().unwrap_or(0.5) }
+            }
+            gltf::material::AlphaMode::Blend => crate::AlphaMode::Blend,
+        },
+        unlit: m.extension_value("KHR_materials_unlit").is_some(),
     }
+}
+
+/// A texture slot's reference with its KHR_texture_transform.
+fn info_ref(info: &gltf::texture::Info<'_>) -> Option<TextureRef> {
+    let transform = info.texture_transform().map(|t| uv_transform(&t));
+    texture_ref(&info.texture(), info.tex_coord(), transform)
+}
+
+/// KHR_materials_emissive_strength's `emissiveStrength`, 1 without it. Read from the raw
+/// extension JSON, as the texture transforms of normal maps are, so that gltf-json's typed
+/// extension features (which would re-serialise the pass-through's JSON) stay off.
+fn emissive_strength(m: &gltf::Material<'_>) -> f32 {
+    m.extension_value("KHR_materials_emissive_strength")
+        .and_then(|e| e.get("emissiveStrength"))
+        .and_then(serde_json::Value::as_f64)
+        .map_or(1.0, |v| v as f32)
+}
+
+/// KHR_lights_punctual: the lights that the nodes of `scene` carry, placed by the nodes'
+/// global transforms (a light shines down its node's -Z). Read from the raw extension JSON,
+/// as `emissive_strength` is. A node naming a light that does not exist, or a light of an
+/// unknown type, is left out with a warning.
+fn punctual_lights(
+    document: &gltf::Document,
+    scene: Option<&gltf::Scene<'_>>,
+    warnings: &mut Vec<String>,
+) -> Vec<crate::PunctualLight> {
+    let defs = document
+        .extension_value("KHR_lights_punctual")
+        .and_then(|e| e.get("lights"))
+        .and_then(serde_json::Value::as_array);
+    let mut out = Vec::new();
+    let mut stack: Vec<(gltf::Node<'_>, Mat4)> =
+        scene.map(|s| s.nodes().map(|n| (n, Mat4::IDENTITY)).collect()).unwrap_or_default();
+    while let Some((node, parent)) = stack.pop() {
+        let global = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let index = node
+            .extension_value("KHR_lights_punctual")
+            .and_then(|e| e.get("light"))
+            .and_then(serde_json::Value::as_u64);
+        if let Some(index) = index {
+            let def = defs.and_then(|d| d.get(usize::try_from(index).ok()?));
+            match def.map(|d| punctual_light(d, global)) {
+                Some(Ok(light)) => out.push(light),
+                Some(Err(kind)) => warnings.push(format!(
+                    "nodes[{}]: KHR_lights_punctual light {index} has the unknown type {kind:?}; left out",
+                    node.index()
+                )),
+                None => warnings.push(format!(
+                    "nodes[{}]: KHR_lights_punctual light {index} does not exist; left out",
+                    node.index()
+                )),
+            }
+        }
+        stack.extend(node.children().map(|c| (c, global)));
+    }
+    out
+}
+
+/// One KHR_lights_punctual light definition at `global`, with the extension's defaults
+/// (white, intensity 1, unlimited range, spot cones 0 and pi/4); `Err` with the type when it
+/// is not directional, point or spot.
+fn punctual_light(def: &serde_json::Value, global: Mat4) -> Result<crate::PunctualLight, String> {
+    let number = |v: &serde_json::Value, key: &str| {
+        v.get(key).and_then(serde_json::Value::as_f64).map(|x| x as f32)
+    };
+    let spot = def.get("spot").unwrap_or(&serde_json::Value::Null);
+    let kind = match def.get("type").and_then(serde_json::Value::as_str).unwrap_or_default() {
+        "directional" => crate::PunctualKind::Directional,
+        "point" => crate::PunctualKind::Point,
+        "spot" => crate::PunctualKind::Spot {
+            inner_cone_angle: number(spot, "innerConeAngle").unwrap_or(0.0),
+            outer_cone_angle: number(spot, "outerConeAngle").unwrap_or(std::f32::consts::FRAC_PI_4),
+        },
+        other => return Err(other.to_owned()),
+    };
+    let color = def
+        .get("color")
+        .and_then(serde_json::Value::as_array)
+        .and_then(|c| {
+            Some([
+                c.first()?.as_f64()? as f32,
+                c.get(1)?.as_f64()? as f32,
+                c.get(2)?.as_f64()? as f32,
+            ])
+        })
+        .unwrap_or([1.0; 3]);
+    Ok(crate::PunctualLight {
+        name: def.get("name").and_then(serde_json::Value::as_str).unwrap_or_default().to_owned(),
+        kind,
+        color,
+        intensity: number(def, "intensity").unwrap_or(1.0),
+        position: global.transform_point3(Vec3::ZERO),
+        direction: global.transform_vector3(Vec3::NEG_Z).try_normalize().unwrap_or(Vec3::NEG_Z),
+        range: number(def, "range").filter(|r| *r > 0.0),
+    })
 }

@@ -71,7 +71,8 @@ mod texture;
 use std::path::Path;
 
 pub use asset::{
-    Asset, GltfSource, Material, Node, ObjSource, Texture, TextureRef, TextureSource, UvTransform,
+    AlphaMode, Asset, GltfSource, Material, Node, ObjSource, PunctualKind, PunctualLight, Texture,
+    TextureRef, TextureSource, UvTransform,
 };
 pub use error::{IoError, NotText};
 pub use options::{LoadOptions, SaveOptions};

@@ -498,6 +498,7 @@ fn convert_material(
         metallic: 0.0,
         roughness: crate::shininess_to_roughness(shininess),
         double_sided: false,
+        ..Material::default()
     })
 }
 

@@ -4,6 +4,7 @@
 //! ```text
 //! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20]
 //!     [--samples 4] [--anisotropy 16] [--sides 224,708] [--lights 1,16]
+//!     [--lighting blinn-phong|pbr]
 //! ```
 //!
 //! Each frame is recorded, submitted and waited for (`Renderer::time_frames`); the table gives
@@ -18,7 +19,8 @@ use glam::Vec3;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, Renderer, TextureOptions,
+    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, LightingModel, Renderer,
+    TextureOptions, ToneMapping,
 };
 
 fn arg(name: &str) -> Option<String> {
@@ -69,10 +71,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(str::parse)
         .collect::<Result<_, _>>()?;
 
+    let lighting_model = match arg("--lighting").as_deref() {
+        None | Some("blinn-phong") => LightingModel::BlinnPhong,
+        Some("pbr") => LightingModel::Pbr,
+        Some(other) => return Err(format!("--lighting {other}: blinn-phong or pbr").into()),
+    };
+
     let ctx = GpuContext::headless()?;
     println!("adapter: {}", ctx.describe());
     println!(
-        "{width}x{height}, {samples}x MSAA, {anisotropy}x anisotropic, normal mapping on, median (min) of {frames} frames\n"
+        "{width}x{height}, {samples}x MSAA, {anisotropy}x anisotropic, normal mapping on, {lighting_model:?}, median (min) of {frames} frames\n"
     );
     println!("| triangles | lights | median frame | fastest frame |");
     println!("|---:|---:|---:|---:|");
@@ -116,7 +124,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             20.0,
         );
         for &count in &light_counts {
-            let settings = FrameSettings { lights: lights(count), ..FrameSettings::default() };
+            let settings = FrameSettings {
+                lights: lights(count),
+                lighting_model,
+                tone_mapping: ToneMapping::default_for(lighting_model),
+                ..FrameSettings::default()
+            };
             let times =
                 renderer.time_frames(&ctx, &scene, &camera, &settings, width, height, frames)?;
             println!(

@@ -199,7 +199,8 @@ impl GpuContext {
 pub(crate) struct Layouts {
     /// Group 0: frame uniforms and the light storage buffer.
     pub frame: wgpu::BindGroupLayout,
-    /// Group 1: material uniforms, base colour and normal textures, sampler.
+    /// Group 1: material uniforms, base colour and normal textures, sampler, then the
+    /// metallic-roughness, occlusion and emissive textures.
     pub material: wgpu::BindGroupLayout,
     /// Group 2: object uniforms and the object's vertices (read as storage for TBN lines).
     pub object: wgpu::BindGroupLayout,
@@ -254,6 +255,9 @@ impl Layouts {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                texture(4),
+                texture(5),
+                texture(6),
             ],
         });
         let object = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

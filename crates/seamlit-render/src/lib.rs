@@ -5,7 +5,10 @@
 //! The lighting equation is that of P. Mileff, "Per-pixel lighting for multi-object models"
 //! (2024), section 3: ambient plus, for every light, diffuse and specular, evaluated in one
 //! pass over a storage buffer of lights ([`Light`]: directional, point, spot), per pixel
-//! (Blinn-Phong, Phong, Lambert) or per vertex (Gouraud), see [`LightingModel`]. Normal maps
+//! (Blinn-Phong, Phong, Lambert) or per vertex (Gouraud), see [`LightingModel`]. For glTF
+//! materials, [`LightingModel::Pbr`] is the metallic-roughness model of the glTF 2.0
+//! specification's Appendix B in the same pass (base colour, metallic-roughness, occlusion and
+//! emissive textures, alpha MASK and BLEND, unlit), tone mapped as [`ToneMapping`] says. Normal maps
 //! are read in the tangent frame built in the vertex shader (section 5.3: Gram-Schmidt,
 //! `B = cross(N, T) * w`, times the sign of the transform's determinant). Shaders live in
 //! `src/mesh.wgsl`.
@@ -21,7 +24,7 @@
 //!   [`Renderer::render`] into a view (a window), [`Renderer::render_to_image`] to an image,
 //!   [`Renderer::time_frames`] for frame timing.
 //! - [`FrameSettings`]: lights, ambient, lighting model, normal mapping, strength, green flip,
-//!   [`DebugView`], TBN lines; [`CameraView`] the camera.
+//!   [`DebugView`], TBN lines, exposure, [`ToneMapping`]; [`CameraView`] the camera.
 //!
 //! ```
 //! use glam::{Vec2, Vec3};
@@ -71,7 +74,7 @@ pub use light::{CameraView, DebugView, Light, LightRaw, LightingModel};
 pub use readback::PendingReadback;
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameTimes, IMAGE_FORMAT, Renderer, render_to_image};
 pub use scene::GpuScene;
-pub use settings::FrameSettings;
+pub use settings::{FrameSettings, ToneMapping};
 pub use texture::TextureOptions;
 /// The wgpu this crate is built on, for creating surfaces and sharing the device.
 pub use wgpu;

@@ -211,6 +211,12 @@ pub enum LightingModel {
     Lambert,
     /// Blinn-Phong evaluated per vertex and interpolated (the paper's Figure 3).
     Gouraud,
+    /// glTF 2.0 metallic-roughness (the specification's Appendix B), per pixel: Lambert
+    /// diffuse, GGX distribution, height-correlated Smith visibility, Schlick Fresnel with
+    /// F0 = 0.04 for dielectrics and the base colour for metals. Ambient light acts as a
+    /// uniform environment (its specular part by Karis' analytic split-sum fit) and is
+    /// darkened by the occlusion texture.
+    Pbr,
 }
 
 impl LightingModel {
@@ -222,6 +228,7 @@ impl LightingModel {
             Self::Phong => 1,
             Self::Lambert => 2,
             Self::Gouraud => 3,
+            Self::Pbr => 4,
         }
     }
 }
@@ -244,6 +251,12 @@ pub enum DebugView {
     ObjectIds,
     /// Lighting on a white material, no textures.
     LightingOnly,
+    /// Metalness (metallic factor times the texture's blue channel) as grey.
+    Metallic,
+    /// Perceptual roughness (roughness factor times the texture's green channel) as grey.
+    Roughness,
+    /// Ambient occlusion as the material applies it (texture red channel by strength).
+    Occlusion,
 }
 
 impl DebugView {
@@ -258,6 +271,9 @@ impl DebugView {
             Self::Uvs => 4,
             Self::ObjectIds => 5,
             Self::LightingOnly => 6,
+            Self::Metallic => 7,
+            Self::Roughness => 8,
+            Self::Occlusion => 9,
         }
     }
 }

@@ -6,6 +6,12 @@
 // with Gram-Schmidt, B = cross(N, T) * w. Tangent-space normals decode as rgb * 2 - 1 (the
 // paper's encoding line has a sign typo). Lighting is in linear space; the target is sRGB.
 //
+// The PBR model is glTF 2.0's metallic-roughness, Appendix B of the specification: Lambert
+// diffuse, GGX (Trowbridge-Reitz) distribution, height-correlated Smith visibility and
+// Schlick Fresnel, c_diff = mix(base, black, metallic), f0 = mix(0.04, base, metallic),
+// alpha = roughness^2. Lit colours are scaled by the exposure and tone mapped (Khronos PBR
+// Neutral) when the frame asks for it.
+//
 // Entry points: vs_main / fs_main draw the meshes; vs_tbn / fs_tbn draw each vertex's
 // tangent, bitangent and normal as lines, reading the vertex buffer as storage.
 
@@ -19,6 +25,10 @@ struct Frame {
     flags: u32,
     normal_strength: f32,
     tbn_length: f32,
+    exposure: f32,
+    tone_mapping: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 struct Light {
@@ -40,10 +50,19 @@ struct Material {
     shininess: f32,
     base_uv: array<vec4<f32>, 2>,
     normal_uv: array<vec4<f32>, 2>,
+    metallic_roughness_uv: array<vec4<f32>, 2>,
+    occlusion_uv: array<vec4<f32>, 2>,
+    emissive_uv: array<vec4<f32>, 2>,
+    emissive: vec3<f32>,
     normal_scale: f32,
+    metallic: f32,
+    roughness: f32,
+    occlusion_strength: f32,
+    alpha_cutoff: f32,
     flags: u32,
-    pad0: f32,
-    pad1: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 struct Object {
@@ -64,6 +83,7 @@ const MODEL_BLINN_PHONG: u32 = 0u;
 const MODEL_PHONG: u32 = 1u;
 const MODEL_LAMBERT: u32 = 2u;
 const MODEL_GOURAUD: u32 = 3u;
+const MODEL_PBR: u32 = 4u;
 
 // Debug views (DebugView::to_raw).
 const VIEW_NORMALS: u32 = 1u;
@@ -72,6 +92,12 @@ const VIEW_BITANGENT_SIGN: u32 = 3u;
 const VIEW_UVS: u32 = 4u;
 const VIEW_OBJECT_IDS: u32 = 5u;
 const VIEW_LIGHTING_ONLY: u32 = 6u;
+const VIEW_METALLIC: u32 = 7u;
+const VIEW_ROUGHNESS: u32 = 8u;
+const VIEW_OCCLUSION: u32 = 9u;
+
+// Tone mapping (ToneMapping::to_raw).
+const TONE_PBR_NEUTRAL: u32 = 1u;
 
 // Frame flags (settings.rs).
 const FLAG_NORMAL_MAPPING: u32 = 1u;
@@ -82,6 +108,11 @@ const FLAG_ENCODE_SRGB: u32 = 4u;
 const MAT_NORMAL_MAP: u32 = 1u;
 const MAT_GREEN_DOWN: u32 = 2u;
 const MAT_DOUBLE_SIDED: u32 = 4u;
+const MAT_ALPHA_MASK: u32 = 8u;
+const MAT_ALPHA_BLEND: u32 = 16u;
+const MAT_UNLIT: u32 = 32u;
+
+const PI: f32 = 3.141592653589793;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;
@@ -89,6 +120,9 @@ const MAT_DOUBLE_SIDED: u32 = 4u;
 @group(1) @binding(1) var base_texture: texture_2d<f32>;
 @group(1) @binding(2) var normal_texture: texture_2d<f32>;
 @group(1) @binding(3) var material_sampler: sampler;
+@group(1) @binding(4) var metallic_roughness_texture: texture_2d<f32>;
+@group(1) @binding(5) var occlusion_texture: texture_2d<f32>;
+@group(1) @binding(6) var emissive_texture: texture_2d<f32>;
 @group(2) @binding(0) var<uniform> object: Object;
 @group(2) @binding(1) var<storage, read> vertex_data: array<f32>;
 
@@ -97,6 +131,7 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) tangent: vec4<f32>,
     @location(3) uv: vec2<f32>,
+    @location(4) color: vec4<f32>,
 }
 
 struct VertexOut {
@@ -109,6 +144,7 @@ struct VertexOut {
     @location(5) @interpolate(flat) handedness: f32,
     @location(6) gouraud_diffuse: vec3<f32>,
     @location(7) gouraud_specular: vec3<f32>,
+    @location(8) color: vec4<f32>,
 }
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -143,6 +179,31 @@ struct Shade {
     specular: vec3<f32>,
 }
 
+// Where light i comes from at point p: the unit vector toward it (xyz) and its attenuation
+// (w), KHR_lights_punctual's range fade and spot cone.
+fn incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
+    var l = -light.direction;
+    var attenuation = 1.0;
+    if light.kind != LIGHT_DIRECTIONAL {
+        let to_light = light.position - p;
+        let d2 = max(dot(to_light, to_light), 1e-12);
+        let d = sqrt(d2);
+        l = to_light / d;
+        attenuation = 1.0 / d2;
+        if light.range > 0.0 {
+            let r = d / light.range;
+            let fade = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+            attenuation = attenuation * fade * fade;
+        }
+        if light.kind == LIGHT_SPOT {
+            let cos_angle = dot(-l, light.direction);
+            let cone = clamp((cos_angle - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-4), 0.0, 1.0);
+            attenuation = attenuation * cone * cone;
+        }
+    }
+    return vec4<f32>(l, attenuation);
+}
+
 // Sum over all lights of the diffuse and specular terms (without the material's colours) at
 // point p with unit normal n and unit view vector v.
 fn shade(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -> Shade {
@@ -151,25 +212,9 @@ fn shade(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -
     out.specular = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i = i + 1u) {
         let light = lights[i];
-        var l = -light.direction;
-        var attenuation = 1.0;
-        if light.kind != LIGHT_DIRECTIONAL {
-            let to_light = light.position - p;
-            let d2 = max(dot(to_light, to_light), 1e-12);
-            let d = sqrt(d2);
-            l = to_light / d;
-            attenuation = 1.0 / d2;
-            if light.range > 0.0 {
-                let r = d / light.range;
-                let fade = clamp(1.0 - r * r * r * r, 0.0, 1.0);
-                attenuation = attenuation * fade * fade;
-            }
-            if light.kind == LIGHT_SPOT {
-                let cos_angle = dot(-l, light.direction);
-                let cone = clamp((cos_angle - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-4), 0.0, 1.0);
-                attenuation = attenuation * cone * cone;
-            }
-        }
+        let inc = incidence(light, p);
+        let l = inc.xyz;
+        let attenuation = inc.w;
         let n_dot_l = dot(n, l);
         if n_dot_l <= 0.0 || attenuation <= 0.0 {
             continue;
@@ -190,6 +235,77 @@ fn shade(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -
     return out;
 }
 
+// The glTF metallic-roughness BRDF (specification, Appendix B) times n.l, summed over all
+// lights, at point p with unit normal n and unit view vector v. alpha = roughness^2, kept
+// above 1e-3 so that a mirror-smooth surface does not divide zero by zero.
+fn shade_pbr(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, c_diff: vec3<f32>, f0: vec3<f32>, alpha: f32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    let a2 = max(alpha, 1e-3) * max(alpha, 1e-3);
+    let n_dot_v = abs(dot(n, v));
+    for (var i = 0u; i < frame.light_count; i = i + 1u) {
+        let light = lights[i];
+        let inc = incidence(light, p);
+        let l = inc.xyz;
+        let n_dot_l = dot(n, l);
+        if n_dot_l <= 0.0 || inc.w <= 0.0 {
+            continue;
+        }
+        let h = safe_normalize(l + v, n);
+        let n_dot_h = max(dot(n, h), 0.0);
+        let v_dot_h = max(dot(v, h), 0.0);
+        let fresnel = f0 + (1.0 - f0) * pow(1.0 - v_dot_h, 5.0);
+        let dd = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+        let distribution = a2 / (PI * dd * dd);
+        let vis_denom = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2)
+            + n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+        let visibility = select(0.0, 0.5 / vis_denom, vis_denom > 0.0);
+        let diffuse = (1.0 - fresnel) * c_diff / PI;
+        let specular = fresnel * distribution * visibility;
+        sum = sum + light.color * inc.w * n_dot_l * (diffuse + specular);
+    }
+    return sum;
+}
+
+// The specular reflectance of a surface under a uniform environment: Karis' analytic fit of
+// the split-sum lookup table ("Physically based shading on mobile", 2014).
+fn env_specular(f0: vec3<f32>, roughness: f32, n_dot_v: f32) -> vec3<f32> {
+    let c0 = vec4<f32>(-1.0, -0.0275, -0.572, 0.022);
+    let c1 = vec4<f32>(1.0, 0.0425, 1.04, -0.04);
+    let r = roughness * c0 + c1;
+    let a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
+    let ab = vec2<f32>(-1.04, 1.04) * a004 + r.zw;
+    return f0 * ab.x + ab.y;
+}
+
+// Khronos PBR Neutral tone mapping (github.com/KhronosGroup/ToneMapping, PBR_Neutral).
+fn pbr_neutral(color_in: vec3<f32>) -> vec3<f32> {
+    let start_compression = 0.8 - 0.04;
+    let desaturation = 0.15;
+    var color = color_in;
+    let x = min(color.r, min(color.g, color.b));
+    let offset = select(0.04, x - 6.25 * x * x, x < 0.08);
+    color = color - offset;
+    let peak = max(color.r, max(color.g, color.b));
+    if peak < start_compression {
+        return color;
+    }
+    let d = 1.0 - start_compression;
+    let new_peak = 1.0 - d * d / (peak + d - start_compression);
+    color = color * (new_peak / peak);
+    let g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    return mix(color, vec3<f32>(new_peak), g);
+}
+
+// A lit colour (linear, unbounded) with its alpha, exposed and tone mapped as the frame says,
+// as the target wants it.
+fn out_lit(c: vec3<f32>, alpha: f32) -> vec4<f32> {
+    var mapped = c * frame.exposure;
+    if frame.tone_mapping == TONE_PBR_NEUTRAL {
+        mapped = pbr_neutral(mapped);
+    }
+    return vec4<f32>(out_linear(mapped).rgb, alpha);
+}
+
 @vertex
 fn vs_main(in: VertexIn) -> VertexOut {
     var out: VertexOut;
@@ -201,6 +317,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.tangent = tbn.t;
     out.bitangent = tbn.b;
     out.uv = in.uv;
+    out.color = in.color;
     out.handedness = select(1.0, -1.0, in.tangent.w < 0.0);
     out.gouraud_diffuse = vec3<f32>(0.0);
     out.gouraud_specular = vec3<f32>(0.0);
@@ -262,6 +379,19 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     // Sample first: texture sampling must stay in uniform control flow.
     let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv));
     var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv)).xyz * 2.0 - 1.0;
+    let mr_sample = textureSample(metallic_roughness_texture, material_sampler, material_uv(material.metallic_roughness_uv, in.uv));
+    let occlusion_sample = textureSample(occlusion_texture, material_sampler, material_uv(material.occlusion_uv, in.uv)).r;
+    let emissive_sample = textureSample(emissive_texture, material_sampler, material_uv(material.emissive_uv, in.uv)).rgb;
+
+    // Base colour: factor x texture x COLOR_0; its alpha cuts (MASK) or blends (BLEND).
+    let base = material.base_color * base_sample * in.color;
+    if (material.flags & MAT_ALPHA_MASK) != 0u && base.a < material.alpha_cutoff {
+        discard;
+    }
+    let alpha = select(1.0, base.a, (material.flags & MAT_ALPHA_BLEND) != 0u);
+    let metallic = clamp(material.metallic * mr_sample.b, 0.0, 1.0);
+    let roughness = clamp(material.roughness * mr_sample.g, 0.0, 1.0);
+    let occlusion = 1.0 + material.occlusion_strength * (occlusion_sample - 1.0);
 
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
     if !front && (material.flags & MAT_DOUBLE_SIDED) != 0u {
@@ -298,19 +428,40 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         case VIEW_OBJECT_IDS: {
             return out_display(id_color(object.object_id));
         }
+        case VIEW_METALLIC: {
+            return out_display(vec3<f32>(metallic));
+        }
+        case VIEW_ROUGHNESS: {
+            return out_display(vec3<f32>(roughness));
+        }
+        case VIEW_OCCLUSION: {
+            return out_display(vec3<f32>(occlusion));
+        }
         default: {}
     }
 
-    var albedo = material.base_color.rgb * base_sample.rgb;
+    var albedo = base.rgb;
     if frame.debug_view == VIEW_LIGHTING_ONLY {
         albedo = vec3<f32>(1.0);
     }
+    if (material.flags & MAT_UNLIT) != 0u {
+        // KHR_materials_unlit: the base colour as it is.
+        return vec4<f32>(out_linear(albedo).rgb, alpha);
+    }
+    let emissive = material.emissive * emissive_sample;
     if frame.lighting_model == MODEL_GOURAUD {
-        return out_linear(albedo * (frame.ambient + in.gouraud_diffuse) + material.specular * in.gouraud_specular);
+        return out_lit(albedo * (frame.ambient + in.gouraud_diffuse) + material.specular * in.gouraud_specular + emissive, alpha);
     }
     let v = safe_normalize(frame.eye - in.world, n);
+    if frame.lighting_model == MODEL_PBR {
+        let c_diff = mix(albedo, vec3<f32>(0.0), metallic);
+        let f0 = mix(vec3<f32>(0.04), albedo, metallic);
+        let direct = shade_pbr(n, v, in.world, c_diff, f0, roughness * roughness);
+        let ambient = frame.ambient * (c_diff + env_specular(f0, roughness, abs(dot(n, v)))) * occlusion;
+        return out_lit(direct + ambient + emissive, alpha);
+    }
     let s = shade(n, v, in.world, material.shininess, frame.lighting_model);
-    return out_linear(albedo * (frame.ambient + s.diffuse) + material.specular * s.specular);
+    return out_lit(albedo * (frame.ambient + s.diffuse) + material.specular * s.specular + emissive, alpha);
 }
 
 struct LineOut {
@@ -320,13 +471,13 @@ struct LineOut {
 
 // Six vertices per mesh vertex: tangent (red), bitangent (green), normal (blue), each a line
 // from the vertex outward by frame.tbn_length. Reads the interleaved vertex buffer
-// (12 floats: position, normal, tangent, uv).
+// (16 floats: position, normal, tangent, uv, colour).
 @vertex
 fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
     let vertex = index / 6u;
     let axis = (index / 2u) % 3u;
     let tip = f32(index % 2u);
-    let o = vertex * 12u;
+    let o = vertex * 16u;
     let position = vec3<f32>(vertex_data[o], vertex_data[o + 1u], vertex_data[o + 2u]);
     let normal = vec3<f32>(vertex_data[o + 3u], vertex_data[o + 4u], vertex_data[o + 5u]);
     let tangent = vec4<f32>(vertex_data[o + 6u], vertex_data[o + 7u], vertex_data[o + 8u], vertex_data[o + 9u]);

@@ -1,5 +1,5 @@
-//! The render pipelines: meshes in four variants (front faces counter-clockwise or clockwise,
-//! culled or double-sided) and the TBN lines.
+//! The render pipelines: meshes in eight variants (front faces counter-clockwise or clockwise,
+//! culled or double-sided, opaque or alpha-blended) and the TBN lines.
 
 use crate::GpuContext;
 use crate::scene::VertexRaw;
@@ -11,7 +11,7 @@ pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 #[derive(Debug)]
 pub(crate) struct Pipelines {
     /// Indexed by [`Pipelines::mesh_index`].
-    mesh: [wgpu::RenderPipeline; 4],
+    mesh: [wgpu::RenderPipeline; 8],
     pub tbn: wgpu::RenderPipeline,
 }
 
@@ -46,8 +46,13 @@ impl Pipelines {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        let blended = [Some(wgpu::ColorTargetState {
+            format,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
         let mesh_pipeline = |index: usize| {
-            let (front_face, cull) = Self::variant(index);
+            let (front_face, cull, blend) = Self::variant(index);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("seamlit mesh"),
                 layout: Some(&mesh_layout),
@@ -63,19 +68,24 @@ impl Pipelines {
                     cull_mode: cull.then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
-                depth_stencil: Some(depth()),
+                // Blended surfaces are tested against the depth of opaque ones but do not hide
+                // what lies behind them.
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    depth_write_enabled: Some(!blend),
+                    ..depth()
+                }),
                 multisample,
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some("fs_main"),
                     compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    targets: &targets,
+                    targets: if blend { &blended } else { &targets },
                 }),
                 multiview_mask: None,
                 cache: None,
             })
         };
-        let mesh = [mesh_pipeline(0), mesh_pipeline(1), mesh_pipeline(2), mesh_pipeline(3)];
+        let mesh = std::array::from_fn(mesh_pipeline);
         let tbn = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("seamlit tbn lines"),
             // The mesh layout, material group included though the lines do not read it: a gap
@@ -108,15 +118,23 @@ impl Pipelines {
         Self { mesh, tbn }
     }
 
-    /// Front face and whether back faces are culled, for a variant index.
-    fn variant(index: usize) -> (wgpu::FrontFace, bool) {
+    /// Front face, whether back faces are culled and whether colour is blended, for a
+    /// variant index.
+    fn variant(index: usize) -> (wgpu::FrontFace, bool, bool) {
         let front = if index & 1 == 0 { wgpu::FrontFace::Ccw } else { wgpu::FrontFace::Cw };
-        (front, index & 2 == 0)
+        (front, index & 2 == 0, index & 4 != 0)
     }
 
     /// The mesh pipeline for an object: a transform with a negative determinant turns
-    /// counter-clockwise triangles clockwise on screen; double-sided materials are not culled.
-    pub(crate) fn mesh(&self, mirrored: bool, double_sided: bool) -> &wgpu::RenderPipeline {
-        &self.mesh[usize::from(mirrored) | (usize::from(double_sided) << 1)]
+    /// counter-clockwise triangles clockwise on screen; double-sided materials are not culled;
+    /// alphaMode BLEND materials blend by alpha and leave the depth buffer alone.
+    pub(crate) fn mesh(
+        &self,
+        mirrored: bool,
+        double_sided: bool,
+        blend: bool,
+    ) -> &wgpu::RenderPipeline {
+        &self.mesh
+            [usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
     }
 }

@@ -210,9 +210,13 @@ impl Renderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
-        for mesh in &scene.meshes {
+        for mesh in draw_order(scene, camera.eye) {
             let material = &scene.materials[mesh.material];
-            pass.set_pipeline(self.pipelines.mesh(mesh.mirrored, material.double_sided));
+            pass.set_pipeline(self.pipelines.mesh(
+                mesh.mirrored,
+                material.double_sided,
+                material.blend,
+            ));
             pass.set_bind_group(1, &material.bind_group, &[]);
             pass.set_bind_group(2, &mesh.bind_group, &[]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
@@ -362,6 +366,18 @@ impl Renderer {
         }
         Ok(FrameTimes { frames: times })
     }
+}
+
+/// The meshes in drawing order: opaque (and masked) ones as they come, then the blended ones
+/// from the farthest to the nearest, by the distance from `eye` to the centre of their bounds.
+fn draw_order(scene: &GpuScene, eye: glam::Vec3) -> Vec<&crate::scene::GpuMesh> {
+    let blended = |m: &crate::scene::GpuMesh| scene.materials[m.material].blend;
+    let mut order: Vec<_> = scene.meshes.iter().filter(|m| !blended(m)).collect();
+    let mut back_to_front: Vec<_> = scene.meshes.iter().filter(|m| blended(m)).collect();
+    back_to_front
+        .sort_by(|a, b| eye.distance_squared(b.center).total_cmp(&eye.distance_squared(a.center)));
+    order.extend(back_to_front);
+    order
 }
 
 /// A single-level 2D texture.

@@ -4,14 +4,14 @@ use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use seamlit_io::{Asset, Material, Texture, TextureRef, UvTransform};
+use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef, UvTransform};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
 use crate::texture::{self, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
-/// One vertex as the vertex shader reads it (48 bytes).
+/// One vertex as the vertex shader reads it (64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct VertexRaw {
@@ -19,11 +19,14 @@ pub(crate) struct VertexRaw {
     pub normal: [f32; 3],
     pub tangent: [f32; 4],
     pub uv: [f32; 2],
+    /// glTF COLOR_0 (linear RGBA), white when the object has none.
+    pub color: [f32; 4],
 }
 
 impl VertexRaw {
-    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 4] =
-        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2];
+    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x4
+    ];
 
     pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
@@ -55,6 +58,12 @@ const MAT_NORMAL_MAP: u32 = 1;
 const MAT_GREEN_DOWN: u32 = 2;
 /// Material flag: back faces are drawn and lit from behind.
 const MAT_DOUBLE_SIDED: u32 = 4;
+/// Material flag: alphaMode MASK, pixels under the cutoff are discarded.
+const MAT_ALPHA_MASK: u32 = 8;
+/// Material flag: alphaMode BLEND, the pixel's alpha is written for blending.
+const MAT_ALPHA_BLEND: u32 = 16;
+/// Material flag: KHR_materials_unlit.
+const MAT_UNLIT: u32 = 32;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -65,9 +74,17 @@ pub(crate) struct MaterialRaw {
     pub shininess: f32,
     pub base_uv: [[f32; 4]; 2],
     pub normal_uv: [[f32; 4]; 2],
+    pub metallic_roughness_uv: [[f32; 4]; 2],
+    pub occlusion_uv: [[f32; 4]; 2],
+    pub emissive_uv: [[f32; 4]; 2],
+    pub emissive: [f32; 3],
     pub normal_scale: f32,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub occlusion_strength: f32,
+    pub alpha_cutoff: f32,
     pub flags: u32,
-    pub pad: [f32; 2],
+    pub pad: [u32; 3],
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`.
@@ -92,16 +109,39 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     if material.double_sided {
         flags |= MAT_DOUBLE_SIDED;
     }
+    if material.unlit {
+        flags |= MAT_UNLIT;
+    }
+    let alpha_cutoff = match material.alpha_mode {
+        AlphaMode::Opaque => 0.0,
+        AlphaMode::Mask { cutoff } => {
+            flags |= MAT_ALPHA_MASK;
+            cutoff
+        }
+        AlphaMode::Blend => {
+            flags |= MAT_ALPHA_BLEND;
+            0.0
+        }
+    };
+    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref().and_then(|r| r.transform.as_ref()));
     MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
         // pow(0, 0) is undefined in WGSL: keep the exponent positive.
         shininess: material.shininess.max(1e-3),
-        base_uv: uv_rows(material.base_color_texture.as_ref().and_then(|r| r.transform.as_ref())),
-        normal_uv: uv_rows(material.normal_texture.as_ref().and_then(|r| r.transform.as_ref())),
+        base_uv: slot_uv(&material.base_color_texture),
+        normal_uv: slot_uv(&material.normal_texture),
+        metallic_roughness_uv: slot_uv(&material.metallic_roughness_texture),
+        occlusion_uv: slot_uv(&material.occlusion_texture),
+        emissive_uv: slot_uv(&material.emissive_texture),
+        emissive: material.emissive,
         normal_scale: material.normal_scale,
+        metallic: material.metallic.clamp(0.0, 1.0),
+        roughness: material.roughness.clamp(0.0, 1.0),
+        occlusion_strength: material.occlusion_strength.clamp(0.0, 1.0),
+        alpha_cutoff,
         flags,
-        pad: [0.0; 2],
+        pad: [0; 3],
     }
 }
 
@@ -119,6 +159,8 @@ pub(crate) struct GpuMesh {
     pub material: usize,
     /// The transform has a negative determinant: front faces wind clockwise.
     pub mirrored: bool,
+    /// The centre of the object's world-space bounds, for sorting blended objects.
+    pub center: Vec3,
 }
 
 /// A material on the GPU.
@@ -126,6 +168,8 @@ pub(crate) struct GpuMesh {
 pub(crate) struct GpuMaterial {
     pub bind_group: wgpu::BindGroup,
     pub double_sided: bool,
+    /// alphaMode BLEND: drawn after the opaque objects, back to front, blended.
+    pub blend: bool,
 }
 
 /// A model uploaded to the GPU: geometry, materials and textures, ready for
@@ -145,8 +189,11 @@ pub struct GpuScene {
 impl GpuScene {
     /// Uploads an asset (its model, materials and textures). Every object must have normals
     /// (run `seamlit_mesh::fix` first); missing tangents disable normal mapping on that object,
-    /// missing UVs read as (0, 0), missing textures use 1x1 defaults (white base colour, flat
-    /// normal), objects without a material use [`Material::default`].
+    /// missing UVs read as (0, 0), missing vertex colours as white, missing textures use 1x1
+    /// defaults (white base colour, flat normal, white metallic-roughness, occlusion and
+    /// emissive, which leave their factors as they are), objects without a material use
+    /// [`Material::default`]. Every texture slot reads TEXCOORD_0 (the only set the loader
+    /// keeps), through its own KHR_texture_transform.
     ///
     /// # Errors
     ///
@@ -256,6 +303,8 @@ fn upload_materials(
 ) -> Result<Vec<GpuMaterial>, RenderError> {
     let white = texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?;
     let flat = texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?;
+    // Metallic-roughness, occlusion and emissive textures multiply their factors: white.
+    let white_data = texture::solid(ctx, "default data", [255; 4], TexelKind::Data)?;
     let sampler = texture::sampler(ctx, options);
     let mut cache: HashMap<(usize, TexelKind), wgpu::TextureView> = HashMap::new();
     let default = Material::default();
@@ -280,6 +329,10 @@ fn upload_materials(
         };
         let base = view(material.base_color_texture.as_ref(), TexelKind::Color)?;
         let normal = view(material.normal_texture.as_ref(), TexelKind::Normal)?;
+        let metallic_roughness =
+            view(material.metallic_roughness_texture.as_ref(), TexelKind::Data)?;
+        let occlusion = view(material.occlusion_texture.as_ref(), TexelKind::Data)?;
+        let emissive = view(material.emissive_texture.as_ref(), TexelKind::Color)?;
         let mut raw = material_to_raw(material);
         if normal.is_none() {
             // A normal map that could not be loaded is no normal map.
@@ -307,9 +360,31 @@ fn upload_materials(
                     binding: 3,
                     resource: wgpu::BindingResource::Sampler(&sampler),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(
+                        metallic_roughness.as_ref().unwrap_or(&white_data),
+                    ),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(
+                        occlusion.as_ref().unwrap_or(&white_data),
+                    ),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(
+                        emissive.as_ref().unwrap_or(&white),
+                    ),
+                },
             ],
         });
-        out.push(GpuMaterial { bind_group, double_sided: material.double_sided });
+        out.push(GpuMaterial {
+            bind_group,
+            double_sided: material.double_sided,
+            blend: material.alpha_mode == AlphaMode::Blend,
+        });
     }
     Ok(out)
 }
@@ -332,6 +407,9 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
     if let Some(uv) = &object.uvs {
         check("uvs", uv.len())?;
     }
+    if let Some(c) = &object.colors {
+        check("colors", c.len())?;
+    }
     if let Some((t, &i)) = object
         .triangles
         .iter()
@@ -346,6 +424,7 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
             normal: normals[i].to_array(),
             tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
             uv: object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array()),
+            color: object.colors.as_ref().map_or([1.0; 4], |c| c[i].to_array()),
         })
         .collect())
 }
@@ -429,5 +508,18 @@ fn upload_object(
         bind_group,
         material,
         mirrored: det < 0.0,
+        center: world_center(object, model),
     })
+}
+
+/// The centre of an object's bounds after `model`, the point blended objects are sorted by.
+fn world_center(object: &Object, model: Mat4) -> Vec3 {
+    let (lo, hi) = object.positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), &p| {
+            let w = model.transform_point3(p);
+            (lo.min(w), hi.max(w))
+        },
+    );
+    if lo.cmple(hi).all() { (lo + hi) * 0.5 } else { Vec3::ZERO }
 }

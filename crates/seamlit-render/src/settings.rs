@@ -1,4 +1,4 @@
-//! Per-frame switches: lights, lighting model, normal mapping, debug view.
+//! Per-frame switches: lights, lighting model, normal mapping, debug view, tone mapping.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -29,11 +29,47 @@ pub struct FrameSettings {
     pub tbn_length: Option<f32>,
     /// Background, linear RGBA.
     pub clear_color: [f32; 4],
+    /// Multiplies the lit colour before tone mapping.
+    pub exposure: f32,
+    /// How lit colours (linear, unbounded) become displayable ones.
+    pub tone_mapping: ToneMapping,
+}
+
+/// How lit colours, linear and unbounded, are mapped to 0..1 before the sRGB encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ToneMapping {
+    /// Clamp to 0..1 (the paper's pictures, and the analytic tests).
+    #[default]
+    None,
+    /// Khronos PBR Neutral: colours up to about 0.76 pass unchanged (but for a small offset
+    /// in the darks), brighter ones are compressed toward white with a little desaturation.
+    /// <https://github.com/KhronosGroup/ToneMapping/tree/main/PBR_Neutral>
+    PbrNeutral,
+}
+
+impl ToneMapping {
+    /// The usual choice for a lighting model: PBR Neutral for [`LightingModel::Pbr`], none for
+    /// the paper's models (whose pictures stay as they were).
+    #[must_use]
+    pub const fn default_for(model: LightingModel) -> Self {
+        match model {
+            LightingModel::Pbr => Self::PbrNeutral,
+            _ => Self::None,
+        }
+    }
+
+    /// The number the shader switches on.
+    const fn to_raw(self) -> u32 {
+        match self {
+            Self::None => 0,
+            Self::PbrNeutral => 1,
+        }
+    }
 }
 
 impl Default for FrameSettings {
     /// One white directional light from the upper right front, a little ambient light,
-    /// Blinn-Phong, normal mapping on, a dark grey background.
+    /// Blinn-Phong, normal mapping on, a dark grey background, exposure 1, no tone mapping.
     fn default() -> Self {
         Self {
             lights: vec![Light::Directional {
@@ -50,6 +86,8 @@ impl Default for FrameSettings {
             show_tbn: false,
             tbn_length: None,
             clear_color: [0.02, 0.02, 0.025, 1.0],
+            exposure: 1.0,
+            tone_mapping: ToneMapping::None,
         }
     }
 }
@@ -74,6 +112,9 @@ pub(crate) struct FrameRaw {
     pub flags: u32,
     pub normal_strength: f32,
     pub tbn_length: f32,
+    pub exposure: f32,
+    pub tone_mapping: u32,
+    pub pad: [u32; 2],
 }
 
 impl FrameSettings {
@@ -106,6 +147,9 @@ impl FrameSettings {
             flags,
             normal_strength: self.normal_strength,
             tbn_length: self.tbn_length.unwrap_or(default_tbn_length),
+            exposure: self.exposure,
+            tone_mapping: self.tone_mapping.to_raw(),
+            pad: [0; 2],
         }
     }
 }

@@ -35,13 +35,15 @@ pub(crate) enum TexelKind {
     Color,
     /// Linear tangent-space normals, `rgb * 2 - 1`.
     Normal,
+    /// Linear data (metallic-roughness, occlusion), averaged as it is.
+    Data,
 }
 
 impl TexelKind {
     fn format(self) -> wgpu::TextureFormat {
         match self {
             Self::Color => wgpu::TextureFormat::Rgba8UnormSrgb,
-            Self::Normal => wgpu::TextureFormat::Rgba8Unorm,
+            Self::Normal | Self::Data => wgpu::TextureFormat::Rgba8Unorm,
         }
     }
 }
@@ -90,6 +92,7 @@ pub(crate) fn downsample(src: &RgbaImage, kind: TexelKind) -> RgbaImage {
         }
         let avg = sum.map(|s| s / 4.0);
         match kind {
+            TexelKind::Data => image::Rgba(avg.map(unorm8)),
             TexelKind::Color => image::Rgba([
                 linear_to_srgb(avg[0]),
                 linear_to_srgb(avg[1]),

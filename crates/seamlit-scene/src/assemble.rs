@@ -167,9 +167,15 @@ pub fn merge(parts: Vec<Asset>) -> Asset {
             object.material = object.material.map(|m| m + materials);
         }
         for material in &mut part.materials {
-            for t in [&mut material.base_color_texture, &mut material.normal_texture]
-                .into_iter()
-                .flatten()
+            for t in [
+                &mut material.base_color_texture,
+                &mut material.normal_texture,
+                &mut material.metallic_roughness_texture,
+                &mut material.occlusion_texture,
+                &mut material.emissive_texture,
+            ]
+            .into_iter()
+            .flatten()
             {
                 t.texture += textures;
             }
@@ -269,9 +275,18 @@ mod tests {
         let mut b = asset("b", 2);
         b.model.v_axis = VAxis::Down;
         b.textures.push(bricks_texture());
-        b.materials[1].normal_texture =
-            Some(TextureRef { texture: 0, tex_coord: 0, transform: None });
+        let first = Some(TextureRef { texture: 0, tex_coord: 0, transform: None });
+        b.materials[1].normal_texture = first.clone();
+        b.materials[1].metallic_roughness_texture = first.clone();
+        b.materials[1].occlusion_texture = first.clone();
+        b.materials[1].emissive_texture = first;
         let m = merge(vec![a, b]);
+        let slots = [
+            &m.materials[2].metallic_roughness_texture,
+            &m.materials[2].occlusion_texture,
+            &m.materials[2].emissive_texture,
+        ];
+        assert!(slots.iter().all(|t| t.as_ref().unwrap().texture == 1), "{slots:?}");
         assert_eq!(m.model.objects.len(), 2);
         assert_eq!(m.model.objects[1].material, Some(2));
         assert_eq!(m.materials[2].normal_texture.as_ref().unwrap().texture, 1);

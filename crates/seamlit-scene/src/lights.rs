@@ -1,6 +1,8 @@
-//! Light rigs: the default three-light rig a scene gets when it names no light.
+//! Light rigs: the default three-light rig a scene gets when it names no light, and the
+//! lights a glTF file carries (KHR_lights_punctual) as the renderer's.
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
+use seamlit_io::{PunctualKind, PunctualLight};
 use seamlit_render::Light;
 
 /// The classic three-light rig, all directional so that it suits a model of any size: a warm
@@ -27,6 +29,33 @@ pub fn three_point_rig() -> Vec<Light> {
     ]
 }
 
+/// A glTF light (KHR_lights_punctual, in model space) as the renderer's, moved by `transform`
+/// (the model's placement in the scene). Intensities pass through as they are (lux for
+/// directional lights, candela for point and spot lights: the PBR model's units); a light
+/// without a range gets no cut-off (range 0); cone angles go from radians to degrees.
+#[must_use]
+pub fn from_gltf(light: &PunctualLight, transform: Mat4) -> Light {
+    let color = Vec3::from_array(light.color);
+    let position = transform.transform_point3(light.position);
+    let direction = transform.transform_vector3(light.direction);
+    let range = light.range.unwrap_or(0.0);
+    match light.kind {
+        PunctualKind::Directional => {
+            Light::Directional { direction, color, intensity: light.intensity }
+        }
+        PunctualKind::Point => Light::Point { position, color, intensity: light.intensity, range },
+        PunctualKind::Spot { inner_cone_angle, outer_cone_angle } => Light::Spot {
+            position,
+            direction,
+            color,
+            intensity: light.intensity,
+            range,
+            inner_cone_deg: inner_cone_angle.to_degrees(),
+            outer_cone_deg: outer_cone_angle.to_degrees(),
+        },
+    }
+}
+
 /// The direction a light travels, if it has one (directional and spot lights).
 #[must_use]
 pub fn light_direction(light: &Light) -> Option<Vec3> {
@@ -39,6 +68,41 @@ pub fn light_direction(light: &Light) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gltf_spot_light_is_placed_by_the_model_transform_with_its_cones_in_degrees() {
+        let light = PunctualLight {
+            name: "spot".into(),
+            kind: PunctualKind::Spot {
+                inner_cone_angle: std::f32::consts::FRAC_PI_6,
+                outer_cone_angle: std::f32::consts::FRAC_PI_4,
+            },
+            color: [1.0, 0.5, 0.25],
+            intensity: 40.0,
+            position: Vec3::new(1.0, 2.0, 3.0),
+            direction: Vec3::NEG_Z,
+            range: None,
+        };
+        // Translate by +10 X after turning 90 degrees about Y (-Z goes to -X).
+        let transform = Mat4::from_translation(Vec3::X * 10.0)
+            * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2);
+        let Light::Spot {
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+            inner_cone_deg,
+            outer_cone_deg,
+        } = from_gltf(&light, transform)
+        else {
+            panic!("a spot light stays a spot light");
+        };
+        assert!((position - Vec3::new(13.0, 2.0, -1.0)).length() < 1e-5, "{position}");
+        assert!((direction - Vec3::NEG_X).length() < 1e-6, "{direction}");
+        assert_eq!((color, intensity, range), (Vec3::new(1.0, 0.5, 0.25), 40.0, 0.0));
+        assert!((inner_cone_deg - 30.0).abs() < 1e-4 && (outer_cone_deg - 45.0).abs() < 1e-4);
+    }
 
     #[test]
     fn the_rig_has_a_key_a_fill_and_a_rim_light() {

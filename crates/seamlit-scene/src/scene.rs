@@ -6,12 +6,14 @@ use std::path::{Path, PathBuf};
 
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use seamlit_mesh::FixOptions;
-use seamlit_render::Light;
+use seamlit_render::{Light, LightingModel};
 
 use crate::camera::{Bounds, Camera};
 use crate::error::SceneError;
 use crate::lights::three_point_rig;
-use crate::schema::{CameraDef, LightDef, LightKind, MaterialDef, ModelDef, Scale, SceneFile};
+use crate::schema::{
+    CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, Scale, SceneFile,
+};
 
 /// A scene, checked and with its paths resolved.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +27,9 @@ pub struct Scene {
     /// The cameras, in file order; empty means "frame the model"
     /// ([`Scene::cameras_or_default`]).
     pub cameras: Vec<Camera>,
+    /// `[render] lighting`: the lighting equation the scene asks for; `None` leaves the choice
+    /// to the program (seamlit: PBR for glTF models, Blinn-Phong otherwise).
+    pub lighting: Option<LightingModel>,
 }
 
 /// One model placed in a scene.
@@ -139,7 +144,14 @@ impl Scene {
             }
             cameras.push(camera);
         }
-        Ok(Self { source: None, models, lights, cameras })
+        let lighting = parsed.render.and_then(|r| r.lighting).map(|l| match l {
+            LightingKind::Pbr => LightingModel::Pbr,
+            LightingKind::BlinnPhong => LightingModel::BlinnPhong,
+            LightingKind::Phong => LightingModel::Phong,
+            LightingKind::Lambert => LightingModel::Lambert,
+            LightingKind::Gouraud => LightingModel::Gouraud,
+        });
+        Ok(Self { source: None, models, lights, cameras, lighting })
     }
 
     /// A scene of one model file, with default options, no lights and no cameras (so the
@@ -157,6 +169,7 @@ impl Scene {
             }],
             lights: Vec::new(),
             cameras: Vec::new(),
+            lighting: None,
         }
     }
 
@@ -545,6 +558,18 @@ fov_deg = 50
         );
         assert!(e.starts_with("/scenes/s.toml: line 8,"), "{e}");
         assert!(e.contains("key `fov_deg`"), "{e}");
+    }
+
+    #[test]
+    fn the_render_table_chooses_the_lighting() {
+        let scene = parse("[[model]]\npath = \"a.obj\"\n[render]\nlighting = \"pbr\"\n").unwrap();
+        assert_eq!(scene.lighting, Some(LightingModel::Pbr));
+        let scene =
+            parse("[[model]]\npath = \"a.obj\"\n[render]\nlighting = \"blinn-phong\"\n").unwrap();
+        assert_eq!(scene.lighting, Some(LightingModel::BlinnPhong));
+        assert_eq!(parse("[[model]]\npath = \"a.obj\"\n").unwrap().lighting, None);
+        let e = err("[[model]]\npath = \"a.obj\"\n[render]\nlighting = \"cel\"\n");
+        assert!(e.contains("line 4") && e.contains("key `lighting`"), "{e}");
     }
 
     #[test]

@@ -16,6 +16,25 @@ pub(crate) struct SceneFile {
     pub light: Vec<Spanned<LightDef>>,
     #[serde(default)]
     pub camera: Vec<Spanned<CameraDef>>,
+    pub render: Option<RenderDef>,
+}
+
+/// `[render]`: how the scene is drawn.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RenderDef {
+    pub lighting: Option<LightingKind>,
+}
+
+/// The lighting equations a scene can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum LightingKind {
+    Pbr,
+    BlinnPhong,
+    Phong,
+    Lambert,
+    Gouraud,
 }
 
 /// `[[model]]`.

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use seamlit_mesh::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
-use seamlit_render::{DebugView, LightingModel};
+use seamlit_render::{DebugView, LightingModel, ToneMapping};
 
 /// seamlit makes multi-object 3D models light correctly: it welds positions across all
 /// objects of a model and computes normals and tangents across the weld, so per-pixel
@@ -232,9 +232,20 @@ pub struct ViewFlags {
     /// What each pixel shows: lit, or a debug view of the attributes.
     #[arg(long, value_enum, value_name = "VIEW", default_value_t = ViewArg::Lit)]
     pub view: ViewArg,
-    /// The lighting equation.
-    #[arg(long, value_enum, value_name = "MODEL", default_value_t = LightingArg::BlinnPhong)]
-    pub lighting: LightingArg,
+    /// The lighting equation [default: the scene's `[render] lighting`, else pbr when every
+    /// model is glTF and blinn-phong otherwise].
+    #[arg(long, value_enum, value_name = "MODEL")]
+    pub lighting: Option<LightingArg>,
+    /// How lit colours are brought into 0..1 [default: neutral for pbr, none otherwise].
+    #[arg(long, value_enum, value_name = "MAP")]
+    pub tone_mapping: Option<ToneMappingArg>,
+    /// Multiplies the lit colour before tone mapping.
+    #[arg(long, value_name = "X", default_value_t = 1.0)]
+    pub exposure: f32,
+    /// Ambient light (grey, linear) [default: 0.05; for pbr, where it stands in for an
+    /// environment, 0.3].
+    #[arg(long, value_name = "X")]
+    pub ambient: Option<f32>,
     /// Switch normal mapping off.
     #[arg(long)]
     pub no_normal_map: bool,
@@ -382,6 +393,12 @@ pub enum ViewArg {
     Objects,
     /// Lighting on a white material.
     Lighting,
+    /// Metalness as grey (PBR materials).
+    Metallic,
+    /// Roughness as grey (PBR materials).
+    Roughness,
+    /// Ambient occlusion as grey (PBR materials).
+    Occlusion,
 }
 
 impl From<ViewArg> for DebugView {
@@ -394,6 +411,9 @@ impl From<ViewArg> for DebugView {
             ViewArg::Uv => Self::Uvs,
             ViewArg::Objects => Self::ObjectIds,
             ViewArg::Lighting => Self::LightingOnly,
+            ViewArg::Metallic => Self::Metallic,
+            ViewArg::Roughness => Self::Roughness,
+            ViewArg::Occlusion => Self::Occlusion,
         }
     }
 }
@@ -401,6 +421,8 @@ impl From<ViewArg> for DebugView {
 /// `--lighting`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LightingArg {
+    /// glTF metallic-roughness (the specification's Appendix B), per pixel.
+    Pbr,
     /// Per-pixel Blinn-Phong.
     BlinnPhong,
     /// Per-pixel Phong.
@@ -418,6 +440,25 @@ impl From<LightingArg> for LightingModel {
             LightingArg::Phong => Self::Phong,
             LightingArg::Lambert => Self::Lambert,
             LightingArg::Gouraud => Self::Gouraud,
+            LightingArg::Pbr => Self::Pbr,
+        }
+    }
+}
+
+/// `--tone-mapping`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ToneMappingArg {
+    /// Khronos PBR Neutral.
+    Neutral,
+    /// Clamp to 0..1.
+    None,
+}
+
+impl From<ToneMappingArg> for ToneMapping {
+    fn from(t: ToneMappingArg) -> Self {
+        match t {
+            ToneMappingArg::Neutral => Self::PbrNeutral,
+            ToneMappingArg::None => Self::None,
         }
     }
 }

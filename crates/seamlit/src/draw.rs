@@ -1,24 +1,44 @@
 //! Headless rendering for the commands: one GPU context, one renderer, images out.
 
+use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::Asset;
-use seamlit_render::{FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, Renderer};
+use seamlit_render::{
+    FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, LightingModel, Renderer, ToneMapping,
+};
 use seamlit_scene::{Bounds, Camera};
 
 use crate::cli::ViewFlags;
 use crate::failure::{Classify, Failure};
+use crate::prepare::Loaded;
 
-/// Frame settings from the command line's view flags and the scene's lights.
+/// Frame settings from the command line's view flags and the scene: its lights, and its
+/// lighting model unless `--lighting` names one; tone mapping as `--tone-mapping` says, else
+/// the lighting model's usual one.
 #[must_use]
-pub fn frame_settings(flags: &ViewFlags, lights: Vec<Light>) -> FrameSettings {
+pub fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
+    let lighting_model = flags.lighting.map_or_else(|| loaded.lighting(), Into::into);
     FrameSettings {
-        lights,
-        lighting_model: flags.lighting.into(),
+        lights: loaded.lights(),
+        lighting_model,
+        tone_mapping: flags
+            .tone_mapping
+            .map_or_else(|| ToneMapping::default_for(lighting_model), Into::into),
+        exposure: flags.exposure,
+        ambient: Vec3::splat(flags.ambient.unwrap_or(default_ambient(lighting_model))),
         normal_mapping: !flags.no_normal_map,
         debug_view: flags.view.into(),
         show_tbn: flags.tbn,
         ..FrameSettings::default()
     }
+}
+
+/// The ambient light when `--ambient` is not given: the paper's pictures' 0.05; for PBR,
+/// where a uniform ambient light stands in for the environment that metals reflect (without
+/// it they render black but for their highlights), 0.3.
+#[must_use]
+pub fn default_ambient(model: LightingModel) -> f32 {
+    if model == LightingModel::Pbr { 0.3 } else { 0.05 }
 }
 
 /// A headless GPU context and an image renderer (4x MSAA where supported).

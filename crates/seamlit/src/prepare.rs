@@ -6,7 +6,7 @@ use std::path::Path;
 
 use seamlit_io::{Asset, LoadOptions};
 use seamlit_mesh::{FixOptions, Mode};
-use seamlit_render::Light;
+use seamlit_render::{Light, LightingModel};
 use seamlit_scene::{
     Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
 };
@@ -110,10 +110,35 @@ impl Loaded {
         Ok(merge(assets))
     }
 
-    /// The scene's lights, or the default rig.
+    /// The lighting model the scene asks for (`[render] lighting`), else PBR when every model
+    /// came from glTF (whose materials are metallic-roughness) and Blinn-Phong otherwise
+    /// (OBJ/MTL and Newell patches, whose materials are Blinn-Phong's).
+    #[must_use]
+    pub fn lighting(&self) -> LightingModel {
+        let all_gltf = self.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
+        self.scene.lighting.unwrap_or(if all_gltf {
+            LightingModel::Pbr
+        } else {
+            LightingModel::BlinnPhong
+        })
+    }
+
+    /// The scene's `[[light]]`s; without any, the lights the model files carry (glTF
+    /// KHR_lights_punctual, placed with their models); without those, the default rig.
     #[must_use]
     pub fn lights(&self) -> Vec<Light> {
-        self.scene.lights_or_default()
+        let from_files: Vec<Light> = self
+            .parts
+            .iter()
+            .flat_map(|(model, asset)| {
+                asset.lights.iter().map(|l| seamlit_scene::lights::from_gltf(l, model.transform))
+            })
+            .collect();
+        if self.scene.lights.is_empty() && !from_files.is_empty() {
+            from_files
+        } else {
+            self.scene.lights_or_default()
+        }
     }
 
     /// The scene's cameras, or one framing `bounds` at this aspect ratio.

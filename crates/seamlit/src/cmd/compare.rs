@@ -32,7 +32,7 @@ pub fn render_modes(
 ) -> Result<(Vec<RgbaImage>, Gpu), Failure> {
     let size = view.size;
     let aspect = size.0 as f32 / size.1 as f32;
-    let settings = frame_settings(view, loaded.lights());
+    let settings = frame_settings(view, loaded);
     let mut jobs = Vec::with_capacity(MODES.len());
     for (mode, ..) in MODES {
         let asset = loaded.build(&FixOverride { mode: Some(mode), flags: flags.clone() })?;

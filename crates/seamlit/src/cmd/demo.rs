@@ -7,6 +7,7 @@ use std::time::Instant;
 use glam::Mat4;
 use seamlit_io::{Asset, SaveOptions};
 use seamlit_mesh::{FixOptions, Mode};
+use seamlit_render::LightingModel;
 use seamlit_scene::{Scene, SceneModel, demo};
 
 use crate::cli::{DemoArgs, FixFlags, LightingArg, TangentsArg, ViewArg, ViewFlags};
@@ -53,7 +54,10 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         size: args.size,
         camera: None,
         view: ViewArg::Lit,
-        lighting: LightingArg::BlinnPhong,
+        lighting: Some(LightingArg::BlinnPhong),
+        tone_mapping: None,
+        exposure: 1.0,
+        ambient: None,
         no_normal_map: false,
         tbn: false,
     };
@@ -105,6 +109,7 @@ fn demo_scene(asset: Asset) -> Loaded {
         models: vec![model.clone()],
         lights: demo::lights(),
         cameras: vec![demo::camera()],
+        lighting: Some(LightingModel::BlinnPhong),
     };
     Loaded { scene, parts: vec![(model, asset)] }
 }

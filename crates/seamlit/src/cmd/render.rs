@@ -21,7 +21,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let aspect = size.0 as f32 / size.1 as f32;
     let cameras = loaded.cameras(bounds, aspect);
     let camera = pick_camera(&cameras, args.scene.view.camera.as_deref(), &args.scene.input)?;
-    let settings = frame_settings(&args.scene.view, loaded.lights());
+    let settings = frame_settings(&args.scene.view, &loaded);
     let mut gpu = Gpu::open()?;
     let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;

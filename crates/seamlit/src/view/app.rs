@@ -261,6 +261,16 @@ impl Viewer {
         FrameSettings {
             lights: self.settings.lights.clone(),
             lighting_model: self.settings.lighting,
+            tone_mapping: self
+                .settings
+                .tone_mapping
+                .unwrap_or(seamlit_render::ToneMapping::default_for(self.settings.lighting)),
+            exposure: self.settings.exposure,
+            ambient: glam::Vec3::splat(
+                self.settings
+                    .ambient
+                    .unwrap_or(crate::draw::default_ambient(self.settings.lighting)),
+            ),
             normal_mapping: self.settings.normal_mapping,
             debug_view: self.settings.debug_view,
             show_tbn: self.settings.show_tbn,

@@ -26,6 +26,12 @@ pub struct Settings {
     pub weighting: Weighting,
     /// Lighting equation.
     pub lighting: LightingModel,
+    /// `--tone-mapping`; `None`: the lighting model's usual one.
+    pub tone_mapping: Option<seamlit_render::ToneMapping>,
+    /// `--exposure`.
+    pub exposure: f32,
+    /// `--ambient`; `None`: the lighting model's usual one.
+    pub ambient: Option<f32>,
     /// Normal mapping on or off.
     pub normal_mapping: bool,
     /// What the pixels show.
@@ -113,6 +119,7 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     ui.strong("Shading");
     ComboBox::from_label("lighting").selected_text(format!("{:?}", s.lighting)).show_ui(ui, |ui| {
         for l in [
+            LightingModel::Pbr,
             LightingModel::BlinnPhong,
             LightingModel::Phong,
             LightingModel::Lambert,
@@ -131,6 +138,9 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
             DebugView::Uvs,
             DebugView::ObjectIds,
             DebugView::LightingOnly,
+            DebugView::Metallic,
+            DebugView::Roughness,
+            DebugView::Occlusion,
         ] {
             ui.selectable_value(&mut s.debug_view, v, format!("{v:?}"));
         }
