@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
+use crate::morph;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
@@ -63,10 +64,13 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             material: o.material,
             smoothing_groups: o.smoothing_groups.clone(),
             split_from: o.split_from.clone(),
+            skin: o.skin.clone(),
+            morph_targets: o.morph_targets.clone(),
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
     run(&mut out, flat, options, Some(model), &authored)?;
+    morph::compute_deltas(&mut out, options, &computed(&authored))?;
     Ok(out)
 }
 
@@ -80,7 +84,15 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
-    run(model, flat, options, None, &authored)
+    let changes = run(model, flat, options, None, &authored)?;
+    morph::compute_deltas(model, options, &computed(&authored))?;
+    Ok(changes)
+}
+
+/// The objects whose normals `fix` computes (the others keep theirs, and their morph
+/// targets' deltas).
+fn computed(authored: &Authored) -> Vec<bool> {
+    authored.normals.iter().map(|&kept| !kept).collect()
 }
 
 /// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
@@ -292,6 +304,8 @@ pub(crate) struct Out<'a> {
     changed: usize,
     uvs: &'a mut Option<Vec<Vec2>>,
     colors: &'a mut Option<Vec<Vec4>>,
+    skin: &'a mut Vec<crate::Influences>,
+    morph_targets: &'a mut Vec<crate::MorphTarget>,
     linear: Option<Linear>,
     /// Whether tangents are written (otherwise they are zero and split nothing).
     tangents_wanted: bool,
@@ -328,6 +342,8 @@ impl<'a> Out<'a> {
             changed: 0,
             uvs: &mut object.uvs,
             colors: &mut object.colors,
+            skin: &mut object.skin,
+            morph_targets: &mut object.morph_targets,
             linear,
             tangents_wanted,
             normals,
@@ -410,6 +426,7 @@ impl<'a> Out<'a> {
                 if let Some(colors) = self.colors {
                     colors.push(colors[vi]);
                 }
+                morph::copy_vertex(self.skin, self.morph_targets, vi);
                 self.normals.push(normal);
                 self.tangents.push(tangent);
                 self.is_set.push(true);

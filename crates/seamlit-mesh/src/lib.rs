@@ -45,6 +45,7 @@ mod frame;
 mod group;
 mod mikk;
 mod model;
+mod morph;
 mod options;
 pub mod reference;
 mod repair;
@@ -56,7 +57,7 @@ pub mod weld;
 pub use changes::{Changes, ObjectChanges};
 pub use error::MeshError;
 pub use fix::{fix, fix_in_place};
-pub use model::{Model, Object, VAxis};
+pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
 
