@@ -50,6 +50,7 @@ mod options;
 pub mod reference;
 mod repair;
 mod report;
+mod skin;
 mod smooth;
 mod validate;
 pub mod weld;
@@ -60,6 +61,7 @@ pub use fix::{fix, fix_in_place};
 pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
+pub use skin::{SkinSeamExample, SkinSeams};
 
 /// The largest number of vertices (and of triangle corners) a model may have: indices are
 /// 32-bit.
