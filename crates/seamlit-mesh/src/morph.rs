@@ -169,6 +169,63 @@ fn base_frames(model: &Model, flat: &Flat) -> Vec<(Vec3, Vec4)> {
         .collect()
 }
 
+/// Per group (indexed by its first vertex): the weighted sums of the normals (normal groups)
+/// and tangents (tangent groups) of target `k`'s faces. Each object adds its faces into its
+/// own vertices in parallel (triangle order); the vertices are then added into their groups
+/// in vertex order, so the bits do not depend on the thread count.
+fn group_sums(
+    model: &Model,
+    flat: &Flat,
+    groups: &Groups,
+    options: &FixOptions,
+    k: usize,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let n = flat.positions.len();
+    let mut sums = vec![(Vec3::ZERO, Vec3::ZERO); n];
+    let mut parts = Vec::with_capacity(model.objects.len());
+    let mut rest = sums.as_mut_slice();
+    for object in &model.objects {
+        let (part, tail) = rest.split_at_mut(object.vertex_count());
+        parts.push(part);
+        rest = tail;
+    }
+    parts.into_par_iter().zip(&model.objects).for_each(|(sums, object)| {
+        let deltas = object.morph_targets.get(k).map(|t| t.position_deltas.as_slice());
+        let transform = object.transform.map(|_| object.model_transform());
+        let displaced = |i: u32| {
+            let i = i as usize;
+            let p = object.positions[i] + deltas.map_or(Vec3::ZERO, |d| d[i]);
+            transform.map_or(p, |m| m.transform_point3(p))
+        };
+        let uvs = object.uvs.as_deref();
+        for tri in &object.triangles {
+            let f =
+                face(tri.map(displaced), uvs.map(|uv| tri.map(|i| uv[i as usize])), model.v_axis);
+            let tangent = !f.is(DEGENERATE | DEGENERATE_UV);
+            for (c, &i) in tri.iter().enumerate() {
+                let w = weight(options.weighting, &f, c);
+                let s = &mut sums[i as usize];
+                s.0 += f.normal * w;
+                if tangent {
+                    s.1 += f.tangent * w;
+                }
+            }
+        }
+    });
+    // A group's first vertex comes before its other vertices: add each into it in order.
+    let (mut n_sum, mut t_sum): (Vec<Vec3>, Vec<Vec3>) = sums.into_iter().unzip();
+    for v in 0..n {
+        let (gn, gt) = (groups.normal[v] as usize, groups.tangent[v] as usize);
+        if gn != v {
+            n_sum[gn] = n_sum[gn] + n_sum[v];
+        }
+        if gt != v {
+            t_sum[gt] = t_sum[gt] + t_sum[v];
+        }
+    }
+    (n_sum, t_sum)
+}
+
 /// One object's deltas for one target, local space.
 struct Deltas {
     normals: Vec<Vec3>,
@@ -183,32 +240,7 @@ fn target_deltas(
     options: &FixOptions,
     k: usize,
 ) -> Vec<Deltas> {
-    let n = flat.positions.len();
-    let (mut n_sum, mut t_sum) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-    for (o, object) in model.objects.iter().enumerate() {
-        let base = flat.vertex_start[o] as usize;
-        let deltas = object.morph_targets.get(k).map(|t| t.position_deltas.as_slice());
-        let transform = object.model_transform();
-        let displaced = |i: u32| {
-            let i = i as usize;
-            let p = object.positions[i] + deltas.map_or(Vec3::ZERO, |d| d[i]);
-            if object.transform.is_some() { transform.transform_point3(p) } else { p }
-        };
-        let uvs = object.uvs.as_deref();
-        for tri in &object.triangles {
-            let f =
-                face(tri.map(displaced), uvs.map(|uv| tri.map(|i| uv[i as usize])), model.v_axis);
-            let tangent = !f.is(DEGENERATE | DEGENERATE_UV);
-            for (c, &i) in tri.iter().enumerate() {
-                let v = base + i as usize;
-                let w = weight(options.weighting, &f, c);
-                n_sum[groups.normal[v] as usize] += f.normal * w;
-                if tangent {
-                    t_sum[groups.tangent[v] as usize] += f.tangent * w;
-                }
-            }
-        }
-    }
+    let (n_sum, t_sum) = group_sums(model, flat, groups, options, k);
     model
         .objects
         .par_iter()
