@@ -4,7 +4,9 @@
 //! What changes (design: `docs/gltf-pass-through.md`):
 //!
 //! - each fixed primitive gets new NORMAL and TANGENT accessors and a new index accessor
-//!   (the input's component type where the vertex count fits, else `UNSIGNED_INT`);
+//!   (the input's component type where the vertex count fits, else `UNSIGNED_INT`), and its
+//!   morph targets the NORMAL and TANGENT deltas `fix` computed, where it computed them
+//!   ([`seamlit_mesh::MorphTarget`]);
 //! - where [`seamlit_mesh::fix`] split vertices, every other attribute of the primitive and
 //!   of its morph targets gets a new accessor: the input values, each split vertex a copy of
 //!   the vertex it came from ([`Object::source_vertex`]), bytes unchanged;

@@ -78,8 +78,8 @@ pub struct Object {
     /// position needs two frames; the last `split_from.len()` vertices are such copies, and
     /// entry `k` is the index of the input vertex (one of the first
     /// `vertex_count() - split_from.len()`) that the `k`-th copy duplicates. Writers use it to
-    /// duplicate every attribute they carry beyond this type's (joints, morph targets) for the
-    /// copies.
+    /// duplicate every attribute they carry beyond this type's (the glTF pass-through: every
+    /// input attribute and morph target accessor, bytes as written) for the copies.
     /// Empty for a loaded model; fixing a fixed model keeps pointing at the first input.
     pub split_from: Vec<u32>,
     /// Skin influences, one [`Influences`] per set (glTF `JOINTS_n`/`WEIGHTS_n`); empty for an
