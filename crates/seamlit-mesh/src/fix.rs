@@ -69,8 +69,8 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    run(&mut out, flat, options, Some(model), &authored)?;
-    morph::compute_deltas(&mut out, options, &computed(&authored))?;
+    let (_, weld) = run(&mut out, flat, options, Some(model), &authored)?;
+    morph::compute_deltas(&mut out, options, &computed(&authored), weld)?;
     Ok(out)
 }
 
@@ -84,8 +84,8 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
-    let changes = run(model, flat, options, None, &authored)?;
-    morph::compute_deltas(model, options, &computed(&authored))?;
+    let (changes, weld) = run(model, flat, options, None, &authored)?;
+    morph::compute_deltas(model, options, &computed(&authored), weld)?;
     Ok(changes)
 }
 
@@ -104,11 +104,13 @@ fn run(
     options: &FixOptions,
     input: Option<&Model>,
     authored: &Authored,
-) -> Result<Changes, MeshError> {
+) -> Result<(Changes, Option<Vec<u32>>), MeshError> {
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
-        let changed = compute(model, flat, options, input, &authored.normals);
-        return Ok(tally(model, &vertices, &changed, authored));
+        let (changed, roots) = compute(model, flat, options, input, &authored.normals);
+        // The weld, for the morph targets' deltas: the fix made no other change.
+        let weld = roots.map(|r| morph::roots_after_splits(&r, &vertices, model));
+        return Ok((tally(model, &vertices, &changed, authored), weld));
     }
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
     //    objects that keep theirs are left as they are. Vertices may have been split since
@@ -116,7 +118,7 @@ fn run(
     let (flat, mut changed) = if authored.all() {
         (flat, vec![0; model.objects.len()])
     } else {
-        let changed = compute(model, flat, options, input, &authored.normals);
+        let (changed, _) = compute(model, flat, options, input, &authored.normals);
         (validate::flatten(model)?, changed)
     };
     let mut flat = flat;
@@ -151,7 +153,7 @@ fn run(
     }
     // 5. Tangents where kept normals came without them.
     repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
-    Ok(tally(model, &vertices, &changed, authored))
+    Ok((tally(model, &vertices, &changed, authored), None))
 }
 
 /// The [`Changes`]: `vertices` and `changed` per object, before the fix.
@@ -176,24 +178,26 @@ fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Author
 /// are not written), from the faces of all objects: the paper's way, and the whole fix under
 /// [`NormalPolicy::Recompute`]. `input`, where the model is a copy, is the original (for the
 /// normals of vertices no triangle uses). Returns, per object, how many of its vertices'
-/// normals are not the input ones.
+/// normals are not the input ones, and each vertex's weld root (where it welded).
 fn compute(
     model: &mut Model,
     mut flat: Flat,
     options: &FixOptions,
     input: Option<&Model>,
     skip: &[bool],
-) -> Vec<usize> {
+) -> (Vec<usize>, Option<Vec<u32>>) {
     let want_tangents = options.tangents != TangentMethod::None;
     if options.mode == Mode::Flat {
         // Flat shading: each corner takes its face's frame.
         let v_axis = model.v_axis;
         let flat = &flat;
-        return write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
-            write_corners(o, object, flat, tangents, input, |_, p, uv| {
-                [face_frame(&face(p, uv, v_axis)); 3]
-            })
-        });
+        let changed =
+            write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+                write_corners(o, object, flat, tangents, input, |_, p, uv| {
+                    [face_frame(&face(p, uv, v_axis)); 3]
+                })
+            });
+        return (changed, None);
     }
 
     let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
@@ -215,7 +219,7 @@ fn compute(
         let tangents =
             crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
         drop((triangles, uvs));
-        return write_objects(
+        let changed = write_objects(
             model,
             skip,
             want_tangents,
@@ -231,12 +235,16 @@ fn compute(
                 })
             },
         );
+        return (changed, Some(smooth.into_roots()));
     }
 
-    let smooth = &smooth;
-    write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
-        write_smooth(o, object, flat, smooth, tangents, input)
-    })
+    let changed = {
+        let smooth = &smooth;
+        write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+            write_smooth(o, object, flat, smooth, tangents, input)
+        })
+    };
+    (changed, Some(smooth.into_roots()))
 }
 
 /// Writes every object not marked in `skip` with `write(o, object, tangents wanted, input

@@ -61,6 +61,7 @@ pub(crate) fn compute_deltas(
     model: &mut Model,
     options: &FixOptions,
     computed: &[bool],
+    weld: Option<Vec<u32>>,
 ) -> Result<(), MeshError> {
     let targets = model
         .objects
@@ -74,7 +75,7 @@ pub(crate) fn compute_deltas(
         return Ok(());
     }
     let flat = validate::flatten(model)?;
-    let groups = Groups::of(model, &flat, options);
+    let groups = Groups::of(model, &flat, options, weld);
     let deltas: Vec<Vec<Deltas>> =
         (0..targets).map(|k| target_deltas(model, &flat, &groups, options, k)).collect();
     for (k, per_object) in deltas.into_iter().enumerate() {
@@ -101,9 +102,12 @@ struct Groups {
 }
 
 impl Groups {
-    fn of(model: &Model, flat: &Flat, options: &FixOptions) -> Self {
+    /// `weld`: the base fix's roots (see [`roots_after_splits`]), welded again where `None`.
+    fn of(model: &Model, flat: &Flat, options: &FixOptions, weld: Option<Vec<u32>>) -> Self {
         let roots: Vec<u32> = if options.mode == Mode::Flat {
             (0..flat.positions.len() as u32).collect()
+        } else if let Some(roots) = weld {
+            roots
         } else {
             let tolerance = options.weld_tolerance.absolute(diagonal(flat));
             roots_for_mode(flat, tolerance, options.mode)
@@ -144,6 +148,39 @@ impl Groups {
         }
         Self { normal, tangent, frames }
     }
+}
+
+/// The fix's weld `roots`, taken before it split vertices (when objects had `counts`
+/// vertices), for the vertices of the fixed `model`: a copy's root is its source's, and each
+/// root is renumbered into the new layout.
+pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model) -> Vec<u32> {
+    let mut old_start = Vec::with_capacity(counts.len() + 1);
+    let mut new_start = Vec::with_capacity(counts.len() + 1);
+    let (mut a, mut b) = (0usize, 0usize);
+    for (count, object) in counts.iter().zip(&model.objects) {
+        old_start.push(a);
+        new_start.push(b);
+        a += count;
+        b += object.vertex_count();
+    }
+    old_start.push(a);
+    let renumber = |r: u32| {
+        let o = old_start.partition_point(|&s| s <= r as usize) - 1;
+        (new_start[o] + r as usize - old_start[o]) as u32
+    };
+    model
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(o, object)| {
+            let (old_start, renumber) = (old_start[o], &renumber);
+            (0..object.vertex_count() as u32).map(move |v| {
+                // A copy of a copy points at the first input vertex: the same position.
+                let source = object.source_vertex(v) as usize;
+                renumber(roots[old_start + source])
+            })
+        })
+        .collect()
 }
 
 /// Every vertex's fixed normal and tangent in model space.

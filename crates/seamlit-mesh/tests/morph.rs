@@ -159,3 +159,39 @@ fn split_vertices_copy_their_influences_and_deltas() {
         assert_eq!(o.morph_targets[0].position_deltas[v], Vec3::splat(s as f32));
     }
 }
+
+#[test]
+fn split_vertices_get_the_deltas_of_their_side_of_the_crease() {
+    // Two objects folded at a right angle along x = 1, the crease splitting its vertices;
+    // the target tilts the far edge a little.
+    let half = |name: &str, far: [Vec3; 2]| {
+        let positions = vec![Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), far[1], far[0]];
+        let mut o = Object::new(name, positions, vec![[0, 1, 2], [0, 2, 3]]);
+        let deltas = (0..4).map(|v| Vec3::new(0.0, 0.0, if v >= 2 { 0.1 } else { 0.0 })).collect();
+        o.morph_targets = vec![MorphTarget { position_deltas: deltas, ..MorphTarget::default() }];
+        o
+    };
+    let flat_side = half("flat", [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)]);
+    let mut wall = half("wall", [Vec3::new(1.0, 0.0, -1.0), Vec3::new(1.0, 1.0, -1.0)]);
+    wall.triangles = vec![[0, 2, 1], [0, 3, 2]];
+    // One object holds both sides, so that the crease splits its vertices.
+    let mut both = flat_side.clone();
+    let offset = both.vertex_count() as u32;
+    both.positions.extend(&wall.positions[2..]);
+    both.morph_targets[0].position_deltas.extend(&wall.morph_targets[0].position_deltas[2..]);
+    let remap = |i: u32| if i < 2 { i } else { i - 2 + offset };
+    both.triangles.extend(wall.triangles.iter().map(|t| t.map(remap)));
+    let input = Model::new(vec![both]);
+    let options = FixOptions { normals: NormalPolicy::Recompute, ..FixOptions::default() };
+    let fixed = fix(&input, &options).unwrap();
+    let scratch = fix(&displaced(&input), &options).unwrap();
+    let (o, s) = (&fixed.objects[0], &scratch.objects[0]);
+    assert!(o.vertex_count() > 6, "the crease splits vertices");
+    assert_eq!(o.triangles, s.triangles);
+    let dn = o.morph_targets[0].normal_deltas.as_ref().unwrap();
+    let (normals, expected) = (o.normals.as_ref().unwrap(), s.normals.as_ref().unwrap());
+    for (v, (d, e)) in dn.iter().zip(expected).enumerate() {
+        let morphed = normals[v] + *d;
+        assert!(morphed.abs_diff_eq(*e, 1e-5), "v{v}: {morphed} vs {e}");
+    }
+}
