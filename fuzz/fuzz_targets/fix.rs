@@ -93,6 +93,8 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         material: None,
         smoothing_groups: None,
         split_from: Vec::new(),
+        skin: Vec::new(),
+        morph_targets: Vec::new(),
     })
 }
 

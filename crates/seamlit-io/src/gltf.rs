@@ -29,6 +29,8 @@ use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
 use crate::gltf_pass::Instance;
+
+mod deform;
 use crate::{
     Asset, GltfSource, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource,
     UvTransform,
@@ -190,6 +192,8 @@ fn read(
     // Decoded primitives by (mesh, primitive): the object of their first instance, cloned for
     // the other nodes that instance the mesh.
     let mut decoded: HashMap<(usize, usize), usize> = HashMap::new();
+    // Their skin influences as read (joints index the skin's `joints`), mapped per instance.
+    let mut influences: HashMap<(usize, usize), Vec<seamlit_mesh::Influences>> = HashMap::new();
     // Per object: where it came from in the document, for the pass-through writer.
     let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
@@ -234,7 +238,7 @@ fn read(
                     continue;
                 }
                 let key = (mesh.index(), primitive.index());
-                let object = match decoded.get(&key) {
+                let mut object = match decoded.get(&key) {
                     Some(&first) => asset.model.objects[first].clone(),
                     None => {
                         if let Some(reason) =
@@ -257,6 +261,8 @@ fn read(
                         object
                     }
                 };
+                let read = influences.entry(key).or_insert_with(|| object.skin.clone());
+                object.skin = deform::joint_nodes(read, &node, path)?;
                 // Instancing multiplies triangles without costing file bytes: capped.
                 triangles = triangles.saturating_add(object.triangles.len());
                 if triangles > options.max_model_triangles {
@@ -975,6 +981,7 @@ impl Reader<'_> {
             }
             _ => (0..vertex_count as u32 / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
         };
+        let (skin, morph_targets) = self.deformation(primitive, buffers, vertex_count)?;
         Ok(Some(Object {
             name: String::new(),
             positions,
@@ -987,6 +994,8 @@ impl Reader<'_> {
             material: primitive.material().index(),
             smoothing_groups: None,
             split_from: Vec::new(),
+            skin,
+            morph_targets,
         }))
     }
 

@@ -4,7 +4,9 @@
 //! What changes (design: `docs/gltf-pass-through.md`):
 //!
 //! - each fixed primitive gets new NORMAL and TANGENT accessors and a new index accessor
-//!   (the input's component type where the vertex count fits, else `UNSIGNED_INT`);
+//!   (the input's component type where the vertex count fits, else `UNSIGNED_INT`), and its
+//!   morph targets the NORMAL and TANGENT deltas `fix` computed, where it computed them
+//!   ([`seamlit_mesh::MorphTarget`]);
 //! - where [`seamlit_mesh::fix`] split vertices, every other attribute of the primitive and
 //!   of its morph targets gets a new accessor: the input values, each split vertex a copy of
 //!   the vertex it came from ([`Object::source_vertex`]), bytes unchanged;
@@ -270,6 +272,22 @@ fn same_result(a: &Object, b: &Object) -> bool {
             (Some(x), Some(y)) => close(&x, &y, 3),
             (x, y) => x.is_none() && y.is_none(),
         }
+        && same_morph_deltas(a, b)
+}
+
+/// Whether two instances got the same computed morph normal and tangent deltas, up to
+/// [`SAME_FRAME`].
+fn same_morph_deltas(a: &Object, b: &Object) -> bool {
+    let close = |x: &Option<Vec<glam::Vec3>>, y: &Option<Vec<glam::Vec3>>| match (x, y) {
+        (Some(x), Some(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(p, q)| p.abs_diff_eq(*q, SAME_FRAME))
+        }
+        (x, y) => x.is_none() && y.is_none(),
+    };
+    a.morph_targets.len() == b.morph_targets.len()
+        && a.morph_targets.iter().zip(&b.morph_targets).all(|(s, t)| {
+            close(&s.normal_deltas, &t.normal_deltas) && close(&s.tangent_deltas, &t.tangent_deltas)
+        })
 }
 
 /// The document being written and the bytes appended to buffer 0.
@@ -428,16 +446,20 @@ impl<'a> Output<'a> {
             (attributes.contains_key("NORMAL"), attributes.contains_key("TANGENT"));
         primitive["attributes"] = Value::Object(attributes);
         if let Some(targets) = primitive.get_mut("targets").and_then(Value::as_array_mut) {
-            for target in targets.iter_mut().filter_map(Value::as_object_mut) {
+            for (k, target) in targets.iter_mut().filter_map(Value::as_object_mut).enumerate() {
                 // A delta needs its base attribute.
                 target.retain(|name, _| {
                     (name != "NORMAL" || has_normal) && (name != "TANGENT" || has_tangent)
                 });
+                let computed = self.computed_deltas(object, k, has_normal, has_tangent);
                 if split {
-                    for accessor in target.values_mut() {
-                        *accessor = json!(self.duplicate(accessor, object)?);
+                    for (name, accessor) in target.iter_mut() {
+                        if !computed.iter().any(|(n, _)| n == name) {
+                            *accessor = json!(self.duplicate(accessor, object)?);
+                        }
                     }
                 }
+                target.extend(computed.into_iter().map(|(n, a)| (n.to_owned(), json!(a))));
             }
         }
         match self.indices(uint(input, "indices"), object) {
@@ -449,6 +471,38 @@ impl<'a> Output<'a> {
             }
         }
         Ok(primitive)
+    }
+
+    /// The morph target `k`'s normal and tangent deltas that `fix` computed for `object`
+    /// (see `seamlit_mesh::MorphTarget`), as new `FLOAT` `VEC3` accessors: `("NORMAL",
+    /// accessor)` where the primitive has normals, `("TANGENT", accessor)` where it has
+    /// tangents. Empty where nothing was computed: the input's deltas are kept.
+    fn computed_deltas(
+        &mut self,
+        object: &Object,
+        k: usize,
+        has_normal: bool,
+        has_tangent: bool,
+    ) -> Vec<(&'static str, usize)> {
+        let Some(target) = object.morph_targets.get(k) else {
+            return Vec::new();
+        };
+        let wanted = [
+            ("NORMAL", has_normal, &target.normal_deltas),
+            ("TANGENT", has_tangent, &target.tangent_deltas),
+        ];
+        let mut out = Vec::new();
+        for (name, has_base, deltas) in wanted {
+            let Some(deltas) = deltas.as_ref().filter(|_| has_base) else { continue };
+            let bytes: Vec<u8> =
+                deltas.iter().flat_map(|d| d.to_array()).flat_map(f32::to_le_bytes).collect();
+            let view = self.view(bytes, None, Some(ARRAY_BUFFER));
+            let accessor = self.accessor(json!({
+                "bufferView": view, "componentType": 5126, "count": deltas.len(), "type": "VEC3",
+            }));
+            out.push((name, accessor));
+        }
+        out
     }
 
     /// The object's triangles as a new index accessor, in the input's component type where

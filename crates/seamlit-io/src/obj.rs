@@ -195,7 +195,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             transform: None,
             material: parsed.material,
             smoothing_groups: parsed.smoothing_groups,
-            split_from: Vec::new(),
+            ..Object::default()
         });
     }
 

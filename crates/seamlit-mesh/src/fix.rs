@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
+use crate::morph;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
@@ -63,10 +64,13 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             material: o.material,
             smoothing_groups: o.smoothing_groups.clone(),
             split_from: o.split_from.clone(),
+            skin: o.skin.clone(),
+            morph_targets: o.morph_targets.clone(),
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    run(&mut out, flat, options, Some(model), &authored)?;
+    let (_, weld) = run(&mut out, flat, options, Some(model), &authored)?;
+    morph::compute_deltas(&mut out, options, &computed(&authored), weld)?;
     Ok(out)
 }
 
@@ -80,7 +84,15 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
-    run(model, flat, options, None, &authored)
+    let (changes, weld) = run(model, flat, options, None, &authored)?;
+    morph::compute_deltas(model, options, &computed(&authored), weld)?;
+    Ok(changes)
+}
+
+/// The objects whose normals `fix` computes (the others keep theirs, and their morph
+/// targets' deltas).
+fn computed(authored: &Authored) -> Vec<bool> {
+    authored.normals.iter().map(|&kept| !kept).collect()
 }
 
 /// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
@@ -92,11 +104,13 @@ fn run(
     options: &FixOptions,
     input: Option<&Model>,
     authored: &Authored,
-) -> Result<Changes, MeshError> {
+) -> Result<(Changes, Option<Vec<u32>>), MeshError> {
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
-        let changed = compute(model, flat, options, input, &authored.normals);
-        return Ok(tally(model, &vertices, &changed, authored));
+        let (changed, roots) = compute(model, flat, options, input, &authored.normals);
+        // The weld, for the morph targets' deltas: the fix made no other change.
+        let weld = roots.map(|r| morph::roots_after_splits(&r, &vertices, model));
+        return Ok((tally(model, &vertices, &changed, authored), weld));
     }
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
     //    objects that keep theirs are left as they are. Vertices may have been split since
@@ -104,7 +118,7 @@ fn run(
     let (flat, mut changed) = if authored.all() {
         (flat, vec![0; model.objects.len()])
     } else {
-        let changed = compute(model, flat, options, input, &authored.normals);
+        let (changed, _) = compute(model, flat, options, input, &authored.normals);
         (validate::flatten(model)?, changed)
     };
     let mut flat = flat;
@@ -139,7 +153,7 @@ fn run(
     }
     // 5. Tangents where kept normals came without them.
     repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
-    Ok(tally(model, &vertices, &changed, authored))
+    Ok((tally(model, &vertices, &changed, authored), None))
 }
 
 /// The [`Changes`]: `vertices` and `changed` per object, before the fix.
@@ -164,24 +178,26 @@ fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Author
 /// are not written), from the faces of all objects: the paper's way, and the whole fix under
 /// [`NormalPolicy::Recompute`]. `input`, where the model is a copy, is the original (for the
 /// normals of vertices no triangle uses). Returns, per object, how many of its vertices'
-/// normals are not the input ones.
+/// normals are not the input ones, and each vertex's weld root (where it welded).
 fn compute(
     model: &mut Model,
     mut flat: Flat,
     options: &FixOptions,
     input: Option<&Model>,
     skip: &[bool],
-) -> Vec<usize> {
+) -> (Vec<usize>, Option<Vec<u32>>) {
     let want_tangents = options.tangents != TangentMethod::None;
     if options.mode == Mode::Flat {
         // Flat shading: each corner takes its face's frame.
         let v_axis = model.v_axis;
         let flat = &flat;
-        return write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
-            write_corners(o, object, flat, tangents, input, |_, p, uv| {
-                [face_frame(&face(p, uv, v_axis)); 3]
-            })
-        });
+        let changed =
+            write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+                write_corners(o, object, flat, tangents, input, |_, p, uv| {
+                    [face_frame(&face(p, uv, v_axis)); 3]
+                })
+            });
+        return (changed, None);
     }
 
     let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
@@ -203,7 +219,7 @@ fn compute(
         let tangents =
             crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
         drop((triangles, uvs));
-        return write_objects(
+        let changed = write_objects(
             model,
             skip,
             want_tangents,
@@ -219,12 +235,16 @@ fn compute(
                 })
             },
         );
+        return (changed, Some(smooth.into_roots()));
     }
 
-    let smooth = &smooth;
-    write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
-        write_smooth(o, object, flat, smooth, tangents, input)
-    })
+    let changed = {
+        let smooth = &smooth;
+        write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+            write_smooth(o, object, flat, smooth, tangents, input)
+        })
+    };
+    (changed, Some(smooth.into_roots()))
 }
 
 /// Writes every object not marked in `skip` with `write(o, object, tangents wanted, input
@@ -292,6 +312,8 @@ pub(crate) struct Out<'a> {
     changed: usize,
     uvs: &'a mut Option<Vec<Vec2>>,
     colors: &'a mut Option<Vec<Vec4>>,
+    skin: &'a mut Vec<crate::Influences>,
+    morph_targets: &'a mut Vec<crate::MorphTarget>,
     linear: Option<Linear>,
     /// Whether tangents are written (otherwise they are zero and split nothing).
     tangents_wanted: bool,
@@ -328,6 +350,8 @@ impl<'a> Out<'a> {
             changed: 0,
             uvs: &mut object.uvs,
             colors: &mut object.colors,
+            skin: &mut object.skin,
+            morph_targets: &mut object.morph_targets,
             linear,
             tangents_wanted,
             normals,
@@ -410,6 +434,7 @@ impl<'a> Out<'a> {
                 if let Some(colors) = self.colors {
                     colors.push(colors[vi]);
                 }
+                morph::copy_vertex(self.skin, self.morph_targets, vi);
                 self.normals.push(normal);
                 self.tangents.push(tangent);
                 self.is_set.push(true);

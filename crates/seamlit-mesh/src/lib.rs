@@ -45,10 +45,12 @@ mod frame;
 mod group;
 mod mikk;
 mod model;
+mod morph;
 mod options;
 pub mod reference;
 mod repair;
 mod report;
+mod skin;
 mod smooth;
 mod validate;
 pub mod weld;
@@ -56,9 +58,10 @@ pub mod weld;
 pub use changes::{Changes, ObjectChanges};
 pub use error::MeshError;
 pub use fix::{fix, fix_in_place};
-pub use model::{Model, Object, VAxis};
+pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
+pub use skin::{SkinSeamExample, SkinSeams};
 
 /// The largest number of vertices (and of triangle corners) a model may have: indices are
 /// 32-bit.

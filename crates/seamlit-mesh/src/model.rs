@@ -78,10 +78,55 @@ pub struct Object {
     /// position needs two frames; the last `split_from.len()` vertices are such copies, and
     /// entry `k` is the index of the input vertex (one of the first
     /// `vertex_count() - split_from.len()`) that the `k`-th copy duplicates. Writers use it to
-    /// duplicate every attribute they carry beyond this type's (joints, morph targets) for the
-    /// copies.
+    /// duplicate every attribute they carry beyond this type's (the glTF pass-through: every
+    /// input attribute and morph target accessor, bytes as written) for the copies.
     /// Empty for a loaded model; fixing a fixed model keeps pointing at the first input.
     pub split_from: Vec<u32>,
+    /// Skin influences, one [`Influences`] per set (glTF `JOINTS_n`/`WEIGHTS_n`); empty for an
+    /// object that is not skinned. [`crate::fix`] copies a vertex's influences to the copies
+    /// it makes of it, and [`crate::report`] counts welded positions whose objects disagree
+    /// on them.
+    pub skin: Vec<Influences>,
+    /// Morph targets (glTF `targets`), in order. [`crate::fix`] copies a vertex's deltas to
+    /// the copies it makes of it, and where it computes the object's normals it computes
+    /// each target's normal (and tangent) deltas too (see [`MorphTarget`]).
+    pub morph_targets: Vec<MorphTarget>,
+}
+
+/// One set of up to four skin influences per vertex.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Influences {
+    /// Per vertex, four joints as indices of the file's *nodes* (glTF: `JOINTS_n` mapped
+    /// through the skin's `joints`), so that objects with different skins compare.
+    pub joints: Vec<[u32; 4]>,
+    /// Per vertex, the four joints' weights; a weight of 0 means no influence.
+    pub weights: Vec<[f32; 4]>,
+}
+
+/// One morph target of an object: per-vertex displacements of its positions, and the normal
+/// and tangent deltas that go with them.
+///
+/// The target shape is `positions + position_deltas`; its normals are `normals +
+/// normal_deltas` (glTF 2.0, "Morph Targets"). The loader fills `position_deltas` only;
+/// [`crate::fix`] sets `normal_deltas` (and `tangent_deltas` where it computes tangents) for
+/// the objects whose normals it computes, from the displaced positions of every object, with
+/// the base result's weld, creases and splits. `None`: not computed (a writer keeps what the
+/// input had).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MorphTarget {
+    /// Per vertex: the displacement of its position, in the object's local space.
+    pub position_deltas: Vec<Vec3>,
+    /// Per vertex: the target's unit normal minus the base normal, local space.
+    pub normal_deltas: Option<Vec<Vec3>>,
+    /// Per vertex: the target's unit tangent (xyz) minus the base tangent's xyz.
+    pub tangent_deltas: Option<Vec<Vec3>>,
+}
+
+impl Influences {
+    /// The influences of vertex `v` with a weight above zero, as `(joint node, weight)`.
+    pub fn of(&self, v: usize) -> impl Iterator<Item = (u32, f32)> + '_ {
+        self.joints[v].into_iter().zip(self.weights[v]).filter(|&(_, w)| w > 0.0)
+    }
 }
 
 impl Object {

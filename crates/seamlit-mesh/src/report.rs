@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
 use crate::frame::Linear;
+use crate::skin::{self, SkinSeams};
 use crate::{MeshError, Model, validate, weld};
 
 /// Options of [`crate::report()`].
@@ -104,10 +105,14 @@ pub struct SeamReport {
     pub max_tangent_length_error: Option<f32>,
     /// Vertices whose tangent w is neither +1 nor -1.
     pub bad_handedness: usize,
+    /// Shared positions whose objects disagree on their skin influences ([`SkinSeams`]).
+    #[serde(default)]
+    pub skin_seams: SkinSeams,
 }
 
 /// Measures a model as it is: welds it, counts shared and near-miss positions, degenerate and
-/// mirrored triangles, and compares the normals and tangents the model carries (input or
+/// mirrored triangles and positions whose objects disagree on skin influences, and compares
+/// the normals and tangents the model carries (input or
 /// computed) across every cross-object edge. Objects without normals (or tangents) are left
 /// out of the normal (or tangent) comparisons.
 ///
@@ -138,6 +143,7 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
         ..SeamReport::default()
     };
     drop(near_miss);
+    report.skin_seams = skin::skin_seams(model, &flat, &roots, &shared);
     frame_quality(model, &mut report);
     report.cross_object = cross_object(model, &flat, &roots, &shared, options);
     Ok(report)

@@ -130,6 +130,11 @@ impl Smooth {
         })
     }
 
+    /// Each vertex's root: the weld the frames were smoothed over.
+    pub fn into_roots(self) -> Vec<u32> {
+        self.roots
+    }
+
     /// The range of [`Self::complex`] holding the corners of triangles `triangles`.
     pub fn complex_range(&self, triangles: std::ops::Range<u32>) -> std::ops::Range<usize> {
         let at = |t: u32| self.complex.partition_point(|&e| (e >> 32) < u64::from(t) * 3);

@@ -128,7 +128,17 @@ fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
         ("tangents", object.tangents.as_ref().map(Vec::len)),
         ("colors", object.colors.as_ref().map(Vec::len)),
     ];
-    for (attribute, len) in lens {
+    let skin = object.skin.iter().flat_map(|set| {
+        [("skin joints", Some(set.joints.len())), ("skin weights", Some(set.weights.len()))]
+    });
+    let targets = object.morph_targets.iter().flat_map(|target| {
+        [
+            ("morph target position deltas", Some(target.position_deltas.len())),
+            ("morph target normal deltas", target.normal_deltas.as_ref().map(Vec::len)),
+            ("morph target tangent deltas", target.tangent_deltas.as_ref().map(Vec::len)),
+        ]
+    });
+    for (attribute, len) in lens.into_iter().chain(skin).chain(targets) {
         if let Some(actual) = len.filter(|&l| l != expected) {
             return Err(MeshError::AttributeLength {
                 object: index,

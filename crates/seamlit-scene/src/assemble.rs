@@ -295,4 +295,25 @@ mod tests {
         assert_eq!(m.model.objects[1].uvs.as_ref().unwrap()[2], Vec2::new(0.0, 0.75));
         assert_eq!(m.model.objects[0].uvs.as_ref().unwrap()[2], Vec2::new(0.0, 0.25));
     }
+
+    #[test]
+    fn placing_and_merging_keep_skins_and_morph_targets() {
+        let mut a = asset("a", 1);
+        let skin = seamlit_mesh::Influences {
+            joints: vec![[2, 3, 0, 0]; 3],
+            weights: vec![[0.25, 0.75, 0.0, 0.0]; 3],
+        };
+        let target = seamlit_mesh::MorphTarget {
+            position_deltas: vec![Vec3::Z; 3],
+            normal_deltas: Some(vec![Vec3::X * 0.1; 3]),
+            tangent_deltas: None,
+        };
+        a.model.objects[0].skin = vec![skin.clone()];
+        a.model.objects[0].morph_targets = vec![target.clone()];
+        place(&mut a, Mat4::from_translation(Vec3::X));
+        let m = merge(vec![asset("b", 1), a]);
+        assert_eq!(m.model.objects[1].skin, vec![skin]);
+        assert_eq!(m.model.objects[1].morph_targets, vec![target]);
+        assert!(m.model.objects[0].skin.is_empty() && m.model.objects[0].morph_targets.is_empty());
+    }
 }

@@ -15,7 +15,7 @@ pub fn count(n: usize, noun: &str) -> String {
 #[must_use]
 pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {
     type Cell = fn(&SeamReport) -> String;
-    let rows: [(&str, Cell); 20] = [
+    let rows: [(&str, Cell); 21] = [
         ("objects", |r| r.objects.to_string()),
         ("triangles", |r| r.triangles.to_string()),
         ("vertices", |r| r.vertices.to_string()),
@@ -38,6 +38,7 @@ pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {
         ("max |N·T| (0 = orthogonal)", |r| fmt_small(r.max_abs_dot_nt)),
         ("max normal length error", |r| fmt_small(r.max_normal_length_error)),
         ("tangents with bad handedness", |r| r.bad_handedness.to_string()),
+        ("shared positions whose skins differ", |r| r.skin_seams.positions.to_string()),
     ];
     let label_width = rows.iter().map(|(l, _)| l.chars().count()).max().unwrap_or(0);
     let cells: Vec<Vec<String>> =

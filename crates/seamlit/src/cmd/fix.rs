@@ -174,14 +174,30 @@ fn fix_file(
         .cross_object
         .max_normal_angle_deg
         .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
+    let skins = skin_seams_line(&report.skin_seams);
     Ok(format!(
-        "wrote {}: {}, {}, {} shared by 2+ objects{seams}\n  {}",
+        "wrote {}: {}, {}, {} shared by 2+ objects{seams}{skins}\n  {}",
         output.display(),
         count(report.objects, "object"),
         count(report.triangles, "triangle"),
         count(report.shared_positions, "position"),
         changes_line(&changes, options)
     ))
+}
+
+/// A line on the welded positions whose objects' skin influences differ, empty where none
+/// do: those open into a gap when the model is posed.
+fn skin_seams_line(seams: &seamlit_mesh::SkinSeams) -> String {
+    let Some(example) = &seams.example else {
+        return String::new();
+    };
+    let [x, y, z] = example.position;
+    format!(
+        "\n  skins: {} where objects' skin weights differ (a gap when posed), e.g. ({x}, {y}, {z}) between {} and {}",
+        count(seams.positions, "shared position"),
+        example.objects[0],
+        example.objects[1]
+    )
 }
 
 /// Writing fails through bad input (an output that is the input, an unknown extension) or

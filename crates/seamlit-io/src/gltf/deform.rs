@@ -1,0 +1,155 @@
+//! What deforms a primitive: its skin influences (`JOINTS_n`/`WEIGHTS_n`) and its morph
+//! targets' position deltas, read into [`seamlit_mesh::Influences`] and
+//! [`seamlit_mesh::MorphTarget`].
+//!
+//! Joints are read as the accessor holds them (indices into a skin's `joints`), and mapped
+//! to node indices per instance by [`map_joints`], since one mesh may be used by nodes with
+//! different skins. Morph targets' `NORMAL`/`TANGENT` deltas are not read: `fix` computes
+//! them where it computes normals, and the pass-through duplicates the input's otherwise.
+
+use std::path::Path;
+
+use glam::Vec3;
+use gltf::accessor::{DataType, Dimensions};
+use seamlit_mesh::{Influences, MorphTarget};
+
+use super::Reader;
+use crate::IoError;
+
+/// How many `JOINTS_n`/`WEIGHTS_n` sets are read (glTF requires support for one; files with
+/// more than eight influences per vertex are rare).
+const SETS: u32 = 2;
+
+impl Reader<'_> {
+    /// The primitive's skin influences (joints as skin-joint indices) and morph targets
+    /// (position deltas only), each checked like the base attributes: type, bounds, sparse
+    /// indices, count equal to `vertex_count`, finite values.
+    pub(super) fn deformation(
+        &self,
+        primitive: &gltf::Primitive<'_>,
+        buffers: &[Vec<u8>],
+        vertex_count: usize,
+    ) -> Result<(Vec<Influences>, Vec<MorphTarget>), IoError> {
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let mut skin = Vec::new();
+        for set in 0..SETS {
+            let (Some(joints), Some(weights)) = (
+                primitive.get(&gltf::Semantic::Joints(set)),
+                primitive.get(&gltf::Semantic::Weights(set)),
+            ) else {
+                break;
+            };
+            let (jn, wn) = (format!("JOINTS_{set}"), format!("WEIGHTS_{set}"));
+            self.checked(&joints, buffers, &[DataType::U8, DataType::U16], &jn, vertex_count)?;
+            let weight_types = [DataType::F32, DataType::U8, DataType::U16];
+            self.checked(&weights, buffers, &weight_types, &wn, vertex_count)?;
+            let joints: Vec<[u32; 4]> = reader
+                .read_joints(set)
+                .map(|it| it.into_u16().map(|j| j.map(u32::from)).collect())
+                .unwrap_or_default();
+            let weights: Vec<[f32; 4]> =
+                reader.read_weights(set).map(|it| it.into_f32().collect()).unwrap_or_default();
+            if let Some(bad) = weights.iter().position(|w| !w.iter().all(|x| x.is_finite())) {
+                return Err(IoError::AccessorNotFinite {
+                    path: self.path.to_path_buf(),
+                    accessor: primitive.get(&gltf::Semantic::Weights(set)).map_or(0, |a| a.index()),
+                    attribute: "WEIGHTS",
+                    element: bad,
+                });
+            }
+            skin.push(Influences { joints, weights });
+        }
+        let mut targets = Vec::new();
+        for (k, target) in primitive.morph_targets().enumerate() {
+            let Some(accessor) = target.positions() else {
+                targets.push(MorphTarget {
+                    position_deltas: vec![Vec3::ZERO; vertex_count],
+                    ..MorphTarget::default()
+                });
+                continue;
+            };
+            let name = format!("targets[{k}].POSITION");
+            self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
+            let deltas: Vec<Vec3> = reader
+                .read_morph_targets()
+                .nth(k)
+                .and_then(|(positions, _, _)| positions)
+                .map(|it| it.map(Vec3::from_array).collect())
+                .unwrap_or_default();
+            if let Some(bad) = deltas.iter().position(|d| !d.is_finite()) {
+                return Err(IoError::AccessorNotFinite {
+                    path: self.path.to_path_buf(),
+                    accessor: accessor.index(),
+                    attribute: "morph target POSITION",
+                    element: bad,
+                });
+            }
+            targets.push(MorphTarget { position_deltas: deltas, ..MorphTarget::default() });
+        }
+        Ok((skin, targets))
+    }
+
+    /// [`Reader::check_accessor`] for a `VEC3` (positions) or `VEC4` (joints, weights)
+    /// accessor of one of `types`, then its sparse indices and its count.
+    fn checked(
+        &self,
+        accessor: &gltf::Accessor<'_>,
+        buffers: &[Vec<u8>],
+        types: &[DataType],
+        name: &str,
+        vertex_count: usize,
+    ) -> Result<(), IoError> {
+        let dimensions =
+            if name.ends_with("POSITION") { Dimensions::Vec3 } else { Dimensions::Vec4 };
+        self.check_accessor(accessor, dimensions, types, name)?;
+        self.check_sparse_indices(accessor, buffers)?;
+        if accessor.count() != vertex_count {
+            return Err(IoError::BadAccessor {
+                path: self.path.to_path_buf(),
+                accessor: accessor.index(),
+                reason: format!(
+                    "{name} has {} elements, POSITION has {vertex_count}",
+                    accessor.count()
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The influences `read` (joints as indices into a skin's `joints`) with their joints mapped
+/// to node indices through `node`'s skin. A node without a skin gets none (glTF ignores
+/// influences there).
+///
+/// # Errors
+///
+/// [`IoError::Gltf`] naming the node's skin when a joint index is past its `joints`.
+pub(super) fn joint_nodes(
+    read: &[Influences],
+    node: &gltf::Node<'_>,
+    path: &Path,
+) -> Result<Vec<Influences>, IoError> {
+    let Some(skin) = node.skin() else {
+        return Ok(Vec::new());
+    };
+    let nodes: Vec<u32> = skin.joints().map(|j| j.index() as u32).collect();
+    let mut mapped = read.to_vec();
+    for (set, influences) in mapped.iter_mut().enumerate() {
+        for (v, joints) in influences.joints.iter_mut().enumerate() {
+            for j in joints.iter_mut() {
+                let Some(&node) = nodes.get(*j as usize) else {
+                    return Err(IoError::Gltf {
+                        path: path.to_path_buf(),
+                        place: format!("skins[{}].joints", skin.index()),
+                        reason: format!(
+                            "JOINTS_{set} of vertex {v} names joint {j}, the skin has {}",
+                            nodes.len()
+                        ),
+                    });
+                };
+                *j = node;
+            }
+        }
+    }
+    Ok(mapped)
+}

@@ -1,0 +1,310 @@
+//! Morph targets: their normal and tangent deltas, computed the way the base normals were.
+//!
+//! A morph target moves positions; the renderer adds the target's normal deltas to the base
+//! normals (glTF 2.0, "Morph Targets"). Deltas computed object by object would reopen the seam
+//! that [`crate::fix`] closed as soon as the face morphs, so they are computed across objects
+//! with the base result's decisions:
+//!
+//! - **the weld** is the base positions' (the same tolerance and [`Mode`]);
+//! - **the creases and splits** are the base result's: at one welded position, vertices whose
+//!   base normals agree (in model space, within [`SAME_NORMAL`]) are one normal group, and
+//!   vertices that also agree on their tangent one tangent group. A split vertex stays split
+//!   in every target, and two vertices that share a normal share it in every target.
+//!
+//! For target `k`, every triangle's face is computed from the displaced positions (`base +
+//! delta_k`; objects with fewer targets use their base positions), its normal weighted as
+//! [`crate::FixOptions::weighting`] says and added to its corners' normal groups (its tangent to
+//! their tangent groups), in triangle order. A group's normal is its sum
+//! normalised; a tangent is its sum made orthogonal to that normal, the base handedness kept.
+//! The delta is the local-space difference from the base frame (tangents: `xyz` only).
+//!
+//! Cost per target: one pass over the triangles and one over the vertices; the weld and the
+//! grouping are done once for all targets.
+
+use glam::{Vec3, Vec4, Vec4Swizzles};
+use rayon::prelude::*;
+
+use crate::face::{DEGENERATE, DEGENERATE_UV, face};
+use crate::fix::{diagonal, roots_for_mode};
+use crate::frame::{Linear, orthogonal_tangent};
+use crate::group::weight;
+use crate::validate::{self, Flat};
+use crate::{FixOptions, Influences, MeshError, Mode, Model, MorphTarget};
+
+/// Two base normals (or tangents) at one welded position belong to one group when their
+/// model-space dot product is at least this (about 0.26 degrees): the values of one group
+/// differ only by each object's round trip through its transform.
+const SAME_NORMAL: f32 = 1.0 - 1e-5;
+
+/// Appends to every per-vertex array of `skin` and `targets` a copy of vertex `v`'s entry:
+/// what [`crate::fix`] does for the vertices it splits.
+pub(crate) fn copy_vertex(skin: &mut [Influences], targets: &mut [MorphTarget], v: usize) {
+    for set in skin {
+        set.joints.push(set.joints[v]);
+        set.weights.push(set.weights[v]);
+    }
+    for target in targets {
+        target.position_deltas.push(target.position_deltas[v]);
+        if let Some(n) = &mut target.normal_deltas {
+            n.push(n[v]);
+        }
+        if let Some(t) = &mut target.tangent_deltas {
+            t.push(t[v]);
+        }
+    }
+}
+
+/// Sets the normal (and, where the object has tangents, tangent) deltas of every morph
+/// target of the objects marked in `computed` (those whose normals `fix` computed), from the
+/// fixed `model`'s normals, tangents, triangles and split vertices.
+pub(crate) fn compute_deltas(
+    model: &mut Model,
+    options: &FixOptions,
+    computed: &[bool],
+    weld: Option<Vec<u32>>,
+) -> Result<(), MeshError> {
+    let targets = model
+        .objects
+        .iter()
+        .zip(computed)
+        .filter(|(_, c)| **c)
+        .map(|(o, _)| o.morph_targets.len())
+        .max()
+        .unwrap_or(0);
+    if targets == 0 {
+        return Ok(());
+    }
+    let flat = validate::flatten(model)?;
+    let groups = Groups::of(model, &flat, options, weld);
+    let deltas: Vec<Vec<Deltas>> =
+        (0..targets).map(|k| target_deltas(model, &flat, &groups, options, k)).collect();
+    for (k, per_object) in deltas.into_iter().enumerate() {
+        for (o, d) in per_object.into_iter().enumerate() {
+            if !computed[o] {
+                continue;
+            }
+            if let Some(target) = model.objects[o].morph_targets.get_mut(k) {
+                target.normal_deltas = Some(d.normals);
+                target.tangent_deltas = d.tangents;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Each vertex's normal group and tangent group, named by their first vertex (model-wide
+/// index).
+struct Groups {
+    normal: Vec<u32>,
+    tangent: Vec<u32>,
+    /// Per vertex: the base frame in model space (tangent zero where the object has none).
+    frames: Vec<(Vec3, Vec4)>,
+}
+
+impl Groups {
+    /// `weld`: the base fix's roots (see [`roots_after_splits`]), welded again where `None`.
+    fn of(model: &Model, flat: &Flat, options: &FixOptions, weld: Option<Vec<u32>>) -> Self {
+        let roots: Vec<u32> = if options.mode == Mode::Flat {
+            (0..flat.positions.len() as u32).collect()
+        } else if let Some(roots) = weld {
+            roots
+        } else {
+            let tolerance = options.weld_tolerance.absolute(diagonal(flat));
+            roots_for_mode(flat, tolerance, options.mode)
+        };
+        let frames = base_frames(model, flat);
+        // Vertices in order of their root, so that each position's vertices are one run.
+        let mut order: Vec<u64> =
+            roots.iter().enumerate().map(|(v, &r)| (u64::from(r) << 32) | v as u64).collect();
+        order.par_sort_unstable();
+        let mut normal: Vec<u32> = (0..roots.len() as u32).collect();
+        let mut tangent = normal.clone();
+        for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
+            for (i, &a) in run.iter().enumerate() {
+                let a = a as u32 as usize;
+                let (na, ta) = frames[a];
+                // The first earlier vertex with the same normal (and tangent), if any.
+                for &b in &run[..i] {
+                    let b = b as u32 as usize;
+                    let nb = frames[b].0;
+                    if normal[b] as usize == b && na.dot(nb) >= SAME_NORMAL {
+                        normal[a] = b as u32;
+                        break;
+                    }
+                }
+                for &b in &run[..i] {
+                    let b = b as u32 as usize;
+                    let tb = frames[b].1;
+                    if tangent[b] as usize == b
+                        && normal[a] == normal[b]
+                        && ta.w == tb.w
+                        && ta.xyz().dot(tb.xyz()) >= SAME_NORMAL
+                    {
+                        tangent[a] = b as u32;
+                        break;
+                    }
+                }
+            }
+        }
+        Self { normal, tangent, frames }
+    }
+}
+
+/// The fix's weld `roots`, taken before it split vertices (when objects had `counts`
+/// vertices), for the vertices of the fixed `model`: a copy's root is its source's, and each
+/// root is renumbered into the new layout.
+pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model) -> Vec<u32> {
+    let mut old_start = Vec::with_capacity(counts.len() + 1);
+    let mut new_start = Vec::with_capacity(counts.len() + 1);
+    let (mut a, mut b) = (0usize, 0usize);
+    for (count, object) in counts.iter().zip(&model.objects) {
+        old_start.push(a);
+        new_start.push(b);
+        a += count;
+        b += object.vertex_count();
+    }
+    old_start.push(a);
+    let renumber = |r: u32| {
+        let o = old_start.partition_point(|&s| s <= r as usize) - 1;
+        (new_start[o] + r as usize - old_start[o]) as u32
+    };
+    model
+        .objects
+        .iter()
+        .enumerate()
+        .flat_map(|(o, object)| {
+            let (old_start, renumber) = (old_start[o], &renumber);
+            (0..object.vertex_count() as u32).map(move |v| {
+                // A copy of a copy points at the first input vertex: the same position.
+                let source = object.source_vertex(v) as usize;
+                renumber(roots[old_start + source])
+            })
+        })
+        .collect()
+}
+
+/// Every vertex's fixed normal and tangent in model space.
+fn base_frames(model: &Model, flat: &Flat) -> Vec<(Vec3, Vec4)> {
+    model
+        .objects
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(o, object)| {
+            let linear = flat.linear[o].map(Linear::new);
+            let normals = object.normals.as_deref().unwrap_or_default();
+            let tangents = object.tangents.as_deref();
+            (0..object.vertex_count()).map(move |v| {
+                let n = normals.get(v).copied().unwrap_or(Vec3::Z);
+                let t = tangents.map_or(Vec4::ZERO, |t| t[v]);
+                match &linear {
+                    Some(l) if t != Vec4::ZERO => l.frame_to_model(n, t),
+                    Some(l) => (l.normal_to_model(n), Vec4::ZERO),
+                    None => (n, t),
+                }
+            })
+        })
+        .collect()
+}
+
+/// Per group (indexed by its first vertex): the weighted sums of the normals (normal groups)
+/// and tangents (tangent groups) of target `k`'s faces. Each object adds its faces into its
+/// own vertices in parallel (triangle order); the vertices are then added into their groups
+/// in vertex order, so the bits do not depend on the thread count.
+fn group_sums(
+    model: &Model,
+    flat: &Flat,
+    groups: &Groups,
+    options: &FixOptions,
+    k: usize,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let n = flat.positions.len();
+    let mut sums = vec![(Vec3::ZERO, Vec3::ZERO); n];
+    let mut parts = Vec::with_capacity(model.objects.len());
+    let mut rest = sums.as_mut_slice();
+    for object in &model.objects {
+        let (part, tail) = rest.split_at_mut(object.vertex_count());
+        parts.push(part);
+        rest = tail;
+    }
+    parts.into_par_iter().zip(&model.objects).for_each(|(sums, object)| {
+        let deltas = object.morph_targets.get(k).map(|t| t.position_deltas.as_slice());
+        let transform = object.transform.map(|_| object.model_transform());
+        let displaced = |i: u32| {
+            let i = i as usize;
+            let p = object.positions[i] + deltas.map_or(Vec3::ZERO, |d| d[i]);
+            transform.map_or(p, |m| m.transform_point3(p))
+        };
+        let uvs = object.uvs.as_deref();
+        for tri in &object.triangles {
+            let f =
+                face(tri.map(displaced), uvs.map(|uv| tri.map(|i| uv[i as usize])), model.v_axis);
+            let tangent = !f.is(DEGENERATE | DEGENERATE_UV);
+            for (c, &i) in tri.iter().enumerate() {
+                let w = weight(options.weighting, &f, c);
+                let s = &mut sums[i as usize];
+                s.0 += f.normal * w;
+                if tangent {
+                    s.1 += f.tangent * w;
+                }
+            }
+        }
+    });
+    // A group's first vertex comes before its other vertices: add each into it in order.
+    let (mut n_sum, mut t_sum): (Vec<Vec3>, Vec<Vec3>) = sums.into_iter().unzip();
+    for v in 0..n {
+        let (gn, gt) = (groups.normal[v] as usize, groups.tangent[v] as usize);
+        if gn != v {
+            n_sum[gn] = n_sum[gn] + n_sum[v];
+        }
+        if gt != v {
+            t_sum[gt] = t_sum[gt] + t_sum[v];
+        }
+    }
+    (n_sum, t_sum)
+}
+
+/// One object's deltas for one target, local space.
+struct Deltas {
+    normals: Vec<Vec3>,
+    tangents: Option<Vec<Vec3>>,
+}
+
+/// The deltas of target `k` for every object (empty for objects without vertices).
+fn target_deltas(
+    model: &Model,
+    flat: &Flat,
+    groups: &Groups,
+    options: &FixOptions,
+    k: usize,
+) -> Vec<Deltas> {
+    let (n_sum, t_sum) = group_sums(model, flat, groups, options, k);
+    model
+        .objects
+        .par_iter()
+        .enumerate()
+        .map(|(o, object)| {
+            let base = flat.vertex_start[o] as usize;
+            let linear = flat.linear[o].map(Linear::new);
+            let normals = object.normals.as_deref().unwrap_or_default();
+            let mut dn = Vec::with_capacity(object.vertex_count());
+            let mut dt = object.tangents.as_ref().map(|_| Vec::with_capacity(dn.capacity()));
+            for v in 0..object.vertex_count() {
+                let (n0, t0) = groups.frames[base + v];
+                let nk = n_sum[groups.normal[base + v] as usize].try_normalize().unwrap_or(n0);
+                let tk = t_sum[groups.tangent[base + v] as usize];
+                let tk = if tk == Vec3::ZERO { t0.xyz() } else { tk };
+                let frame = orthogonal_tangent(nk, tk).extend(if t0.w < 0.0 { -1.0 } else { 1.0 });
+                let (local_n, local_t) = match &linear {
+                    Some(l) => l.frame_to_local(nk, frame),
+                    None => (nk, frame),
+                };
+                let base_n = normals.get(v).copied().unwrap_or(Vec3::Z);
+                dn.push(local_n - base_n);
+                if let (Some(dt), Some(tangents)) = (&mut dt, &object.tangents) {
+                    dt.push(local_t.xyz() - tangents[v].xyz());
+                }
+            }
+            Deltas { normals: dn, tangents: dt }
+        })
+        .collect()
+}
