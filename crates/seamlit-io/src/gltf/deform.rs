@@ -43,12 +43,17 @@ impl Reader<'_> {
             self.checked(&joints, buffers, &[DataType::U8, DataType::U16], &jn, vertex_count)?;
             let weight_types = [DataType::F32, DataType::U8, DataType::U16];
             self.checked(&weights, buffers, &weight_types, &wn, vertex_count)?;
-            let joints: Vec<[u32; 4]> = reader
-                .read_joints(set)
-                .map(|it| it.into_u16().map(|j| j.map(u32::from)).collect())
-                .unwrap_or_default();
-            let weights: Vec<[f32; 4]> =
-                reader.read_weights(set).map(|it| it.into_f32().collect()).unwrap_or_default();
+            // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
+            let joints: Vec<[u32; 4]> = crate::gltf_spec::zeros_without_view(
+                Some(&joints),
+                reader.read_joints(set).map(|it| it.into_u16().map(|j| j.map(u32::from)).collect()),
+            )
+            .unwrap_or_default();
+            let weights: Vec<[f32; 4]> = crate::gltf_spec::zeros_without_view(
+                Some(&weights),
+                reader.read_weights(set).map(|it| it.into_f32().collect()),
+            )
+            .unwrap_or_default();
             if let Some(bad) = weights.iter().position(|w| !w.iter().all(|x| x.is_finite())) {
                 return Err(IoError::AccessorNotFinite {
                     path: self.path.to_path_buf(),
@@ -70,12 +75,15 @@ impl Reader<'_> {
             };
             let name = format!("targets[{k}].POSITION");
             self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
-            let deltas: Vec<Vec3> = reader
-                .read_morph_targets()
-                .nth(k)
-                .and_then(|(positions, _, _)| positions)
-                .map(|it| it.map(Vec3::from_array).collect())
-                .unwrap_or_default();
+            let deltas: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
+                Some(&accessor),
+                reader
+                    .read_morph_targets()
+                    .nth(k)
+                    .and_then(|(positions, _, _)| positions)
+                    .map(|it| it.map(Vec3::from_array).collect()),
+            )
+            .unwrap_or_default();
             if let Some(bad) = deltas.iter().position(|d| !d.is_finite()) {
                 return Err(IoError::AccessorNotFinite {
                     path: self.path.to_path_buf(),
