@@ -9,7 +9,10 @@
 //!   link leading out) or names another scheme is refused;
 //! - every accessor a primitive uses is checked against its buffer view, and every view
 //!   against its buffer, before a byte is read; every index against the vertex count; every
-//!   attribute for NaN and infinity.
+//!   attribute for NaN and infinity;
+//! - quantised attributes (KHR_mesh_quantization) are read as floats and meshopt-compressed
+//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`); Draco is
+//!   refused.
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene) becomes an
 //! object, its transform the composition of the node transforms above it (a mesh used by two
@@ -25,6 +28,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 use crate::{
     Asset, GltfSource, IoError, LoadOptions, Material, Node, Texture, TextureRef, TextureSource,
@@ -141,11 +145,12 @@ fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
     changed.then_some(patched)
 }
 
-/// Required extensions that change how vertex data is stored: a file that requires one of
-/// these cannot be read without it. Any other required extension (lights, material and
-/// texture extensions, unknown ones) is passed through untouched.
-const GEOMETRY_EXTENSIONS: [&str; 3] =
-    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+/// Required extensions that change how vertex data is stored and that seamlit does not
+/// decode: a file that requires one of these cannot be read without it. Any other required
+/// extension (lights, material and texture extensions, unknown ones) is passed through
+/// untouched; KHR_mesh_quantization and EXT_meshopt_compression are decoded
+/// (`gltf_decode.rs`).
+const GEOMETRY_EXTENSIONS: [&str; 1] = ["KHR_draco_mesh_compression"];
 
 /// Refuses a file that requires an extension in [`GEOMETRY_EXTENSIONS`].
 fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
@@ -176,7 +181,8 @@ fn read(
 ) -> Result<Asset, IoError> {
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
-    let buffers = reader.buffers(document, blob)?;
+    let mut buffers = reader.buffers(document, &json, blob)?;
+    crate::gltf_decode::decode_meshopt(&json, &mut buffers, path)?;
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(document, &buffers)?;
 
@@ -539,11 +545,20 @@ impl Reader<'_> {
     fn buffers(
         &self,
         document: &gltf::Document,
+        json: &serde_json::Value,
         mut blob: Option<Vec<u8>>,
     ) -> Result<Vec<Vec<u8>>, IoError> {
         let mut buffers = Vec::with_capacity(document.buffers().len());
         for buffer in document.buffers() {
             let what = format!("buffer {}", buffer.index());
+            // Filled by `gltf_decode::decode_meshopt`.
+            let limit = self.options.max_file_bytes;
+            if let Some(length) =
+                crate::gltf_decode::fallback_length(json, buffer.index(), limit, self.path)?
+            {
+                buffers.push(vec![0; length]);
+                continue;
+            }
             let data = match buffer.source() {
                 gltf::buffer::Source::Bin => blob.take().ok_or_else(|| IoError::Gltf {
                     path: self.path.to_path_buf(),
@@ -755,8 +770,10 @@ impl Reader<'_> {
             return Ok(None);
         };
         let vertex_count = position_accessor.count();
-        let f32_only = [DataType::F32];
-        self.check_accessor(&position_accessor, Dimensions::Vec3, &f32_only, "POSITION")?;
+        // KHR_mesh_quantization: integers, normalised or not, besides floats.
+        let quantized = [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
+        let signed = [DataType::F32, DataType::I8, DataType::I16];
+        self.check_accessor(&position_accessor, Dimensions::Vec3, &quantized, "POSITION")?;
         self.check_sparse_indices(&position_accessor, buffers)?;
         // COLOR_0 is RGB or RGBA, of floats or normalised integers.
         let color_dimensions =
@@ -767,14 +784,9 @@ impl Reader<'_> {
                 }
             });
         let attributes = [
-            (gltf::Semantic::Normals, Dimensions::Vec3, &f32_only[..], "NORMAL"),
-            (gltf::Semantic::Tangents, Dimensions::Vec4, &f32_only[..], "TANGENT"),
-            (
-                gltf::Semantic::TexCoords(0),
-                Dimensions::Vec2,
-                &[DataType::F32, DataType::U8, DataType::U16][..],
-                "TEXCOORD_0",
-            ),
+            (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
+            (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
+            (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
             (
                 gltf::Semantic::Colors(0),
                 color_dimensions,
@@ -828,9 +840,11 @@ impl Reader<'_> {
         }
 
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-        let positions: Vec<Vec3> = reader
-            .read_positions()
-            .map(|it| it.map(Vec3::from_array).collect())
+        // Floats, or KHR_mesh_quantization's integers.
+        let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
+        let positions: Vec<Vec3> = attribute(gltf::Semantic::Positions)
+            .and_then(|a| read_floats::<3>(&a, buffers))
+            .map(|v| v.into_iter().map(Vec3::from_array).collect())
             .unwrap_or_default();
         let short = |accessor: &gltf::Accessor<'_>, got: usize| IoError::BadAccessor {
             path: self.path.to_path_buf(),
@@ -860,12 +874,15 @@ impl Reader<'_> {
             &|i| positions[i].is_finite(),
             vertex_count,
         )?;
-        let normals: Option<Vec<Vec3>> =
-            reader.read_normals().map(|it| it.map(Vec3::from_array).collect());
-        let tangents: Option<Vec<Vec4>> =
-            reader.read_tangents().map(|it| it.map(Vec4::from_array).collect());
-        let uvs: Option<Vec<Vec2>> =
-            reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect());
+        let normals: Option<Vec<Vec3>> = attribute(gltf::Semantic::Normals)
+            .and_then(|a| read_directions::<3>(&a, buffers))
+            .map(|v| v.into_iter().map(Vec3::from_array).collect());
+        let tangents: Option<Vec<Vec4>> = attribute(gltf::Semantic::Tangents)
+            .and_then(|a| read_directions::<4>(&a, buffers))
+            .map(|v| v.into_iter().map(Vec4::from_array).collect());
+        let uvs: Option<Vec<Vec2>> = attribute(gltf::Semantic::TexCoords(0))
+            .and_then(|a| read_floats::<2>(&a, buffers))
+            .map(|v| v.into_iter().map(Vec2::from_array).collect());
         let colors: Option<Vec<Vec4>> =
             reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect());
         if let Some(n) = &normals {

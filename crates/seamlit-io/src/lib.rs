@@ -44,6 +44,7 @@ mod asset;
 mod atomic;
 mod error;
 pub mod gltf;
+mod gltf_decode;
 mod gltf_pass;
 mod gltf_write;
 pub mod newell;
@@ -183,7 +184,8 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
 pub struct SaveReport {
     /// Problems that did not stop writing, one sentence each: a glTF mesh cloned because its
     /// instances got different normals, an image file that could not be copied beside the
-    /// output, a glTF source the model no longer matches.
+    /// output, a glTF source the model no longer matches, buffer views the input stored
+    /// compressed (EXT_meshopt_compression) that the output stores uncompressed.
     pub warnings: Vec<String>,
 }
 
