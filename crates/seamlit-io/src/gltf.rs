@@ -11,8 +11,8 @@
 //!   against its buffer, before a byte is read; every index against the vertex count; every
 //!   attribute for NaN and infinity;
 //! - quantised attributes (KHR_mesh_quantization) are read as floats and meshopt-compressed
-//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`); Draco is
-//!   refused.
+//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`); a
+//!   Draco-compressed primitive is refused, naming it and a command that decompresses it.
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene) becomes an
 //! object, its transform the composition of the node transforms above it (a mesh used by two
@@ -101,6 +101,7 @@ fn document(
     let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
+    crate::gltf_decode::refuse_draco(&value, path)?;
     check_required_extensions(&root, path)?;
     // The gltf crate refuses every required extension it does not implement; seamlit passes
     // through the ones that do not change how geometry is read (checked above).

@@ -462,3 +462,14 @@ fn malformed_meshopt_views_are_refused_naming_the_view() {
     });
     refused("a corrupt header", garbage);
 }
+
+#[test]
+fn draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
+    let path = model("teapot_draco.glb");
+    let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    assert_eq!(error.to_string().lines().count(), 1, "{error}");
+    let IoError::Gltf { path: p, place, reason } = &error else { panic!("{error:?}") };
+    assert_eq!(p, &path);
+    assert_eq!(place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
+    assert!(reason.contains("gltf-transform/cli copy"), "{reason}");
+}
