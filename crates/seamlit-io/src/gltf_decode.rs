@@ -444,7 +444,8 @@ pub(crate) fn uncompress_views(
 
 /// Fallback buffers (no data of their own) that no buffer view uses any more: the last ones
 /// are removed (no index changes); one followed by a buffer that stays is given its bytes
-/// as a `data:` URI, so that every buffer of the output has data.
+/// as a `data:` URI, so that every buffer of the output has data. Every fallback buffer
+/// left loses the extension.
 fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Vec<u8>]) {
     let used: std::collections::BTreeSet<usize> = json["bufferViews"]
         .as_array()
@@ -465,7 +466,8 @@ fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Vec<u8>]) {
         if buffer["extensions"][MESHOPT]["fallback"].as_bool() != Some(true) {
             continue;
         }
-        if buffer.get("uri").is_none() {
+        // Buffer 0 is written by the pass-through itself (BIN chunk or `NAME.bin`).
+        if index > 0 && buffer.get("uri").is_none() {
             let bytes = source_buffers.get(index).map_or(&[][..], Vec::as_slice);
             buffer["uri"] =
                 json!(format!("data:application/octet-stream;base64,{}", base64::encode(bytes)));

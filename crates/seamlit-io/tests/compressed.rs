@@ -45,6 +45,9 @@ fn read(path: &Path) -> File {
         .unwrap()
         .iter()
         .map(|buffer| match buffer["uri"].as_str() {
+            Some(uri) if uri.starts_with("data:") => {
+                base64::decode(uri.split_once(";base64,").unwrap().1).unwrap()
+            }
             Some(uri) => std::fs::read(path.parent().unwrap().join(uri)).unwrap(),
             None => bin.take().expect("a buffer without uri is the GLB BIN chunk"),
         })
@@ -472,4 +475,23 @@ fn draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
     assert_eq!(p, &path);
     assert_eq!(place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
     assert!(reason.contains("gltf-transform/cli copy"), "{reason}");
+}
+
+#[test]
+fn a_fallback_buffer_that_cannot_be_removed_gets_its_bytes() {
+    // A buffer after the fallback one: removing the fallback would renumber it.
+    let dir = tempfile::tempdir().unwrap();
+    let input = edited_meshopt(dir.path(), |json, _| {
+        let buffers = json["buffers"].as_array_mut().unwrap();
+        buffers.push(serde_json::json!({ "byteLength": 4, "uri": "data:application/octet-stream;base64,AAAAAA==" }));
+    });
+    let out = dir.path().join("out.glb");
+    fix_and_save(&input, &out);
+    assert_valid(&out);
+    let written = read(&out);
+    let buffers = written.json["buffers"].as_array().unwrap();
+    assert_eq!(buffers.len(), 3);
+    assert!(buffers[1]["uri"].as_str().unwrap().starts_with("data:"), "{}", buffers[1]);
+    assert_eq!(written.buffers[1].len(), 25164);
+    assert!(!written.json.to_string().contains("EXT_meshopt_compression"));
 }
