@@ -20,6 +20,7 @@ use gltf::accessor::{DataType, Item, Iter};
 use serde_json::{Value, json};
 
 use crate::IoError;
+use crate::gltf_pass::uint;
 
 /// The extension's name, as written in the document.
 pub(crate) const MESHOPT: &str = "EXT_meshopt_compression";
@@ -146,11 +147,11 @@ pub(crate) fn fallback_length(
     if !fallback || buffer.get("uri").is_some() {
         return Ok(None);
     }
-    let length = buffer["byteLength"].as_u64().unwrap_or(0);
-    if length > limit {
-        return Err(IoError::TooLarge { path: path.to_path_buf(), limit, actual: length });
+    let length = uint(buffer, "byteLength").unwrap_or(0);
+    if length as u64 > limit {
+        return Err(IoError::TooLarge { path: path.to_path_buf(), limit, actual: length as u64 });
     }
-    Ok(usize::try_from(length).ok())
+    Ok(Some(length))
 }
 
 /// What one EXT_meshopt_compression buffer view holds, from its extension object.
@@ -491,9 +492,4 @@ fn remove_extension(item: &mut Value) {
     if empty {
         object.remove("extensions");
     }
-}
-
-/// A non-negative integer member of a JSON object.
-fn uint(value: &Value, key: &str) -> Option<usize> {
-    value.get(key).and_then(Value::as_u64).and_then(|n| usize::try_from(n).ok())
 }

@@ -128,7 +128,7 @@ impl Source {
 }
 
 /// A non-negative integer member of a JSON object.
-fn uint(value: &Value, key: &str) -> Option<usize> {
+pub(crate) fn uint(value: &Value, key: &str) -> Option<usize> {
     value.get(key).and_then(integer).and_then(|n| usize::try_from(n).ok())
 }
 
