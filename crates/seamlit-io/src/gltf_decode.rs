@@ -218,26 +218,32 @@ pub(crate) fn decode_meshopt(
                     compressed.buffer
                 ))
             })?;
-        let plain = decode(bytes, &compressed).map_err(error)?;
+        // Sizes are checked before decoding: the decoder allocates `count` elements.
         let target = uint(view, "buffer").unwrap_or(usize::MAX);
         let offset = uint(view, "byteOffset").unwrap_or(0);
         let length = uint(view, "byteLength").unwrap_or(0);
-        if plain.len() != length {
+        if compressed.count.checked_mul(compressed.stride) != Some(length) {
             return Err(error(format!(
-                "decodes to {} bytes ({} elements of {}), the view declares {length}",
-                plain.len(),
-                compressed.count,
-                compressed.stride
+                "{} elements of {} bytes do not make the view's byteLength {length}",
+                compressed.count, compressed.stride
             )));
         }
-        let Some(place) =
-            buffers.get_mut(target).and_then(|b| b.get_mut(offset..offset.checked_add(length)?))
-        else {
+        let end = offset.checked_add(length);
+        let available = buffers.get(target).map_or(0, Vec::len);
+        if end.is_none_or(|end| end > available) {
             return Err(error(format!(
-                "the view's bytes {offset}..{} lie outside buffer {target}",
+                "the view's bytes {offset}..{} lie outside buffer {target} ({available} bytes)",
                 offset.saturating_add(length)
             )));
+        }
+        let plain = decode(bytes, &compressed).map_err(error)?;
+        let Some(place) = buffers.get_mut(target).and_then(|b| b.get_mut(offset..offset + length))
+        else {
+            return Err(error(format!("the view's bytes lie outside buffer {target}")));
         };
+        if plain.len() != length {
+            return Err(error(format!("decodes to {} bytes, not {length}", plain.len())));
+        }
         place.copy_from_slice(&plain);
     }
     Ok(())

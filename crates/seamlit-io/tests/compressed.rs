@@ -457,10 +457,12 @@ fn malformed_meshopt_views_are_refused_naming_the_view() {
         }
         other => panic!("{what}: {other:?}"),
     };
-    let edits: [(&str, &str, Value); 3] = [
+    let edits: [(&str, &str, Value); 4] = [
         ("an unknown mode", "mode", "FAN".into()),
         ("a stride ATTRIBUTES does not allow", "byteStride", 6.into()),
         ("bytes outside the buffer", "byteLength", 1_000_000.into()),
+        // Refused before the decoder allocates a trillion elements.
+        ("more elements than the view holds", "count", 1_000_000_000_000_u64.into()),
     ];
     for (what, key, value) in edits {
         refused(what, edited_meshopt(dir.path(), |json, _| view_1(json)[key] = value));
