@@ -6,7 +6,8 @@
 //!   normalised unsigned short, the integer itself when not normalised); the node transform
 //!   that usually undoes a quantised position's scale is applied as any node transform is.
 //!   The pass-through writer keeps these accessors' bytes as they are.
-//! - **EXT_meshopt_compression**: a buffer view whose extension names compressed bytes in
+//! - **EXT_meshopt_compression** (or **KHR_meshopt_compression**, its successor with the
+//!   COLOR filter): a buffer view whose extension names compressed bytes in
 //!   another buffer. [`decode_meshopt`] decodes each such view once, at load, into the bytes
 //!   the view itself names (in a "fallback" buffer that has no data of its own, bytes are
 //!   made for it first: [`fallback_length`]), with the `meshopt` crate (meshoptimizer's own
@@ -22,8 +23,19 @@ use serde_json::{Value, json};
 use crate::IoError;
 use crate::gltf_pass::uint;
 
-/// The extension's name, as written in the document.
-pub(crate) const MESHOPT: &str = "EXT_meshopt_compression";
+/// The extension's names: the vendor one and its Khronos successor, which adds the COLOR
+/// filter and version 1 of the vertex codec (meshoptimizer decodes both).
+const MESHOPT: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
+
+/// The meshopt extension object of a buffer or buffer view, with the name it is under.
+fn meshopt(item: &Value) -> Option<(&'static str, &Value)> {
+    MESHOPT.into_iter().find_map(|name| Some((name, item["extensions"].get(name)?)))
+}
+
+/// Whether a buffer is a meshopt fallback buffer.
+fn is_fallback(buffer: &Value) -> bool {
+    meshopt(buffer).is_some_and(|(_, e)| e["fallback"].as_bool() == Some(true))
+}
 
 /// Reads an accessor of `N` components as floats, whatever its component type: `FLOAT` as
 /// is; `BYTE`, `UNSIGNED_BYTE`, `SHORT`, `UNSIGNED_SHORT` normalised when the accessor says
@@ -143,8 +155,7 @@ pub(crate) fn fallback_length(
     path: &Path,
 ) -> Result<Option<usize>, IoError> {
     let buffer = &document["buffers"][index];
-    let fallback = buffer["extensions"][MESHOPT]["fallback"].as_bool() == Some(true);
-    if !fallback || buffer.get("uri").is_some() {
+    if !is_fallback(buffer) || buffer.get("uri").is_some() {
         return Ok(None);
     }
     let length = uint(buffer, "byteLength").unwrap_or(0);
@@ -180,6 +191,8 @@ enum Filter {
     Octahedral,
     Quaternion,
     Exponential,
+    /// KHR_meshopt_compression only: YCoCg colours.
+    Color,
 }
 
 /// Decodes every buffer view that carries EXT_meshopt_compression into the bytes the view
@@ -198,10 +211,10 @@ pub(crate) fn decode_meshopt(
 ) -> Result<(), IoError> {
     let views = document["bufferViews"].as_array().map_or(&[][..], Vec::as_slice);
     for (index, view) in views.iter().enumerate() {
-        let Some(extension) = view["extensions"].get(MESHOPT) else { continue };
+        let Some((name, extension)) = meshopt(view) else { continue };
         let error = |reason: String| IoError::Gltf {
             path: path.to_path_buf(),
-            place: format!("bufferViews[{index}].extensions.{MESHOPT}"),
+            place: format!("bufferViews[{index}].extensions.{name}"),
             reason,
         };
         let compressed = compressed(extension).map_err(error)?;
@@ -263,6 +276,7 @@ fn compressed(extension: &Value) -> Result<Compressed, String> {
         Some(Some("OCTAHEDRAL")) => Filter::Octahedral,
         Some(Some("QUATERNION")) => Filter::Quaternion,
         Some(Some("EXPONENTIAL")) => Filter::Exponential,
+        Some(Some("COLOR")) => Filter::Color,
         Some(other) => return Err(format!("unknown filter {other:?}")),
     };
     let compressed = Compressed {
@@ -280,7 +294,7 @@ fn compressed(extension: &Value) -> Result<Compressed, String> {
         (Mode::Attributes, Filter::None | Filter::Exponential) => {
             stride.is_multiple_of(4) && (4..=256).contains(&stride)
         }
-        (Mode::Attributes, Filter::Octahedral) => stride == 4 || stride == 8,
+        (Mode::Attributes, Filter::Octahedral | Filter::Color) => stride == 4 || stride == 8,
         (Mode::Attributes, Filter::Quaternion) => stride == 8,
         (Mode::Triangles | Mode::Indices, Filter::None) => stride == 2 || stride == 4,
         (Mode::Triangles | Mode::Indices, _) => false,
@@ -365,8 +379,8 @@ fn vertices(bytes: &[u8], count: usize, stride: usize) -> Option<Result<Vec<u8>,
 }
 
 /// Applies a view's filter to its decoded vertices, in place. Every filter works on each
-/// element (OCTAHEDRAL, QUATERNION) or each 32-bit word (EXPONENTIAL) alone, so the stride
-/// only says the element size.
+/// element (OCTAHEDRAL, QUATERNION, COLOR) or each 32-bit word (EXPONENTIAL) alone, so the
+/// stride only says the element size.
 fn filter(plain: &mut [u8], filter: Filter, stride: usize) {
     match (filter, stride) {
         (Filter::None, _) => {}
@@ -374,6 +388,8 @@ fn filter(plain: &mut [u8], filter: Filter, stride: usize) {
         (Filter::Octahedral, _) => in_place(plain, meshopt::decode_filter_oct::<i16>),
         (Filter::Quaternion, _) => in_place(plain, meshopt::decode_filter_quat),
         (Filter::Exponential, _) => in_place(plain, meshopt::decode_filter_exp::<1>),
+        (Filter::Color, 4) => in_place(plain, meshopt::decode_filter_color::<u8>),
+        (Filter::Color, _) => in_place(plain, meshopt::decode_filter_color::<u16>),
     }
 }
 
@@ -401,11 +417,11 @@ pub(crate) fn uncompress_views(
 ) -> Option<String> {
     let view_count = json["bufferViews"].as_array().map_or(0, Vec::len);
     let mut moved = 0;
+    let mut names = std::collections::BTreeSet::new();
     for index in 0..view_count {
         let view = &json["bufferViews"][index];
-        if view["extensions"].get(MESHOPT).is_none() {
-            continue;
-        }
+        let Some((name, _)) = meshopt(view) else { continue };
+        names.insert(name);
         let offset = uint(view, "byteOffset").unwrap_or(0);
         let length = uint(view, "byteLength").unwrap_or(0);
         // Decoded and checked at load: the bytes are there.
@@ -430,11 +446,11 @@ pub(crate) fn uncompress_views(
         .into_iter()
         .flatten()
         .chain(json["bufferViews"].as_array().into_iter().flatten())
-        .any(|item| item["extensions"].get(MESHOPT).is_some());
+        .any(|item| meshopt(item).is_some());
     if !still_used {
         for list in ["extensionsUsed", "extensionsRequired"] {
             if let Some(names) = json[list].as_array_mut() {
-                names.retain(|name| name != MESHOPT);
+                names.retain(|name| !MESHOPT.iter().any(|m| name == m));
                 if names.is_empty()
                     && let Some(root) = json.as_object_mut()
                 {
@@ -444,8 +460,9 @@ pub(crate) fn uncompress_views(
         }
     }
     Some(format!(
-        "{}: {moved} buffer views compressed with {MESHOPT} were decompressed; the output stores them uncompressed",
-        path.display()
+        "{}: {moved} buffer views compressed with {} were decompressed; the output stores them uncompressed",
+        path.display(),
+        names.into_iter().collect::<Vec<_>>().join(" and ")
     ))
 }
 
@@ -461,16 +478,13 @@ fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Vec<u8>]) {
         .filter_map(|view| uint(view, "buffer"))
         .collect();
     let Some(buffers) = json["buffers"].as_array_mut() else { return };
-    let unused_fallback = |index: usize, buffer: &Value| {
-        index > 0
-            && !used.contains(&index)
-            && buffer["extensions"][MESHOPT]["fallback"].as_bool() == Some(true)
-    };
+    let unused_fallback =
+        |index: usize, buffer: &Value| index > 0 && !used.contains(&index) && is_fallback(buffer);
     while buffers.len() > 1 && unused_fallback(buffers.len() - 1, &buffers[buffers.len() - 1]) {
         buffers.pop();
     }
     for (index, buffer) in buffers.iter_mut().enumerate() {
-        if buffer["extensions"][MESHOPT]["fallback"].as_bool() != Some(true) {
+        if !is_fallback(buffer) {
             continue;
         }
         // Buffer 0 is written by the pass-through itself (BIN chunk or `NAME.bin`).
@@ -491,7 +505,9 @@ fn remove_extension(item: &mut Value) {
         .get_mut("extensions")
         .and_then(Value::as_object_mut)
         .map(|extensions| {
-            extensions.remove(MESHOPT);
+            MESHOPT.iter().for_each(|name| {
+                extensions.remove(*name);
+            });
             extensions.is_empty()
         })
         .unwrap_or(false);
