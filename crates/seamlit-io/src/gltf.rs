@@ -149,7 +149,7 @@ fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
 /// Required extensions that change how vertex data is stored and that seamlit does not
 /// decode: a file that requires one of these cannot be read without it. Any other required
 /// extension (lights, material and texture extensions, unknown ones) is passed through
-/// untouched; KHR_mesh_quantization and EXT_meshopt_compression are decoded
+/// untouched; KHR_mesh_quantization and EXT_/KHR_meshopt_compression are decoded
 /// (`gltf_decode.rs`).
 const GEOMETRY_EXTENSIONS: [&str; 1] = ["KHR_draco_mesh_compression"];
 

@@ -316,7 +316,7 @@ impl<'a> Output<'a> {
         self.base + offset
     }
 
-    /// Buffer views the input stored compressed (EXT_meshopt_compression, decoded at load)
+    /// Buffer views the input stored compressed (EXT_ or KHR_meshopt_compression, decoded at load)
     /// become plain data appended to buffer 0, and the report says so
     /// (`gltf_decode::uncompress_views`).
     fn uncompress_views(&mut self) {

@@ -185,7 +185,7 @@ pub struct SaveReport {
     /// Problems that did not stop writing, one sentence each: a glTF mesh cloned because its
     /// instances got different normals, an image file that could not be copied beside the
     /// output, a glTF source the model no longer matches, buffer views the input stored
-    /// compressed (EXT_meshopt_compression) that the output stores uncompressed.
+    /// compressed (EXT_ or KHR_meshopt_compression) that the output stores uncompressed.
     pub warnings: Vec<String>,
 }
 
