@@ -10,7 +10,10 @@
 //!   link leading out) or names another scheme is refused;
 //! - every accessor a primitive uses is checked against its buffer view, and every view
 //!   against its buffer, before a byte is read; every index against the vertex count; every
-//!   attribute for NaN and infinity.
+//!   attribute for NaN and infinity;
+//! - quantised attributes (KHR_mesh_quantization) are read as floats and meshopt-compressed
+//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`); a
+//!   Draco-compressed primitive is refused, naming it and a command that decompresses it.
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene; in a file
 //! without scenes, under the nodes that are no node's child) becomes an object, its
@@ -28,6 +31,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 
 mod deform;
@@ -98,6 +102,7 @@ fn document(
     let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
+    crate::gltf_decode::refuse_draco(&value, path)?;
     check_required_extensions(&root, path)?;
     // The gltf crate refuses every required extension it does not implement; seamlit passes
     // through the ones that do not change how geometry is read (checked above).
@@ -144,11 +149,12 @@ fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
     changed.then_some(patched)
 }
 
-/// Required extensions that change how vertex data is stored: a file that requires one of
-/// these cannot be read without it. Any other required extension (lights, material and
-/// texture extensions, unknown ones) is passed through untouched.
-const GEOMETRY_EXTENSIONS: [&str; 3] =
-    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+/// Required extensions that change how vertex data is stored and that seamlit does not
+/// decode: a file that requires one of these cannot be read without it. Any other required
+/// extension (lights, material and texture extensions, unknown ones) is passed through
+/// untouched; KHR_mesh_quantization and EXT_/KHR_meshopt_compression are decoded
+/// (`gltf_decode.rs`).
+const GEOMETRY_EXTENSIONS: [&str; 1] = ["KHR_draco_mesh_compression"];
 
 /// Refuses a file that requires an extension in [`GEOMETRY_EXTENSIONS`].
 fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
@@ -179,8 +185,19 @@ fn read(
 ) -> Result<Asset, IoError> {
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
-    let without_data = crate::gltf_spec::buffers_without_data(document, blob.is_some());
-    let buffers = reader.buffers(document, blob)?;
+    // A buffer without `uri` outside a GLB has no data, unless it is a meshopt fallback
+    // buffer, which `decode_meshopt` fills.
+    let meshopt_fallback = |b: &usize| {
+        let extensions = &json["buffers"][*b]["extensions"];
+        extensions.get("EXT_meshopt_compression").is_some()
+            || extensions.get("KHR_meshopt_compression").is_some()
+    };
+    let without_data: Vec<usize> = crate::gltf_spec::buffers_without_data(document, blob.is_some())
+        .into_iter()
+        .filter(|b| !meshopt_fallback(b))
+        .collect();
+    let mut buffers = reader.buffers(document, &json, blob)?;
+    crate::gltf_decode::decode_meshopt(&json, &mut buffers, path)?;
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(document, &buffers, &without_data)?;
 
@@ -578,11 +595,20 @@ impl Reader<'_> {
     fn buffers(
         &self,
         document: &gltf::Document,
+        json: &serde_json::Value,
         mut blob: Option<Vec<u8>>,
     ) -> Result<Vec<Vec<u8>>, IoError> {
         let mut buffers = Vec::with_capacity(document.buffers().len());
         for buffer in document.buffers() {
             let what = format!("buffer {}", buffer.index());
+            // Filled by `gltf_decode::decode_meshopt`.
+            let limit = self.options.max_file_bytes;
+            if let Some(length) =
+                crate::gltf_decode::fallback_length(json, buffer.index(), limit, self.path)?
+            {
+                buffers.push(vec![0; length]);
+                continue;
+            }
             let data = match buffer.source() {
                 gltf::buffer::Source::Bin => match blob.take() {
                     Some(blob) => blob,
@@ -799,8 +825,10 @@ impl Reader<'_> {
             return Ok(None);
         };
         let vertex_count = position_accessor.count();
-        let f32_only = [DataType::F32];
-        self.check_accessor(&position_accessor, Dimensions::Vec3, &f32_only, "POSITION")?;
+        // KHR_mesh_quantization: integers, normalised or not, besides floats.
+        let quantized = [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
+        let signed = [DataType::F32, DataType::I8, DataType::I16];
+        self.check_accessor(&position_accessor, Dimensions::Vec3, &quantized, "POSITION")?;
         self.check_sparse_indices(&position_accessor, buffers)?;
         // COLOR_0 is RGB or RGBA, of floats or normalised integers.
         let color_dimensions =
@@ -811,14 +839,9 @@ impl Reader<'_> {
                 }
             });
         let attributes = [
-            (gltf::Semantic::Normals, Dimensions::Vec3, &f32_only[..], "NORMAL"),
-            (gltf::Semantic::Tangents, Dimensions::Vec4, &f32_only[..], "TANGENT"),
-            (
-                gltf::Semantic::TexCoords(0),
-                Dimensions::Vec2,
-                &[DataType::F32, DataType::U8, DataType::U16][..],
-                "TEXCOORD_0",
-            ),
+            (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
+            (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
+            (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
             (
                 gltf::Semantic::Colors(0),
                 color_dimensions,
@@ -872,11 +895,13 @@ impl Reader<'_> {
         }
 
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-        // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
-        let get = |semantic| primitive.get(&semantic);
+        // Floats, or KHR_mesh_quantization's integers; an accessor without a view or sparse
+        // data is zeros (the readers give nothing).
+        let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
         let positions: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
             Some(&position_accessor),
-            reader.read_positions().map(|it| it.map(Vec3::from_array).collect()),
+            read_floats::<3>(&position_accessor, buffers)
+                .map(|v| v.into_iter().map(Vec3::from_array).collect()),
         )
         .unwrap_or_default();
         let short = |accessor: &gltf::Accessor<'_>, got: usize| IoError::BadAccessor {
@@ -908,19 +933,25 @@ impl Reader<'_> {
             vertex_count,
         )?;
         let normals: Option<Vec<Vec3>> = crate::gltf_spec::zeros_without_view(
-            get(gltf::Semantic::Normals).as_ref(),
-            reader.read_normals().map(|it| it.map(Vec3::from_array).collect()),
+            attribute(gltf::Semantic::Normals).as_ref(),
+            attribute(gltf::Semantic::Normals)
+                .and_then(|a| read_directions::<3>(&a, buffers))
+                .map(|v| v.into_iter().map(Vec3::from_array).collect()),
         );
         let tangents: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
-            get(gltf::Semantic::Tangents).as_ref(),
-            reader.read_tangents().map(|it| it.map(Vec4::from_array).collect()),
+            attribute(gltf::Semantic::Tangents).as_ref(),
+            attribute(gltf::Semantic::Tangents)
+                .and_then(|a| read_directions::<4>(&a, buffers))
+                .map(|v| v.into_iter().map(Vec4::from_array).collect()),
         );
         let uvs: Option<Vec<Vec2>> = crate::gltf_spec::zeros_without_view(
-            get(gltf::Semantic::TexCoords(0)).as_ref(),
-            reader.read_tex_coords(0).map(|it| it.into_f32().map(Vec2::from_array).collect()),
+            attribute(gltf::Semantic::TexCoords(0)).as_ref(),
+            attribute(gltf::Semantic::TexCoords(0))
+                .and_then(|a| read_floats::<2>(&a, buffers))
+                .map(|v| v.into_iter().map(Vec2::from_array).collect()),
         );
         let colors: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
-            get(gltf::Semantic::Colors(0)).as_ref(),
+            attribute(gltf::Semantic::Colors(0)).as_ref(),
             reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect()),
         );
         if let Some(n) = &normals {

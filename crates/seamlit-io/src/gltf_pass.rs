@@ -138,7 +138,7 @@ pub(crate) fn index(value: &Value) -> Option<usize> {
 }
 
 /// A non-negative integer member of a JSON object.
-fn uint(value: &Value, key: &str) -> Option<usize> {
+pub(crate) fn uint(value: &Value, key: &str) -> Option<usize> {
     value.get(key).and_then(integer).and_then(|n| usize::try_from(n).ok())
 }
 
@@ -175,6 +175,7 @@ pub(crate) fn save(
         check_object(object, path)?;
     }
     let mut out = Output::new(&source.0, path, binary);
+    out.uncompress_views();
     for group in instance_groups(&asset.model, &source.0.instances) {
         out.mesh(&asset.model, &group)?;
     }
@@ -338,22 +339,41 @@ impl<'a> Output<'a> {
         entry.as_array_mut().expect("made an array above")
     }
 
+    /// Appends `bytes` to buffer 0 at a multiple of 4; returns their offset in it.
+    fn append(&mut self, bytes: Vec<u8>) -> usize {
+        let offset = self.appended.next_multiple_of(4);
+        self.appended = offset + bytes.len();
+        self.pieces.push(bytes);
+        self.base + offset
+    }
+
+    /// Buffer views the input stored compressed (EXT_ or KHR_meshopt_compression, decoded at load)
+    /// become plain data appended to buffer 0, and the report says so
+    /// (`gltf_decode::uncompress_views`).
+    fn uncompress_views(&mut self) {
+        let mut json = std::mem::take(&mut self.json);
+        let source = self.source;
+        let note = crate::gltf_decode::uncompress_views(
+            &mut json,
+            &source.buffers,
+            &source.path,
+            |bytes| self.append(bytes),
+        );
+        self.json = json;
+        self.warnings.extend(note);
+    }
+
     /// Appends `bytes` to buffer 0 as a new buffer view; returns its index.
     fn view(&mut self, bytes: Vec<u8>, stride: Option<usize>, target: Option<u32>) -> usize {
-        let offset = self.appended.next_multiple_of(4);
-        let mut view = json!({
-            "buffer": 0,
-            "byteOffset": self.base + offset,
-            "byteLength": bytes.len(),
-        });
+        let length = bytes.len();
+        let offset = self.append(bytes);
+        let mut view = json!({ "buffer": 0, "byteOffset": offset, "byteLength": length });
         if let Some(stride) = stride {
             view["byteStride"] = json!(stride);
         }
         if let Some(target) = target {
             view["target"] = json!(target);
         }
-        self.appended = offset + bytes.len();
-        self.pieces.push(bytes);
         let views = self.array("bufferViews");
         views.push(view);
         views.len() - 1

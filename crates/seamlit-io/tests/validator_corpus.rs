@@ -13,16 +13,11 @@ use std::path::{Path, PathBuf};
 use seamlit_io::{IoError, LoadOptions, SaveOptions};
 
 /// The valid files seamlit refuses, each with a part of the message it must give.
-const REFUSED: [(&str, &str); 2] = [
+const REFUSED: [(&str, &str); 1] = [
     // Remote resources are never fetched.
     (
         "test/base/data/buffer/non_relative_uri.gltf",
         r#"URI "http://example.com/buffer.bin" is refused: only relative file paths and data: URIs are read"#,
-    ),
-    // Quantized attributes are not read yet (another part of issue 11).
-    (
-        "test/ext/KHR_mesh_quantization/data/primitive/valid.gltf",
-        "extensionsRequired[0]: KHR_mesh_quantization is required, and seamlit does not read it yet",
     ),
 ];
 

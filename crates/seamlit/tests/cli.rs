@@ -996,3 +996,30 @@ fn an_unknown_camera_on_a_bare_model_lists_the_cameras_there_are() {
     assert_bad_input(&o, &["spot_triangulated.obj", "\"side\"", "there are: default"]);
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn fix_reads_meshopt_writes_it_uncompressed_and_says_so_and_refuses_draco_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let compressed = models().join("compressed");
+    let input = compressed.join("teapot_mo.glb").display().to_string();
+    let out = dir.path().join("out.glb").display().to_string();
+    let o = seamlit(&["fix", &input, "-o", &out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.lines().any(|l| l.starts_with("warning: ")
+            && l.contains("teapot_mo.glb")
+            && l.contains("EXT_meshopt_compression")
+            && l.contains("uncompressed")),
+        "{stderr}"
+    );
+    assert!(stdout(&o).contains("32 objects"), "{}", stdout(&o));
+    let o = seamlit(&["inspect", &out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+
+    let draco = compressed.join("teapot_draco.glb").display().to_string();
+    let refused = dir.path().join("draco.glb").display().to_string();
+    let o = seamlit(&["fix", &draco, "-o", &refused]);
+    assert_bad_input(&o, &["teapot_draco.glb", "meshes[0].primitives[0]", "gltf-transform"]);
+    assert!(!Path::new(&refused).exists());
+}

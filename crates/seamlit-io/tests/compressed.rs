@@ -1,0 +1,550 @@
+//! Quantised and compressed glTF geometry (issue 11): KHR_mesh_quantization and
+//! EXT_meshopt_compression are read, and the pass-through writes them back readable by a
+//! viewer without a meshopt decoder.
+//!
+//! The inputs are the Newell teapot (32 objects) made by gltfpack three ways from one
+//! textured GLB (assets/models/SOURCES.md): `teapot_noq.glb` uncompressed (floats),
+//! `teapot_q.glb` quantised, `teapot_mo.glb` quantised and meshopt-compressed. This file reads
+//! glTF with its own small accessor reader (serde_json and byte slices), never with the
+//! loader under test, except where the loader's result is what is checked.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::validate;
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use seamlit_io::{IoError, LoadOptions, SaveOptions};
+use serde_json::Value;
+
+fn model(name: &str) -> PathBuf {
+    common::model(&format!("compressed/{name}"))
+}
+
+// ---------------------------------------------------------------------------------------
+// An independent reader: the document, its buffers, and per-corner attribute values.
+
+struct File {
+    json: Value,
+    buffers: Vec<Vec<u8>>,
+}
+
+fn read(path: &Path) -> File {
+    let bytes = std::fs::read(path).unwrap();
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+        let bin = bytes.get(20 + length + 8..).map(<[u8]>::to_vec);
+        (json, bin)
+    } else {
+        (serde_json::from_slice(&bytes).unwrap(), None)
+    };
+    let mut bin = bin;
+    let buffers = json["buffers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|buffer| match buffer["uri"].as_str() {
+            Some(uri) if uri.starts_with("data:") => {
+                base64::decode(uri.split_once(";base64,").unwrap().1).unwrap()
+            }
+            Some(uri) => std::fs::read(path.parent().unwrap().join(uri)).unwrap(),
+            // An EXT_meshopt_compression fallback buffer has no data (this reader reads no
+            // compressed view: `elements` refuses them).
+            None if buffer["extensions"].as_object().is_some_and(|e| {
+                e.iter().any(|(name, e)| {
+                    name.ends_with("_meshopt_compression") && e["fallback"] == true
+                })
+            }) =>
+            {
+                Vec::new()
+            }
+            None => bin.take().expect("a buffer without uri is the GLB BIN chunk"),
+        })
+        .collect();
+    File { json, buffers }
+}
+
+/// A component of an accessor element: (raw bits for exact comparison, value as the glTF
+/// specification converts it).
+fn component(bytes: &[u8], component_type: u64, normalized: bool) -> (u32, f32) {
+    let n = normalized;
+    match component_type {
+        5120 => {
+            let c = bytes[0] as i8;
+            (c as u32, if n { (f32::from(c) / 127.0).max(-1.0) } else { f32::from(c) })
+        }
+        5121 => (u32::from(bytes[0]), f32::from(bytes[0]) / if n { 255.0 } else { 1.0 }),
+        5122 => {
+            let c = i16::from_le_bytes([bytes[0], bytes[1]]);
+            (c as u32, if n { (f32::from(c) / 32767.0).max(-1.0) } else { f32::from(c) })
+        }
+        5123 => {
+            let c = u16::from_le_bytes([bytes[0], bytes[1]]);
+            (u32::from(c), f32::from(c) / if n { 65535.0 } else { 1.0 })
+        }
+        5125 => {
+            let c = u32::from_le_bytes(bytes[..4].try_into().unwrap());
+            (c, c as f32)
+        }
+        5126 => {
+            let c = f32::from_le_bytes(bytes[..4].try_into().unwrap());
+            (c.to_bits(), c)
+        }
+        other => panic!("componentType {other}"),
+    }
+}
+
+/// An accessor's elements: per element, its components (raw bits, value). Refuses what this
+/// reader does not implement (sparse storage, compressed views), so that a test never
+/// compares zeros.
+fn elements(file: &File, index: u64) -> Elements {
+    let accessor = &file.json["accessors"][index as usize];
+    assert!(accessor.get("sparse").is_none(), "accessor {index} is sparse");
+    let view = &file.json["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
+    assert!(view.get("extensions").is_none(), "accessor {index}: its view has extensions");
+    let component_type = accessor["componentType"].as_u64().unwrap();
+    let size = match component_type {
+        5120 | 5121 => 1,
+        5122 | 5123 => 2,
+        _ => 4,
+    };
+    let n = match accessor["type"].as_str().unwrap() {
+        "SCALAR" => 1,
+        "VEC2" => 2,
+        "VEC3" => 3,
+        "VEC4" => 4,
+        other => panic!("type {other}"),
+    };
+    let normalized = accessor["normalized"].as_bool().unwrap_or(false);
+    let stride = view["byteStride"].as_u64().map_or(n * size, |s| s as usize);
+    let buffer = &file.buffers[view["buffer"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + accessor["byteOffset"].as_u64().unwrap_or(0) as usize;
+    (0..accessor["count"].as_u64().unwrap() as usize)
+        .map(|k| {
+            (0..n)
+                .map(|c| {
+                    let at = start + k * stride + c * size;
+                    component(&buffer[at..at + size], component_type, normalized)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Per element, its components (raw bits, value).
+type Elements = Vec<Vec<(u32, f32)>>;
+
+/// A node's local matrix (TRS or matrix).
+fn local(node: &Value) -> Mat4 {
+    let floats = |key: &str| -> Option<Vec<f32>> {
+        Some(node.get(key)?.as_array()?.iter().map(|v| v.as_f64().unwrap() as f32).collect())
+    };
+    if let Some(m) = floats("matrix") {
+        return Mat4::from_cols_slice(&m);
+    }
+    let t = floats("translation").map_or(Vec3::ZERO, |t| Vec3::from_slice(&t));
+    let r = floats("rotation").map_or(Quat::IDENTITY, |r| Quat::from_slice(&r));
+    let s = floats("scale").map_or(Vec3::ONE, |s| Vec3::from_slice(&s));
+    Mat4::from_scale_rotation_translation(s, r, t)
+}
+
+/// One corner of a triangle: the raw components and values of each attribute it has.
+#[derive(Debug)]
+struct Corner {
+    /// Model-space position.
+    position: Vec3,
+    /// Per attribute name: (raw bits, values).
+    attributes: Vec<(String, Vec<(u32, f32)>)>,
+}
+
+impl Corner {
+    fn raw(&self, name: &str) -> Vec<u32> {
+        self.get(name).iter().map(|c| c.0).collect()
+    }
+    fn values(&self, name: &str) -> Vec<f32> {
+        self.get(name).iter().map(|c| c.1).collect()
+    }
+    fn get(&self, name: &str) -> &[(u32, f32)] {
+        let found = self.attributes.iter().find(|(n, _)| n == name);
+        found.map_or(&[], |(_, v)| v.as_slice())
+    }
+}
+
+/// Every corner of every triangle of every mesh instance of the scene, in scene order (depth
+/// first), with its position in model space.
+fn corners(file: &File) -> Vec<Corner> {
+    let json = &file.json;
+    let mut out = Vec::new();
+    let scene = &json["scenes"][json["scene"].as_u64().unwrap_or(0) as usize];
+    let mut stack: Vec<(u64, Mat4)> = scene["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .rev()
+        .map(|n| (n.as_u64().unwrap(), Mat4::IDENTITY))
+        .collect();
+    while let Some((index, parent)) = stack.pop() {
+        let node = &json["nodes"][index as usize];
+        let global = parent * local(node);
+        if let Some(mesh) = node["mesh"].as_u64() {
+            for primitive in json["meshes"][mesh as usize]["primitives"].as_array().unwrap() {
+                let attributes: Vec<(String, Elements)> = primitive["attributes"]
+                    .as_object()
+                    .unwrap()
+                    .iter()
+                    .map(|(name, a)| (name.clone(), elements(file, a.as_u64().unwrap())))
+                    .collect();
+                let count = attributes[0].1.len();
+                let indices: Vec<usize> = match primitive["indices"].as_u64() {
+                    Some(a) => elements(file, a).iter().map(|e| e[0].0 as usize).collect(),
+                    None => (0..count).collect(),
+                };
+                for i in indices {
+                    let position = attributes.iter().find(|(n, _)| n == "POSITION").unwrap();
+                    let p = &position.1[i];
+                    let position = global.transform_point3(Vec3::new(p[0].1, p[1].1, p[2].1));
+                    let attributes =
+                        attributes.iter().map(|(n, e)| (n.clone(), e[i].clone())).collect();
+                    out.push(Corner { position, attributes });
+                }
+            }
+        }
+        let children = node["children"].as_array().into_iter().flatten().rev();
+        stack.extend(children.map(|c| (c.as_u64().unwrap(), global)));
+    }
+    out
+}
+
+/// The KHR_texture_transform of material 0's base colour texture: (offset, scale), the
+/// identity when there is none.
+fn uv_transform(file: &File) -> (Vec2, Vec2) {
+    let t = &file.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"];
+    let pair = |key: &str, default: f32| {
+        t.get(key).map_or(Vec2::splat(default), |v| {
+            Vec2::new(v[0].as_f64().unwrap() as f32, v[1].as_f64().unwrap() as f32)
+        })
+    };
+    (pair("offset", 0.0), pair("scale", 1.0))
+}
+
+/// The quantisation step of the positions of `teapot_q.glb`: the scale gltfpack puts on
+/// every mesh node (one integer unit in model space).
+fn position_step(file: &File) -> f32 {
+    let step = file.json["nodes"][0]["scale"][0].as_f64().unwrap() as f32;
+    assert!(step > 0.0 && step < 1e-3, "step {step}");
+    step
+}
+
+/// One UV step of gltfpack's default 12-bit texture coordinates.
+const UV_STEP: f32 = 1.0 / 4095.0;
+
+/// A corner as the tolerant comparison sees it: model-space position, texture coordinates
+/// (texture transform applied), normal.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    position: Vec3,
+    uv: Vec2,
+    normal: Vec3,
+}
+
+/// The points of a file's corners, its texture transform applied to the UVs.
+fn points(file: &File) -> Vec<Point> {
+    let (offset, scale) = if file.json.get("materials").is_some() {
+        uv_transform(file)
+    } else {
+        (Vec2::ZERO, Vec2::ONE)
+    };
+    corners(file)
+        .iter()
+        .map(|c| Point {
+            position: c.position,
+            uv: offset + scale * Vec2::from_slice(&c.values("TEXCOORD_0")),
+            normal: Vec3::from_slice(&c.values("NORMAL")),
+        })
+        .collect()
+}
+
+/// Pairs each triangle of `actual` with a triangle of `expected` (each used once) whose
+/// corners, in some rotation, lie within `step` in position and [`UV_STEP`] in UV; returns
+/// the pairs of corners. gltfpack orders triangles and vertices its own way (meshopt
+/// compression reorders them again), so triangles are matched, not indexed.
+fn match_triangles(actual: &[Point], expected: &[Point], step: f32) -> Vec<(Point, Point)> {
+    assert_eq!(actual.len(), expected.len(), "corner counts");
+    let close = |a: &Point, b: &Point| {
+        (a.position - b.position).abs().max_element() <= step
+            && (a.uv - b.uv).abs().max_element() <= UV_STEP
+    };
+    let mut used = vec![false; expected.len() / 3];
+    let mut pairs = Vec::with_capacity(actual.len());
+    for (t, a) in actual.chunks_exact(3).enumerate() {
+        let found = expected.chunks_exact(3).enumerate().find_map(|(u, e)| {
+            let rotation = (0..3).find(|r| (0..3).all(|i| close(&a[i], &e[(i + r) % 3])))?;
+            (!used[u]).then_some((u, rotation))
+        });
+        let Some((u, r)) = found else {
+            panic!("triangle {t} {a:?} has no match within {step}");
+        };
+        used[u] = true;
+        let e = &expected[3 * u..3 * u + 3];
+        pairs.extend((0..3).map(|i| (a[i], e[(i + r) % 3])));
+    }
+    pairs
+}
+
+fn fix_and_save(input: &Path, output: &Path) -> Vec<String> {
+    let mut asset = seamlit_io::load(input, &LoadOptions::GEOMETRY).unwrap();
+    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
+    seamlit_io::save(&asset, output, &SaveOptions::default()).unwrap().warnings
+}
+
+fn assert_valid(path: &Path) {
+    let (errors, report) = validate(path);
+    assert_eq!(errors, 0, "{}: {report}", path.display());
+}
+
+// ---------------------------------------------------------------------------------------
+// Tests
+
+#[test]
+fn the_inputs_are_valid_and_the_quantised_one_is_the_original_within_its_steps() {
+    // Controls: the comparisons below mean something only if the inputs are valid and the
+    // quantised file holds the original's triangles within its steps.
+    let names = ["teapot_noq.glb", "teapot_q.glb", "teapot_mo.glb", "teapot_mo_filters.glb"];
+    for name in names.into_iter().chain(["teapot_mo_khr.glb"]) {
+        assert_valid(&model(name));
+    }
+    let original = read(&model("teapot_noq.glb"));
+    let quantised = read(&model("teapot_q.glb"));
+    assert!(quantised.json["extensionsRequired"].to_string().contains("KHR_mesh_quantization"));
+    assert_eq!(points(&original).len(), 3072);
+    match_triangles(&points(&quantised), &points(&original), position_step(&quantised));
+}
+
+#[test]
+fn quantised_and_meshopt_geometry_loads_as_the_original_within_its_steps() {
+    let original = points(&read(&model("teapot_noq.glb")));
+    let step = position_step(&read(&model("teapot_q.glb")));
+    // teapot_mo_filters.glb: float positions and UVs through the EXPONENTIAL filter,
+    // normals and tangents through OCTAHEDRAL; teapot_mo_khr.glb: KHR_meshopt_compression.
+    let names = ["teapot_q.glb", "teapot_mo.glb", "teapot_mo_filters.glb", "teapot_mo_khr.glb"];
+    for name in names {
+        let (offset, scale) = uv_transform(&read(&model(name)));
+        let asset = seamlit_io::load(&model(name), &LoadOptions::GEOMETRY).unwrap();
+        assert_eq!(asset.model.objects.len(), 32, "{name}");
+        let mut loaded = Vec::new();
+        for object in &asset.model.objects {
+            let m = object.model_transform();
+            let (uvs, normals) = (object.uvs.as_ref().unwrap(), object.normals.as_ref().unwrap());
+            for &v in object.triangles.as_flattened() {
+                let v = v as usize;
+                loaded.push(Point {
+                    position: m.transform_point3(object.positions[v]),
+                    uv: offset + scale * uvs[v],
+                    normal: normals[v],
+                });
+            }
+        }
+        for (a, e) in match_triangles(&loaded, &original, step) {
+            // 8-bit normals, read as unit vectors: within a degree or so of the original's.
+            assert!((a.normal.length() - 1.0).abs() < 1e-5, "{name}: {a:?}");
+            assert!(a.normal.dot(e.normal) > 0.999, "{name}: {a:?} {e:?}");
+        }
+    }
+}
+
+#[test]
+fn a_fixed_quantised_file_keeps_its_integers_and_gets_float_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = model("teapot_q.glb");
+    let input = read(&source);
+    let before = corners(&input);
+    for output in ["out.glb", "out.gltf"] {
+        let out = dir.path().join(output);
+        let warnings = fix_and_save(&source, &out);
+        assert!(warnings.is_empty(), "{warnings:?}");
+        assert_valid(&out);
+        let written = read(&out);
+        for key in ["extensionsUsed", "extensionsRequired", "materials", "nodes", "scenes"] {
+            assert_eq!(input.json[key], written.json[key], "{output}: {key}");
+        }
+        let after = corners(&written);
+        assert_eq!(before.len(), after.len());
+        for (k, (a, b)) in before.iter().zip(&after).enumerate() {
+            // Quantised POSITION and TEXCOORD_0: the same integers, per corner.
+            for name in ["POSITION", "TEXCOORD_0"] {
+                assert_eq!(a.raw(name), b.raw(name), "{output} corner {k} {name}");
+            }
+            let n = Vec3::from_slice(&b.values("NORMAL"));
+            let t = Vec4::from_slice(&b.values("TANGENT"));
+            assert!((n.length() - 1.0).abs() < 1e-5, "{output} corner {k}: normal {n}");
+            assert!((t.truncate().length() - 1.0).abs() < 1e-5, "{output} corner {k}: {t}");
+            assert!(t.w.abs() == 1.0, "{output} corner {k}: {t}");
+        }
+        // New frames are floats (KHR_mesh_quantization allows both).
+        let primitive = &written.json["meshes"][0]["primitives"][0]["attributes"];
+        for name in ["NORMAL", "TANGENT"] {
+            let accessor = &written.json["accessors"][primitive[name].as_u64().unwrap() as usize];
+            assert_eq!(accessor["componentType"], 5126, "{output} {name}");
+        }
+    }
+}
+
+#[test]
+fn a_meshopt_file_is_written_uncompressed_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let quantised = dir.path().join("q.glb");
+    fix_and_save(&model("teapot_q.glb"), &quantised);
+    let reference = points(&read(&quantised));
+    let inputs = [
+        ("teapot_mo.glb", "EXT_meshopt_compression"),
+        ("teapot_mo_khr.glb", "KHR_meshopt_compression"),
+    ];
+    for ((input, extension), output) in
+        inputs.iter().flat_map(|i| ["out.glb", "out.gltf"].map(|o| (i, o)))
+    {
+        let out = dir.path().join(output);
+        let warnings = fix_and_save(&model(input), &out);
+        assert!(
+            warnings.len() == 1
+                && warnings[0].contains(input)
+                && warnings[0].contains(extension)
+                && warnings[0].contains("uncompressed"),
+            "{warnings:?}"
+        );
+        assert_valid(&out);
+        let written = read(&out);
+        let text = written.json.to_string();
+        assert!(!text.contains("meshopt"), "{input} -> {output}: {text}");
+        assert!(text.contains("KHR_mesh_quantization"), "{output}");
+        // The fallback buffer (no data of its own) is gone: one buffer holds every view.
+        assert_eq!(written.json["buffers"].as_array().unwrap().len(), 1, "{output}");
+        // The same model as the fix of its uncompressed twin: every triangle there, with
+        // the same quantised values (exactly) and normals (up to summation order).
+        let after = points(&written);
+        for (a, e) in match_triangles(&after, &reference, 0.0) {
+            assert!(a.normal.dot(e.normal) > 1.0 - 1e-6, "{output}: {a:?} {e:?}");
+        }
+    }
+}
+
+/// `teapot_mo.glb` with its JSON changed by `edit`, written to `dir`.
+fn edited_meshopt(dir: &Path, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> PathBuf {
+    let bytes = std::fs::read(model("teapot_mo.glb")).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    let mut bin = bytes[20 + length + 8..].to_vec();
+    edit(&mut json, &mut bin);
+    let mut text = serde_json::to_vec(&json).unwrap();
+    text.resize(text.len().next_multiple_of(4), b' ');
+    let mut glb = Vec::new();
+    let total = 12 + 8 + text.len() + 8 + bin.len();
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&text);
+    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&bin);
+    let path = dir.join("edited.glb");
+    std::fs::write(&path, glb).unwrap();
+    path
+}
+
+/// The EXT_meshopt_compression object of buffer view 1 (view 0 is the texture).
+fn view_1(json: &mut Value) -> &mut Value {
+    &mut json["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]
+}
+
+#[test]
+fn malformed_meshopt_views_are_refused_naming_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let refused = |what: &str, path: PathBuf| match seamlit_io::load(&path, &LoadOptions::GEOMETRY)
+    {
+        Err(IoError::Gltf { path: p, place, reason }) => {
+            let expected = "bufferViews[1].extensions.EXT_meshopt_compression";
+            assert_eq!((p, place.as_str()), (path, expected), "{what}: {reason}");
+        }
+        other => panic!("{what}: {other:?}"),
+    };
+    let edits: [(&str, &str, Value); 4] = [
+        ("an unknown mode", "mode", "FAN".into()),
+        ("a stride ATTRIBUTES does not allow", "byteStride", 6.into()),
+        ("bytes outside the buffer", "byteLength", 1_000_000.into()),
+        // Refused before the decoder allocates a trillion elements.
+        ("more elements than the view holds", "count", 1_000_000_000_000_u64.into()),
+    ];
+    for (what, key, value) in edits {
+        refused(what, edited_meshopt(dir.path(), |json, _| view_1(json)[key] = value));
+    }
+    // The vertex codec's header byte (0xa0 | version) made unknown.
+    let garbage = edited_meshopt(dir.path(), |json, bin| {
+        let at = view_1(json)["byteOffset"].as_u64().unwrap();
+        bin[at as usize] = 0x00;
+    });
+    refused("a corrupt header", garbage);
+}
+
+#[test]
+fn draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
+    let path = model("teapot_draco.glb");
+    let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    assert_eq!(error.to_string().lines().count(), 1, "{error}");
+    let IoError::Gltf { path: p, place, reason } = &error else { panic!("{error:?}") };
+    assert_eq!(p, &path);
+    assert_eq!(place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
+    assert!(reason.contains("gltf-transform/cli copy"), "{reason}");
+}
+
+#[test]
+fn a_fallback_buffer_that_cannot_be_removed_gets_its_bytes() {
+    // A buffer after the fallback one: removing the fallback would renumber it.
+    let dir = tempfile::tempdir().unwrap();
+    let input = edited_meshopt(dir.path(), |json, _| {
+        let buffers = json["buffers"].as_array_mut().unwrap();
+        buffers.push(serde_json::json!({ "byteLength": 4, "uri": "data:application/octet-stream;base64,AAAAAA==" }));
+    });
+    let out = dir.path().join("out.glb");
+    fix_and_save(&input, &out);
+    assert_valid(&out);
+    let written = read(&out);
+    let buffers = written.json["buffers"].as_array().unwrap();
+    assert_eq!(buffers.len(), 3);
+    assert!(buffers[1]["uri"].as_str().unwrap().starts_with("data:"), "{}", buffers[1]);
+    assert_eq!(written.buffers[1].len(), 25164);
+    assert!(!written.json.to_string().contains("EXT_meshopt_compression"));
+}
+
+#[test]
+fn corrupt_meshopt_data_loads_or_fails_cleanly() {
+    // Every 31st byte of the compressed data, one at a time, set to 0xff: each file must load
+    // or fail with an error (garbage indices and values are caught by the loader's checks),
+    // never panic. A smoke test beside the fuzz targets, not a guard of one check.
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["teapot_mo.glb", "teapot_mo_filters.glb"] {
+        let bytes = std::fs::read(model(name)).unwrap();
+        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+        let views = json["bufferViews"].as_array().unwrap();
+        let (mut loaded, mut refused) = (0, 0);
+        for extension in views.iter().filter_map(|v| v["extensions"].get("EXT_meshopt_compression"))
+        {
+            let start = 20 + length + 8 + extension["byteOffset"].as_u64().unwrap() as usize;
+            let end = start + extension["byteLength"].as_u64().unwrap() as usize;
+            for at in (start..end).step_by(31) {
+                let mut corrupt = bytes.clone();
+                corrupt[at] = 0xff;
+                let path = dir.path().join("corrupt.glb");
+                std::fs::write(&path, corrupt).unwrap();
+                match seamlit_io::load(&path, &LoadOptions::GEOMETRY) {
+                    Ok(_) => loaded += 1,
+                    Err(_) => refused += 1,
+                }
+            }
+        }
+        assert!(loaded + refused > 250, "{name}: {loaded} + {refused}");
+    }
+}
