@@ -762,6 +762,31 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// A vertex attribute's checks: [`Self::check_accessor`] for its `(dimensions, types)`,
+    /// its sparse indices, and as many elements as POSITION's `vertex_count`.
+    fn check_attribute(
+        &self,
+        accessor: &gltf::Accessor<'_>,
+        (dimensions, types): (Dimensions, &[DataType]),
+        name: &str,
+        buffers: &[Vec<u8>],
+        vertex_count: usize,
+    ) -> Result<(), IoError> {
+        self.check_accessor(accessor, dimensions, types, name)?;
+        self.check_sparse_indices(accessor, buffers)?;
+        if accessor.count() != vertex_count {
+            return Err(IoError::BadAccessor {
+                path: self.path.to_path_buf(),
+                accessor: accessor.index(),
+                reason: format!(
+                    "{name} has {} elements, POSITION has {vertex_count}",
+                    accessor.count()
+                ),
+            });
+        }
+        Ok(())
+    }
+
     /// A sparse accessor's indices must be below its count and strictly increasing (glTF 2.0
     /// spec, "Sparse Accessors"): gltf's reader skips the others silently, loading wrong
     /// values. The caller has checked with [`Self::check_accessor`] that they lie inside
@@ -851,18 +876,7 @@ impl Reader<'_> {
         ];
         for (semantic, dimensions, types, name) in attributes {
             if let Some(accessor) = primitive.get(&semantic) {
-                self.check_accessor(&accessor, dimensions, types, name)?;
-                self.check_sparse_indices(&accessor, buffers)?;
-                if accessor.count() != vertex_count {
-                    return Err(IoError::BadAccessor {
-                        path: self.path.to_path_buf(),
-                        accessor: accessor.index(),
-                        reason: format!(
-                            "{name} has {} elements, POSITION has {vertex_count}",
-                            accessor.count()
-                        ),
-                    });
-                }
+                self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
             }
         }
         let index_accessor = primitive.indices();

@@ -12,9 +12,9 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::validate;
+use common::{assert_valid, fix_and_save};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
-use seamlit_io::{IoError, LoadOptions, SaveOptions};
+use seamlit_io::{IoError, LoadOptions};
 use serde_json::Value;
 
 fn model(name: &str) -> PathBuf {
@@ -291,17 +291,6 @@ fn match_triangles(actual: &[Point], expected: &[Point], step: f32) -> Vec<(Poin
         pairs.extend((0..3).map(|i| (a[i], e[(i + r) % 3])));
     }
     pairs
-}
-
-fn fix_and_save(input: &Path, output: &Path) -> Vec<String> {
-    let mut asset = seamlit_io::load(input, &LoadOptions::GEOMETRY).unwrap();
-    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
-    seamlit_io::save(&asset, output, &SaveOptions::default()).unwrap().warnings
-}
-
-fn assert_valid(path: &Path) {
-    let (errors, report) = validate(path);
-    assert_eq!(errors, 0, "{}: {report}", path.display());
 }
 
 // ---------------------------------------------------------------------------------------

@@ -11,7 +11,7 @@ mod common;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use common::validate;
+use common::{assert_valid, fix_and_save};
 use serde_json::{Value, json};
 
 use seamlit_io::{LoadOptions, SaveOptions};
@@ -806,18 +806,6 @@ impl References {
     }
 }
 
-/// Loads `input`, fixes it in place, saves it as `output`; returns the save's warnings.
-fn fix_and_save(input: &Path, output: &Path) -> Vec<String> {
-    let mut asset = seamlit_io::load(input, &LoadOptions::GEOMETRY).unwrap();
-    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
-    seamlit_io::save(&asset, output, &SaveOptions::default()).unwrap().warnings
-}
-
-fn assert_valid(path: &Path) {
-    let (errors, report) = validate(path);
-    assert_eq!(errors, 0, "{}: {report}", path.display());
-}
-
 // ---------------------------------------------------------------------------------------
 // Tests
 
@@ -831,33 +819,16 @@ fn the_fixture_itself_is_valid_gltf() {
     }
 }
 
-#[test]
-fn a_fixed_gltf_keeps_everything_seamlit_does_not_own() {
+/// Builds the fixture with `build` as GLB and as .gltf, fixes and saves each as GLB and as
+/// .gltf, and compares every output with its input ([`compare`], `pruning`); at least the
+/// fixture's 8 crease vertices must have been split, and every output must be valid. Returns
+/// each (input, output) pair read back, for further checks.
+fn round_trips(build: fn(&Path), pruning: Pruning) -> Vec<(File, File)> {
     let dir = tempfile::tempdir().unwrap();
+    let mut pairs = Vec::new();
     for input in ["in.glb", "in.gltf"] {
         let source = dir.path().join(input);
-        everything(&source);
-        for output in ["out.glb", "out.gltf"] {
-            let folder = dir.path().join(format!("{input}-{output}"));
-            std::fs::create_dir(&folder).unwrap();
-            let out = folder.join(output);
-            let warnings = fix_and_save(&source, &out);
-            assert!(warnings.is_empty(), "{warnings:?}");
-            let added =
-                compare(&read(&source), &read(&out), &format!("{input} -> {output}"), Pruning::Off);
-            // Each fold splits its two crease vertices: 4 primitives, at least 8 copies.
-            assert!(added >= 8, "{input} -> {output}: only {added} vertices were split");
-            assert_valid(&out);
-        }
-    }
-}
-
-#[test]
-fn the_data_only_replaced_normals_used_leaves_the_file_and_nothing_else_moves() {
-    let dir = tempfile::tempdir().unwrap();
-    for input in ["in.glb", "in.gltf"] {
-        let source = dir.path().join(input);
-        everything_known(&source);
+        build(&source);
         assert_valid(&source);
         for output in ["out.glb", "out.gltf"] {
             let folder = dir.path().join(format!("{input}-{output}"));
@@ -866,17 +837,31 @@ fn the_data_only_replaced_normals_used_leaves_the_file_and_nothing_else_moves() 
             let warnings = fix_and_save(&source, &out);
             assert!(warnings.is_empty(), "{warnings:?}");
             let (a, b) = (read(&source), read(&out));
-            let added = compare(&a, &b, &format!("{input} -> {output}"), Pruning::On);
+            let added = compare(&a, &b, &format!("{input} -> {output}"), pruning);
+            // Each fold splits its two crease vertices: 4 primitives, at least 8 copies.
             assert!(added >= 8, "{input} -> {output}: only {added} vertices were split");
             assert_valid(&out);
-            // The fixture's input holds no unused data, and neither may the output.
-            assert_eq!(References::of(&a.json).unused(&a.json), Default::default());
-            // Buffer 0 holds no more than the input's bytes plus what the splits added:
-            // every attribute of a split primitive was rewritten, so at most the input's
-            // size again (with padding).
-            let length = |f: &File| f.json["buffers"][0]["byteLength"].as_u64().unwrap();
-            assert!(length(&b) < 2 * length(&a), "{} -> {}", length(&a), length(&b));
+            pairs.push((a, b));
         }
+    }
+    pairs
+}
+
+#[test]
+fn a_fixed_gltf_keeps_everything_seamlit_does_not_own() {
+    round_trips(everything, Pruning::Off);
+}
+
+#[test]
+fn the_data_only_replaced_normals_used_leaves_the_file_and_nothing_else_moves() {
+    for (a, b) in round_trips(everything_known, Pruning::On) {
+        // The fixture's input holds no unused data, and neither may the output.
+        assert_eq!(References::of(&a.json).unused(&a.json), Default::default());
+        // Buffer 0 holds no more than the input's bytes plus what the splits added: every
+        // attribute of a split primitive was rewritten, so at most the input's size again
+        // (with padding).
+        let length = |f: &File| f.json["buffers"][0]["byteLength"].as_u64().unwrap();
+        assert!(length(&b) < 2 * length(&a), "{} -> {}", length(&a), length(&b));
     }
 }
 

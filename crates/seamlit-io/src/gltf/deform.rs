@@ -97,8 +97,8 @@ impl Reader<'_> {
         Ok((skin, targets))
     }
 
-    /// [`Reader::check_accessor`] for a `VEC3` (positions) or `VEC4` (joints, weights)
-    /// accessor of one of `types`, then its sparse indices and its count.
+    /// [`Reader::check_attribute`] for a `VEC3` (positions) or `VEC4` (joints, weights)
+    /// accessor of one of `types`.
     fn checked(
         &self,
         accessor: &gltf::Accessor<'_>,
@@ -109,19 +109,7 @@ impl Reader<'_> {
     ) -> Result<(), IoError> {
         let dimensions =
             if name.ends_with("POSITION") { Dimensions::Vec3 } else { Dimensions::Vec4 };
-        self.check_accessor(accessor, dimensions, types, name)?;
-        self.check_sparse_indices(accessor, buffers)?;
-        if accessor.count() != vertex_count {
-            return Err(IoError::BadAccessor {
-                path: self.path.to_path_buf(),
-                accessor: accessor.index(),
-                reason: format!(
-                    "{name} has {} elements, POSITION has {vertex_count}",
-                    accessor.count()
-                ),
-            });
-        }
-        Ok(())
+        self.check_attribute(accessor, (dimensions, types), name, buffers, vertex_count)
     }
 }
 

@@ -88,21 +88,7 @@ fn shared(sets: impl Iterator<Item = HashSet<[u32; 3]>>) -> usize {
 /// Panics (fails the test) when node or the validator is missing: run `.ci/run`, or
 /// `npm install --prefix .ci/node gltf-validator` once.
 pub fn validate(file: &Path) -> (u64, String) {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/validate.cjs");
-    let output = Command::new("node")
-        .arg(script)
-        .arg(file)
-        .output()
-        .expect("node is needed for the glTF validator test (Debian package nodejs)");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(
-        output.status.success(),
-        "the glTF validator did not run (install it: npm install --prefix .ci/node gltf-validator): {}{}",
-        stdout,
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_str(stdout.trim()).expect("validator report");
-    (report["errors"].as_u64().expect("error count"), stdout)
+    validate_many(&[file.to_path_buf()]).pop().expect("one report for one file")
 }
 
 /// Runs the Khronos glTF Validator on many files with one node start-up: per file, in order,
@@ -130,4 +116,18 @@ pub fn validate_many(files: &[PathBuf]) -> Vec<(u64, String)> {
         .collect();
     assert_eq!(reports.len(), files.len(), "one report per file: {stdout}");
     reports
+}
+
+/// Loads `input`, fixes it in place with the default options, saves it as `output` (the
+/// format from its extension); returns the save's warnings.
+pub fn fix_and_save(input: &Path, output: &Path) -> Vec<String> {
+    let mut asset = seamlit_io::load(input, &seamlit_io::LoadOptions::GEOMETRY).unwrap();
+    seamlit_mesh::fix_in_place(&mut asset.model, &seamlit_mesh::FixOptions::default()).unwrap();
+    seamlit_io::save(&asset, output, &seamlit_io::SaveOptions::default()).unwrap().warnings
+}
+
+/// Asserts that the Khronos glTF Validator reports no error in `path`.
+pub fn assert_valid(path: &Path) {
+    let (errors, report) = validate(path);
+    assert_eq!(errors, 0, "{}: {report}", path.display());
 }
