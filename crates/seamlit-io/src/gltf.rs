@@ -12,8 +12,9 @@
 //!   against its buffer, before a byte is read; every index against the vertex count; every
 //!   attribute for NaN and infinity;
 //! - quantised attributes (KHR_mesh_quantization) are read as floats and meshopt-compressed
-//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`); a
-//!   Draco-compressed primitive is refused, naming it and a command that decompresses it.
+//!   buffer views (EXT_meshopt_compression) are decoded at load (`gltf_decode.rs`), and so
+//!   are Draco-compressed primitives with the `draco` feature (`gltf_draco.rs`); without it
+//!   such a primitive is refused, naming it and a command that decompresses it.
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene; in a file
 //! without scenes, under the nodes that are no node's child) becomes an object, its
@@ -99,17 +100,43 @@ fn document(
     let root = gltf::json::Root::from_slice(json).or_else(|error| {
         lenient(&value).and_then(|patched| serde_json::from_value(patched).ok()).ok_or(error)
     });
-    let mut root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    let root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    #[cfg(not(feature = "draco"))]
+    crate::gltf_draco::refuse(&value, path)?;
+    let document = validated(root, path)?;
+    Ok((document, value, bin))
+}
+
+/// The typed document of a parsed root, after the checks that must run before gltf-json's
+/// validation and that validation less what the specification allows (`gltf_spec`).
+fn validated(mut root: gltf::json::Root, path: &Path) -> Result<gltf::Document, IoError> {
     check_position_indices(&root, path)?;
     check_image_sources(&root, path)?;
-    crate::gltf_decode::refuse_draco(&value, path)?;
     check_required_extensions(&root, path)?;
     // The gltf crate refuses every required extension it does not implement; seamlit passes
     // through the ones that do not change how geometry is read (checked above).
     root.extensions_required.clear();
     crate::gltf_spec::validate(&root).map_err(|e| gltf_error(e, path))?;
-    let document = gltf::Document::from_json_without_validation(root);
-    Ok((document, value, bin))
+    Ok(gltf::Document::from_json_without_validation(root))
+}
+
+/// Decodes the document's Draco-compressed primitives into plain data (`gltf_draco`),
+/// changing `json` and buffer 0; returns the typed document of the changed JSON, or `None`
+/// when there was nothing to decode.
+#[cfg(feature = "draco")]
+fn decode_draco(
+    json: &mut serde_json::Value,
+    buffers: &mut [Vec<u8>],
+    options: &LoadOptions,
+    path: &Path,
+) -> Result<Option<gltf::Document>, IoError> {
+    if crate::gltf_draco::decode(json, buffers, options.max_elements, path)? == 0 {
+        return Ok(None);
+    }
+    let root = serde_json::from_value(json.clone())
+        .or_else(|error| lenient(json).and_then(|p| serde_json::from_value(p).ok()).ok_or(error));
+    let root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    validated(root, path).map(Some)
 }
 
 /// What the specification allows and gltf-json 1.4.1 refuses, made acceptable to it: a
@@ -153,8 +180,12 @@ fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
 /// decode: a file that requires one of these cannot be read without it. Any other required
 /// extension (lights, material and texture extensions, unknown ones) is passed through
 /// untouched; KHR_mesh_quantization and EXT_/KHR_meshopt_compression are decoded
-/// (`gltf_decode.rs`).
+/// (`gltf_decode.rs`), and KHR_draco_mesh_compression with the `draco` feature
+/// (`gltf_draco.rs`).
+#[cfg(not(feature = "draco"))]
 const GEOMETRY_EXTENSIONS: [&str; 1] = ["KHR_draco_mesh_compression"];
+#[cfg(feature = "draco")]
+const GEOMETRY_EXTENSIONS: [&str; 0] = [];
 
 /// Refuses a file that requires an extension in [`GEOMETRY_EXTENSIONS`].
 fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
@@ -174,8 +205,8 @@ fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(),
 }
 
 /// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. The buffers and
-/// `json` (the document as written) end in the asset's [`GltfSource`], for the pass-through
-/// writer.
+/// `json` (the document as written, Draco primitives decoded) end in the asset's
+/// [`GltfSource`], for the pass-through writer.
 fn read(
     document: &gltf::Document,
     json: serde_json::Value,
@@ -185,19 +216,15 @@ fn read(
 ) -> Result<Asset, IoError> {
     let reader =
         Reader { path, folder: path.parent().unwrap_or(Path::new("")), options, buffer_bytes: 0 };
-    // A buffer without `uri` outside a GLB has no data, unless it is a meshopt fallback
-    // buffer, which `decode_meshopt` fills.
-    let meshopt_fallback = |b: &usize| {
-        let extensions = &json["buffers"][*b]["extensions"];
-        extensions.get("EXT_meshopt_compression").is_some()
-            || extensions.get("KHR_meshopt_compression").is_some()
-    };
-    let without_data: Vec<usize> = crate::gltf_spec::buffers_without_data(document, blob.is_some())
-        .into_iter()
-        .filter(|b| !meshopt_fallback(b))
-        .collect();
+    let without_data = buffers_without_data(document, &json, blob.is_some());
     let mut buffers = reader.buffers(document, &json, blob)?;
     crate::gltf_decode::decode_meshopt(&json, &mut buffers, path)?;
+    #[cfg(feature = "draco")]
+    let mut json = json;
+    #[cfg(feature = "draco")]
+    let decoded = decode_draco(&mut json, &mut buffers, options, path)?;
+    #[cfg(feature = "draco")]
+    let document = decoded.as_ref().unwrap_or(document);
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(document, &buffers, &without_data)?;
 
@@ -205,132 +232,216 @@ fn read(
     let mut warnings = Vec::new();
     asset.textures = reader.images(document, &buffers)?;
     asset.materials = document.materials().map(|m| material(&m)).collect();
-
-    // Decoded primitives by (mesh, primitive): the object of their first instance, cloned for
-    // the other nodes that instance the mesh.
-    let mut decoded: HashMap<(usize, usize), usize> = HashMap::new();
-    // Their skin influences as read (joints index the skin's `joints`), mapped per instance.
-    let mut influences: HashMap<(usize, usize), Vec<seamlit_mesh::Influences>> = HashMap::new();
-    // Per object: where it came from in the document, for the pass-through writer.
-    let mut instances: Vec<Instance> = Vec::new();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let roots: Vec<gltf::Node<'_>> = match &scene {
         Some(scene) => scene.nodes().collect(),
         None => crate::gltf_spec::root_nodes(document),
     };
-    let mut stack: Vec<(gltf::Node<'_>, Option<usize>, Mat4)> =
-        roots.into_iter().rev().map(|n| (n, None, Mat4::IDENTITY)).collect();
     if scene.is_none() && document.meshes().len() > 0 {
         warnings.push(format!(
             "{}: no scene; the nodes that are no node's child are placed as one",
             path.display()
         ));
     }
-    let mut visited = vec![false; document.nodes().len()];
-    let mut triangles = 0usize;
-    while let Some((node, parent, parent_global)) = stack.pop() {
-        if std::mem::replace(&mut visited[node.index()], true) {
-            return Err(IoError::Gltf {
-                path: path.to_path_buf(),
-                place: format!("nodes[{}]", node.index()),
-                reason: "the node is reached twice: the node graph has a cycle or a node with two parents".to_owned(),
-            });
-        }
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
-        let global = parent_global * local;
-        let node_index = asset.nodes.len();
-        let node_name = node.name().filter(|n| !n.is_empty()).map(str::to_owned);
-        let mut objects = Vec::new();
-        if let Some(mesh) = node.mesh() {
-            let primitive_count = mesh.primitives().len();
-            for primitive in mesh.primitives() {
-                if primitive.mode() != Mode::Triangles {
-                    warnings.push(format!(
-                        "{}: mesh {} primitive {}: mode {:?} skipped (only triangles are read)",
-                        path.display(),
-                        mesh.index(),
-                        primitive.index(),
-                        primitive.mode()
-                    ));
-                    continue;
-                }
-                let key = (mesh.index(), primitive.index());
-                let mut object = match decoded.get(&key) {
-                    Some(&first) => asset.model.objects[first].clone(),
-                    None => {
-                        if let Some(reason) =
-                            crate::gltf_spec::without_data(&primitive, &without_data)
-                        {
-                            warnings.push(format!(
-                                "{}: mesh {} primitive {} skipped: {reason}",
-                                path.display(),
-                                mesh.index(),
-                                primitive.index()
-                            ));
-                            continue;
-                        }
-                        let Some(object) =
-                            reader.primitive(&mesh, &primitive, &buffers, &mut warnings)?
-                        else {
-                            continue;
-                        };
-                        decoded.insert(key, asset.model.objects.len());
-                        object
-                    }
-                };
-                let read = influences.entry(key).or_insert_with(|| object.skin.clone());
-                object.skin = deform::joint_nodes(read, &node, path)?;
-                // Instancing multiplies triangles without costing file bytes: capped.
-                triangles = triangles.saturating_add(object.triangles.len());
-                if triangles > options.max_model_triangles {
-                    return Err(IoError::TooManyElements {
-                        path: path.to_path_buf(),
-                        what: format!("the model (mesh instances up to nodes[{}])", node.index()),
-                        limit: options.max_model_triangles,
-                        actual: triangles,
-                    });
-                }
-                let base = node_name
-                    .clone()
-                    .or_else(|| mesh.name().filter(|n| !n.is_empty()).map(str::to_owned))
-                    .unwrap_or_else(|| format!("mesh{}", mesh.index()));
-                let name = if primitive_count > 1 {
-                    format!("{base}.{}", primitive.index())
-                } else {
-                    base
-                };
-                // A skinned mesh is placed by its joints, never by its node (glTF 2.0,
-                // "Skins"): it is welded in its bind-pose space.
-                let placed = if node.skin().is_some() { Mat4::IDENTITY } else { global };
-                objects.push(asset.model.objects.len());
-                instances.push(Instance {
-                    node: node.index(),
-                    mesh: mesh.index(),
-                    primitive: primitive.index(),
-                });
-                asset.model.objects.push(Object {
-                    name,
-                    transform: (placed != Mat4::IDENTITY).then_some(placed),
-                    ..object
-                });
-            }
-        }
-        asset.nodes.push(Node {
-            name: node_name.unwrap_or_default(),
-            local_transform: local,
-            parent,
-            objects,
-        });
-        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, Some(node_index), global));
-        }
-    }
+    let mut placing = Placing::new(&reader, &buffers, &without_data);
+    placing.walk(roots, &mut asset, &mut warnings)?;
+    let instances = placing.instances;
     asset.model.v_axis = VAxis::Down;
     asset.lights = punctual_lights(document, scene.as_ref(), &mut warnings);
     asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)
+}
+
+/// The buffers without data (see `gltf_spec`): a buffer without `uri` outside a GLB, unless
+/// it is a meshopt fallback buffer, which `decode_meshopt` fills.
+fn buffers_without_data(
+    document: &gltf::Document,
+    json: &serde_json::Value,
+    glb: bool,
+) -> Vec<usize> {
+    let meshopt_fallback = |b: &usize| {
+        let extensions = &json["buffers"][*b]["extensions"];
+        extensions.get("EXT_meshopt_compression").is_some()
+            || extensions.get("KHR_meshopt_compression").is_some()
+    };
+    crate::gltf_spec::buffers_without_data(document, glb)
+        .into_iter()
+        .filter(|b| !meshopt_fallback(b))
+        .collect()
+}
+
+/// The walk over a scene's node tree that makes an object of every triangle primitive of
+/// every mesh instance (a mesh used by two nodes is two objects) and a [`Node`] of every
+/// node.
+struct Placing<'r> {
+    reader: &'r Reader<'r>,
+    buffers: &'r [Vec<u8>],
+    without_data: &'r [usize],
+    /// Decoded primitives by (mesh, primitive): the object of their first instance, cloned
+    /// for the other nodes that instance the mesh.
+    decoded: HashMap<(usize, usize), usize>,
+    /// Their skin influences as read (joints index the skin's `joints`), mapped per instance.
+    influences: HashMap<(usize, usize), Vec<seamlit_mesh::Influences>>,
+    /// Per object: where it came from in the document, for the pass-through writer.
+    instances: Vec<Instance>,
+    /// Triangles placed so far, instances counted.
+    triangles: usize,
+}
+
+impl<'r> Placing<'r> {
+    fn new(reader: &'r Reader<'r>, buffers: &'r [Vec<u8>], without_data: &'r [usize]) -> Self {
+        Self {
+            reader,
+            buffers,
+            without_data,
+            decoded: HashMap::new(),
+            influences: HashMap::new(),
+            instances: Vec::new(),
+            triangles: 0,
+        }
+    }
+
+    /// Walks the trees under `roots` depth first, in document order, pushing the nodes and
+    /// objects into `asset`.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::Gltf`] for a node reached twice (a cycle, or two parents); the errors of
+    /// [`Self::mesh_instance`].
+    fn walk<'d>(
+        &mut self,
+        roots: Vec<gltf::Node<'d>>,
+        asset: &mut Asset,
+        warnings: &mut Vec<String>,
+    ) -> Result<(), IoError> {
+        let path = self.reader.path;
+        let mut stack: Vec<(gltf::Node<'d>, Option<usize>, Mat4)> =
+            roots.into_iter().rev().map(|n| (n, None, Mat4::IDENTITY)).collect();
+        let mut visited = std::collections::HashSet::new();
+        while let Some((node, parent, parent_global)) = stack.pop() {
+            if !visited.insert(node.index()) {
+                return Err(IoError::Gltf {
+                    path: path.to_path_buf(),
+                    place: format!("nodes[{}]", node.index()),
+                    reason: "the node is reached twice: the node graph has a cycle or a node with two parents".to_owned(),
+                });
+            }
+            let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+            let global = parent_global * local;
+            let node_index = asset.nodes.len();
+            let objects = match node.mesh() {
+                Some(mesh) => self.mesh_instance(&node, &mesh, global, asset, warnings)?,
+                None => Vec::new(),
+            };
+            asset.nodes.push(Node {
+                name: node.name().unwrap_or_default().to_owned(),
+                local_transform: local,
+                parent,
+                objects,
+            });
+            for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+                stack.push((child, Some(node_index), global));
+            }
+        }
+        Ok(())
+    }
+
+    /// The objects of one node's mesh, one per triangle primitive, placed at `global` (a
+    /// skinned mesh at its bind pose); returns their indices in `asset.model.objects`.
+    fn mesh_instance(
+        &mut self,
+        node: &gltf::Node<'_>,
+        mesh: &gltf::Mesh<'_>,
+        global: Mat4,
+        asset: &mut Asset,
+        warnings: &mut Vec<String>,
+    ) -> Result<Vec<usize>, IoError> {
+        let path = self.reader.path;
+        let mut objects = Vec::new();
+        for primitive in mesh.primitives() {
+            let Some(mut object) = self.first_object(mesh, &primitive, asset, warnings)? else {
+                continue;
+            };
+            let key = (mesh.index(), primitive.index());
+            let read = self.influences.entry(key).or_insert_with(|| object.skin.clone());
+            object.skin = deform::joint_nodes(read, node, path)?;
+            // Instancing multiplies triangles without costing file bytes: capped.
+            self.triangles = self.triangles.saturating_add(object.triangles.len());
+            let limit = self.reader.options.max_model_triangles;
+            if self.triangles > limit {
+                return Err(IoError::TooManyElements {
+                    path: path.to_path_buf(),
+                    what: format!("the model (mesh instances up to nodes[{}])", node.index()),
+                    limit,
+                    actual: self.triangles,
+                });
+            }
+            // A skinned mesh is placed by its joints, never by its node (glTF 2.0,
+            // "Skins"): it is welded in its bind-pose space.
+            let placed = if node.skin().is_some() { Mat4::IDENTITY } else { global };
+            objects.push(asset.model.objects.len());
+            self.instances.push(Instance {
+                node: node.index(),
+                mesh: mesh.index(),
+                primitive: primitive.index(),
+            });
+            asset.model.objects.push(Object {
+                name: object_name(node, mesh, &primitive),
+                transform: (placed != Mat4::IDENTITY).then_some(placed),
+                ..object
+            });
+        }
+        Ok(objects)
+    }
+
+    /// The object of a primitive as its first instance read it (a clone for the others), or
+    /// `None`, with a warning, for a primitive that is not a triangle list or whose data is
+    /// not in the file.
+    fn first_object(
+        &mut self,
+        mesh: &gltf::Mesh<'_>,
+        primitive: &gltf::Primitive<'_>,
+        asset: &Asset,
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<Object>, IoError> {
+        let (path, m, p) = (self.reader.path.display(), mesh.index(), primitive.index());
+        if primitive.mode() != Mode::Triangles {
+            warnings.push(format!(
+                "{path}: mesh {m} primitive {p}: mode {:?} skipped (only triangles are read)",
+                primitive.mode()
+            ));
+            return Ok(None);
+        }
+        if let Some(&first) = self.decoded.get(&(m, p)) {
+            return Ok(Some(asset.model.objects[first].clone()));
+        }
+        if let Some(reason) = crate::gltf_spec::without_data(primitive, self.without_data) {
+            warnings.push(format!("{path}: mesh {m} primitive {p} skipped: {reason}"));
+            return Ok(None);
+        }
+        let object = self.reader.primitive(mesh, primitive, self.buffers, warnings)?;
+        if object.is_some() {
+            self.decoded.insert((m, p), asset.model.objects.len());
+        }
+        Ok(object)
+    }
+}
+
+/// An object's name: its node's (else its mesh's, else `mesh{index}`), with `.{primitive}`
+/// appended when the mesh has several primitives.
+fn object_name(
+    node: &gltf::Node<'_>,
+    mesh: &gltf::Mesh<'_>,
+    primitive: &gltf::Primitive<'_>,
+) -> String {
+    let base = node
+        .name()
+        .filter(|n| !n.is_empty())
+        .or_else(|| mesh.name().filter(|n| !n.is_empty()))
+        .map_or_else(|| format!("mesh{}", mesh.index()), str::to_owned);
+    if mesh.primitives().len() > 1 { format!("{base}.{}", primitive.index()) } else { base }
 }
 
 /// Every primitive's `POSITION` names an existing accessor. gltf-json 1.4.1's validation
@@ -513,6 +624,35 @@ struct Reader<'a> {
     options: &'a LoadOptions,
     /// The bytes of all buffers together: what the file can hold.
     buffer_bytes: u64,
+}
+
+/// A primitive being read, and its vertex count (POSITION's).
+struct Vertices<'p, 'd> {
+    primitive: &'p gltf::Primitive<'d>,
+    count: usize,
+}
+
+/// Whether a vertex attribute's element is finite (no NaN, no infinity).
+trait Finite {
+    fn finite(&self) -> bool;
+}
+
+impl Finite for Vec2 {
+    fn finite(&self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Finite for Vec3 {
+    fn finite(&self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Finite for Vec4 {
+    fn finite(&self) -> bool {
+        self.is_finite()
+    }
 }
 
 impl Reader<'_> {
@@ -840,7 +980,7 @@ impl Reader<'_> {
         buffers: &[Vec<u8>],
         warnings: &mut Vec<String>,
     ) -> Result<Option<Object>, IoError> {
-        let Some(position_accessor) = primitive.get(&gltf::Semantic::Positions) else {
+        let Some(position) = primitive.get(&gltf::Semantic::Positions) else {
             warnings.push(format!(
                 "{}: mesh {} primitive {} has no POSITION; skipped",
                 self.path.display(),
@@ -849,184 +989,37 @@ impl Reader<'_> {
             ));
             return Ok(None);
         };
-        let vertex_count = position_accessor.count();
-        // KHR_mesh_quantization: integers, normalised or not, besides floats.
-        let quantized = [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
-        let signed = [DataType::F32, DataType::I8, DataType::I16];
-        self.check_accessor(&position_accessor, Dimensions::Vec3, &quantized, "POSITION")?;
-        self.check_sparse_indices(&position_accessor, buffers)?;
-        // COLOR_0 is RGB or RGBA, of floats or normalised integers.
-        let color_dimensions =
-            primitive.get(&gltf::Semantic::Colors(0)).map_or(Dimensions::Vec4, |a| {
-                match a.dimensions() {
-                    Dimensions::Vec3 => Dimensions::Vec3,
-                    _ => Dimensions::Vec4,
-                }
-            });
-        let attributes = [
-            (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
-            (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
-            (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
-            (
-                gltf::Semantic::Colors(0),
-                color_dimensions,
-                &[DataType::F32, DataType::U8, DataType::U16][..],
-                "COLOR_0",
-            ),
-        ];
-        for (semantic, dimensions, types, name) in attributes {
-            if let Some(accessor) = primitive.get(&semantic) {
-                self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
-            }
-        }
-        let index_accessor = primitive.indices();
-        if let Some(accessor) = &index_accessor {
-            self.check_accessor(
-                accessor,
-                Dimensions::Scalar,
-                &[DataType::U8, DataType::U16, DataType::U32],
-                "indices",
-            )?;
-            self.check_sparse_indices(accessor, buffers)?;
-            if accessor.count() % 3 != 0 {
-                return Err(IoError::BadAccessor {
-                    path: self.path.to_path_buf(),
-                    accessor: accessor.index(),
-                    reason: format!(
-                        "a triangle list needs a multiple of 3 indices, found {}",
-                        accessor.count()
-                    ),
-                });
-            }
-        } else if vertex_count % 3 != 0 {
-            return Err(IoError::BadAccessor {
-                path: self.path.to_path_buf(),
-                accessor: position_accessor.index(),
-                reason: format!(
-                    "a non-indexed triangle list needs a multiple of 3 vertices, found {vertex_count}"
-                ),
-            });
-        }
-
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        self.check_primitive(primitive, &position, buffers)?;
+        let vertices = Vertices { primitive, count: position.count() };
         // Floats, or KHR_mesh_quantization's integers; an accessor without a view or sparse
         // data is zeros (the readers give nothing).
-        let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
-        let positions: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
-            Some(&position_accessor),
-            read_floats::<3>(&position_accessor, buffers)
-                .map(|v| v.into_iter().map(Vec3::from_array).collect()),
-        )
-        .unwrap_or_default();
-        let short = |accessor: &gltf::Accessor<'_>, got: usize| IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            reason: format!("expected {} elements, read {got}", accessor.count()),
-        };
-        if positions.len() != vertex_count {
-            return Err(short(&position_accessor, positions.len()));
+        let positions = self
+            .vertex_attribute(&vertices, gltf::Semantic::Positions, "POSITION", |a| {
+                read_floats::<3>(a, buffers).map(|v| v.into_iter().map(Vec3::from_array).collect())
+            })?
+            .unwrap_or_default();
+        if positions.len() != vertices.count {
+            return Err(self.short(&position, positions.len()));
         }
-        let finite = |accessor: Option<gltf::Accessor<'_>>,
-                      attribute: &'static str,
-                      ok: &dyn Fn(usize) -> bool,
-                      len: usize| {
-            match (0..len).find(|&i| !ok(i)) {
-                Some(element) => Err(IoError::AccessorNotFinite {
-                    path: self.path.to_path_buf(),
-                    accessor: accessor.map_or(0, |a| a.index()),
-                    attribute,
-                    element,
-                }),
-                None => Ok(()),
-            }
-        };
-        finite(
-            Some(position_accessor.clone()),
-            "POSITION",
-            &|i| positions[i].is_finite(),
-            vertex_count,
-        )?;
-        let normals: Option<Vec<Vec3>> = crate::gltf_spec::zeros_without_view(
-            attribute(gltf::Semantic::Normals).as_ref(),
-            attribute(gltf::Semantic::Normals)
-                .and_then(|a| read_directions::<3>(&a, buffers))
-                .map(|v| v.into_iter().map(Vec3::from_array).collect()),
-        );
-        let tangents: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
-            attribute(gltf::Semantic::Tangents).as_ref(),
-            attribute(gltf::Semantic::Tangents)
-                .and_then(|a| read_directions::<4>(&a, buffers))
-                .map(|v| v.into_iter().map(Vec4::from_array).collect()),
-        );
-        let uvs: Option<Vec<Vec2>> = crate::gltf_spec::zeros_without_view(
-            attribute(gltf::Semantic::TexCoords(0)).as_ref(),
-            attribute(gltf::Semantic::TexCoords(0))
-                .and_then(|a| read_floats::<2>(&a, buffers))
-                .map(|v| v.into_iter().map(Vec2::from_array).collect()),
-        );
-        let colors: Option<Vec<Vec4>> = crate::gltf_spec::zeros_without_view(
-            attribute(gltf::Semantic::Colors(0)).as_ref(),
-            reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect()),
-        );
-        if let Some(n) = &normals {
-            let accessor = primitive.get(&gltf::Semantic::Normals);
-            if n.len() != vertex_count {
-                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), n.len()));
-            }
-            finite(accessor, "NORMAL", &|i| n[i].is_finite(), vertex_count)?;
-        }
-        if let Some(t) = &tangents {
-            let accessor = primitive.get(&gltf::Semantic::Tangents);
-            if t.len() != vertex_count {
-                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), t.len()));
-            }
-            finite(accessor, "TANGENT", &|i| t[i].is_finite(), vertex_count)?;
-        }
-        if let Some(t) = &uvs {
-            let accessor = primitive.get(&gltf::Semantic::TexCoords(0));
-            if t.len() != vertex_count {
-                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), t.len()));
-            }
-            finite(accessor, "TEXCOORD_0", &|i| t[i].is_finite(), vertex_count)?;
-        }
-        if let Some(c) = &colors {
-            let accessor = primitive.get(&gltf::Semantic::Colors(0));
-            if c.len() != vertex_count {
-                return Err(short(accessor.as_ref().unwrap_or(&position_accessor), c.len()));
-            }
-            finite(accessor, "COLOR_0", &|i| c[i].is_finite(), vertex_count)?;
-        }
-        let indices = crate::gltf_spec::zeros_without_view(
-            index_accessor.as_ref(),
-            reader.read_indices().map(|read| read.into_u32().collect::<Vec<u32>>()),
-        );
-        let triangles: Vec<[u32; 3]> = match (&index_accessor, indices) {
-            (Some(accessor), Some(read)) => {
-                let mut read = read.into_iter();
-                let mut triangles = Vec::with_capacity(accessor.count() / 3);
-                while let (Some(a), Some(b), Some(c)) = (read.next(), read.next(), read.next()) {
-                    triangles.push([a, b, c]);
-                }
-                if triangles.len() * 3 != accessor.count() {
-                    return Err(short(accessor, triangles.len() * 3));
-                }
-                if let Some(&index) =
-                    triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
-                {
-                    return Err(IoError::IndexOutOfRange {
-                        path: self.path.to_path_buf(),
-                        mesh: mesh.index(),
-                        primitive: primitive.index(),
-                        accessor: accessor.index(),
-                        index,
-                        vertex_count,
-                    });
-                }
-                triangles
-            }
-            _ => (0..vertex_count as u32 / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
-        };
-        let (skin, morph_targets) = self.deformation(primitive, buffers, vertex_count)?;
+        let normals = self.vertex_attribute(&vertices, gltf::Semantic::Normals, "NORMAL", |a| {
+            read_directions::<3>(a, buffers).map(|v| v.into_iter().map(Vec3::from_array).collect())
+        })?;
+        let tangents =
+            self.vertex_attribute(&vertices, gltf::Semantic::Tangents, "TANGENT", |a| {
+                read_directions::<4>(a, buffers)
+                    .map(|v| v.into_iter().map(Vec4::from_array).collect())
+            })?;
+        let uvs =
+            self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(0), "TEXCOORD_0", |a| {
+                read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
+            })?;
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let colors =
+            self.vertex_attribute(&vertices, gltf::Semantic::Colors(0), "COLOR_0", |_| {
+                reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect())
+            })?;
+        let triangles = self.triangles(mesh, primitive, buffers, vertices.count)?;
+        let (skin, morph_targets) = self.deformation(primitive, buffers, vertices.count)?;
         Ok(Some(Object {
             name: String::new(),
             positions,
@@ -1042,6 +1035,150 @@ impl Reader<'_> {
             skin,
             morph_targets,
         }))
+    }
+
+    /// Checks a primitive's accessors before anything is read: POSITION, NORMAL, TANGENT,
+    /// TEXCOORD_0 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
+    /// (a triangle list: a multiple of 3).
+    fn check_primitive(
+        &self,
+        primitive: &gltf::Primitive<'_>,
+        position: &gltf::Accessor<'_>,
+        buffers: &[Vec<u8>],
+    ) -> Result<(), IoError> {
+        let vertex_count = position.count();
+        // KHR_mesh_quantization: integers, normalised or not, besides floats.
+        let quantized = [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
+        let signed = [DataType::F32, DataType::I8, DataType::I16];
+        self.check_accessor(position, Dimensions::Vec3, &quantized, "POSITION")?;
+        self.check_sparse_indices(position, buffers)?;
+        // COLOR_0 is RGB or RGBA, of floats or normalised integers.
+        let color_dimensions =
+            primitive.get(&gltf::Semantic::Colors(0)).map_or(Dimensions::Vec4, |a| {
+                match a.dimensions() {
+                    Dimensions::Vec3 => Dimensions::Vec3,
+                    _ => Dimensions::Vec4,
+                }
+            });
+        let colors = [DataType::F32, DataType::U8, DataType::U16];
+        let attributes = [
+            (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
+            (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
+            (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
+            (gltf::Semantic::Colors(0), color_dimensions, &colors[..], "COLOR_0"),
+        ];
+        for (semantic, dimensions, types, name) in attributes {
+            if let Some(accessor) = primitive.get(&semantic) {
+                self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
+            }
+        }
+        let bad = |accessor: &gltf::Accessor<'_>, reason: String| IoError::BadAccessor {
+            path: self.path.to_path_buf(),
+            accessor: accessor.index(),
+            reason,
+        };
+        let Some(accessor) = primitive.indices() else {
+            if !vertex_count.is_multiple_of(3) {
+                return Err(bad(
+                    position,
+                    format!(
+                        "a non-indexed triangle list needs a multiple of 3 vertices, found {vertex_count}"
+                    ),
+                ));
+            }
+            return Ok(());
+        };
+        let types = [DataType::U8, DataType::U16, DataType::U32];
+        self.check_accessor(&accessor, Dimensions::Scalar, &types, "indices")?;
+        self.check_sparse_indices(&accessor, buffers)?;
+        if !accessor.count().is_multiple_of(3) {
+            return Err(bad(
+                &accessor,
+                format!(
+                    "a triangle list needs a multiple of 3 indices, found {}",
+                    accessor.count()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The error for an accessor that gave fewer elements than its count.
+    fn short(&self, accessor: &gltf::Accessor<'_>, got: usize) -> IoError {
+        IoError::BadAccessor {
+            path: self.path.to_path_buf(),
+            accessor: accessor.index(),
+            reason: format!("expected {} elements, read {got}", accessor.count()),
+        }
+    }
+
+    /// A primitive's attribute `semantic`, read by `read` (zeros when its accessor has
+    /// neither a view nor sparse data), checked to hold one finite element per vertex;
+    /// `None` when the primitive has no such attribute or `read` gives nothing.
+    fn vertex_attribute<T: Clone + Default + Finite>(
+        &self,
+        vertices: &Vertices<'_, '_>,
+        semantic: gltf::Semantic,
+        attribute: &'static str,
+        read: impl FnOnce(&gltf::Accessor<'_>) -> Option<Vec<T>>,
+    ) -> Result<Option<Vec<T>>, IoError> {
+        let Some(accessor) = vertices.primitive.get(&semantic) else { return Ok(None) };
+        let values = crate::gltf_spec::zeros_without_view(Some(&accessor), read(&accessor));
+        let Some(values) = values else { return Ok(None) };
+        if values.len() != vertices.count {
+            return Err(self.short(&accessor, values.len()));
+        }
+        if let Some(element) = values.iter().position(|v| !v.finite()) {
+            return Err(IoError::AccessorNotFinite {
+                path: self.path.to_path_buf(),
+                accessor: accessor.index(),
+                attribute,
+                element,
+            });
+        }
+        Ok(Some(values))
+    }
+
+    /// A primitive's triangles: its indices, checked against the vertex count, or `0, 1,
+    /// 2, ...` for a non-indexed list.
+    fn triangles(
+        &self,
+        mesh: &gltf::Mesh<'_>,
+        primitive: &gltf::Primitive<'_>,
+        buffers: &[Vec<u8>],
+        vertex_count: usize,
+    ) -> Result<Vec<[u32; 3]>, IoError> {
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let index_accessor = primitive.indices();
+        let indices = crate::gltf_spec::zeros_without_view(
+            index_accessor.as_ref(),
+            reader.read_indices().map(|read| read.into_u32().collect::<Vec<u32>>()),
+        );
+        let (Some(accessor), Some(read)) = (index_accessor, indices) else {
+            return Ok((0..vertex_count as u32 / 3)
+                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+                .collect());
+        };
+        let mut read = read.into_iter();
+        let mut triangles = Vec::with_capacity(accessor.count() / 3);
+        while let (Some(a), Some(b), Some(c)) = (read.next(), read.next(), read.next()) {
+            triangles.push([a, b, c]);
+        }
+        if triangles.len() * 3 != accessor.count() {
+            return Err(self.short(&accessor, triangles.len() * 3));
+        }
+        if let Some(&index) = triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
+        {
+            return Err(IoError::IndexOutOfRange {
+                path: self.path.to_path_buf(),
+                mesh: mesh.index(),
+                primitive: primitive.index(),
+                accessor: accessor.index(),
+                index,
+                vertex_count,
+            });
+        }
+        Ok(triangles)
     }
 
     /// The images, as textures; `data:` and buffer-view images are embedded bytes, files are

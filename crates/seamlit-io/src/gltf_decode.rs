@@ -111,35 +111,6 @@ where
     Some(values)
 }
 
-/// The Draco extension's name.
-const DRACO: &str = "KHR_draco_mesh_compression";
-
-/// Refuses a document with a primitive compressed with KHR_draco_mesh_compression, naming
-/// the first such primitive and a command that decompresses the file. No maintained Rust
-/// Draco decoder is mature enough to trust with untrusted files yet (`docs/gltf-pass-through.md`,
-/// "Quantised and compressed geometry").
-///
-/// # Errors
-///
-/// [`IoError::Gltf`] at `meshes[m].primitives[p].extensions.KHR_draco_mesh_compression`.
-pub(crate) fn refuse_draco(document: &Value, path: &Path) -> Result<(), IoError> {
-    let meshes = document["meshes"].as_array().map_or(&[][..], Vec::as_slice);
-    for (m, mesh) in meshes.iter().enumerate() {
-        let primitives = mesh["primitives"].as_array().map_or(&[][..], Vec::as_slice);
-        if let Some(p) = primitives.iter().position(|p| p["extensions"].get(DRACO).is_some()) {
-            return Err(IoError::Gltf {
-                path: path.to_path_buf(),
-                place: format!("meshes[{m}].primitives[{p}].extensions.{DRACO}"),
-                reason: format!(
-                    "the geometry is Draco-compressed, which seamlit does not decode; decompress the file first, e.g. `npx @gltf-transform/cli copy {0} uncompressed.glb` (glTF-Transform's copy removes Draco)",
-                    path.display()
-                ),
-            });
-        }
-    }
-    Ok(())
-}
-
 /// The number of bytes to make for buffer `index` when it is an EXT_meshopt_compression
 /// fallback buffer without data of its own (no `uri`): its `byteLength`. `None` for any
 /// other buffer.

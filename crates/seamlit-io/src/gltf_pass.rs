@@ -179,6 +179,9 @@ pub(crate) fn save(
     for group in instance_groups(&asset.model, &source.0.instances) {
         out.mesh(&asset.model, &group)?;
     }
+    // Decoded at load (`gltf_draco`): the accessors hold plain data.
+    let note = crate::gltf_draco::strip(&mut out.json, &source.0.path);
+    out.warnings.extend(note);
     out.prune();
     out.place_buffers_and_images()?;
     out.write()?;

@@ -55,6 +55,7 @@ mod atomic;
 mod error;
 pub mod gltf;
 mod gltf_decode;
+mod gltf_draco;
 mod gltf_pass;
 mod gltf_prune;
 mod gltf_spec;
@@ -218,9 +219,9 @@ pub struct SaveReport {
     /// Problems that did not stop writing, one sentence each: a glTF mesh cloned because its
     /// instances got different normals, an image file that could not be copied beside the
     /// output, a glTF or OBJ source the model no longer matches, a material library or texture
-    /// of an OBJ that is missing, tangents that an OBJ output cannot hold, buffer views the
-    /// input stored compressed (EXT_ or KHR_meshopt_compression) that the output stores
-    /// uncompressed.
+    /// of an OBJ that is missing, tangents that an OBJ output cannot hold, buffer views (EXT_
+    /// or KHR_meshopt_compression) and primitives (KHR_draco_mesh_compression) the input
+    /// stored compressed that the output stores uncompressed.
     pub warnings: Vec<String>,
 }
 

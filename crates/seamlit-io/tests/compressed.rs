@@ -1,10 +1,12 @@
 //! Quantised and compressed glTF geometry (issue 11): KHR_mesh_quantization and
-//! EXT_meshopt_compression are read, and the pass-through writes them back readable by a
-//! viewer without a meshopt decoder.
+//! EXT_meshopt_compression are read, and so is KHR_draco_mesh_compression with the `draco`
+//! feature; the pass-through writes them back readable by a viewer without a meshopt or
+//! Draco decoder.
 //!
 //! The inputs are the Newell teapot (32 objects) made by gltfpack three ways from one
 //! textured GLB (assets/models/SOURCES.md): `teapot_noq.glb` uncompressed (floats),
-//! `teapot_q.glb` quantised, `teapot_mo.glb` quantised and meshopt-compressed. This file reads
+//! `teapot_q.glb` quantised, `teapot_mo.glb` quantised and meshopt-compressed; and
+//! `teapot_draco.glb`, the uncompressed one through glTF-Transform's `draco`. This file reads
 //! glTF with its own small accessor reader (serde_json and byte slices), never with the
 //! loader under test, except where the loader's result is what is checked.
 
@@ -271,10 +273,20 @@ fn points(file: &File) -> Vec<Point> {
 /// the pairs of corners. gltfpack orders triangles and vertices its own way (meshopt
 /// compression reorders them again), so triangles are matched, not indexed.
 fn match_triangles(actual: &[Point], expected: &[Point], step: f32) -> Vec<(Point, Point)> {
+    match_within(actual, expected, step, UV_STEP)
+}
+
+/// [`match_triangles`] within `uv_step` in UV.
+fn match_within(
+    actual: &[Point],
+    expected: &[Point],
+    step: f32,
+    uv_step: f32,
+) -> Vec<(Point, Point)> {
     assert_eq!(actual.len(), expected.len(), "corner counts");
     let close = |a: &Point, b: &Point| {
         (a.position - b.position).abs().max_element() <= step
-            && (a.uv - b.uv).abs().max_element() <= UV_STEP
+            && (a.uv - b.uv).abs().max_element() <= uv_step
     };
     let mut used = vec![false; expected.len() / 3];
     let mut pairs = Vec::with_capacity(actual.len());
@@ -420,7 +432,12 @@ fn a_meshopt_file_is_written_uncompressed_and_says_so() {
 
 /// `teapot_mo.glb` with its JSON changed by `edit`, written to `dir`.
 fn edited_meshopt(dir: &Path, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> PathBuf {
-    let bytes = std::fs::read(model("teapot_mo.glb")).unwrap();
+    edited_glb(&model("teapot_mo.glb"), &dir.join("edited.glb"), edit)
+}
+
+/// The GLB `source` with its JSON and BIN chunk changed by `edit`, written to `path`.
+fn edited_glb(source: &Path, path: &Path, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> PathBuf {
+    let bytes = std::fs::read(source).unwrap();
     let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let mut json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
     let mut bin = bytes[20 + length + 8..].to_vec();
@@ -438,9 +455,8 @@ fn edited_meshopt(dir: &Path, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> Pa
     glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
     glb.extend_from_slice(b"BIN\0");
     glb.extend_from_slice(&bin);
-    let path = dir.join("edited.glb");
-    std::fs::write(&path, glb).unwrap();
-    path
+    std::fs::write(path, glb).unwrap();
+    path.to_path_buf()
 }
 
 /// The EXT_meshopt_compression object of buffer view 1 (view 0 is the texture).
@@ -477,8 +493,9 @@ fn malformed_meshopt_views_are_refused_naming_the_view() {
     refused("a corrupt header", garbage);
 }
 
+#[cfg(not(feature = "draco"))]
 #[test]
-fn draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
+fn without_the_draco_feature_draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
     let path = model("teapot_draco.glb");
     let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
     assert_eq!(error.to_string().lines().count(), 1, "{error}");
@@ -486,6 +503,202 @@ fn draco_geometry_is_refused_naming_the_primitive_and_a_way_out() {
     assert_eq!(p, &path);
     assert_eq!(place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
     assert!(reason.contains("gltf-transform/cli copy"), "{reason}");
+}
+
+/// The Draco teapot's tolerances, from what glTF-Transform's `draco` command quantises by
+/// default: positions to 14 bits over each primitive's largest extent (the POSITION
+/// accessors' `min` and `max`, written from the original data), texture coordinates to 12
+/// bits over theirs (at most 1 in the original file: measured here). One step each, twice
+/// the rounding error.
+#[cfg(feature = "draco")]
+fn draco_steps(original: &[Point]) -> (f32, f32) {
+    let draco = read(&model("teapot_draco.glb"));
+    let mut extent = 0.0f32;
+    for accessor in draco.json["accessors"].as_array().unwrap() {
+        if let (Some(min), Some(max)) = (accessor["min"].as_array(), accessor["max"].as_array()) {
+            for (a, b) in min.iter().zip(max) {
+                extent = extent.max((b.as_f64().unwrap() - a.as_f64().unwrap()) as f32);
+            }
+        }
+    }
+    let uvs = original.iter().map(|p| p.uv);
+    let (low, high) = uvs.fold((Vec2::MAX, Vec2::MIN), |(l, h), uv| (l.min(uv), h.max(uv)));
+    assert!(extent > 1.0 && (high - low).max_element() <= 1.0, "{extent} {low} {high}");
+    (extent / 16383.0, (high - low).max_element() / 4095.0)
+}
+
+#[cfg(feature = "draco")]
+#[test]
+fn draco_geometry_loads_as_the_original_within_its_steps() {
+    let original = without_degenerate(points(&read(&model("teapot_noq.glb"))));
+    // The 32 patches' poles: one degenerate triangle each.
+    assert_eq!(original.len(), 3072 - 32 * 3);
+    let (step, uv_step) = draco_steps(&original);
+    let asset = seamlit_io::load(&model("teapot_draco.glb"), &LoadOptions::GEOMETRY).unwrap();
+    assert_eq!(asset.model.objects.len(), 32);
+    let mut loaded = Vec::new();
+    for object in &asset.model.objects {
+        let (uvs, normals) = (object.uvs.as_ref().unwrap(), object.normals.as_ref().unwrap());
+        for &v in object.triangles.as_flattened() {
+            let v = v as usize;
+            let position = object.model_transform().transform_point3(object.positions[v]);
+            loaded.push(Point { position, uv: uvs[v], normal: normals[v] });
+        }
+    }
+    // Every triangle of the original, corner by corner, once: the indices too.
+    for (a, e) in match_within(&loaded, &original, step, uv_step) {
+        // 10-bit octahedral normals: within a few tenths of a degree.
+        assert!(a.normal.dot(e.normal) > 0.9999, "{a:?} {e:?}");
+    }
+}
+
+#[cfg(feature = "draco")]
+#[test]
+fn a_draco_file_is_written_uncompressed_valid_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = model("teapot_draco.glb");
+    let original = without_degenerate(points(&read(&model("teapot_noq.glb"))));
+    let (step, uv_step) = draco_steps(&original);
+    for output in ["out.glb", "out.gltf"] {
+        let out = dir.path().join(output);
+        let warnings = fix_and_save(&input, &out);
+        assert!(
+            warnings.len() == 1
+                && warnings[0].contains("teapot_draco.glb")
+                && warnings[0].contains("32 primitives compressed with KHR_draco_mesh_compression")
+                && warnings[0].contains("uncompressed"),
+            "{warnings:?}"
+        );
+        assert_valid(&out);
+        let written = read(&out);
+        let text = written.json.to_string().to_lowercase();
+        assert!(!text.contains("draco"), "{output}: {text}");
+        // The compressed streams' views and the decoded data the fix replaced are given to
+        // the new data (pruning); the output adds 3 views per primitive where 4 were freed,
+        // so one per primitive stays, unused (pruning renumbers nothing the output uses).
+        let json = &written.json;
+        let views = json["bufferViews"].as_array().unwrap().len();
+        let used: std::collections::BTreeSet<u64> = json["accessors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .chain(json["images"].as_array().unwrap())
+            .filter_map(|item| item["bufferView"].as_u64())
+            .collect();
+        assert_eq!(views - used.len(), 32, "{output}");
+        // The written corners are the original's, within the quantisation steps.
+        let after = points(&written);
+        for (a, e) in match_within(&after, &original, step, uv_step) {
+            assert!((a.normal.length() - 1.0).abs() < 1e-5, "{output}: {a:?}");
+            assert!(a.normal.dot(e.normal) > 0.99, "{output}: {a:?} {e:?}");
+        }
+    }
+}
+
+/// The points of the triangles of `points` that are not degenerate (no two corners at one
+/// position): Draco's encoder drops the degenerate ones.
+#[cfg(feature = "draco")]
+fn without_degenerate(points: Vec<Point>) -> Vec<Point> {
+    let kept = points.chunks_exact(3).filter(|t| {
+        t[0].position != t[1].position
+            && t[1].position != t[2].position
+            && t[2].position != t[0].position
+    });
+    kept.flatten().copied().collect()
+}
+
+/// `teapot_draco.glb` with its GLB rebuilt after `edit` changed its JSON and BIN chunk.
+#[cfg(feature = "draco")]
+fn edited_draco(dir: &Path, name: &str, edit: impl FnOnce(&mut Value, &mut Vec<u8>)) -> PathBuf {
+    edited_glb(&model("teapot_draco.glb"), &dir.join(name), edit)
+}
+
+#[cfg(feature = "draco")]
+#[test]
+fn corrupt_draco_streams_fail_with_an_error_naming_the_primitive_never_a_panic() {
+    // Truncated streams (the view cut short) and streams with one byte flipped: each file
+    // must load or give an error naming its primitive, never panic (a panic in the decoder
+    // is caught: `gltf_draco`). A smoke test beside the checks, not a guard of one of them.
+    let dir = tempfile::tempdir().unwrap();
+    let json = read(&model("teapot_draco.glb")).json;
+    let place = "meshes[3].primitives[0].extensions.KHR_draco_mesh_compression";
+    let view =
+        json["meshes"][3]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"]
+            .as_u64()
+            .unwrap() as usize;
+    let start = json["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
+    let length = json["bufferViews"][view]["byteLength"].as_u64().unwrap() as usize;
+    let (mut loaded, mut refused) = (0, 0);
+    let mut outcome = |path: PathBuf| match seamlit_io::load(&path, &LoadOptions::GEOMETRY) {
+        Ok(_) => loaded += 1,
+        Err(IoError::Gltf { place: p, reason, .. }) if p == place => {
+            assert_eq!(reason.lines().count(), 1, "{reason}");
+            refused += 1;
+        }
+        Err(other) => panic!("{other}"),
+    };
+    for cut in (0..length).step_by(7) {
+        outcome(edited_draco(dir.path(), "cut.glb", |json, _| {
+            json["bufferViews"][view]["byteLength"] = cut.into();
+        }));
+    }
+    for at in (start..start + length).step_by(3) {
+        for flip in [0xff, 0x01] {
+            outcome(edited_draco(dir.path(), "flipped.glb", |_, bin| bin[at] ^= flip));
+        }
+    }
+    assert!(refused >= length / 7, "{loaded} loaded, {refused} refused");
+    assert!(loaded + refused > 400, "{loaded} loaded, {refused} refused");
+}
+
+/// A change to a document.
+#[cfg(feature = "draco")]
+type Edit = Box<dyn Fn(&mut Value)>;
+
+/// The KHR_draco_mesh_compression object of mesh 0's primitive.
+#[cfg(feature = "draco")]
+fn draco_of_0(json: &mut Value) -> &mut Value {
+    &mut json["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
+}
+
+#[cfg(feature = "draco")]
+#[test]
+fn a_draco_stream_that_does_not_hold_what_its_accessors_declare_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+
+    let edits: [(&str, Edit, &str); 5] = [
+        ("more points", Box::new(|json| json["accessors"][1]["count"] = 31.into()), "30 values"),
+        (
+            "another type",
+            Box::new(|json| json["accessors"][4]["type"] = "VEC3".into()),
+            "TEXCOORD_0",
+        ),
+        (
+            "integers",
+            Box::new(|json| json["accessors"][2]["componentType"] = 5122.into()),
+            "NORMAL",
+        ),
+        (
+            "more corners",
+            Box::new(|json| json["accessors"][0]["count"] = 99.into()),
+            "96 triangle corners",
+        ),
+        (
+            "an unknown id",
+            Box::new(|json| draco_of_0(json)["attributes"]["NORMAL"] = 9.into()),
+            "no attribute 9",
+        ),
+    ];
+    for (what, edit, expected) in edits {
+        let path = edited_draco(dir.path(), "edited.glb", |json, _| edit(json));
+        let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+        let IoError::Gltf { place, reason, .. } = &error else { panic!("{what}: {error:?}") };
+        assert_eq!(
+            place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression",
+            "{what}"
+        );
+        assert!(reason.contains(expected), "{what}: {reason}");
+    }
 }
 
 #[test]

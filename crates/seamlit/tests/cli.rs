@@ -998,7 +998,7 @@ fn an_unknown_camera_on_a_bare_model_lists_the_cameras_there_are() {
 }
 
 #[test]
-fn fix_reads_meshopt_writes_it_uncompressed_and_says_so_and_refuses_draco_by_name() {
+fn fix_reads_meshopt_and_draco_and_writes_them_uncompressed_and_says_so() {
     let dir = tempfile::tempdir().unwrap();
     let compressed = models().join("compressed");
     let input = compressed.join("teapot_mo.glb").display().to_string();
@@ -1017,9 +1017,19 @@ fn fix_reads_meshopt_writes_it_uncompressed_and_says_so_and_refuses_draco_by_nam
     let o = seamlit(&["inspect", &out]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 
+    // Draco (the default `draco` feature of seamlit-io): decoded, written uncompressed.
     let draco = compressed.join("teapot_draco.glb").display().to_string();
-    let refused = dir.path().join("draco.glb").display().to_string();
-    let o = seamlit(&["fix", &draco, "-o", &refused]);
-    assert_bad_input(&o, &["teapot_draco.glb", "meshes[0].primitives[0]", "gltf-transform"]);
-    assert!(!Path::new(&refused).exists());
+    let out = dir.path().join("draco.glb").display().to_string();
+    let o = seamlit(&["fix", &draco, "-o", &out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.lines().any(|l| l.starts_with("warning: ")
+            && l.contains("teapot_draco.glb")
+            && l.contains("32 primitives compressed with KHR_draco_mesh_compression")
+            && l.contains("uncompressed")),
+        "{stderr}"
+    );
+    let written = std::fs::read(&out).unwrap();
+    assert!(!String::from_utf8_lossy(&written).contains("draco"));
 }

@@ -1,0 +1,564 @@
+//! KHR_draco_mesh_compression (issue 11): a primitive whose geometry is a Draco stream in a
+//! buffer view, its accessors carrying only `count`, `type`, `componentType` (and `min`,
+//! `max`).
+//!
+//! With the `draco` feature (on by default), [`decode`] runs `draco-oxide-decoder` on each
+//! such stream at load and makes the primitive plain: every attribute the extension's
+//! `attributes` map names (by the stream's unique attribute id) and the indices become
+//! ordinary data appended to buffer 0, the accessors pointing at new buffer views. The
+//! primitive keeps the extension object in the document the loader keeps, so that the
+//! pass-through writer sees the compressed view as used by the input: [`strip`] removes the
+//! extension from the output, and pruning then drops the compressed view and its bytes.
+//!
+//! The decoder is an alpha (`docs/gltf-pass-through.md`, "Quantised and compressed
+//! geometry"), so nothing it returns is trusted: it runs inside
+//! [`std::panic::catch_unwind`], and its result is checked (point counts, value indices,
+//! component types and counts against the accessors, every index below the point count)
+//! before a byte is used. Without the feature, [`refuse`] names the first Draco primitive
+//! and a command that decompresses the file.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use crate::IoError;
+
+/// The extension's name.
+const DRACO: &str = "KHR_draco_mesh_compression";
+
+/// The JSON place of primitive `(m, p)`'s extension object, for errors.
+fn place(m: usize, p: usize) -> String {
+    format!("meshes[{m}].primitives[{p}].extensions.{DRACO}")
+}
+
+/// Every `(mesh, primitive)` that carries the extension, in document order.
+fn draco_primitives(document: &Value) -> Vec<(usize, usize)> {
+    let meshes = document["meshes"].as_array().map_or(&[][..], Vec::as_slice);
+    let mut found = Vec::new();
+    for (m, mesh) in meshes.iter().enumerate() {
+        let primitives = mesh["primitives"].as_array().map_or(&[][..], Vec::as_slice);
+        for (p, primitive) in primitives.iter().enumerate() {
+            if primitive["extensions"].get(DRACO).is_some() {
+                found.push((m, p));
+            }
+        }
+    }
+    found
+}
+
+/// Refuses a document with a Draco-compressed primitive (the build without the `draco`
+/// feature), naming the first such primitive and a command that decompresses the file.
+///
+/// # Errors
+///
+/// [`IoError::Gltf`] at `meshes[m].primitives[p].extensions.KHR_draco_mesh_compression`.
+#[cfg_attr(
+    all(feature = "draco", not(test)),
+    expect(dead_code, reason = "the refusal of the build without the `draco` feature")
+)]
+pub(crate) fn refuse(document: &Value, path: &Path) -> Result<(), IoError> {
+    match draco_primitives(document).first() {
+        Some(&(m, p)) => Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            place: place(m, p),
+            reason: format!(
+                "the geometry is Draco-compressed, and this build of seamlit has no Draco decoder (the `draco` feature); decompress the file first, e.g. `npx @gltf-transform/cli copy {0} uncompressed.glb` (glTF-Transform's copy removes Draco)",
+                path.display()
+            ),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// For the pass-through writer: removes the extension from every primitive of `json` (the
+/// output document; the primitives' accessors hold the decoded data since [`decode`]) and
+/// from `extensionsUsed` and `extensionsRequired`. Returns one sentence for the save
+/// report, or `None` when no primitive carried it.
+pub(crate) fn strip(json: &mut Value, path: &Path) -> Option<String> {
+    let places = draco_primitives(json);
+    if places.is_empty() {
+        return None;
+    }
+    for &(m, p) in &places {
+        let primitive = &mut json["meshes"][m]["primitives"][p];
+        let Some(extensions) = primitive["extensions"].as_object_mut() else { continue };
+        extensions.remove(DRACO);
+        if extensions.is_empty()
+            && let Some(primitive) = primitive.as_object_mut()
+        {
+            primitive.remove("extensions");
+        }
+    }
+    for list in ["extensionsUsed", "extensionsRequired"] {
+        let Some(names) = json[list].as_array_mut() else { continue };
+        names.retain(|name| name != DRACO);
+        if names.is_empty()
+            && let Some(root) = json.as_object_mut()
+        {
+            root.remove(list);
+        }
+    }
+    Some(format!(
+        "{}: {} primitives compressed with {DRACO} were decompressed; the output stores them uncompressed",
+        path.display(),
+        places.len()
+    ))
+}
+
+#[cfg(feature = "draco")]
+pub(crate) use decoder::decode;
+
+#[cfg(feature = "draco")]
+mod decoder {
+    use std::path::Path;
+
+    use draco_oxide_core::attribute::{Attribute, ComponentDataType};
+    use draco_oxide_core::mesh::Mesh;
+    use serde_json::{Value, json};
+
+    use super::{DRACO, draco_primitives, place};
+    use crate::IoError;
+    use crate::gltf_pass::uint;
+
+    /// One accessor the stream fills: the attribute's name (`indices` for the indices), its
+    /// Draco unique id (`None` for the indices) and what the accessor declares.
+    struct Target {
+        name: String,
+        accessor: usize,
+        id: Option<usize>,
+        count: usize,
+        components: usize,
+        component_type: u64,
+    }
+
+    /// Decoded data for one accessor: its elements' bytes, tightly packed or, where an
+    /// element is not a multiple of 4 bytes, padded to `stride`.
+    struct Plain {
+        accessor: usize,
+        bytes: Vec<u8>,
+        stride: Option<usize>,
+        indices: bool,
+    }
+
+    /// Decodes every Draco primitive of `json`: the decoded data is appended to buffer 0
+    /// (`buffers[0]`, cut to its `byteLength` first) as new buffer views, the primitives'
+    /// accessors point at them (with `min` and `max` of the decoded values where the file
+    /// gave them), and buffer 0's `byteLength` grows. Returns how many primitives were
+    /// decoded. `max_elements` bounds every accessor's count before the decoder runs.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::Gltf`] at `meshes[m].primitives[p].extensions.KHR_draco_mesh_compression`
+    /// when the stream is malformed (the decoder's error, or its panic), when it does not
+    /// hold what the accessors declare, or when an accessor has data already (an
+    /// uncompressed fallback); at `buffers[0]` when there is no buffer 0 with data to
+    /// append to.
+    pub(crate) fn decode(
+        json: &mut Value,
+        buffers: &mut [Vec<u8>],
+        max_elements: usize,
+        path: &Path,
+    ) -> Result<usize, IoError> {
+        let places = draco_primitives(json);
+        if places.is_empty() {
+            return Ok(0);
+        }
+        let host_length = uint(&json["buffers"][0], "byteLength").unwrap_or(0);
+        let Some(host) = buffers.first().filter(|b| b.len() >= host_length) else {
+            return Err(IoError::Gltf {
+                path: path.to_path_buf(),
+                place: "buffers[0]".to_owned(),
+                reason: format!("the decoded {DRACO} data goes to buffer 0, which has no data"),
+            });
+        };
+        let mut host = host[..host_length].to_vec();
+        for &(m, p) in &places {
+            let error = |reason: String| IoError::Gltf {
+                path: path.to_path_buf(),
+                place: place(m, p),
+                reason,
+            };
+            let plain = decode_primitive(json, (m, p), buffers, max_elements).map_err(error)?;
+            for piece in plain {
+                append(json, &mut host, piece);
+            }
+        }
+        json["buffers"][0]["byteLength"] = json!(host.len());
+        buffers[0] = host;
+        Ok(places.len())
+    }
+
+    /// Decodes one primitive's stream into the data of its accessors.
+    fn decode_primitive(
+        json: &Value,
+        (m, p): (usize, usize),
+        buffers: &[Vec<u8>],
+        max_elements: usize,
+    ) -> Result<Vec<Plain>, String> {
+        let primitive = &json["meshes"][m]["primitives"][p];
+        let extension = &primitive["extensions"][DRACO];
+        let stream = stream(json, extension, buffers)?;
+        let targets = targets(json, primitive, extension, max_elements)?;
+        let mesh = run_decoder(stream)?;
+        let points = Points::of(&mesh)?;
+        targets
+            .iter()
+            .map(|target| match target.id {
+                Some(id) => attribute_data(&mesh, target, id, &points),
+                None => index_data(&mesh, target, &points),
+            })
+            .collect()
+    }
+
+    /// The bytes of the stream's buffer view, checked to lie in their buffer.
+    fn stream<'b>(
+        json: &Value,
+        extension: &Value,
+        buffers: &'b [Vec<u8>],
+    ) -> Result<&'b [u8], String> {
+        let view_index = uint(extension, "bufferView").ok_or("bufferView is missing")?;
+        let view = json["bufferViews"]
+            .get(view_index)
+            .ok_or_else(|| format!("buffer view {view_index} does not exist"))?;
+        let buffer = uint(view, "buffer").unwrap_or(usize::MAX);
+        let offset = uint(view, "byteOffset").unwrap_or(0);
+        let length = uint(view, "byteLength").unwrap_or(0);
+        buffers
+            .get(buffer)
+            .and_then(|b| b.get(offset..offset.checked_add(length)?))
+            .ok_or_else(|| format!("buffer view {view_index} lies outside buffer {buffer}"))
+    }
+
+    /// The accessors the stream fills: one per entry of the extension's `attributes` (the
+    /// primitive's accessor of that name), then the indices. Each must be declared without
+    /// data of its own and within `max_elements`.
+    fn targets(
+        json: &Value,
+        primitive: &Value,
+        extension: &Value,
+        max_elements: usize,
+    ) -> Result<Vec<Target>, String> {
+        let ids = extension["attributes"].as_object().ok_or("attributes is missing")?;
+        let mut named: Vec<(String, Option<usize>, Option<usize>)> = Vec::new();
+        for (name, id) in ids {
+            let id = crate::gltf_pass::index(id)
+                .ok_or_else(|| format!("attributes.{name} is not an attribute id"))?;
+            let accessor = uint(&primitive["attributes"], name)
+                .ok_or_else(|| format!("attributes.{name} names no attribute of the primitive"))?;
+            named.push((name.clone(), Some(accessor), Some(id)));
+        }
+        named.push(("indices".to_owned(), uint(primitive, "indices"), None));
+        let mut targets = Vec::with_capacity(named.len());
+        for (name, accessor, id) in named {
+            let accessor = accessor.ok_or("the primitive has no indices")?;
+            targets.push(target(json, name, accessor, id, max_elements)?);
+        }
+        Ok(targets)
+    }
+
+    /// What accessor `index` declares, checked.
+    fn target(
+        json: &Value,
+        name: String,
+        index: usize,
+        id: Option<usize>,
+        max_elements: usize,
+    ) -> Result<Target, String> {
+        let accessor = json["accessors"]
+            .get(index)
+            .ok_or_else(|| format!("{name}: accessor {index} does not exist"))?;
+        if accessor.get("bufferView").is_some() || accessor.get("sparse").is_some() {
+            return Err(format!(
+                "{name}: accessor {index} has data of its own (uncompressed fallback data, or it is shared with another primitive); seamlit reads Draco primitives whose accessors have none, as glTF-Transform and gltfpack write them"
+            ));
+        }
+        let count = uint(accessor, "count").unwrap_or(0);
+        if count > max_elements {
+            return Err(format!(
+                "{name}: accessor {index} declares {count} elements, more than {max_elements}"
+            ));
+        }
+        let components = match accessor["type"].as_str() {
+            Some("SCALAR") => 1,
+            Some("VEC2") => 2,
+            Some("VEC3") => 3,
+            Some("VEC4") => 4,
+            other => return Err(format!("{name}: accessor {index} has type {other:?}")),
+        };
+        let component_type = uint(accessor, "componentType").unwrap_or(0) as u64;
+        Ok(Target { name, accessor: index, id, count, components, component_type })
+    }
+
+    /// Runs the decoder; its error or its panic becomes the reason.
+    fn run_decoder(stream: &[u8]) -> Result<Mesh, String> {
+        match std::panic::catch_unwind(|| draco_oxide_decoder::decode_mesh(stream)) {
+            Ok(Ok(mesh)) => Ok(mesh),
+            Ok(Err(e)) => Err(format!("the Draco stream is malformed: {e}")),
+            Err(_) => Err("the Draco decoder failed on this stream (it panicked): the stream is malformed or uses what draco-oxide-decoder does not support".to_owned()),
+        }
+    }
+
+    /// The glTF vertices of a decoded mesh. The decoder may give several points that name
+    /// the same value of every attribute, where Draco's reference decoder (which the
+    /// files' accessor counts follow) has one point: they are merged, the first of each
+    /// kept, in point order. (Points whose values are equal but are different values of an
+    /// attribute, on both sides of a seam, stay apart, as in the reference decoder.)
+    struct Points {
+        /// Per vertex: the point it is made of.
+        first: Vec<usize>,
+        /// Per point: its vertex.
+        vertex: Vec<usize>,
+    }
+
+    impl Points {
+        /// # Errors
+        ///
+        /// When the attributes cover different numbers of points, or a point names a value
+        /// its attribute lacks.
+        fn of(mesh: &Mesh) -> Result<Self, String> {
+            let attributes = mesh.get_attributes();
+            let points = attributes.first().map_or(0, |a| a.len());
+            if let Some(a) = attributes.iter().find(|a| a.len() != points) {
+                return Err(format!(
+                    "the decoded attribute {} covers {} points, attribute {} covers {points}",
+                    a.get_id().as_usize(),
+                    a.len(),
+                    attributes[0].get_id().as_usize()
+                ));
+            }
+            let mut seen = std::collections::HashMap::with_capacity(points);
+            let (mut first, mut vertex) = (Vec::new(), Vec::with_capacity(points));
+            for point in 0..points {
+                let mut key = Vec::with_capacity(attributes.len());
+                for attribute in attributes {
+                    value(attribute, point)?;
+                    key.push(value_index(attribute, point));
+                }
+                let next = first.len();
+                let v = *seen.entry(key).or_insert(next);
+                if v == next {
+                    first.push(point);
+                }
+                vertex.push(v);
+            }
+            Ok(Self { first, vertex })
+        }
+    }
+
+    /// The index of `point`'s value in a decoded attribute (`None` past its point map).
+    fn value_index(attribute: &Attribute, point: usize) -> Option<usize> {
+        match attribute.point_map_as_slice() {
+            Some(map) => map.get(point).map(|&v| usize::from(v)),
+            None => Some(point),
+        }
+    }
+
+    /// The bytes of `point`'s value in a decoded attribute.
+    fn value(attribute: &Attribute, point: usize) -> Result<&[u8], String> {
+        let size = attribute.get_num_components() * attribute.get_component_type().size();
+        value_index(attribute, point)
+            .and_then(|v| {
+                let start = v.checked_mul(size)?;
+                attribute.get_data_as_bytes().get(start..start.checked_add(size)?)
+            })
+            .ok_or_else(|| {
+                format!(
+                    "point {point} names a value attribute {} lacks",
+                    attribute.get_id().as_usize()
+                )
+            })
+    }
+
+    /// glTF's component type of a decoded component type, where glTF has one.
+    fn gltf_component_type(t: ComponentDataType) -> Option<u64> {
+        match t {
+            ComponentDataType::I8 => Some(5120),
+            ComponentDataType::U8 => Some(5121),
+            ComponentDataType::I16 => Some(5122),
+            ComponentDataType::U16 => Some(5123),
+            ComponentDataType::U32 => Some(5125),
+            ComponentDataType::F32 => Some(5126),
+            _ => None,
+        }
+    }
+
+    /// The decoded attribute `id` as the accessor's elements, one per vertex: its count,
+    /// component count and type must be the accessor's.
+    fn attribute_data(
+        mesh: &Mesh,
+        target: &Target,
+        id: usize,
+        points: &Points,
+    ) -> Result<Plain, String> {
+        let name = &target.name;
+        let attribute = mesh
+            .get_attributes()
+            .iter()
+            .find(|a| a.get_id().as_usize() == id)
+            .ok_or_else(|| format!("{name}: the stream has no attribute {id}"))?;
+        let decoded_type = attribute.get_component_type();
+        let count = points.first.len();
+        if count != target.count
+            || attribute.get_num_components() != target.components
+            || gltf_component_type(decoded_type) != Some(target.component_type)
+        {
+            return Err(format!(
+                "{name}: the stream holds {count} values of {} x {decoded_type:?}, accessor {} declares {} of {} x componentType {}",
+                attribute.get_num_components(),
+                target.accessor,
+                target.count,
+                target.components,
+                target.component_type
+            ));
+        }
+        let size = target.components * decoded_type.size();
+        let stride = size.next_multiple_of(4);
+        let mut bytes = Vec::with_capacity(stride * count);
+        for &point in &points.first {
+            bytes.extend_from_slice(value(attribute, point)?);
+            bytes.resize(bytes.len() + stride - size, 0);
+        }
+        let stride = (stride != size).then_some(stride);
+        Ok(Plain { accessor: target.accessor, bytes, stride, indices: false })
+    }
+
+    /// The decoded faces as the indices accessor's elements: three per face, each naming a
+    /// vertex, within the accessor's component type.
+    fn index_data(mesh: &Mesh, target: &Target, points: &Points) -> Result<Plain, String> {
+        let mut corners = Vec::with_capacity(mesh.get_faces().len() * 3);
+        for &point in mesh.get_faces().iter().flatten() {
+            let point = usize::from(point);
+            let vertex = points.vertex.get(point).ok_or_else(|| {
+                format!("a triangle names point {point}, the stream has {}", points.vertex.len())
+            })?;
+            corners.push(*vertex);
+        }
+        if corners.len() != target.count || target.components != 1 {
+            return Err(format!(
+                "the stream holds {} triangle corners, indices accessor {} declares {}",
+                corners.len(),
+                target.accessor,
+                target.count
+            ));
+        }
+        let limit = match target.component_type {
+            5121 => usize::from(u8::MAX),
+            5123 => usize::from(u16::MAX),
+            5125 => u32::MAX as usize,
+            other => {
+                return Err(format!(
+                    "indices accessor {} has componentType {other}",
+                    target.accessor
+                ));
+            }
+        };
+        if points.first.len() > limit {
+            return Err(format!(
+                "{} vertices do not fit the indices' componentType {}",
+                points.first.len(),
+                target.component_type
+            ));
+        }
+        #[expect(clippy::cast_possible_truncation, reason = "every corner fits, checked above")]
+        let bytes: Vec<u8> = match target.component_type {
+            5121 => corners.iter().map(|&c| c as u8).collect(),
+            5123 => corners.iter().flat_map(|&c| (c as u16).to_le_bytes()).collect(),
+            _ => corners.iter().flat_map(|&c| (c as u32).to_le_bytes()).collect(),
+        };
+        Ok(Plain { accessor: target.accessor, bytes, stride: None, indices: true })
+    }
+
+    /// Appends one accessor's data to `host` (buffer 0) as a new buffer view and points the
+    /// accessor at it; its `min` and `max`, where present, become the decoded values'.
+    fn append(json: &mut Value, host: &mut Vec<u8>, plain: Plain) {
+        host.resize(host.len().next_multiple_of(4), 0);
+        let mut view = json!({
+            "buffer": 0,
+            "byteOffset": host.len(),
+            "byteLength": plain.bytes.len(),
+            "target": if plain.indices { 34963 } else { 34962 },
+        });
+        if let Some(stride) = plain.stride {
+            view["byteStride"] = json!(stride);
+        }
+        host.extend_from_slice(&plain.bytes);
+        let views = json["bufferViews"].as_array_mut().expect("the stream's view is in it");
+        views.push(view);
+        let view = views.len() - 1;
+        let accessor = &mut json["accessors"][plain.accessor];
+        if accessor.get("min").is_some() || accessor.get("max").is_some() {
+            let (min, max) = bounds(accessor, &plain);
+            accessor["min"] = min;
+            accessor["max"] = max;
+        }
+        if let Some(accessor) = accessor.as_object_mut() {
+            accessor.remove("byteOffset");
+            accessor.insert("bufferView".to_owned(), json!(view));
+        }
+    }
+
+    /// Per component, the least and greatest decoded value of an accessor's data.
+    fn bounds(accessor: &Value, plain: &Plain) -> (Value, Value) {
+        let component_type = uint(accessor, "componentType").unwrap_or(0);
+        let (size, read): (usize, fn(&[u8]) -> f64) = match component_type {
+            5120 => (1, |b| f64::from(b[0].cast_signed())),
+            5121 => (1, |b| f64::from(b[0])),
+            5122 => (2, |b| f64::from(i16::from_le_bytes([b[0], b[1]]))),
+            5123 => (2, |b| f64::from(u16::from_le_bytes([b[0], b[1]]))),
+            5125 => (4, |b| f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
+            _ => (4, |b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
+        };
+        let components = match accessor["type"].as_str() {
+            Some("VEC2") => 2,
+            Some("VEC3") => 3,
+            Some("VEC4") => 4,
+            _ => 1,
+        };
+        let stride = plain.stride.unwrap_or(size * components);
+        let mut min = vec![f64::INFINITY; components];
+        let mut max = vec![f64::NEG_INFINITY; components];
+        for element in plain.bytes.chunks_exact(stride) {
+            for c in 0..components {
+                let x = read(&element[c * size..]);
+                min[c] = min[c].min(x);
+                max[c] = max[c].max(x);
+            }
+        }
+        let number = |x: f64| match component_type {
+            5126 => json!(x),
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "an integer component, read as f64"
+            )]
+            _ => json!(x as i64),
+        };
+        (min.into_iter().map(number).collect(), max.into_iter().map(number).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use super::*;
+
+    #[test]
+    fn the_refusal_names_the_first_draco_primitive_and_a_way_out() {
+        let document = json!({ "meshes": [
+            { "primitives": [{ "attributes": {} }] },
+            { "primitives": [
+                { "attributes": {} },
+                { "attributes": {}, "extensions": { DRACO: { "bufferView": 0, "attributes": {} } } },
+            ] },
+        ] });
+        let path = Path::new("model.glb");
+        let Err(IoError::Gltf { path: named, place, reason }) = refuse(&document, path) else {
+            panic!("not refused");
+        };
+        assert_eq!(named, path);
+        assert_eq!(place, "meshes[1].primitives[1].extensions.KHR_draco_mesh_compression");
+        assert!(reason.contains("`draco` feature"), "{reason}");
+        assert!(reason.contains("gltf-transform/cli copy model.glb"), "{reason}");
+        refuse(&json!({ "meshes": [{ "primitives": [{ "attributes": {} }] }] }), path).unwrap();
+    }
+}
