@@ -127,16 +127,6 @@ pub enum IoError {
         line: Option<usize>,
     },
 
-    /// The OBJ reader (tobj) rejected the file for a reason the diagnostic pass could not
-    /// pin to a line.
-    #[error("{}: OBJ error: {reason}", path.display())]
-    Obj {
-        /// The file.
-        path: PathBuf,
-        /// tobj's description.
-        reason: String,
-    },
-
     /// The glTF container or JSON could not be parsed, or failed the gltf crate's validation.
     #[error("{}: glTF {place}: {reason}", path.display())]
     Gltf {

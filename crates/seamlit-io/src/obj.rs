@@ -13,8 +13,8 @@
 //!
 //! The geometry is read by this crate's parallel parser (module `obj_parse` explains why and
 //! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
-//! model's folder are refused. An index out of range is placed by a diagnostic pass over the
-//! text that names the line.
+//! model's folder are refused. A face index out of range is named with its line by the
+//! parser.
 //!
 //! The loaded asset keeps the file's text and where each object's faces are in it
 //! ([`crate::ObjSource`]), for the OBJ pass-through writer (`obj_pass`).
@@ -24,7 +24,6 @@ use std::path::{Path, PathBuf};
 
 use seamlit_mesh::{Model, Object, VAxis};
 
-use crate::obj_parse::ReadError;
 use crate::obj_pass::{ObjSource, SourceObject};
 use crate::{
     Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
@@ -61,21 +60,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let parsed = match &decoded {
         Some(text) => crate::obj_parse::read(text.as_bytes(), path),
         None => crate::obj_parse::read(file, path),
-    };
-    let parsed = match parsed {
-        Ok(parsed) => parsed,
-        Err(ReadError::Placed(err)) => return Err(err),
-        Err(ReadError::IndexOutOfRange) => {
-            let text = match decoded {
-                Some(text) => text,
-                None => crate::read_text(path, options)?,
-            };
-            return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
-                path: path.to_path_buf(),
-                reason: "a face index is out of range".to_owned(),
-            }));
-        }
-    };
+    }?;
 
     // Material libraries, in order; a later definition of a name wins, as in tobj.
     let mut warnings = Vec::new();
@@ -270,99 +255,6 @@ fn decode_utf16(bytes: &[u8], order: ByteOrder, path: &Path) -> Result<String, I
         });
     }
     Ok(text)
-}
-
-/// Finds the first line of an OBJ file with a face index out of range (or another error)
-/// and says what is wrong with it.
-///
-/// Mirrors tobj's rules: `v` needs 3 numbers, `vt` 2, `vn` 3; face indices are one-based,
-/// negative ones count back from the last element defined so far, and must refer to an
-/// element that exists.
-fn diagnose(path: &Path, text: &str) -> Option<IoError> {
-    let (mut v, mut vt, mut vn) = (0usize, 0usize, 0usize);
-    let syntax = |line: usize, reason: String| {
-        Some(IoError::Syntax { path: path.to_path_buf(), line, reason })
-    };
-    for (i, line) in text.lines().enumerate() {
-        let number = i + 1;
-        let mut words = line.split_whitespace();
-        let Some(keyword) = words.next() else { continue };
-        let numbers = |needed: usize, what: &str| -> Option<IoError> {
-            let values: Vec<&str> = words.clone().take(needed).collect();
-            if values.len() < needed {
-                return syntax(
-                    number,
-                    format!(
-                        "`{keyword}` needs {needed} numbers ({what}), found {}: {line:?}",
-                        values.len()
-                    ),
-                );
-            }
-            values.iter().find(|w| w.parse::<f32>().is_err()).and_then(|bad| {
-                syntax(number, format!("`{keyword}`: expected a number, found {bad:?}"))
-            })
-        };
-        match keyword {
-            "v" => {
-                if let Some(err) = numbers(3, "x y z") {
-                    return Some(err);
-                }
-                v += 1;
-            }
-            "vt" => {
-                if let Some(err) = numbers(2, "u v") {
-                    return Some(err);
-                }
-                vt += 1;
-            }
-            "vn" => {
-                if let Some(err) = numbers(3, "x y z") {
-                    return Some(err);
-                }
-                vn += 1;
-            }
-            "f" | "l" => {
-                for corner in words {
-                    for (slot, field) in corner.split('/').enumerate() {
-                        if field.is_empty() && slot > 0 {
-                            continue;
-                        }
-                        let (what, count) = match slot {
-                            0 => ("vertex", v),
-                            1 => ("texture coordinate", vt),
-                            2 => ("normal", vn),
-                            _ => {
-                                return syntax(
-                                    number,
-                                    format!("face corner {corner:?} has more than three indices"),
-                                );
-                            }
-                        };
-                        let Ok(index) = field.parse::<i64>() else {
-                            return syntax(
-                                number,
-                                format!(
-                                    "face corner {corner:?}: expected an index, found {field:?}"
-                                ),
-                            );
-                        };
-                        let resolved = if index < 0 { count as i64 + index } else { index - 1 };
-                        if resolved < 0 || resolved >= count as i64 {
-                            return Some(IoError::ReferenceOutOfRange {
-                                path: path.to_path_buf(),
-                                line: number,
-                                what,
-                                index,
-                                count,
-                            });
-                        }
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    None
 }
 
 /// Finds the line of an MTL file that tobj rejects, by giving it each line alone.

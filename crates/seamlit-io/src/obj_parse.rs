@@ -47,7 +47,8 @@ const NO_COLOR: Vec4 = Vec4::NAN;
 /// "No `vt` / `vn` index" in a corner.
 const MISSING: u32 = u32::MAX;
 
-/// An index found out of range while parsing (zero, or past `u32`).
+/// An index out of range whatever the file holds (zero, or past `u32`); the index as
+/// written is kept in [`Chunk::invalid`].
 const INVALID: u32 = u32::MAX - 1;
 
 /// The size of the blocks the file is read and parsed in (each is cut at its last line end).
@@ -117,6 +118,11 @@ struct Chunk {
     /// Corners with a negative index: corner (three per triangle), slot, and the index counted from the chunk's
     /// first element of that kind (negative where it refers to an earlier chunk).
     relative: Vec<(usize, usize, i64)>,
+    /// Corners holding [`INVALID`]: corner, slot, and the index as written.
+    invalid: Vec<(usize, usize, i64)>,
+    /// Where the faces are: one entry per run of faces on consecutive lines (no element
+    /// statement between them), for naming the line of a face index out of range.
+    face_runs: Vec<FaceRun>,
     /// Events with the chunk-local triangle index they precede.
     events: Vec<(usize, Event)>,
     /// Faces of more than three corners, fan-triangulated here: their first triangle and
@@ -126,6 +132,15 @@ struct Chunk {
     smoothing: Vec<(usize, u32)>,
     /// The smoothing group in force at the chunk's first triangle (set in [`assemble`]).
     smoothing_at_start: u32,
+}
+
+/// Faces on consecutive lines of a chunk: the first one's first triangle and line, and the
+/// chunk's element counts (`v`, `vt`, `vn`) before it, the same for every face of the run.
+#[derive(Debug)]
+struct FaceRun {
+    triangle: usize,
+    line: usize,
+    counts: [usize; 3],
 }
 
 /// The OBJ file's objects and, in order, its `mtllib` statements (name, line).
@@ -145,17 +160,15 @@ pub(crate) struct Parsed {
     has_smoothing: bool,
 }
 
-/// Why [`read`] failed.
-pub(crate) enum ReadError {
-    /// An error placed in the file (syntax, a number that is not finite) or a read error.
-    Placed(IoError),
-    /// A face index out of range: the caller's diagnostic pass names the line.
-    IndexOutOfRange,
-}
-
 /// Reads and parses the OBJ text of `file` (UTF-8, opened from `path`; a UTF-8 byte-order
 /// mark is skipped).
-pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, ReadError> {
+///
+/// # Errors
+///
+/// [`IoError::Io`] for a read error, and the first error in the file with its line:
+/// [`IoError::Syntax`], [`IoError::NotFinite`], [`IoError::NotText`],
+/// [`IoError::ReferenceOutOfRange`].
+pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, IoError> {
     let (blocks, received) = mpsc::sync_channel::<(usize, Vec<u8>)>(READ_AHEAD);
     let (give_back, free) = mpsc::channel::<Vec<u8>>();
     let parsed: Vec<(usize, ChunkResult)> = std::thread::scope(|s| {
@@ -172,7 +185,7 @@ pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, ReadEr
             .collect();
         reader.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)).map(|()| parsed)
     })
-    .map_err(|e| ReadError::Placed(IoError::io(path, e)))?;
+    .map_err(|e| IoError::io(path, e))?;
     let mut parsed = parsed;
     parsed.sort_unstable_by_key(|&(index, _)| index);
 
@@ -185,11 +198,11 @@ pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, ReadEr
                 chunks.push(chunk);
             }
             Err((line, error)) => {
-                return Err(ReadError::Placed(error.into_io(path, line_base + line)));
+                return Err(error.into_io(path, line_base + line));
             }
         }
     }
-    assemble(chunks)
+    assemble(chunks, path)
 }
 
 /// Reads `file` in blocks cut after their last line end and sends them, numbered, to the
@@ -234,7 +247,11 @@ fn read_blocks(
 }
 
 /// Resolves the chunks' face indices and splits the triangles into objects.
-fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
+///
+/// # Errors
+///
+/// [`IoError::ReferenceOutOfRange`] at the first face index out of range.
+fn assemble(mut chunks: Vec<Chunk>, path: &Path) -> Result<Parsed, IoError> {
     // Prefix sums of the element counts: where each chunk's elements start.
     let mut bases = Vec::with_capacity(chunks.len());
     let mut totals = [0usize; 3];
@@ -268,7 +285,15 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
             })
     });
     if !resolved {
-        return Err(ReadError::IndexOutOfRange);
+        let (c, out) = first_out_of_range(&chunks, &bases, totals)
+            .expect("a corner failed the range check above");
+        return Err(IoError::ReferenceOutOfRange {
+            path: path.to_path_buf(),
+            line: line_bases[c] + out.line,
+            what: ["vertex", "texture coordinate", "normal"][out.slot],
+            index: out.index,
+            count: bases[c][out.slot] + out.count,
+        });
     }
 
     // Split into objects, following the events in file order.
@@ -364,6 +389,89 @@ fn assemble(mut chunks: Vec<Chunk>) -> Result<Parsed, ReadError> {
         normals,
         has_smoothing,
     })
+}
+
+/// A face index out of range, placed in its chunk: the chunk-local line, the slot (`v`,
+/// `vt`, `vn`), the index as written and the chunk's count of that element before the face.
+struct OutOfRange {
+    line: usize,
+    slot: usize,
+    index: i64,
+    count: usize,
+}
+
+/// The first face index of the file out of range, in file order (corner by corner, slot by
+/// slot, as the face is written: a fan's triangles meet its corners in order): its chunk and
+/// where it is there. `bases` are the chunks' first elements, `totals` the file's counts.
+fn first_out_of_range(
+    chunks: &[Chunk],
+    bases: &[[usize; 3]],
+    totals: [usize; 3],
+) -> Option<(usize, OutOfRange)> {
+    chunks.iter().zip(bases).enumerate().find_map(|(c, (chunk, base))| {
+        let mut relative = chunk.relative.iter().peekable();
+        let mut invalid = chunk.invalid.iter().peekable();
+        for (at, corner) in chunk.triangles.as_flattened().iter().enumerate() {
+            for (slot, &value) in corner.iter().enumerate() {
+                let out = if let Some(&(_, _, local)) =
+                    relative.next_if(|&&(a, s, _)| (a, s) == (at, slot))
+                {
+                    let global = base[slot] as i64 + local;
+                    (u32::try_from(global).is_err() || global as usize >= totals[slot])
+                        .then_some(Written::Relative(local))
+                } else if let Some(&(_, _, index)) =
+                    invalid.next_if(|&&(a, s, _)| (a, s) == (at, slot))
+                {
+                    Some(Written::Index(index))
+                } else {
+                    (value != MISSING && value as usize >= totals[slot])
+                        .then(|| Written::Index(i64::from(value) + 1))
+                };
+                if let Some(written) = out {
+                    return Some((c, chunk.place(at / 3, slot, written)));
+                }
+            }
+        }
+        None
+    })
+}
+
+/// A face index out of range as [`first_out_of_range`] finds it.
+enum Written {
+    /// A negative index, counted from the chunk's first element.
+    Relative(i64),
+    /// The index as written.
+    Index(i64),
+}
+
+impl Chunk {
+    /// The line of `triangle`'s face and the index as written, from the run of faces it
+    /// belongs to: each face of a run is a line, of as many triangles as its corners less two.
+    fn place(&self, triangle: usize, slot: usize, written: Written) -> OutOfRange {
+        let run = &self.face_runs[self.face_runs.partition_point(|r| r.triangle <= triangle) - 1];
+        let (mut first, mut line) = (run.triangle, run.line);
+        let mut polygon = self.polygons.partition_point(|&(f, _)| f < first);
+        loop {
+            let size = match self.polygons.get(polygon) {
+                Some(&(f, corners)) if f == first => {
+                    polygon += 1;
+                    corners - 2
+                }
+                _ => 1,
+            };
+            if triangle < first + size {
+                break;
+            }
+            first += size;
+            line += 1;
+        }
+        let count = run.counts[slot];
+        let index = match written {
+            Written::Relative(local) => local - count as i64,
+            Written::Index(index) => index,
+        };
+        OutOfRange { line, slot, index, count }
+    }
 }
 
 impl Parsed {
@@ -889,6 +997,8 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
     let mut face: Vec<(Corner, [Option<i64>; 3])> = Vec::with_capacity(8);
     let mut words = Cursor { text: block, at: 0 };
     let mut line = 0;
+    // The line of the last face that gave triangles.
+    let mut last_face = 0;
     while words.at < block.len() {
         line += 1;
         let fail = |e| (line, e);
@@ -933,7 +1043,7 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                 }
                 b"f" => {
                     face.clear();
-                    let mut any_relative = false;
+                    let mut any_kept = false;
                     while words.skip_blanks() {
                         if let Some((corner, length)) = simple_corner(&block[words.at..]) {
                             words.at += length;
@@ -941,9 +1051,12 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                             continue;
                         }
                         let Some(word) = words.word() else { break };
-                        let (corner, relative) = corner(word, &chunk).map_err(fail)?;
-                        any_relative |= relative != [None; 3];
-                        face.push((corner, relative));
+                        let (corner, kept) = corner(word).map_err(fail)?;
+                        any_kept |= kept != [None; 3];
+                        face.push((corner, kept));
+                    }
+                    if face.len() >= 3 {
+                        chunk.note_face(line, &mut last_face);
                     }
                     // Fan triangulation; polygons that are not convex are triangulated
                     // again once their positions are known (`crate::polygon`).
@@ -952,15 +1065,8 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
                     }
                     for k in 1..face.len().saturating_sub(1) {
                         let triangle = [face[0], face[k], face[k + 1]];
-                        if any_relative {
-                            let at = 3 * chunk.triangles.len();
-                            for (i, (_, relative)) in triangle.iter().enumerate() {
-                                for (slot, n) in relative.iter().enumerate() {
-                                    if let Some(n) = *n {
-                                        chunk.relative.push((at + i, slot, n));
-                                    }
-                                }
-                            }
+                        if any_kept {
+                            chunk.keep_indices(&triangle);
                         }
                         chunk.triangles.push(triangle.map(|(corner, _)| corner));
                     }
@@ -995,6 +1101,37 @@ fn parse_statements(block: &[u8]) -> ChunkResult {
 }
 
 impl Chunk {
+    /// Starts a run of faces at a face on `line` unless the last face was on the line before.
+    fn note_face(&mut self, line: usize, last_face: &mut usize) {
+        if self.face_runs.is_empty() || line != *last_face + 1 {
+            self.face_runs.push(FaceRun {
+                triangle: self.triangles.len(),
+                line,
+                counts: [self.positions.len(), self.uvs.len(), self.normals.len()],
+            });
+        }
+        *last_face = line;
+    }
+
+    /// Keeps the indices of the triangle about to be pushed that [`corner`] gave as written:
+    /// negative ones, counted from the chunk's first element, in `relative`; those out of
+    /// range whatever the file holds in `invalid`.
+    fn keep_indices(&mut self, triangle: &[(Corner, [Option<i64>; 3]); 3]) {
+        let at = 3 * self.triangles.len();
+        let counts = [self.positions.len(), self.uvs.len(), self.normals.len()];
+        for (i, (corner, kept)) in triangle.iter().enumerate() {
+            for (slot, index) in kept.iter().enumerate() {
+                match *index {
+                    Some(index) if corner[slot] == INVALID => {
+                        self.invalid.push((at + i, slot, index));
+                    }
+                    Some(index) => self.relative.push((at + i, slot, counts[slot] as i64 + index)),
+                    None => {}
+                }
+            }
+        }
+    }
+
     /// Gives the position about to be pushed a colour (the ones before without get
     /// [`NO_COLOR`]).
     fn add_color(&mut self, color: Vec4) {
@@ -1090,14 +1227,15 @@ fn integer(field: &[u8]) -> Option<i64> {
 }
 
 /// Parses a face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`: the corner, and per slot the
-/// index counted from the chunk's first element where the file's index is negative.
-fn corner(word: &[u8], chunk: &Chunk) -> Result<(Corner, [Option<i64>; 3]), ChunkError> {
+/// index as written where the corner cannot hold it: a negative index (the corner holds 0
+/// until it is resolved) and one out of range whatever the file holds (the corner holds
+/// [`INVALID`]).
+fn corner(word: &[u8]) -> Result<(Corner, [Option<i64>; 3]), ChunkError> {
     let mut c = [MISSING; 3];
-    let mut relative = [None; 3];
-    // A fourth slot only to report a corner of four indices.
-    let counts = [chunk.positions.len(), chunk.uvs.len(), chunk.normals.len(), 0];
+    let mut kept = [None; 3];
     let mut rest = word;
-    for (slot, &count) in counts.iter().enumerate() {
+    // A fourth slot only to report a corner of four indices.
+    for slot in 0..4 {
         if rest.is_empty() && slot > 0 {
             break;
         }
@@ -1128,16 +1266,16 @@ fn corner(word: &[u8], chunk: &Chunk) -> Result<(Corner, [Option<i64>; 3]), Chun
             ))
         })?;
         c[slot] = match index {
-            // Out of range: resolution fails and the diagnostic pass names the line.
-            0 => INVALID,
-            i if i > 0 => u32::try_from(i - 1).map_or(INVALID, |i| i.min(INVALID)),
-            i => {
-                relative[slot] = Some(count as i64 + i);
-                0
-            }
+            i if i < 0 => 0,
+            // Zero, or past `u32`: out of range whatever the file holds.
+            i => u32::try_from(i - 1).map_or(INVALID, |i| i.min(INVALID)),
         };
+        // Resolved (or found out of range) in `assemble`.
+        if index < 0 || c[slot] == INVALID {
+            kept[slot] = Some(index);
+        }
     }
-    Ok((c, relative))
+    Ok((c, kept))
 }
 
 #[cfg(test)]

@@ -77,6 +77,48 @@ fn face_referring_to_missing_vertices() {
     assert!(matches!(err, IoError::ReferenceOutOfRange { line: 7, what: "normal", .. }), "{err}");
 }
 
+/// The parser names the line of a bad index itself: past polygons (a face of n corners is
+/// n - 2 triangles), points, comments and vertices defined between faces, and in a later
+/// block of a file read in blocks of a megabyte.
+#[test]
+fn an_index_out_of_range_is_placed_past_polygons_and_blocks() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{QUAD}f 1 2 3 4\nf 4 3 2 1\nf 1 2\n# comment\n\nf 1 2 3\nv 0 0 1\nf 1 2 3 4 5\nf 5 4 3 6\n"
+    );
+    let path = write(dir.path(), "runs.obj", &text);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IoError::ReferenceOutOfRange { line: 14, what: "vertex", index: 6, count: 5, .. }
+        ),
+        "{err}"
+    );
+    // Over two megabytes of faces, then a relative index reaching before the first vertex.
+    let mut text = QUAD.to_owned();
+    let faces = 200_000;
+    for _ in 0..faces {
+        text.push_str("f 1 2 3 4    \n");
+    }
+    text.push_str("vt 0 0\nf 1/1 2/1 3/-2\n");
+    let path = write(dir.path(), "blocks.obj", &text);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IoError::ReferenceOutOfRange {
+                line,
+                what: "texture coordinate",
+                index: -2,
+                count: 1,
+                ..
+            } if line == 5 + faces + 2
+        ),
+        "{err}"
+    );
+}
+
 #[test]
 fn syntax_errors_name_the_line() {
     let dir = tempfile::tempdir().unwrap();
