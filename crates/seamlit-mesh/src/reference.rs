@@ -6,7 +6,7 @@
 //! exactly the vertex's position, add the face's unit normal, tangent and bitangent. Then
 //! normalise the normal (the listing's erratum: it normalises the tangent instead),
 //! re-orthogonalise the tangent (section 5.3) and take the handedness from the bitangent
-//! (section 5.4). That is O(V x F): minutes at 100k triangles.
+//! (section 5.4). That is O(V x F) (its figures: BENCHMARKS.md, "Fixing").
 //!
 //! Where the listing would divide by zero or normalise a zero vector, this implementation uses
 //! the same guards as the fast path (see the `face` module): degenerate triangles contribute
