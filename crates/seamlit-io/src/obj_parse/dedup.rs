@@ -123,8 +123,8 @@ impl Hasher for KeyHasher {
             self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
         }
     }
-    #[expect(clippy::cast_possible_truncation, reason = "splitting the key into its halves")]
     fn write_u128(&mut self, key: u128) {
+        // The key's two halves, each cut to 64 bits.
         let mut h = (key as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
             ^ ((key >> 64) as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
         h ^= h >> 29;

@@ -64,13 +64,13 @@ pub(super) fn fast_f32(text: &[u8]) -> Option<(f32, usize)> {
     if count == 0 || text.get(at).is_some_and(|&b| !end_of_word(b)) {
         return None;
     }
-    #[expect(clippy::cast_precision_loss, reason = "at most 15 digits: exact")]
+    // At most 15 digits: exact in f64.
     let value = mantissa as f64 / POWERS[fraction];
     // 29 bits of the f64 significand are rounded off; exactly 1000...0 is a tie.
     if value.to_bits() & 0x1FFF_FFFF == 0x1000_0000 {
         return None;
     }
-    #[expect(clippy::cast_possible_truncation, reason = "rounding to f32 is the point")]
+    // Rounding to f32 is the point.
     let value = value as f32;
     Some((if negative { -value } else { value }, at))
 }
