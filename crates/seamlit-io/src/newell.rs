@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 use seamlit_mesh::{Model, Object, VAxis};
 
-use crate::{Asset, IoError, LoadOptions};
+use crate::{Asset, IoError, LoadOptions, Syntax};
 
 /// The largest tessellation accepted; larger values are clamped.
 pub const MAX_TESSELLATION: u32 = 1024;
@@ -98,7 +98,7 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
         text.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
     let total_lines = text.lines().filter(|l| !l.trim().is_empty()).count();
     let path_buf = || PathBuf::from(path);
-    let syntax = |line: usize, reason: String| IoError::Syntax { path: path_buf(), line, reason };
+    let syntax = |line: usize, kind: Syntax| IoError::Syntax { path: path_buf(), line, kind };
 
     let (count_line, patch_count) = read_count(&mut lines, path, "patch", 0)?;
     let remaining = total_lines.saturating_sub(1);
@@ -109,15 +109,15 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
             line: count_line,
             what: "patches",
             declared: patch_count as u64,
-            reason: format!("the file holds only {remaining} more non-empty lines"),
+            remaining,
         });
     }
     let mut raw = Vec::with_capacity(patch_count);
     let mut last_line = count_line;
     for _ in 0..patch_count {
-        let (line, text) = lines.next().ok_or_else(|| {
-            syntax(last_line + 1, "unexpected end of file in the patch list".to_owned())
-        })?;
+        let (line, text) = lines
+            .next()
+            .ok_or_else(|| syntax(last_line + 1, Syntax::UnexpectedEnd { list: "patch" }))?;
         last_line = line;
         let mut indices = [0u32; 16];
         let mut k = 0;
@@ -125,11 +125,21 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
             if k == 16 {
                 return Err(syntax(
                     line,
-                    format!("expected 16 control-point indices, found more: {text:?}"),
+                    Syntax::TooManyValues {
+                        expected: 16,
+                        what: "control-point indices",
+                        text: text.to_owned(),
+                    },
                 ));
             }
             let value: i64 = token.parse().map_err(|_| {
-                syntax(line, format!("expected a control-point index, found {token:?}"))
+                syntax(
+                    line,
+                    Syntax::NotAValue {
+                        expected: "a control-point index",
+                        found: token.to_owned(),
+                    },
+                )
             })?;
             indices[k] = u32::try_from(value).ok().filter(|&v| v >= 1).ok_or(
                 IoError::ReferenceOutOfRange {
@@ -143,7 +153,10 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
             k += 1;
         }
         if k != 16 {
-            return Err(syntax(line, format!("expected 16 control-point indices, found {k}")));
+            return Err(syntax(
+                line,
+                Syntax::TooFewValues { expected: 16, what: "control-point indices", found: k },
+            ));
         }
         raw.push((line, indices));
     }
@@ -156,23 +169,30 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
             line: point_line,
             what: "points",
             declared: point_count as u64,
-            reason: format!("the file holds only {remaining} more non-empty lines"),
+            remaining,
         });
     }
     let mut points = Vec::with_capacity(point_count);
     for _ in 0..point_count {
-        let (line, text) = lines.next().ok_or_else(|| {
-            syntax(point_line, "unexpected end of file in the point list".to_owned())
-        })?;
+        let (line, text) = lines
+            .next()
+            .ok_or_else(|| syntax(point_line, Syntax::UnexpectedEnd { list: "point" }))?;
         let mut xyz = [0.0f32; 3];
         let mut k = 0;
         for token in tokens(text) {
             if k == 3 {
-                return Err(syntax(line, format!("expected 3 coordinates, found more: {text:?}")));
+                return Err(syntax(
+                    line,
+                    Syntax::TooManyValues {
+                        expected: 3,
+                        what: "coordinates",
+                        text: text.to_owned(),
+                    },
+                ));
             }
-            let value: f32 = token
-                .parse()
-                .map_err(|_| syntax(line, format!("expected a number, found {token:?}")))?;
+            let value: f32 = token.parse().map_err(|_| {
+                syntax(line, Syntax::NotAValue { expected: "a number", found: token.to_owned() })
+            })?;
             if !value.is_finite() {
                 return Err(IoError::NotFinite {
                     path: path_buf(),
@@ -185,14 +205,17 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
             k += 1;
         }
         if k != 3 {
-            return Err(syntax(line, format!("expected 3 coordinates, found {k}")));
+            return Err(syntax(
+                line,
+                Syntax::TooFewValues { expected: 3, what: "coordinates", found: k },
+            ));
         }
         points.push(Vec3::from_array(xyz));
     }
     if let Some((line, text)) = lines.next() {
         return Err(syntax(
             line,
-            format!("expected the end of the file after {point_count} points, found {text:?}"),
+            Syntax::TrailingText { points: point_count, text: text.to_owned() },
         ));
     }
 
@@ -226,13 +249,13 @@ fn read_count<'a>(
     previous_line: usize,
 ) -> Result<(usize, usize), IoError> {
     let syntax =
-        |line: usize, reason: String| IoError::Syntax { path: path.to_path_buf(), line, reason };
-    let (line, text) = lines.next().ok_or_else(|| {
-        syntax(previous_line + 1, format!("expected the {what} count, found the end of the file"))
-    })?;
-    let declared: u64 = text.trim().parse().map_err(|_| {
-        syntax(line, format!("expected the {what} count (an integer), found {:?}", text.trim()))
-    })?;
+        |line: usize, kind: Syntax| IoError::Syntax { path: path.to_path_buf(), line, kind };
+    let (line, text) =
+        lines.next().ok_or_else(|| syntax(previous_line + 1, Syntax::MissingCount { what }))?;
+    let declared: u64 = text
+        .trim()
+        .parse()
+        .map_err(|_| syntax(line, Syntax::NotACount { what, found: text.trim().to_owned() }))?;
     Ok((line, usize::try_from(declared).unwrap_or(usize::MAX)))
 }
 

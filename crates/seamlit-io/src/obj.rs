@@ -26,7 +26,7 @@ use seamlit_mesh::{Model, Object, VAxis};
 
 use crate::obj_pass::{ObjSource, SourceObject};
 use crate::{
-    Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, IoError, LoadOptions, Material, Syntax, Texture, TextureRef, TextureSource, UvTransform,
 };
 
 /// Reads an OBJ file and the material libraries and textures it refers to. A file without
@@ -137,8 +137,9 @@ fn read_libraries(
             continue;
         };
         let (library, _) = read_mtl(&mtl_text).map_err(|err| {
-            let (line, reason) = locate_mtl_error(&mtl_text).unwrap_or((0, err.to_string()));
-            IoError::Syntax { path: resolved.clone(), line, reason }
+            let (line, kind) = locate_mtl_error(&mtl_text)
+                .unwrap_or((0, Syntax::MaterialLibrary { tobj: err.to_string() }));
+            IoError::Syntax { path: resolved.clone(), line, kind }
         })?;
         for material in library {
             libraries.by_name.insert(material.name.clone(), libraries.materials.len());
@@ -365,7 +366,7 @@ fn decode_utf16(bytes: &[u8], order: ByteOrder, path: &Path) -> Result<String, I
 }
 
 /// Finds the line of an MTL file that tobj rejects, by giving it each line alone.
-fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
+fn locate_mtl_error(text: &str) -> Option<(usize, Syntax)> {
     if let Some(found) = short_colour(text) {
         return Some(found);
     }
@@ -373,7 +374,9 @@ fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
         let probe = format!("newmtl probe\n{line}\n");
         let is_newmtl = line.split_whitespace().next() == Some("newmtl");
         let probe = if is_newmtl { format!("{line}\n") } else { probe };
-        read_mtl(&probe).err().map(|err| (i + 1, format!("{err}: {:?}", line.trim())))
+        read_mtl(&probe).err().map(|err| {
+            (i + 1, Syntax::Material { tobj: err.to_string(), text: line.trim().to_owned() })
+        })
     })
 }
 
@@ -425,13 +428,14 @@ fn name_unnamed(text: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// The first colour statement of fewer than three numbers: `(line, reason)`.
-fn short_colour(text: &str) -> Option<(usize, String)> {
+fn short_colour(text: &str) -> Option<(usize, Syntax)> {
     text.lines().enumerate().find_map(|(i, line)| {
         let mut words = line.split_whitespace();
         let keyword = words.next()?;
         let count = words.count();
         (["Ka", "Kd", "Ks", "Ke"].contains(&keyword) && count < 3).then(|| {
-            (i + 1, format!("`{keyword}` needs 3 numbers, found {count}: {:?}", line.trim()))
+            let (keyword, found, text) = (keyword.to_owned(), count, line.trim().to_owned());
+            (i + 1, Syntax::ShortColour { keyword, found, text })
         })
     })
 }

@@ -35,7 +35,7 @@ use std::sync::mpsc;
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::{IoError, NotText};
+use crate::{IoError, NotText, Syntax};
 use blocks::{READ_AHEAD, read_blocks};
 use corners::{Corner, INVALID, MISSING};
 use dedup::{dense_dedup, hashed_dedup};
@@ -617,7 +617,7 @@ type ChunkResult = Result<Chunk, (usize, ChunkError)>;
 /// An error found while parsing a chunk, placed at a chunk-local line by the caller.
 #[derive(Debug)]
 enum ChunkError {
-    Syntax(String),
+    Syntax(Syntax),
     NotFinite(&'static str, String),
     NotText(NotText),
 }
@@ -625,7 +625,7 @@ enum ChunkError {
 impl ChunkError {
     fn into_io(self, path: &Path, line: usize) -> IoError {
         match self {
-            Self::Syntax(reason) => IoError::Syntax { path: path.to_path_buf(), line, reason },
+            Self::Syntax(kind) => IoError::Syntax { path: path.to_path_buf(), line, kind },
             Self::NotFinite(what, text) => {
                 IoError::NotFinite { path: path.to_path_buf(), line, what, text }
             }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use seamlit_io::{IoError, LoadOptions};
+use seamlit_io::{IoError, LoadOptions, Syntax};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
@@ -124,10 +124,20 @@ fn syntax_errors_name_the_line() {
     let dir = tempfile::tempdir().unwrap();
     let path = write(dir.path(), "short.obj", "v 0 0 0\nv 1 0\nv 1 1 0\nf 1 2 3\n");
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(err, IoError::Syntax { line: 2, .. }), "{err}");
+    let short = Syntax::TooFewNumbers { keyword: "v", needed: 3, found: 2 };
+    assert!(matches!(&err, IoError::Syntax { line: 2, kind, .. } if *kind == short), "{err}");
+    assert!(err.to_string().ends_with("short.obj:2: `v` needs 3 numbers, found 2"), "{err}");
     let path = write(dir.path(), "word.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 two 3\n");
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(err, IoError::Syntax { line: 4, .. }), "{err}");
+    let word = Syntax::NotAnIndex { corner: "two".into(), found: "two".into() };
+    assert!(matches!(&err, IoError::Syntax { line: 4, kind, .. } if *kind == word), "{err}");
+    let message = r#"word.obj:4: face corner "two": expected an index, found "two""#;
+    assert!(err.to_string().ends_with(message), "{err}");
+    let path = write(dir.path(), "w.obj", "v 0 0 0 0\n");
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    let zero = Syntax::ZeroW { w: 0.0 };
+    assert!(matches!(&err, IoError::Syntax { line: 1, kind, .. } if *kind == zero), "{err}");
+    assert!(err.to_string().ends_with("w.obj:1: `v`: w = 0 cannot scale a position"), "{err}");
 }
 
 #[test]
@@ -165,7 +175,10 @@ fn malformed_mtl_names_its_line() {
         write(dir.path(), "bad.obj", &format!("mtllib bad.mtl\n{QUAD}usemtl red\nf 1 2 3 4\n"));
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
     match &err {
-        IoError::Syntax { path: p, line: 3, .. } => assert!(p.ends_with("bad.mtl")),
+        IoError::Syntax { path: p, line: 3, kind: Syntax::Material { text, .. } } => {
+            assert!(p.ends_with("bad.mtl"));
+            assert_eq!(text, "Ns many");
+        }
         other => panic!("unexpected {other}"),
     }
 }

@@ -5,6 +5,7 @@
 use super::ChunkError;
 use super::blocks::{end_of_word, text};
 use super::numbers::integer;
+use crate::Syntax;
 
 /// "No `vt` / `vn` index" in a corner.
 pub(super) const MISSING: u32 = u32::MAX;
@@ -83,10 +84,7 @@ pub(super) fn corner(word: &[u8]) -> Result<(Corner, [Option<i64>; 3]), ChunkErr
         let ends = tail.is_empty() && field.len() < rest.len();
         rest = tail;
         if slot > 2 {
-            return Err(ChunkError::Syntax(format!(
-                "face corner {:?} has more than three indices",
-                text(word)
-            )));
+            return Err(ChunkError::Syntax(Syntax::CornerIndices { corner: text(word).into() }));
         }
         if field.is_empty() && slot > 0 {
             if ends {
@@ -95,11 +93,10 @@ pub(super) fn corner(word: &[u8]) -> Result<(Corner, [Option<i64>; 3]), ChunkErr
             continue;
         }
         let index = integer(field).ok_or_else(|| {
-            ChunkError::Syntax(format!(
-                "face corner {:?}: expected an index, found {:?}",
-                text(word),
-                text(field)
-            ))
+            ChunkError::Syntax(Syntax::NotAnIndex {
+                corner: text(word).into(),
+                found: text(field).into(),
+            })
         })?;
         c[slot] = match index {
             i if i < 0 => 0,

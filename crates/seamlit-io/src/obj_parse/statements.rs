@@ -8,6 +8,7 @@ use super::blocks::{Cursor, Number, first_line_not_text, text};
 use super::corners::{Corner, INVALID, corner, simple_corner};
 use super::numbers::float;
 use super::{Chunk, ChunkError, ChunkResult, Event, FaceRun, NO_COLOR};
+use crate::Syntax;
 
 /// Parses a block of whole lines: its statements, and the first error among them or among
 /// its lines that are not text (whichever comes first).
@@ -88,9 +89,7 @@ impl Chunk {
         match more_numbers(words)? {
             (1, [w, ..]) => {
                 if w == 0.0 {
-                    return Err(ChunkError::Syntax(format!(
-                        "`v`: w = {w} cannot scale a position"
-                    )));
+                    return Err(ChunkError::Syntax(Syntax::ZeroW { w }));
                 }
                 p /= w;
             }
@@ -98,11 +97,7 @@ impl Chunk {
             (4, [r, g, b, a]) => self.add_color(Vec4::new(r, g, b, a)),
             (0, _) => {}
             (count, _) => {
-                return Err(ChunkError::Syntax(format!(
-                    "`v` needs 3 numbers, 4 (x y z w), 6 (x y z r g b) or 7 \
-                     (x y z r g b a), found {}",
-                    3 + count
-                )));
+                return Err(ChunkError::Syntax(Syntax::VertexNumbers { found: 3 + count }));
             }
         }
         self.positions.push(p);
@@ -198,10 +193,7 @@ fn more_numbers(words: &mut Cursor<'_>) -> Result<(usize, [f32; 4]), ChunkError>
             return Ok((count + 1, values));
         }
         values[count] = float(word).filter(|v| v.is_finite()).ok_or_else(|| {
-            ChunkError::Syntax(format!(
-                "`v`: expected a number (w, or a colour's r g b [a]), found {:?}",
-                text(word)
-            ))
+            ChunkError::Syntax(Syntax::NotAVertexNumber { found: text(word).into() })
         })?;
         count += 1;
     }
@@ -210,24 +202,23 @@ fn more_numbers(words: &mut Cursor<'_>) -> Result<(usize, [f32; 4]), ChunkError>
 
 fn numbers<const N: usize>(
     words: &mut Cursor<'_>,
-    keyword: &str,
+    keyword: &'static str,
     what: &'static str,
 ) -> Result<[f32; N], ChunkError> {
     let mut out = [0.0; N];
     for (k, slot) in out.iter_mut().enumerate() {
         let value = match words.number() {
             None => {
-                return Err(ChunkError::Syntax(format!(
-                    "`{keyword}` needs {N} numbers, found {k}"
-                )));
+                return Err(ChunkError::Syntax(Syntax::TooFewNumbers {
+                    keyword,
+                    needed: N,
+                    found: k,
+                }));
             }
             Some(Number::Plain(value)) => value,
             Some(Number::Word(word)) => {
                 let value: f32 = text(word).parse().map_err(|_| {
-                    ChunkError::Syntax(format!(
-                        "`{keyword}`: expected a number, found {:?}",
-                        text(word)
-                    ))
+                    ChunkError::Syntax(Syntax::NotANumber { keyword, found: text(word).into() })
                 })?;
                 if !value.is_finite() {
                     return Err(ChunkError::NotFinite(what, text(word).into_owned()));
@@ -250,11 +241,8 @@ fn smoothing_group(word: Option<&[u8]>) -> Result<u32, ChunkError> {
     let word = text(word.unwrap_or_default());
     match &*word {
         "off" => Ok(0),
-        _ => word.parse().map_err(|_| {
-            ChunkError::Syntax(format!(
-                "`s` needs a smoothing group number (0 to {}) or `off`, found {word:?}",
-                u32::MAX
-            ))
-        }),
+        _ => word
+            .parse()
+            .map_err(|_| ChunkError::Syntax(Syntax::SmoothingGroup { found: word.to_string() })),
     }
 }
