@@ -38,14 +38,14 @@ pub enum IoError {
     },
 
     /// A line of a text format (OBJ, MTL, Newell) could not be parsed.
-    #[error("{}:{line}: {reason}", path.display())]
+    #[error("{}:{line}: {kind}", path.display())]
     Syntax {
         /// The file.
         path: PathBuf,
         /// One-based line number.
         line: usize,
         /// What is wrong, with the expected and the actual text.
-        reason: String,
+        kind: Syntax,
     },
 
     /// A statement of a text format holds bytes that are not text: a NUL byte or invalid UTF-8
@@ -98,7 +98,7 @@ pub enum IoError {
     },
 
     /// A count declared in the file is larger than the file can hold or than the limits allow.
-    #[error("{}:{line}: declares {declared} {what}, but {reason}", path.display())]
+    #[error("{}:{line}: declares {declared} {what}, but the file holds only {remaining} more non-empty lines", path.display())]
     BadCount {
         /// The file.
         path: PathBuf,
@@ -108,8 +108,8 @@ pub enum IoError {
         what: &'static str,
         /// The declared count.
         declared: u64,
-        /// Why it cannot be right (for example `the file holds only 3 more lines`).
-        reason: String,
+        /// How many non-empty lines follow the declaration: fewer than the count needs.
+        remaining: usize,
     },
 
     /// A file the model refers to (an `.mtl` library, a texture, a glTF buffer) is missing.
@@ -125,16 +125,6 @@ pub enum IoError {
         missing: PathBuf,
         /// The referring line, for text formats.
         line: Option<usize>,
-    },
-
-    /// The OBJ reader (tobj) rejected the file for a reason the diagnostic pass could not
-    /// pin to a line.
-    #[error("{}: OBJ error: {reason}", path.display())]
-    Obj {
-        /// The file.
-        path: PathBuf,
-        /// tobj's description.
-        reason: String,
     },
 
     /// The glTF container or JSON could not be parsed, or failed the gltf crate's validation.
@@ -309,6 +299,152 @@ pub enum IoError {
         texture: String,
         /// What the image crate said.
         reason: String,
+    },
+}
+
+/// What is wrong with a line of a text format (see [`IoError::Syntax`]): a kind, with the
+/// expected and the actual text.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Syntax {
+    /// An OBJ statement (`v`, `vt`, `vn`) has fewer numbers than it needs.
+    #[error("`{keyword}` needs {needed} numbers, found {found}")]
+    TooFewNumbers {
+        /// The statement's keyword.
+        keyword: &'static str,
+        /// How many numbers it needs.
+        needed: usize,
+        /// How many the line has.
+        found: usize,
+    },
+    /// A word where an OBJ statement needs a number.
+    #[error("`{keyword}`: expected a number, found {found:?}")]
+    NotANumber {
+        /// The statement's keyword.
+        keyword: &'static str,
+        /// The word.
+        found: String,
+    },
+    /// An OBJ `v` whose count of numbers is none of 3, 4, 6 and 7.
+    #[error(
+        "`v` needs 3 numbers, 4 (x y z w), 6 (x y z r g b) or 7 (x y z r g b a), found {found}"
+    )]
+    VertexNumbers {
+        /// How many numbers the line has (5 or 8, or more).
+        found: usize,
+    },
+    /// A word where an OBJ `v` needs its w or a colour's component.
+    #[error("`v`: expected a number (w, or a colour's r g b [a]), found {found:?}")]
+    NotAVertexNumber {
+        /// The word.
+        found: String,
+    },
+    /// An OBJ `v x y z w` with `w` zero.
+    #[error("`v`: w = {w} cannot scale a position")]
+    ZeroW {
+        /// The w written (0 or -0).
+        w: f32,
+    },
+    /// An OBJ face corner of more than three indices (`1/2/3/4`).
+    #[error("face corner {corner:?} has more than three indices")]
+    CornerIndices {
+        /// The corner as written.
+        corner: String,
+    },
+    /// A word where an OBJ face corner needs an index.
+    #[error("face corner {corner:?}: expected an index, found {found:?}")]
+    NotAnIndex {
+        /// The corner as written.
+        corner: String,
+        /// The field that is not an index.
+        found: String,
+    },
+    /// An OBJ `s` that gives neither a group number nor `off`.
+    #[error("`s` needs a smoothing group number (0 to {}) or `off`, found {found:?}", u32::MAX)]
+    SmoothingGroup {
+        /// The word.
+        found: String,
+    },
+    /// An MTL colour statement (`Ka`, `Kd`, `Ks`, `Ke`) of fewer than three numbers.
+    #[error("`{keyword}` needs 3 numbers, found {found}: {text:?}")]
+    ShortColour {
+        /// The statement's keyword.
+        keyword: String,
+        /// How many numbers the line has.
+        found: usize,
+        /// The line.
+        text: String,
+    },
+    /// A line of a material library that tobj rejects (the line alone, after a `newmtl`).
+    #[error("{tobj}: {text:?}")]
+    Material {
+        /// tobj's description.
+        tobj: String,
+        /// The line.
+        text: String,
+    },
+    /// A material library that tobj rejects as a whole, though no line alone is rejected
+    /// (`line` is 0).
+    #[error("{tobj}")]
+    MaterialLibrary {
+        /// tobj's description.
+        tobj: String,
+    },
+    /// A Newell file ends inside its patch or point list.
+    #[error("unexpected end of file in the {list} list")]
+    UnexpectedEnd {
+        /// `patch` or `point`.
+        list: &'static str,
+    },
+    /// A Newell file ends where it declares a count.
+    #[error("expected the {what} count, found the end of the file")]
+    MissingCount {
+        /// `patches` or `points`.
+        what: &'static str,
+    },
+    /// A Newell count that is not an integer.
+    #[error("expected the {what} count (an integer), found {found:?}")]
+    NotACount {
+        /// `patches` or `points`.
+        what: &'static str,
+        /// The line, trimmed.
+        found: String,
+    },
+    /// A Newell patch or point line with more values than it holds.
+    #[error("expected {expected} {what}, found more: {text:?}")]
+    TooManyValues {
+        /// 16 or 3.
+        expected: usize,
+        /// `control-point indices` or `coordinates`.
+        what: &'static str,
+        /// The line.
+        text: String,
+    },
+    /// A Newell patch or point line with fewer values than it holds.
+    #[error("expected {expected} {what}, found {found}")]
+    TooFewValues {
+        /// 16 or 3.
+        expected: usize,
+        /// `control-point indices` or `coordinates`.
+        what: &'static str,
+        /// How many the line has.
+        found: usize,
+    },
+    /// A word where a Newell line needs a value.
+    #[error("expected {expected}, found {found:?}")]
+    NotAValue {
+        /// `a control-point index` or `a number`.
+        expected: &'static str,
+        /// The word.
+        found: String,
+    },
+    /// Text after a Newell file's points.
+    #[error("expected the end of the file after {points} points, found {text:?}")]
+    TrailingText {
+        /// The declared count of points.
+        points: usize,
+        /// The line.
+        text: String,
     },
 }
 

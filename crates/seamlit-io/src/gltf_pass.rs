@@ -146,11 +146,7 @@ pub(crate) fn uint(value: &Value, key: &str) -> Option<usize> {
 fn integer(value: &Value) -> Option<u64> {
     value.as_u64().or_else(|| {
         let x = value.as_f64()?;
-        #[expect(
-            clippy::cast_possible_truncation,
-            clippy::cast_sign_loss,
-            reason = "x is a whole number in u64's range, checked first"
-        )]
+        // x is a whole number in u64's range, checked first.
         (x.fract() == 0.0 && (0.0..1.8e19).contains(&x)).then_some(x as u64)
     })
 }
@@ -553,7 +549,7 @@ impl<'a> Output<'a> {
             None if fits(UNSIGNED_SHORT) => UNSIGNED_SHORT,
             None => UNSIGNED_INT,
         };
-        #[expect(clippy::cast_possible_truncation, reason = "every index fits, checked by `fits`")]
+        // Every index fits the component type, checked by `fits`.
         let bytes: Vec<u8> = match component {
             UNSIGNED_BYTE => corners.iter().map(|&i| i as u8).collect(),
             UNSIGNED_SHORT => corners.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),

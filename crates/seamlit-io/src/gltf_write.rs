@@ -256,10 +256,7 @@ impl Piece<'_> {
                 uvs.iter().try_for_each(|t| floats(out, [t.x, if *flip { 1.0 - t.y } else { t.y }]))
             }
             Self::Indices16(triangles) => triangles.iter().try_for_each(|t| {
-                #[expect(
-                    clippy::cast_possible_truncation,
-                    reason = "every index is below 65535, checked by the caller"
-                )]
+                // Every index is below 65535, checked by the caller.
                 let [[a0, a1], [b0, b1], [c0, c1]] = t.map(|i| (i as u16).to_le_bytes());
                 out.write_all(&[a0, a1, b0, b1, c0, c1])
             }),

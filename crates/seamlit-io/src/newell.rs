@@ -10,12 +10,12 @@
 //! their end points exactly: patch corners are bit-identical to the control points, and the
 //! collapsed edge of a pole patch is a single position, not a cloud of near misses.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use seamlit_mesh::{Model, Object, VAxis};
 
-use crate::{Asset, IoError, LoadOptions};
+use crate::{Asset, IoError, LoadOptions, Syntax};
 
 /// The largest tessellation accepted; larger values are clamped.
 pub const MAX_TESSELLATION: u32 = 1024;
@@ -97,125 +97,159 @@ pub fn parse_patches(text: &str, path: &Path) -> Result<Patches, IoError> {
     let mut lines =
         text.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
     let total_lines = text.lines().filter(|l| !l.trim().is_empty()).count();
-    let path_buf = || PathBuf::from(path);
-    let syntax = |line: usize, reason: String| IoError::Syntax { path: path_buf(), line, reason };
-
     let (count_line, patch_count) = read_count(&mut lines, path, "patch", 0)?;
-    let remaining = total_lines.saturating_sub(1);
     // Each patch needs a line, and the point count line must follow.
+    let remaining = total_lines.saturating_sub(1);
     if patch_count >= remaining {
-        return Err(IoError::BadCount {
-            path: path_buf(),
-            line: count_line,
-            what: "patches",
-            declared: patch_count as u64,
-            reason: format!("the file holds only {remaining} more non-empty lines"),
-        });
+        return Err(bad_count(path, count_line, "patches", patch_count, remaining));
     }
     let mut raw = Vec::with_capacity(patch_count);
     let mut last_line = count_line;
     for _ in 0..patch_count {
-        let (line, text) = lines.next().ok_or_else(|| {
-            syntax(last_line + 1, "unexpected end of file in the patch list".to_owned())
-        })?;
+        let (line, text) = lines
+            .next()
+            .ok_or_else(|| syntax(path, last_line + 1, Syntax::UnexpectedEnd { list: "patch" }))?;
         last_line = line;
-        let mut indices = [0u32; 16];
-        let mut k = 0;
-        for token in tokens(text) {
-            if k == 16 {
-                return Err(syntax(
-                    line,
-                    format!("expected 16 control-point indices, found more: {text:?}"),
-                ));
-            }
-            let value: i64 = token.parse().map_err(|_| {
-                syntax(line, format!("expected a control-point index, found {token:?}"))
-            })?;
-            indices[k] = u32::try_from(value).ok().filter(|&v| v >= 1).ok_or(
-                IoError::ReferenceOutOfRange {
-                    path: path_buf(),
-                    line,
-                    what: "control point",
-                    index: value,
-                    count: 0,
-                },
-            )?;
-            k += 1;
-        }
-        if k != 16 {
-            return Err(syntax(line, format!("expected 16 control-point indices, found {k}")));
-        }
-        raw.push((line, indices));
+        raw.push((line, read_patch(path, line, text)?));
     }
-
     let (point_line, point_count) = read_count(&mut lines, path, "point", last_line)?;
     let remaining = total_lines.saturating_sub(patch_count + 2);
     if point_count > remaining {
-        return Err(IoError::BadCount {
-            path: path_buf(),
-            line: point_line,
-            what: "points",
-            declared: point_count as u64,
-            reason: format!("the file holds only {remaining} more non-empty lines"),
-        });
+        return Err(bad_count(path, point_line, "points", point_count, remaining));
     }
     let mut points = Vec::with_capacity(point_count);
     for _ in 0..point_count {
-        let (line, text) = lines.next().ok_or_else(|| {
-            syntax(point_line, "unexpected end of file in the point list".to_owned())
-        })?;
-        let mut xyz = [0.0f32; 3];
-        let mut k = 0;
-        for token in tokens(text) {
-            if k == 3 {
-                return Err(syntax(line, format!("expected 3 coordinates, found more: {text:?}")));
-            }
-            let value: f32 = token
-                .parse()
-                .map_err(|_| syntax(line, format!("expected a number, found {token:?}")))?;
-            if !value.is_finite() {
-                return Err(IoError::NotFinite {
-                    path: path_buf(),
-                    line,
-                    what: "control point coordinate",
-                    text: token.to_owned(),
-                });
-            }
-            xyz[k] = value;
-            k += 1;
-        }
-        if k != 3 {
-            return Err(syntax(line, format!("expected 3 coordinates, found {k}")));
-        }
-        points.push(Vec3::from_array(xyz));
+        let (line, text) = lines
+            .next()
+            .ok_or_else(|| syntax(path, point_line, Syntax::UnexpectedEnd { list: "point" }))?;
+        points.push(read_point(path, line, text)?);
     }
     if let Some((line, text)) = lines.next() {
-        return Err(syntax(
-            line,
-            format!("expected the end of the file after {point_count} points, found {text:?}"),
-        ));
+        let kind = Syntax::TrailingText { points: point_count, text: text.to_owned() };
+        return Err(syntax(path, line, kind));
     }
-
     let patches = raw
         .into_iter()
-        .map(|(line, indices)| {
-            let mut zero_based = [0u32; 16];
-            for (dst, &one_based) in zero_based.iter_mut().zip(&indices) {
-                if one_based as usize > point_count {
-                    return Err(IoError::ReferenceOutOfRange {
-                        path: path_buf(),
-                        line,
-                        what: "control point",
-                        index: i64::from(one_based),
-                        count: point_count,
-                    });
-                }
-                *dst = one_based - 1;
-            }
-            Ok(zero_based)
-        })
+        .map(|(line, indices)| zero_based(path, line, indices, point_count))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Patches { points, patches })
+}
+
+/// An [`IoError::Syntax`] on `line` of `path`.
+fn syntax(path: &Path, line: usize, kind: Syntax) -> IoError {
+    IoError::Syntax { path: path.to_path_buf(), line, kind }
+}
+
+/// An [`IoError::BadCount`]: `declared` `what` on `line`, with only `remaining` lines after.
+fn bad_count(
+    path: &Path,
+    line: usize,
+    what: &'static str,
+    declared: usize,
+    remaining: usize,
+) -> IoError {
+    let declared = declared as u64;
+    IoError::BadCount { path: path.to_path_buf(), line, what, declared, remaining }
+}
+
+/// A patch line: 16 one-based control-point indices, at least 1.
+///
+/// # Errors
+///
+/// [`IoError::Syntax`] for a count other than 16 or a word that is not an index,
+/// [`IoError::ReferenceOutOfRange`] for an index below 1.
+fn read_patch(path: &Path, line: usize, text: &str) -> Result<[u32; 16], IoError> {
+    const WHAT: &str = "control-point indices";
+    let mut indices = [0u32; 16];
+    let mut k = 0;
+    for token in tokens(text) {
+        if k == 16 {
+            let kind = Syntax::TooManyValues { expected: 16, what: WHAT, text: text.to_owned() };
+            return Err(syntax(path, line, kind));
+        }
+        let value: i64 = token.parse().map_err(|_| {
+            let found = token.to_owned();
+            syntax(path, line, Syntax::NotAValue { expected: "a control-point index", found })
+        })?;
+        indices[k] =
+            u32::try_from(value).ok().filter(|&v| v >= 1).ok_or(IoError::ReferenceOutOfRange {
+                path: path.to_path_buf(),
+                line,
+                what: "control point",
+                index: value,
+                count: 0,
+            })?;
+        k += 1;
+    }
+    if k != 16 {
+        let kind = Syntax::TooFewValues { expected: 16, what: WHAT, found: k };
+        return Err(syntax(path, line, kind));
+    }
+    Ok(indices)
+}
+
+/// A point line: three finite coordinates.
+///
+/// # Errors
+///
+/// [`IoError::Syntax`] for a count other than 3 or a word that is not a number,
+/// [`IoError::NotFinite`] for NaN or an infinity.
+fn read_point(path: &Path, line: usize, text: &str) -> Result<Vec3, IoError> {
+    let mut xyz = [0.0f32; 3];
+    let mut k = 0;
+    for token in tokens(text) {
+        if k == 3 {
+            let text = text.to_owned();
+            let kind = Syntax::TooManyValues { expected: 3, what: "coordinates", text };
+            return Err(syntax(path, line, kind));
+        }
+        let value: f32 = token.parse().map_err(|_| {
+            let found = token.to_owned();
+            syntax(path, line, Syntax::NotAValue { expected: "a number", found })
+        })?;
+        if !value.is_finite() {
+            return Err(IoError::NotFinite {
+                path: path.to_path_buf(),
+                line,
+                what: "control point coordinate",
+                text: token.to_owned(),
+            });
+        }
+        xyz[k] = value;
+        k += 1;
+    }
+    if k != 3 {
+        let kind = Syntax::TooFewValues { expected: 3, what: "coordinates", found: k };
+        return Err(syntax(path, line, kind));
+    }
+    Ok(Vec3::from_array(xyz))
+}
+
+/// A patch's one-based indices (from `line`) as zero-based ones into `point_count` points.
+///
+/// # Errors
+///
+/// [`IoError::ReferenceOutOfRange`] for an index past the points.
+fn zero_based(
+    path: &Path,
+    line: usize,
+    indices: [u32; 16],
+    point_count: usize,
+) -> Result<[u32; 16], IoError> {
+    let mut zero_based = [0u32; 16];
+    for (dst, &one_based) in zero_based.iter_mut().zip(&indices) {
+        if one_based as usize > point_count {
+            return Err(IoError::ReferenceOutOfRange {
+                path: path.to_path_buf(),
+                line,
+                what: "control point",
+                index: i64::from(one_based),
+                count: point_count,
+            });
+        }
+        *dst = one_based - 1;
+    }
+    Ok(zero_based)
 }
 
 /// Reads a count line: `(line number, value)`.
@@ -225,13 +259,11 @@ fn read_count<'a>(
     what: &'static str,
     previous_line: usize,
 ) -> Result<(usize, usize), IoError> {
-    let syntax =
-        |line: usize, reason: String| IoError::Syntax { path: path.to_path_buf(), line, reason };
-    let (line, text) = lines.next().ok_or_else(|| {
-        syntax(previous_line + 1, format!("expected the {what} count, found the end of the file"))
-    })?;
+    let (line, text) = lines
+        .next()
+        .ok_or_else(|| syntax(path, previous_line + 1, Syntax::MissingCount { what }))?;
     let declared: u64 = text.trim().parse().map_err(|_| {
-        syntax(line, format!("expected the {what} count (an integer), found {:?}", text.trim()))
+        syntax(path, line, Syntax::NotACount { what, found: text.trim().to_owned() })
     })?;
     Ok((line, usize::try_from(declared).unwrap_or(usize::MAX)))
 }

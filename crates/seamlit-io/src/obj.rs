@@ -13,8 +13,8 @@
 //!
 //! The geometry is read by this crate's parallel parser (module `obj_parse` explains why and
 //! how it matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
-//! model's folder are refused. An index out of range is placed by a diagnostic pass over the
-//! text that names the line.
+//! model's folder are refused. A face index out of range is named with its line by the
+//! parser.
 //!
 //! The loaded asset keeps the file's text and where each object's faces are in it
 //! ([`crate::ObjSource`]), for the OBJ pass-through writer (`obj_pass`).
@@ -24,10 +24,9 @@ use std::path::{Path, PathBuf};
 
 use seamlit_mesh::{Model, Object, VAxis};
 
-use crate::obj_parse::ReadError;
 use crate::obj_pass::{ObjSource, SourceObject};
 use crate::{
-    Asset, IoError, LoadOptions, Material, Texture, TextureRef, TextureSource, UvTransform,
+    Asset, IoError, LoadOptions, Material, Syntax, Texture, TextureRef, TextureSource, UvTransform,
 };
 
 /// Reads an OBJ file and the material libraries and textures it refers to. A file without
@@ -42,6 +41,41 @@ use crate::{
 /// `options.strict` is set (a warning otherwise); [`IoError::TooManyElements`] past
 /// `options.max_elements`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    let (file, decoded) = open(path, options)?;
+    let parsed = match &decoded {
+        Some(text) => crate::obj_parse::read(text.as_bytes(), path),
+        None => crate::obj_parse::read(file, path),
+    }?;
+    let mut warnings = Vec::new();
+    let libraries = read_libraries(path, &parsed.libraries, options, &mut warnings)?;
+    if !libraries.missing {
+        warn_unknown_materials(path, &parsed.materials_used, &libraries.by_name, &mut warnings);
+    }
+    let library_lines = parsed.libraries.clone();
+    let (objects, sources) = build_objects(path, parsed, &libraries.by_name, options)?;
+    let mut asset = Asset { model: Model { objects, v_axis: VAxis::Up }, ..Asset::default() };
+    warnings.extend(objects_warnings(path, &sources));
+    convert_materials(path, &libraries.materials, &mut asset)?;
+    asset.source = Some(path.to_path_buf());
+    // The text as parsed, for the pass-through writer (`crate::obj_pass`).
+    let text = match decoded {
+        Some(text) => text.into_bytes(),
+        None => crate::read_bytes(path, options)?,
+    };
+    let sources = sources.into_iter().map(|origin| origin.source).collect();
+    asset.obj_source = Some(ObjSource::new(text, path, library_lines, sources));
+    warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
+    asset.warnings = warnings;
+    Ok(asset)
+}
+
+/// Opens the file within `options.max_file_bytes`; a file with a UTF-16 byte-order mark is
+/// decoded whole (it is at most that size), any other is left to be read as UTF-8, in blocks.
+///
+/// # Errors
+///
+/// [`IoError::Io`], [`IoError::TooLarge`], and [`IoError::NotText`] for invalid UTF-16.
+fn open(path: &Path, options: &LoadOptions) -> Result<(std::fs::File, Option<String>), IoError> {
     let file = std::fs::File::open(path).map_err(|e| IoError::io(path, e))?;
     let size = file.metadata().map_err(|e| IoError::io(path, e))?.len();
     if size > options.max_file_bytes {
@@ -51,108 +85,154 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             actual: size,
         });
     }
-    let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    // A file with a UTF-16 byte-order mark is decoded whole (it is at most
-    // `max_file_bytes`); any other file is read as UTF-8, in blocks.
     let decoded = match utf16_order(&file).map_err(|e| IoError::io(path, e))? {
         Some(order) => Some(decode_utf16(&crate::read_bytes(path, options)?, order, path)?),
         None => None,
     };
-    let parsed = match &decoded {
-        Some(text) => crate::obj_parse::read(text.as_bytes(), path),
-        None => crate::obj_parse::read(file, path),
-    };
-    let parsed = match parsed {
-        Ok(parsed) => parsed,
-        Err(ReadError::Placed(err)) => return Err(err),
-        Err(ReadError::IndexOutOfRange) => {
-            let text = match decoded {
-                Some(text) => text,
-                None => crate::read_text(path, options)?,
-            };
-            return Err(diagnose(path, &text).unwrap_or_else(|| IoError::Obj {
-                path: path.to_path_buf(),
-                reason: "a face index is out of range".to_owned(),
-            }));
-        }
-    };
+    Ok((file, decoded))
+}
 
-    // Material libraries, in order; a later definition of a name wins, as in tobj.
-    let mut warnings = Vec::new();
-    // Per material: the tobj material, its library file and that file's folder as parts
-    // below the model's folder (for resolving its texture paths).
-    let mut materials: Vec<(tobj::Material, PathBuf, Vec<String>)> = Vec::new();
-    let mut by_name: HashMap<String, usize> = HashMap::new();
-    let mut library_missing = false;
-    for (name, line) in &parsed.libraries {
+/// The materials of an OBJ's libraries, in order: per material, the tobj material, its
+/// library file and that file's folder as parts below the model's folder (for resolving its
+/// texture paths); by name, the last definition (as in tobj); and whether a library is
+/// missing.
+#[derive(Default)]
+struct Libraries {
+    materials: Vec<(tobj::Material, PathBuf, Vec<String>)>,
+    by_name: HashMap<String, usize>,
+    missing: bool,
+}
+
+/// Reads the material libraries that the `mtllib` statements name (name, line).
+///
+/// # Errors
+///
+/// [`IoError::PathEscapes`] / [`IoError::LinkEscapes`] for a library outside the model's
+/// folder, [`IoError::MissingFile`] for a missing one when `options.strict` is set (a
+/// warning otherwise), [`IoError::Syntax`] for one tobj rejects, with its line.
+fn read_libraries(
+    path: &Path,
+    statements: &[(String, usize)],
+    options: &LoadOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Libraries, IoError> {
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let mut libraries = Libraries::default();
+    for (name, line) in statements {
         let parts = crate::paths::inside(&[], name).ok_or_else(|| IoError::PathEscapes {
             path: path.to_path_buf(),
             line: Some(*line),
             what: "material library",
             reference: name.clone(),
         })?;
-        let resolved = parts.iter().fold(folder.clone(), |p, s| p.join(s));
+        let resolved = parts.iter().fold(folder.to_path_buf(), |p, s| p.join(s));
         let sub = parts[..parts.len().saturating_sub(1)].to_vec();
-        // A symbolic link on the way must not lead out of the model's folder; the real path
-        // is what is read. A missing file is left to the read below, which reports it.
-        let real = match crate::paths::real_inside(&folder, &resolved) {
-            Ok(real) => real,
-            Err(crate::paths::NotInside::Outside(target)) => {
-                return Err(IoError::LinkEscapes {
-                    path: path.to_path_buf(),
-                    what: "material library".to_owned(),
-                    reference: name.clone(),
-                    target,
-                });
-            }
-            Err(crate::paths::NotInside::Io(_)) => resolved.clone(),
-        };
-        let mtl_text = match std::fs::read(&real) {
-            Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
-            Err(err) if err.kind() == std::io::ErrorKind::NotFound => {
-                if options.strict {
-                    return Err(IoError::MissingFile {
-                        path: path.to_path_buf(),
-                        what: "material library".to_owned(),
-                        missing: resolved,
-                        line: Some(*line),
-                    });
-                }
-                warnings.push(format!(
-                    "{}:{line}: material library {} not found; its materials get defaults",
-                    path.display(),
-                    resolved.display()
-                ));
-                library_missing = true;
-                continue;
-            }
-            Err(err) => return Err(IoError::io(resolved, err)),
+        let Some(mtl_text) = read_library(path, folder, name, *line, &resolved, options)? else {
+            warnings.push(format!(
+                "{}:{line}: material library {} not found; its materials get defaults",
+                path.display(),
+                resolved.display()
+            ));
+            libraries.missing = true;
+            continue;
         };
         let (library, _) = read_mtl(&mtl_text).map_err(|err| {
-            let (line, reason) = locate_mtl_error(&mtl_text).unwrap_or((0, err.to_string()));
-            IoError::Syntax { path: resolved.clone(), line, reason }
+            let (line, kind) = locate_mtl_error(&mtl_text)
+                .unwrap_or((0, Syntax::MaterialLibrary { tobj: err.to_string() }));
+            IoError::Syntax { path: resolved.clone(), line, kind }
         })?;
         for material in library {
-            by_name.insert(material.name.clone(), materials.len());
-            materials.push((material, resolved.clone(), sub.clone()));
+            libraries.by_name.insert(material.name.clone(), libraries.materials.len());
+            libraries.materials.push((material, resolved.clone(), sub.clone()));
         }
     }
+    Ok(libraries)
+}
 
-    // Names no library defines (unless a library is missing: that warning says it all).
-    if !library_missing {
-        for (name, line) in &parsed.materials_used {
-            if !by_name.contains_key(name) {
-                warnings.push(format!(
-                    "{}:{line}: `usemtl {name}`: no material library of the file defines {}; \
-                     its faces get the default material",
-                    path.display(),
-                    if name.is_empty() { "a material without a name" } else { "it" }
-                ));
-            }
+/// The text of the library `name` (on `line` of the OBJ at `path`), resolved to `resolved`
+/// in the model's `folder`; `None` when it is missing and `options.strict` is not set.
+///
+/// # Errors
+///
+/// [`IoError::LinkEscapes`] where a symbolic link leads it out of the folder,
+/// [`IoError::MissingFile`] (strict), [`IoError::Io`].
+fn read_library(
+    path: &Path,
+    folder: &Path,
+    name: &str,
+    line: usize,
+    resolved: &Path,
+    options: &LoadOptions,
+) -> Result<Option<String>, IoError> {
+    // A symbolic link on the way must not lead out of the model's folder; the real path
+    // is what is read. A missing file is left to the read below, which reports it.
+    let real = match crate::paths::real_inside(folder, resolved) {
+        Ok(real) => real,
+        Err(crate::paths::NotInside::Outside(target)) => {
+            return Err(IoError::LinkEscapes {
+                path: path.to_path_buf(),
+                what: "material library".to_owned(),
+                reference: name.to_owned(),
+                target,
+            });
+        }
+        Err(crate::paths::NotInside::Io(_)) => resolved.to_path_buf(),
+    };
+    match std::fs::read(&real) {
+        Ok(bytes) => Ok(Some(String::from_utf8_lossy(&bytes).into_owned())),
+        Err(err) if err.kind() == std::io::ErrorKind::NotFound => match options.strict {
+            true => Err(IoError::MissingFile {
+                path: path.to_path_buf(),
+                what: "material library".to_owned(),
+                missing: resolved.to_path_buf(),
+                line: Some(line),
+            }),
+            false => Ok(None),
+        },
+        Err(err) => Err(IoError::io(resolved, err)),
+    }
+}
+
+/// Warns of each `usemtl` name (name, line of first use) that no library defines.
+fn warn_unknown_materials(
+    path: &Path,
+    used: &[(String, usize)],
+    by_name: &HashMap<String, usize>,
+    warnings: &mut Vec<String>,
+) {
+    for (name, line) in used {
+        if !by_name.contains_key(name) {
+            warnings.push(format!(
+                "{}:{line}: `usemtl {name}`: no material library of the file defines {}; \
+                 its faces get the default material",
+                path.display(),
+                if name.is_empty() { "a material without a name" } else { "it" }
+            ));
         }
     }
+}
 
-    let libraries = parsed.libraries.clone();
+/// Where an object came from in the file (for the pass-through writer), its name, and which
+/// attributes it dropped because only some of its faces had them: texture coordinates,
+/// normals, vertex colours.
+struct Origin {
+    source: SourceObject,
+    name: String,
+    mixed: [bool; 3],
+}
+
+/// The parsed objects as the model's, with where each came from in the file (for the
+/// pass-through writer) and what it dropped.
+///
+/// # Errors
+///
+/// [`IoError::TooManyElements`] for an object past `options.max_elements`.
+fn build_objects(
+    path: &Path,
+    parsed: crate::obj_parse::Parsed,
+    by_name: &HashMap<String, usize>,
+    options: &LoadOptions,
+) -> Result<(Vec<Object>, Vec<Origin>), IoError> {
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     for parsed in parsed.into_objects(|name| by_name.get(name).copied()) {
@@ -165,24 +245,16 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
                 actual: too_many,
             });
         }
-        for (mixed, what) in [
-            (parsed.mixed_uvs, "texture coordinates"),
-            (parsed.mixed_normals, "normals"),
-            (parsed.mixed_colors, "vertex colours"),
-        ] {
-            if mixed {
-                warnings.push(format!(
-                    "{}: object {:?}: some faces have {what} and some do not; {what} dropped",
-                    path.display(),
-                    parsed.name
-                ));
-            }
-        }
-        sources.push(SourceObject {
-            vertices: parsed.positions.len(),
-            fingerprint: crate::obj_pass::fingerprint(parsed.triangles.iter().copied()),
-            runs: parsed.runs,
-            clipped: parsed.clipped,
+        let mixed = [parsed.mixed_uvs, parsed.mixed_normals, parsed.mixed_colors];
+        sources.push(Origin {
+            source: SourceObject {
+                vertices: parsed.positions.len(),
+                fingerprint: crate::obj_pass::fingerprint(parsed.triangles.iter().copied()),
+                runs: parsed.runs,
+                clipped: parsed.clipped,
+            },
+            name: parsed.name.clone(),
+            mixed,
         });
         objects.push(Object {
             name: parsed.name,
@@ -198,25 +270,46 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
             ..Object::default()
         });
     }
+    Ok((objects, sources))
+}
 
-    let mut asset = Asset { model: Model { objects, v_axis: VAxis::Up }, ..Asset::default() };
+/// A warning for each attribute an object dropped (see [`Origin`]).
+fn objects_warnings(path: &Path, sources: &[Origin]) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for Origin { name, mixed, .. } in sources {
+        for (what, _) in ["texture coordinates", "normals", "vertex colours"]
+            .iter()
+            .zip(mixed)
+            .filter(|(_, mixed)| **mixed)
+        {
+            warnings.push(format!(
+                "{}: object {name:?}: some faces have {what} and some do not; {what} dropped",
+                path.display()
+            ));
+        }
+    }
+    warnings
+}
+
+/// Converts the libraries' materials into the asset's, gathering their textures.
+///
+/// # Errors
+///
+/// [`IoError::PathEscapes`] for a texture path that leaves the model's folder.
+fn convert_materials(
+    path: &Path,
+    materials: &[(tobj::Material, PathBuf, Vec<String>)],
+    asset: &mut Asset,
+) -> Result<(), IoError> {
+    let folder = path.parent().unwrap_or(Path::new(""));
     let mut texture_index: HashMap<PathBuf, usize> = HashMap::new();
-    for (material, file, sub) in &materials {
-        let library = Library { model_folder: &folder, file, sub };
+    for (material, file, sub) in materials {
+        let library = Library { model_folder: folder, file, sub };
         let material =
             convert_material(material, library, &mut asset.textures, &mut texture_index)?;
         asset.materials.push(material);
     }
-    asset.source = Some(path.to_path_buf());
-    // The text as parsed, for the pass-through writer (`crate::obj_pass`).
-    let text = match decoded {
-        Some(text) => text.into_bytes(),
-        None => crate::read_bytes(path, options)?,
-    };
-    asset.obj_source = Some(ObjSource::new(text, path, libraries, sources));
-    warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
-    asset.warnings = warnings;
-    Ok(asset)
+    Ok(())
 }
 
 /// How two bytes of UTF-16 make a code unit: `u16::from_le_bytes` or `u16::from_be_bytes`.
@@ -272,101 +365,8 @@ fn decode_utf16(bytes: &[u8], order: ByteOrder, path: &Path) -> Result<String, I
     Ok(text)
 }
 
-/// Finds the first line of an OBJ file with a face index out of range (or another error)
-/// and says what is wrong with it.
-///
-/// Mirrors tobj's rules: `v` needs 3 numbers, `vt` 2, `vn` 3; face indices are one-based,
-/// negative ones count back from the last element defined so far, and must refer to an
-/// element that exists.
-fn diagnose(path: &Path, text: &str) -> Option<IoError> {
-    let (mut v, mut vt, mut vn) = (0usize, 0usize, 0usize);
-    let syntax = |line: usize, reason: String| {
-        Some(IoError::Syntax { path: path.to_path_buf(), line, reason })
-    };
-    for (i, line) in text.lines().enumerate() {
-        let number = i + 1;
-        let mut words = line.split_whitespace();
-        let Some(keyword) = words.next() else { continue };
-        let numbers = |needed: usize, what: &str| -> Option<IoError> {
-            let values: Vec<&str> = words.clone().take(needed).collect();
-            if values.len() < needed {
-                return syntax(
-                    number,
-                    format!(
-                        "`{keyword}` needs {needed} numbers ({what}), found {}: {line:?}",
-                        values.len()
-                    ),
-                );
-            }
-            values.iter().find(|w| w.parse::<f32>().is_err()).and_then(|bad| {
-                syntax(number, format!("`{keyword}`: expected a number, found {bad:?}"))
-            })
-        };
-        match keyword {
-            "v" => {
-                if let Some(err) = numbers(3, "x y z") {
-                    return Some(err);
-                }
-                v += 1;
-            }
-            "vt" => {
-                if let Some(err) = numbers(2, "u v") {
-                    return Some(err);
-                }
-                vt += 1;
-            }
-            "vn" => {
-                if let Some(err) = numbers(3, "x y z") {
-                    return Some(err);
-                }
-                vn += 1;
-            }
-            "f" | "l" => {
-                for corner in words {
-                    for (slot, field) in corner.split('/').enumerate() {
-                        if field.is_empty() && slot > 0 {
-                            continue;
-                        }
-                        let (what, count) = match slot {
-                            0 => ("vertex", v),
-                            1 => ("texture coordinate", vt),
-                            2 => ("normal", vn),
-                            _ => {
-                                return syntax(
-                                    number,
-                                    format!("face corner {corner:?} has more than three indices"),
-                                );
-                            }
-                        };
-                        let Ok(index) = field.parse::<i64>() else {
-                            return syntax(
-                                number,
-                                format!(
-                                    "face corner {corner:?}: expected an index, found {field:?}"
-                                ),
-                            );
-                        };
-                        let resolved = if index < 0 { count as i64 + index } else { index - 1 };
-                        if resolved < 0 || resolved >= count as i64 {
-                            return Some(IoError::ReferenceOutOfRange {
-                                path: path.to_path_buf(),
-                                line: number,
-                                what,
-                                index,
-                                count,
-                            });
-                        }
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    None
-}
-
 /// Finds the line of an MTL file that tobj rejects, by giving it each line alone.
-fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
+fn locate_mtl_error(text: &str) -> Option<(usize, Syntax)> {
     if let Some(found) = short_colour(text) {
         return Some(found);
     }
@@ -374,7 +374,9 @@ fn locate_mtl_error(text: &str) -> Option<(usize, String)> {
         let probe = format!("newmtl probe\n{line}\n");
         let is_newmtl = line.split_whitespace().next() == Some("newmtl");
         let probe = if is_newmtl { format!("{line}\n") } else { probe };
-        read_mtl(&probe).err().map(|err| (i + 1, format!("{err}: {:?}", line.trim())))
+        read_mtl(&probe).err().map(|err| {
+            (i + 1, Syntax::Material { tobj: err.to_string(), text: line.trim().to_owned() })
+        })
     })
 }
 
@@ -426,13 +428,14 @@ fn name_unnamed(text: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// The first colour statement of fewer than three numbers: `(line, reason)`.
-fn short_colour(text: &str) -> Option<(usize, String)> {
+fn short_colour(text: &str) -> Option<(usize, Syntax)> {
     text.lines().enumerate().find_map(|(i, line)| {
         let mut words = line.split_whitespace();
         let keyword = words.next()?;
         let count = words.count();
         (["Ka", "Kd", "Ks", "Ke"].contains(&keyword) && count < 3).then(|| {
-            (i + 1, format!("`{keyword}` needs 3 numbers, found {count}: {:?}", line.trim()))
+            let (keyword, found, text) = (keyword.to_owned(), count, line.trim().to_owned());
+            (i + 1, Syntax::ShortColour { keyword, found, text })
         })
     })
 }

@@ -63,159 +63,229 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
     for object in &asset.model.objects {
         crate::gltf_write::check_object(object, path)?;
     }
-    let folder = path.parent().unwrap_or(Path::new(""));
     let stem =
         path.file_stem().map_or_else(|| "model".to_owned(), |s| s.to_string_lossy().into_owned());
-    let one_line = |s: &str| s.replace(['\n', '\r'], " ").trim().to_owned();
-
-    // Material names: unique, non-empty, one line; plus a default for objects without one
-    // when others have one (OBJ's `usemtl` would otherwise carry over).
-    let mut taken = HashSet::new();
-    let mut material_names: Vec<String> = Vec::with_capacity(asset.materials.len());
-    for (i, m) in asset.materials.iter().enumerate() {
-        let mut name = one_line(&m.name);
-        if name.is_empty() {
-            name = format!("material{i}");
-        }
-        while !taken.insert(name.clone()) {
-            name.push_str(&format!("_{i}"));
-        }
-        material_names.push(name);
-    }
-    let objects = &asset.model.objects;
-    let valid_material =
-        |o: &seamlit_mesh::Object| o.material.filter(|&m| m < asset.materials.len());
-    let needs_default = objects.iter().any(|o| valid_material(o).is_some())
-        && objects.iter().any(|o| valid_material(o).is_none());
-    let default_name = {
-        let mut name = "seamlit_default".to_owned();
-        while taken.contains(&name) {
-            name.push('_');
-        }
-        name
+    let names = MaterialNames::new(asset);
+    let mut mtl = MtlWriter {
+        mtl: String::new(),
+        asset,
+        path,
+        stem: &stem,
+        texture_files: vec![None; asset.textures.len()],
+        side_files: Vec::new(),
     };
-
-    let mut mtl = String::new();
-    let mut side_files: Vec<(String, Vec<u8>)> = Vec::new();
-    let mut texture_files: Vec<Option<String>> = vec![None; asset.textures.len()];
     if !asset.materials.is_empty() {
         // The model's materials, then the default for parts that have none (if any do).
-        let default = needs_default.then(Material::default);
-        let names = material_names.iter().chain(default.iter().map(|_| &default_name));
-        for (m, name) in asset.materials.iter().chain(&default).zip(names) {
-            write_material(
-                &mut mtl,
-                name,
-                m,
-                asset,
-                path,
-                &stem,
-                &mut texture_files,
-                &mut side_files,
-            )?;
+        let default = names.needs_default.then(Material::default);
+        let all = names.names.iter().chain(default.iter().map(|_| &names.default));
+        for (m, name) in asset.materials.iter().chain(&default).zip(all) {
+            mtl.material(name, m)?;
         }
     }
-
-    let mut out =
-        String::with_capacity(asset.model.triangle_count() * 40 + asset.model.vertex_count() * 60);
-    out.push_str("# written by seamlit\n");
-    if !mtl.is_empty() {
-        let _ = writeln!(out, "mtllib {stem}.mtl");
-    }
-    let (mut v_base, mut vt_base, mut vn_base) = (1usize, 1usize, 1usize);
-    let mut smoothing = SmoothingState::new(objects);
-    for object in objects {
-        let name = one_line(&object.name);
-        let _ = writeln!(out, "o {}", if name.is_empty() { "object" } else { &name });
-        if !mtl.is_empty() {
-            let material = valid_material(object)
-                .map_or(default_name.as_str(), |m| material_names[m].as_str());
-            if valid_material(object).is_some() || needs_default {
-                let _ = writeln!(out, "usemtl {material}");
-            }
-        }
-        let transform = object.transform.filter(|&m| m != Mat4::IDENTITY);
-        for (i, &p) in object.positions.iter().enumerate() {
-            let p = transform.map_or(p, |m| m.transform_point3(p));
-            let _ = write!(out, "v {} {} {}", p.x, p.y, p.z);
-            if let Some(c) = object.colors.as_ref().map(|colors| colors[i]) {
-                let _ = write!(out, " {} {} {}", c.x, c.y, c.z);
-                if c.w != 1.0 {
-                    let _ = write!(out, " {}", c.w);
-                }
-            }
-            out.push('\n');
-        }
-        if let Some(uvs) = &object.uvs {
-            for t in uvs {
-                let v = match asset.model.v_axis {
-                    VAxis::Up => t.y,
-                    VAxis::Down => 1.0 - t.y,
-                };
-                let _ = writeln!(out, "vt {} {}", t.x, v);
-            }
-        }
-        if let Some(normals) = &object.normals {
-            let normal_matrix = transform.map(|m| Mat3::from_mat4(m).inverse().transpose());
-            for &n in normals {
-                let n = normal_matrix.map_or(n, |m| (m * n).normalize_or_zero());
-                let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
-            }
-        }
-        let (has_vt, has_vn) = (object.uvs.is_some(), object.normals.is_some());
-        for (k, t) in object.triangles.iter().enumerate() {
-            smoothing.write(&mut out, object, k);
-            out.push('f');
-            for &i in t {
-                let i = i as usize;
-                let _ = match (has_vt, has_vn) {
-                    (false, false) => write!(out, " {}", v_base + i),
-                    (true, false) => write!(out, " {}/{}", v_base + i, vt_base + i),
-                    (false, true) => write!(out, " {}//{}", v_base + i, vn_base + i),
-                    (true, true) => write!(out, " {}/{}/{}", v_base + i, vt_base + i, vn_base + i),
-                };
-            }
-            out.push('\n');
-        }
-        let n = object.positions.len();
-        v_base += n;
-        vt_base += if has_vt { n } else { 0 };
-        vn_base += if has_vn { n } else { 0 };
-    }
-
-    for (name, bytes) in &side_files {
+    let obj = write_obj(asset, (!mtl.mtl.is_empty()).then_some(&names), &stem);
+    let folder = path.parent().unwrap_or(Path::new(""));
+    for (name, bytes) in &mtl.side_files {
         crate::atomic::write(&folder.join(name), bytes)?;
     }
-    if !mtl.is_empty() {
-        crate::atomic::write(&folder.join(format!("{stem}.mtl")), mtl.as_bytes())?;
+    if !mtl.mtl.is_empty() {
+        crate::atomic::write(&folder.join(format!("{stem}.mtl")), mtl.mtl.as_bytes())?;
     }
-    crate::atomic::write(path, out.as_bytes())
+    crate::atomic::write(path, obj.as_bytes())
 }
 
-#[expect(clippy::too_many_arguments, reason = "one call site; the state is the writer's")]
-fn write_material(
-    mtl: &mut String,
-    name: &str,
-    m: &Material,
-    asset: &Asset,
-    path: &Path,
-    stem: &str,
-    texture_files: &mut [Option<String>],
-    side_files: &mut Vec<(String, Vec<u8>)>,
-) -> Result<(), IoError> {
-    let [r, g, b, a] = m.base_color;
-    let [sr, sg, sb] = m.specular;
-    let _ = writeln!(
-        mtl,
-        "newmtl {name}\nKd {r} {g} {b}\nKs {sr} {sg} {sb}\nNs {}\nd {a}",
-        m.shininess
-    );
-    let mut file_of = |r: &TextureRef| -> Result<Option<String>, IoError> {
-        let Some(texture) = asset.textures.get(r.texture) else { return Ok(None) };
-        if let Some(file) = &texture_files[r.texture] {
+/// A name on one line: line ends become spaces, the ends are trimmed.
+fn one_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ").trim().to_owned()
+}
+
+/// The materials' names in the `.mtl`: unique, non-empty, one line; plus a default for
+/// objects without one when others have one (OBJ's `usemtl` would otherwise carry over).
+struct MaterialNames {
+    names: Vec<String>,
+    default: String,
+    needs_default: bool,
+    /// How many materials the asset has (an object's index past them names none).
+    count: usize,
+}
+
+impl MaterialNames {
+    fn new(asset: &Asset) -> Self {
+        let mut taken = HashSet::new();
+        let mut names: Vec<String> = Vec::with_capacity(asset.materials.len());
+        for (i, m) in asset.materials.iter().enumerate() {
+            let mut name = one_line(&m.name);
+            if name.is_empty() {
+                name = format!("material{i}");
+            }
+            while !taken.insert(name.clone()) {
+                name.push_str(&format!("_{i}"));
+            }
+            names.push(name);
+        }
+        let mut default = "seamlit_default".to_owned();
+        while taken.contains(&default) {
+            default.push('_');
+        }
+        let mut names = Self { names, default, needs_default: false, count: asset.materials.len() };
+        let objects = &asset.model.objects;
+        names.needs_default = objects.iter().any(|o| names.valid(o).is_some())
+            && objects.iter().any(|o| names.valid(o).is_none());
+        names
+    }
+
+    /// The object's material, if it names one of the asset's.
+    fn valid(&self, object: &seamlit_mesh::Object) -> Option<usize> {
+        object.material.filter(|&m| m < self.count)
+    }
+
+    /// The `usemtl` name for `object`, where one is written.
+    fn usemtl(&self, object: &seamlit_mesh::Object) -> Option<&str> {
+        match self.valid(object) {
+            Some(m) => Some(&self.names[m]),
+            None => self.needs_default.then_some(self.default.as_str()),
+        }
+    }
+}
+
+/// The OBJ text of `asset`: `mtllib` and `usemtl` lines where `names` is given.
+fn write_obj(asset: &Asset, names: Option<&MaterialNames>, stem: &str) -> String {
+    let model = &asset.model;
+    let mut out = String::with_capacity(model.triangle_count() * 40 + model.vertex_count() * 60);
+    out.push_str("# written by seamlit\n");
+    if names.is_some() {
+        let _ = writeln!(out, "mtllib {stem}.mtl");
+    }
+    let mut bases = [1usize; 3];
+    let mut smoothing = SmoothingState::new(&model.objects);
+    for object in &model.objects {
+        let name = one_line(&object.name);
+        let _ = writeln!(out, "o {}", if name.is_empty() { "object" } else { &name });
+        if let Some(material) = names.and_then(|names| names.usemtl(object)) {
+            let _ = writeln!(out, "usemtl {material}");
+        }
+        write_elements(&mut out, object, model.v_axis);
+        write_faces(&mut out, object, bases, &mut smoothing);
+        let n = object.positions.len();
+        bases[0] += n;
+        bases[1] += if object.uvs.is_some() { n } else { 0 };
+        bases[2] += if object.normals.is_some() { n } else { 0 };
+    }
+    out
+}
+
+/// An object's `v` (with colours), `vt` and `vn` lines, in model space.
+fn write_elements(out: &mut String, object: &seamlit_mesh::Object, v_axis: VAxis) {
+    let transform = object.transform.filter(|&m| m != Mat4::IDENTITY);
+    for (i, &p) in object.positions.iter().enumerate() {
+        let p = transform.map_or(p, |m| m.transform_point3(p));
+        let _ = write!(out, "v {} {} {}", p.x, p.y, p.z);
+        if let Some(c) = object.colors.as_ref().map(|colors| colors[i]) {
+            let _ = write!(out, " {} {} {}", c.x, c.y, c.z);
+            if c.w != 1.0 {
+                let _ = write!(out, " {}", c.w);
+            }
+        }
+        out.push('\n');
+    }
+    if let Some(uvs) = &object.uvs {
+        for t in uvs {
+            let v = match v_axis {
+                VAxis::Up => t.y,
+                VAxis::Down => 1.0 - t.y,
+            };
+            let _ = writeln!(out, "vt {} {}", t.x, v);
+        }
+    }
+    if let Some(normals) = &object.normals {
+        let normal_matrix = transform.map(|m| Mat3::from_mat4(m).inverse().transpose());
+        for &n in normals {
+            let n = normal_matrix.map_or(n, |m| (m * n).normalize_or_zero());
+            let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
+        }
+    }
+}
+
+/// An object's `f` lines (and `s` lines where the group changes); `bases` are the file's
+/// one-based indices of its first `v`, `vt` and `vn`.
+fn write_faces(
+    out: &mut String,
+    object: &seamlit_mesh::Object,
+    bases: [usize; 3],
+    smoothing: &mut SmoothingState,
+) {
+    let [v_base, vt_base, vn_base] = bases;
+    let (has_vt, has_vn) = (object.uvs.is_some(), object.normals.is_some());
+    for (k, t) in object.triangles.iter().enumerate() {
+        smoothing.write(out, object, k);
+        out.push('f');
+        for &i in t {
+            let i = i as usize;
+            let _ = match (has_vt, has_vn) {
+                (false, false) => write!(out, " {}", v_base + i),
+                (true, false) => write!(out, " {}/{}", v_base + i, vt_base + i),
+                (false, true) => write!(out, " {}//{}", v_base + i, vn_base + i),
+                (true, true) => write!(out, " {}/{}/{}", v_base + i, vt_base + i, vn_base + i),
+            };
+        }
+        out.push('\n');
+    }
+}
+
+/// The `.mtl` text being written, and the texture files it names.
+struct MtlWriter<'a> {
+    mtl: String,
+    asset: &'a Asset,
+    /// The OBJ's path (for errors) and stem (for the textures' file names).
+    path: &'a Path,
+    stem: &'a str,
+    /// Per texture of the asset, its file once written.
+    texture_files: Vec<Option<String>>,
+    /// Texture files to write beside the OBJ: name and bytes.
+    side_files: Vec<(String, Vec<u8>)>,
+}
+
+impl MtlWriter<'_> {
+    /// Writes material `m` as `newmtl name`, with its textures.
+    fn material(&mut self, name: &str, m: &Material) -> Result<(), IoError> {
+        let [r, g, b, a] = m.base_color;
+        let [sr, sg, sb] = m.specular;
+        let _ = writeln!(
+            self.mtl,
+            "newmtl {name}\nKd {r} {g} {b}\nKs {sr} {sg} {sb}\nNs {}\nd {a}",
+            m.shininess
+        );
+        let options = |r: &TextureRef| {
+            r.transform.map_or_else(String::new, |t| {
+                format!("-o {} {} -s {} {} ", t.offset[0], t.offset[1], t.scale[0], t.scale[1])
+            })
+        };
+        if let Some(r) = &m.base_color_texture
+            && let Some(file) = self.file_of(r)?
+        {
+            let _ = writeln!(self.mtl, "map_Kd {}{file}", options(r));
+        }
+        if let Some(r) = &m.normal_texture
+            && let Some(file) = self.file_of(r)?
+        {
+            let bm = if m.normal_scale == 1.0 {
+                String::new()
+            } else {
+                format!("-bm {} ", m.normal_scale)
+            };
+            let _ = writeln!(self.mtl, "map_Bump {bm}{}{file}", options(r));
+        }
+        self.mtl.push('\n');
+        Ok(())
+    }
+
+    /// The file of the texture `r` refers to, written on first use; `None` for a texture
+    /// that does not exist or has no image.
+    fn file_of(&mut self, r: &TextureRef) -> Result<Option<String>, IoError> {
+        let Some(texture) = self.asset.textures.get(r.texture) else { return Ok(None) };
+        if let Some(file) = &self.texture_files[r.texture] {
             return Ok(Some(file.clone()));
         }
-        let Some((bytes, mime)) = crate::gltf_write::encoded(texture, path)? else {
+        let Some((bytes, mime)) = crate::gltf_write::encoded(texture, self.path)? else {
             return Ok(None);
         };
         let extension = if mime == "image/png" { "png" } else { "jpg" };
@@ -226,28 +296,9 @@ fn write_material(
             .chars()
             .map(|c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' { c } else { '_' })
             .collect();
-        let file = format!("{stem}_{}_{base}.{extension}", r.texture);
-        side_files.push((file.clone(), bytes));
-        texture_files[r.texture] = Some(file.clone());
+        let file = format!("{}_{}_{base}.{extension}", self.stem, r.texture);
+        self.side_files.push((file.clone(), bytes));
+        self.texture_files[r.texture] = Some(file.clone());
         Ok(Some(file))
-    };
-    let options = |r: &TextureRef| {
-        r.transform.map_or_else(String::new, |t| {
-            format!("-o {} {} -s {} {} ", t.offset[0], t.offset[1], t.scale[0], t.scale[1])
-        })
-    };
-    if let Some(r) = &m.base_color_texture
-        && let Some(file) = file_of(r)?
-    {
-        let _ = writeln!(mtl, "map_Kd {}{file}", options(r));
     }
-    if let Some(r) = &m.normal_texture
-        && let Some(file) = file_of(r)?
-    {
-        let bm =
-            if m.normal_scale == 1.0 { String::new() } else { format!("-bm {} ", m.normal_scale) };
-        let _ = writeln!(mtl, "map_Bump {bm}{}{file}", options(r));
-    }
-    mtl.push('\n');
-    Ok(())
 }

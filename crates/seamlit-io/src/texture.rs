@@ -77,10 +77,35 @@ pub(crate) fn decode_all(
     model: &Path,
     options: &LoadOptions,
 ) -> Result<Vec<String>, IoError> {
+    let sources = locate(textures, model, options)?;
+    if !options.load_textures {
+        return Ok(Vec::new());
+    }
+    let probed = probe(sources, textures, model);
+    let mut warnings = Vec::new();
+    let admitted = admit(probed, textures, model, options, &mut warnings);
+    warnings.extend(decode_admitted(textures, admitted, model, options.max_texture_size));
+    Ok(warnings)
+}
+
+/// Per texture: where to read it (`None` where it has an image or needs none, or where
+/// textures are not loaded and its file is missing), or a warning.
+type Located = Option<Result<Encoded, String>>;
+
+/// Where each texture is to be read from, after the check that no link leads out of the
+/// model's folder.
+///
+/// # Errors
+///
+/// As [`decode_all`].
+fn locate(
+    textures: &[Texture],
+    model: &Path,
+    options: &LoadOptions,
+) -> Result<Vec<Located>, IoError> {
     let folder = model.parent().unwrap_or(Path::new(""));
-    // Per texture: where to read it, or a warning.
-    let mut sources: Vec<Option<Result<Encoded, String>>> = Vec::with_capacity(textures.len());
-    for texture in textures.iter() {
+    let mut sources = Vec::with_capacity(textures.len());
+    for texture in textures {
         let source = match &texture.source {
             _ if texture.image.is_some() => None,
             TextureSource::Generated => None,
@@ -116,19 +141,25 @@ pub(crate) fn decode_all(
         };
         sources.push(source);
     }
-    if !options.load_textures {
-        return Ok(Vec::new());
-    }
+    Ok(sources)
+}
 
-    // Dimensions from the headers, in parallel.
-    let cannot_decode = |texture: &Texture, err: &image::ImageError| {
-        format!(
-            "{}: texture {:?} cannot be decoded: {err}; using a neutral default",
-            model.display(),
-            texture.name
-        )
-    };
-    let probed: Vec<Option<Result<Probed, String>>> = sources
+/// The warning for a texture the image crate cannot decode.
+fn cannot_decode(model: &Path, texture: &Texture, err: &image::ImageError) -> String {
+    format!(
+        "{}: texture {:?} cannot be decoded: {err}; using a neutral default",
+        model.display(),
+        texture.name
+    )
+}
+
+/// The dimensions of each texture to read, from its header, in parallel.
+fn probe(
+    sources: Vec<Located>,
+    textures: &[Texture],
+    model: &Path,
+) -> Vec<Option<Result<Probed, String>>> {
+    sources
         .into_par_iter()
         .zip(textures.par_iter())
         .map(|(source, texture)| {
@@ -136,21 +167,29 @@ pub(crate) fn decode_all(
                 let source = source?;
                 let (width, height) = source
                     .read(|reader| reader.into_dimensions())
-                    .map_err(|e| cannot_decode(texture, &e))?;
+                    .map_err(|e| cannot_decode(model, texture, &e))?;
                 Ok(Probed { source, width, height })
             })
         })
-        .collect();
+        .collect()
+}
 
-    // The budget, in file order: a texture that would take the total past it is refused.
-    let mut warnings = Vec::new();
+/// The textures admitted for decoding within the budget, in file order: a texture that would
+/// take the total past it is refused (a warning), as is every texture that failed before.
+fn admit(
+    probed: Vec<Option<Result<Probed, String>>>,
+    textures: &[Texture],
+    model: &Path,
+    options: &LoadOptions,
+    warnings: &mut Vec<String>,
+) -> Vec<Option<Encoded>> {
     let mut spent: u64 = textures
         .iter()
         .filter_map(|t| t.image.as_ref())
         .map(|image| u64::from(image.width()) * u64::from(image.height()) * TEXEL_BYTES)
         .sum();
-    let mut admitted: Vec<Option<Encoded>> = Vec::with_capacity(textures.len());
-    for (probe, texture) in probed.into_iter().zip(textures.iter()) {
+    let mut admitted = Vec::with_capacity(textures.len());
+    for (probe, texture) in probed.into_iter().zip(textures) {
         admitted.push(match probe {
             None => None,
             Some(Err(warning)) => {
@@ -179,9 +218,17 @@ pub(crate) fn decode_all(
             }
         });
     }
+    admitted
+}
 
-    // Decoding, in parallel.
-    let max_size = options.max_texture_size;
+/// Decodes the admitted textures (at most `max_size` wide and high) in parallel, into their
+/// `image`: a warning for each that fails.
+fn decode_admitted(
+    textures: &mut [Texture],
+    admitted: Vec<Option<Encoded>>,
+    model: &Path,
+    max_size: u32,
+) -> Vec<String> {
     let decoded: Vec<Option<String>> = textures
         .par_iter_mut()
         .zip(admitted.into_par_iter())
@@ -192,12 +239,11 @@ pub(crate) fn decode_all(
                     texture.image = Some(Arc::new(image.into_rgba8()));
                     None
                 }
-                Err(err) => Some(cannot_decode(texture, &err)),
+                Err(err) => Some(cannot_decode(model, texture, &err)),
             }
         })
         .collect();
-    warnings.extend(decoded.into_iter().flatten());
-    Ok(warnings)
+    decoded.into_iter().flatten().collect()
 }
 
 /// Decodes an image whose width and height are at most `max_size`: the header is read

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use seamlit_io::{IoError, LoadOptions};
+use seamlit_io::{IoError, LoadOptions, Syntax};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
@@ -77,15 +77,67 @@ fn face_referring_to_missing_vertices() {
     assert!(matches!(err, IoError::ReferenceOutOfRange { line: 7, what: "normal", .. }), "{err}");
 }
 
+/// The parser names the line of a bad index itself: past polygons (a face of n corners is
+/// n - 2 triangles), points, comments and vertices defined between faces, and in a later
+/// block of a file read in blocks of a megabyte.
+#[test]
+fn an_index_out_of_range_is_placed_past_polygons_and_blocks() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{QUAD}f 1 2 3 4\nf 4 3 2 1\nf 1 2\n# comment\n\nf 1 2 3\nv 0 0 1\nf 1 2 3 4 5\nf 5 4 3 6\n"
+    );
+    let path = write(dir.path(), "runs.obj", &text);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IoError::ReferenceOutOfRange { line: 14, what: "vertex", index: 6, count: 5, .. }
+        ),
+        "{err}"
+    );
+    // Over two megabytes of faces, then a relative index reaching before the first vertex.
+    let mut text = QUAD.to_owned();
+    let faces = 200_000;
+    for _ in 0..faces {
+        text.push_str("f 1 2 3 4    \n");
+    }
+    text.push_str("vt 0 0\nf 1/1 2/1 3/-2\n");
+    let path = write(dir.path(), "blocks.obj", &text);
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IoError::ReferenceOutOfRange {
+                line,
+                what: "texture coordinate",
+                index: -2,
+                count: 1,
+                ..
+            } if line == 5 + faces + 2
+        ),
+        "{err}"
+    );
+}
+
 #[test]
 fn syntax_errors_name_the_line() {
     let dir = tempfile::tempdir().unwrap();
     let path = write(dir.path(), "short.obj", "v 0 0 0\nv 1 0\nv 1 1 0\nf 1 2 3\n");
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(err, IoError::Syntax { line: 2, .. }), "{err}");
+    let short = Syntax::TooFewNumbers { keyword: "v", needed: 3, found: 2 };
+    assert!(matches!(&err, IoError::Syntax { line: 2, kind, .. } if *kind == short), "{err}");
+    assert!(err.to_string().ends_with("short.obj:2: `v` needs 3 numbers, found 2"), "{err}");
     let path = write(dir.path(), "word.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 two 3\n");
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(err, IoError::Syntax { line: 4, .. }), "{err}");
+    let word = Syntax::NotAnIndex { corner: "two".into(), found: "two".into() };
+    assert!(matches!(&err, IoError::Syntax { line: 4, kind, .. } if *kind == word), "{err}");
+    let message = r#"word.obj:4: face corner "two": expected an index, found "two""#;
+    assert!(err.to_string().ends_with(message), "{err}");
+    let path = write(dir.path(), "w.obj", "v 0 0 0 0\n");
+    let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
+    let zero = Syntax::ZeroW { w: 0.0 };
+    assert!(matches!(&err, IoError::Syntax { line: 1, kind, .. } if *kind == zero), "{err}");
+    assert!(err.to_string().ends_with("w.obj:1: `v`: w = 0 cannot scale a position"), "{err}");
 }
 
 #[test]
@@ -123,7 +175,10 @@ fn malformed_mtl_names_its_line() {
         write(dir.path(), "bad.obj", &format!("mtllib bad.mtl\n{QUAD}usemtl red\nf 1 2 3 4\n"));
     let err = seamlit_io::load(&path, &LoadOptions::default()).unwrap_err();
     match &err {
-        IoError::Syntax { path: p, line: 3, .. } => assert!(p.ends_with("bad.mtl")),
+        IoError::Syntax { path: p, line: 3, kind: Syntax::Material { text, .. } } => {
+            assert!(p.ends_with("bad.mtl"));
+            assert_eq!(text, "Ns many");
+        }
         other => panic!("unexpected {other}"),
     }
 }

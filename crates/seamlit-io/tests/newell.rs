@@ -4,7 +4,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
-use seamlit_io::{IoError, LoadOptions, newell};
+use seamlit_io::{IoError, LoadOptions, Syntax, newell};
 
 fn teaset(name: &str) -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/newell_teaset/"))
@@ -165,9 +165,12 @@ fn malformed_patch_files_get_precise_errors() {
     assert!(matches!(err, IoError::NotFinite { line: 5, .. }), "{err}");
     // Fifteen indices.
     let err = newell::parse(&format!("1\n1,2,3\n16\n{points}"), "short", 4).unwrap_err();
-    assert!(matches!(err, IoError::Syntax { line: 2, .. }), "{err}");
-    assert!(err.to_string().starts_with("short:2: "), "{err}");
+    let fifteen = Syntax::TooFewValues { expected: 16, what: "control-point indices", found: 3 };
+    assert!(matches!(&err, IoError::Syntax { line: 2, kind, .. } if *kind == fifteen), "{err}");
+    assert_eq!(err.to_string(), "short:2: expected 16 control-point indices, found 3");
     // Truncated point list.
     let err = newell::parse(&format!("1\n{good_patch}\n16\n0,0,0\n"), "cut", 4).unwrap_err();
-    assert!(matches!(err, IoError::BadCount { line: 3, .. }), "{err}");
+    assert!(matches!(err, IoError::BadCount { line: 3, remaining: 1, .. }), "{err}");
+    let message = "cut:3: declares 16 points, but the file holds only 1 more non-empty lines";
+    assert_eq!(err.to_string(), message);
 }

@@ -122,7 +122,7 @@ fn bench_fix(c: &mut Criterion) {
             });
         }
     }
-    // The reference at about 30k triangles too (about 5 s a run here).
+    // The reference at about 30k triangles too (O(V x F): the slowest of these runs).
     let model = common::teapot(22);
     group.throughput(Throughput::Elements(model.triangle_count() as u64));
     group.bench_with_input(

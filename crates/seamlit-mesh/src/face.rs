@@ -9,10 +9,8 @@
 //! usable UVs.
 
 use glam::{Vec2, Vec3, Vec3A, Vec4};
-use rayon::prelude::*;
 
-use crate::validate::Flat;
-use crate::{Model, VAxis};
+use crate::VAxis;
 
 /// The triangle has (near) zero area: no normal, contributes nothing.
 pub(crate) const DEGENERATE: u8 = 1;
@@ -155,18 +153,6 @@ fn degenerate(area2: f32, uvs: Option<[Vec2; 3]>) -> Face {
 fn fallback_frame(n: Vec3) -> (Vec3, Vec3) {
     let t = n.any_orthonormal_vector();
     (t, n.cross(t))
-}
-
-/// Computes every face of the model, in parallel (the reference's and small models' way).
-pub(crate) fn faces(model: &Model, flat: &Flat) -> Vec<Face> {
-    (0..flat.triangle_start.last().map_or(0, |&n| n as usize))
-        .into_par_iter()
-        .map(|t| {
-            let o = flat.object_of_triangle(t);
-            let c = flat.corners(model, o, t - flat.triangle_start[o] as usize);
-            face(c.positions, c.uvs, model.v_axis)
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -47,13 +47,14 @@ mod mikk;
 mod model;
 mod morph;
 mod options;
+#[cfg(feature = "reference")]
 pub mod reference;
 mod repair;
 mod report;
 mod skin;
 mod smooth;
 mod validate;
-pub mod weld;
+mod weld;
 
 pub use changes::{Changes, ObjectChanges};
 pub use error::MeshError;

@@ -180,7 +180,9 @@ impl FixOptions {
 
     /// The paper's semantics on the fast path: exact position equality, a uniform average of
     /// every face at a position (no crease, no tangent angle limit, no split at mirrored UVs),
-    /// every normal computed ([`NormalPolicy::Recompute`]). The result equals [`crate::reference::fix`] up to floating-point summation order.
+    /// every normal computed ([`NormalPolicy::Recompute`]). The result equals the paper's
+    /// algorithm (`reference::fix`, behind the `reference` feature) up to floating-point
+    /// summation order.
     pub const PAPER: Self = Self {
         mode: Mode::Model,
         weld_tolerance: WeldTolerance::Exact,

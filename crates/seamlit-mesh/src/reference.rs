@@ -6,7 +6,7 @@
 //! exactly the vertex's position, add the face's unit normal, tangent and bitangent. Then
 //! normalise the normal (the listing's erratum: it normalises the tangent instead),
 //! re-orthogonalise the tangent (section 5.3) and take the handedness from the bitangent
-//! (section 5.4). That is O(V x F): minutes at 100k triangles.
+//! (section 5.4). That is O(V x F) (its figures: BENCHMARKS.md, "Fixing").
 //!
 //! Where the listing would divide by zero or normalise a zero vector, this implementation uses
 //! the same guards as the fast path (see the `face` module): degenerate triangles contribute
@@ -15,9 +15,11 @@
 //! gives the same result up to floating-point rounding.
 
 use glam::{Vec3, Vec4};
+use rayon::prelude::*;
 
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face};
 use crate::frame::{Linear, finish};
+use crate::validate::Flat;
 use crate::{MeshError, Model, Object, validate};
 
 /// Computes normals and tangents with the paper's brute-force algorithm, in model space, one
@@ -28,7 +30,7 @@ use crate::{MeshError, Model, Object, validate};
 /// The same input checks as [`crate::fix`].
 pub fn fix(model: &Model) -> Result<Model, MeshError> {
     let flat = validate::flatten(model)?;
-    let faces = crate::face::faces(model, &flat);
+    let faces = faces(model, &flat);
     let triangles = flat.triangles(model);
     let objects = model
         .objects
@@ -58,12 +60,7 @@ pub fn fix(model: &Model) -> Result<Model, MeshError> {
     Ok(Model { objects, v_axis: model.v_axis })
 }
 
-fn vertex_frame(
-    vertex: Vec3,
-    flat: &validate::Flat,
-    triangles: &[[u32; 3]],
-    faces: &[Face],
-) -> (Vec3, Vec4) {
+fn vertex_frame(vertex: Vec3, flat: &Flat, triangles: &[[u32; 3]], faces: &[Face]) -> (Vec3, Vec4) {
     let (mut n, mut t, mut b) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     let (mut t_any, mut b_any) = (Vec3::ZERO, Vec3::ZERO);
     let mut fallback = Vec3::ZERO;
@@ -88,4 +85,16 @@ fn vertex_frame(
         (t, b) = (t_any, b_any);
     }
     finish(n, fallback, t, b)
+}
+
+/// Computes every face of the model, in parallel.
+fn faces(model: &Model, flat: &Flat) -> Vec<Face> {
+    (0..flat.triangle_start.last().map_or(0, |&n| n as usize))
+        .into_par_iter()
+        .map(|t| {
+            let o = flat.object_of_triangle(t);
+            let c = flat.corners(model, o, t - flat.triangle_start[o] as usize);
+            crate::face::face(c.positions, c.uvs, model.v_axis)
+        })
+        .collect()
 }

@@ -35,9 +35,11 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// The result of [`weld`]: a shared id per input position.
+/// The result of [`weld`]: a shared id per input position. The pipeline works with
+/// [`roots`]; this compact form is for the tests.
+#[cfg(test)]
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Weld {
+struct Weld {
     /// For each input position, its id in `0..count`. Ids are numbered in order of first
     /// appearance, so the first position gets id 0.
     pub ids: Vec<u32>,
@@ -80,8 +82,9 @@ fn exact_key(p: Vec3) -> [u32; 3] {
 ///
 /// All positions must be finite (the fix pipeline checks this first). A negative or NaN
 /// tolerance is treated as `0.0`.
+#[cfg(test)]
 #[must_use]
-pub fn weld(positions: &[Vec3], tolerance: f32) -> Weld {
+fn weld(positions: &[Vec3], tolerance: f32) -> Weld {
     compact(roots(positions, tolerance))
 }
 
@@ -98,6 +101,7 @@ pub(crate) fn roots(positions: &[Vec3], tolerance: f32) -> Vec<u32> {
 
 /// Numbers the union-find roots in order of first appearance. `parent[i] <= i`, and roots are
 /// their own parents, so one forward pass suffices.
+#[cfg(test)]
 fn compact(mut parent: Vec<u32>) -> Weld {
     let mut count = 0u32;
     for i in 0..parent.len() {
