@@ -63,7 +63,7 @@ bench=${SEAMLIT_BENCH:-$(pick seamlit-bench)}
 [ $missing = 0 ] || exit 1
 
 mkdir -p "$out/models" "$out/viewer" "$out/seamlit" "$out/side-by-side"
-ASPECT=$(awk "BEGIN { print $width / $height }") node "$here/models.mjs" "$out/models" "${models[@]}"
+ASPECT="$width/$height" node "$here/models.mjs" "$out/models" "${models[@]}"
 names=(spheres materials)
 for m in "${models[@]}"; do names+=("${m%%=*}"); done
 sky=$out/models/sky.hdr

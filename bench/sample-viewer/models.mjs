@@ -360,7 +360,9 @@ function main() {
   const [out, ...inputs] = process.argv.slice(2);
   if (!out) { console.error('usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]'); process.exit(2); }
   mkdirSync(out, { recursive: true });
-  const aspect = Number(process.env.ASPECT ?? 4 / 3);
+  // ASPECT is W/H (the image size, so that the viewer does not letterbox by a rounding).
+  const [w, h] = (process.env.ASPECT ?? '4/3').split('/').map(Number);
+  const aspect = w / h;
   const models = [
     ['spheres', spheres(), { eye: [0, 0, 10.5], target: [0, 0, 0] }],
     ['materials', materials(), { eye: [0, 1.6, 6.2], target: [0, 0.5, 0] }],
