@@ -8,10 +8,14 @@
 //!   (`seamlit_mesh::reference::fix`, O(V x F)) and writes the result.
 //! - `render OUT.png FILE...` renders each file *as it is* (its own normals and tangents, no
 //!   fix) and puts the pictures side by side; `seamlit render` always fixes first.
+//! - `flip REFERENCE.png TEST.png [--side-by-side OUT.png]` prints the mean FLIP error of
+//!   TEST against REFERENCE (NVIDIA's FLIP, the `nv-flip` crate) and writes reference | test |
+//!   error map (bench/sample-viewer/compare.sh).
 //! - `assjson IN.assjson OUT.glb` converts Assimp's JSON dump, which keeps the tangents that
 //!   Assimp's glTF 2 exporter drops.
 
 mod assjson;
+mod flip;
 mod render;
 
 use std::path::PathBuf;
@@ -62,6 +66,9 @@ enum Command {
     },
     /// Render each FILE with its own normals and tangents, side by side, one row per view.
     Render(render::RenderArgs),
+    /// Print the mean FLIP error of TEST against REFERENCE; optionally write the pictures and
+    /// the error map side by side.
+    Flip(flip::FlipArgs),
 }
 
 fn main() -> ExitCode {
@@ -94,6 +101,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Assjson { input, output } => save(&assjson::load(&input)?, &output),
         Command::Render(args) => render::run(&args),
+        Command::Flip(args) => flip::run(&args),
     }
 }
 

@@ -9,7 +9,8 @@
 // The PBR model is glTF 2.0's metallic-roughness, Appendix B of the specification: Lambert
 // diffuse, GGX (Trowbridge-Reitz) distribution, height-correlated Smith visibility and
 // Schlick Fresnel, c_diff = mix(base, black, metallic), f0 = mix(0.04, base, metallic),
-// alpha = roughness^2. Lit colours are scaled by the exposure and tone mapped (Khronos PBR
+// alpha = roughness^2; the diffuse term is weighted by 1 - F with the dielectric's f0 = 0.04
+// (the specification's fresnel_mix, as the Khronos Sample Viewer has it). Lit colours are scaled by the exposure and tone mapped (Khronos PBR
 // Neutral) when the frame asks for it.
 //
 // Entry points: vs_main / fs_main draw the meshes; vs_tbn / fs_tbn draw each vertex's
@@ -253,13 +254,17 @@ fn shade_pbr(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, c_diff: vec3<f32>, f0: ve
         let h = safe_normalize(l + v, n);
         let n_dot_h = max(dot(n, h), 0.0);
         let v_dot_h = max(dot(v, h), 0.0);
-        let fresnel = f0 + (1.0 - f0) * pow(1.0 - v_dot_h, 5.0);
+        let schlick = pow(1.0 - v_dot_h, 5.0);
+        let fresnel = f0 + (1.0 - f0) * schlick;
+        // Appendix B: the diffuse layer sits under the dielectric's Fresnel (f0 = 0.04), not
+        // under the metallic-mixed f0 (which would tint it with the base colour's complement).
+        let fresnel_dielectric = 0.04 + 0.96 * schlick;
         let dd = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
         let distribution = a2 / (PI * dd * dd);
         let vis_denom = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2)
             + n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
         let visibility = select(0.0, 0.5 / vis_denom, vis_denom > 0.0);
-        let diffuse = (1.0 - fresnel) * c_diff / PI;
+        let diffuse = (1.0 - fresnel_dielectric) * c_diff / PI;
         let specular = fresnel * distribution * visibility;
         sum = sum + light.color * inc.w * n_dot_l * (diffuse + specular);
     }

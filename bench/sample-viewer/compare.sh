@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# seamlit against the Khronos glTF Sample Viewer: the same models, camera, light and tone
+# mapping in both, the mean FLIP error per model and the pictures side by side.
+#
+#   bench/sample-viewer/compare.sh [--environment] [--size WxH] [--out DIR] [NAME=FILE.glb ...]
+#
+# Models: those models.mjs builds (spheres: metallic x roughness; materials: emissive,
+# textures, occlusion, alpha mask and blend), the Khronos samples in assets/models
+# (NormalTangentTest, Fox), and each NAME=FILE.glb given. Each gets one glTF camera and one
+# KHR_lights_punctual directional light (3 lux); seamlit renders through the same camera
+# (as a scene file's [[camera]]), both with Khronos PBR Neutral tone mapping, exposure 1.
+#
+# Without --environment: punctual light only (the Sample Viewer's IBL off and no default
+# lights; seamlit's --ambient 0). With --environment: both also light with the same
+# equirectangular sky.hdr that models.mjs writes (seamlit: --environment PATH.hdr).
+#
+# Writes DIR/viewer/NAME.png, DIR/seamlit/NAME.png, DIR/side-by-side/NAME.png (Sample Viewer |
+# seamlit | FLIP error map) and DIR/flip.md (the table); DIR defaults to out/sample-viewer.
+# Installs nothing: says what is missing and how to install it. See bench/sample-viewer/README.md.
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+size=640x480
+out=$root/out/sample-viewer
+environment=0
+models=("NormalTangentTest=$root/assets/models/NormalTangentTest.glb" "Fox=$root/assets/models/fox/Fox.glb")
+while [ $# -gt 0 ]; do
+    case $1 in
+        --environment) environment=1 ;;
+        --size) size=$2; shift ;;
+        --out) out=$2; shift ;;
+        -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *=*) models+=("$1") ;;
+        *) echo "compare.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
+    esac
+    shift
+done
+width=${size%x*}
+height=${size#*x}
+# seamlit's background (linear 0.02, 0.02, 0.025, as sRGB bytes): the Sample Viewer clears to it.
+background=(39 39 44)
+
+missing=0
+need() { # what, install command
+    echo "compare.sh: $1 is missing; install it with: $2" >&2
+    missing=1
+}
+command -v node > /dev/null || need node "apt-get install -y nodejs npm"
+chromium=${CHROMIUM:-$(command -v chromium || true)}
+[ -n "$chromium" ] && [ -x "$chromium" ] || need chromium "apt-get install -y chromium"
+[ -d "$here/node_modules/@khronosgroup/gltf-viewer" ] && [ -d "$here/node_modules/puppeteer-core" ] ||
+    need "the npm packages @khronosgroup/gltf-viewer and puppeteer-core" "npm ci --prefix bench/sample-viewer"
+pick() { # binary name: the release build, else the debug one
+    for profile in release debug; do
+        [ -x "$root/target/$profile/$1" ] && { echo "$root/target/$profile/$1"; return; }
+    done
+}
+seamlit=${SEAMLIT:-$(pick seamlit)}
+bench=${SEAMLIT_BENCH:-$(pick seamlit-bench)}
+[ -n "$seamlit" ] || need "target/release/seamlit" "cargo build --release -p seamlit"
+[ -n "$bench" ] || need "target/release/seamlit-bench (FLIP)" "cargo build --release -p seamlit-bench"
+[ $missing = 0 ] || exit 1
+
+mkdir -p "$out/models" "$out/viewer" "$out/seamlit" "$out/side-by-side"
+ASPECT="$width/$height" node "$here/models.mjs" "$out/models" "${models[@]}"
+names=(spheres materials)
+for m in "${models[@]}"; do names+=("${m%%=*}"); done
+sky=$out/models/sky.hdr
+
+echo "Sample Viewer: ${names[*]} at ${width}x${height}"
+{
+    echo "["
+    sep=""
+    for name in "${names[@]}"; do
+        camera=$(node -e "console.log(JSON.parse(require('fs').readFileSync(process.argv[1])).index)" "$out/models/$name.camera.json")
+        printf '%s{"model":"%s","camera":%s,"width":%s,"height":%s,"clearColor":[%s,%s,%s],"environment":"%s","useIBL":%s,"environmentIntensity":1,"environmentRotation":90,"out":"%s"}\n' \
+            "$sep" "$out/models/$name.glb" "$camera" "$width" "$height" "${background[@]}" "$sky" \
+            "$([ $environment = 1 ] && echo true || echo false)" "$out/viewer/$name.png"
+        sep=","
+    done
+    echo "]"
+} > "$out/viewer/jobs.json"
+CHROMIUM=$chromium node "$here/render.mjs" "$out/viewer/jobs.json"
+
+echo "seamlit: $seamlit"
+lighting=(--lighting pbr --tone-mapping neutral --exposure 1)
+if [ $environment = 1 ]; then
+    # The Sample Viewer's environment rotation 90 puts the panorama's middle at +Z; seamlit's
+    # --environment-rotation 0 is taken to do the same (check when image-based lighting lands).
+    lighting+=(--ambient 0 --environment "$sky" --environment-intensity 1 --environment-rotation 0
+        --background "$(awk "BEGIN { printf \"%.4f,%.4f,%.4f\", ${background[0]}/255, ${background[1]}/255, ${background[2]}/255 }")")
+else
+    lighting+=(--ambient 0)
+fi
+for name in "${names[@]}"; do
+    node -e "
+        const c = JSON.parse(require('fs').readFileSync(process.argv[1]));
+        const v = (a) => '[' + a.join(', ') + ']';
+        console.log('[[model]]\npath = ' + JSON.stringify(process.argv[2]) + '\n\n[[camera]]\nname = \"compare\"\n' +
+            'position = ' + v(c.position) + '\ntarget = ' + v(c.target) + '\nfov_deg = ' + c.fov_deg +
+            '\nnear = ' + c.near + '\nfar = ' + c.far);
+    " "$out/models/$name.camera.json" "$name.glb" > "$out/models/$name.toml"
+    "$seamlit" render "$out/models/$name.toml" -o "$out/seamlit/$name.png" --size "$size" \
+        --camera compare "${lighting[@]}" > /dev/null
+done
+
+mode=$([ $environment = 1 ] && echo "punctual light + sky.hdr" || echo "punctual light only")
+{
+    echo "| model ($mode, ${width}x${height}) | mean FLIP |"
+    echo "|---|---:|"
+    for name in "${names[@]}"; do
+        flip=$("$bench" flip "$out/viewer/$name.png" "$out/seamlit/$name.png" --side-by-side "$out/side-by-side/$name.png")
+        echo "| $name | $flip |"
+    done
+} | tee "$out/flip.md"
+echo "pictures: $out/side-by-side/ (Sample Viewer | seamlit | FLIP error)"

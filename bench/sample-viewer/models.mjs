@@ -1,0 +1,387 @@
+// The models of the comparison, as GLB files with one camera and one KHR_lights_punctual
+// light each, so that both viewers see the same scene:
+//   spheres.glb    5 x 5 spheres, metallic 0..1 left to right, roughness 0..1 bottom to top,
+//                  one constant base colour, one directional light (built here)
+//   materials.glb  emissive with KHR_materials_emissive_strength, textured base colour,
+//                  occlusion and metallic-roughness, alpha MASK and alpha BLEND (built here)
+//   and each model file named on the command line (GLB), with a camera framing its bounds
+//   and the same directional light added.
+// Usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]
+// Writes OUT_DIR/NAME.glb, OUT_DIR/NAME.camera.json (the camera for seamlit's scene file) and
+// OUT_DIR/sky.hdr (128 x 64, the environment of the second mode).
+
+import { readFileSync, writeFileSync, mkdirSync } from 'node:fs';
+import { deflateSync, crc32 } from 'node:zlib';
+import { join } from 'node:path';
+
+/** The light every model gets: directional, from the upper left front, 3 lux, white. */
+const LIGHT = { type: 'directional', color: [1, 1, 1], intensity: 3, name: 'sun' };
+const LIGHT_DIRECTION = normalize([0.5, -0.6, -0.62]);
+const YFOV_DEG = 30;
+
+function normalize(v) {
+  const l = Math.hypot(...v);
+  return v.map((x) => x / l);
+}
+
+function cross(a, b) {
+  return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+}
+
+/** The rotation (quaternion x, y, z, w) whose -Z axis points along `dir` with +Y up. */
+function lookRotation(dir, up = [0, 1, 0]) {
+  const z = normalize(dir.map((x) => -x));
+  const x = normalize(cross(up, z));
+  const y = cross(z, x);
+  // Rotation matrix columns x, y, z to a quaternion.
+  const m = [x, y, z];
+  const trace = m[0][0] + m[1][1] + m[2][2];
+  let q;
+  if (trace > 0) {
+    const s = 0.5 / Math.sqrt(trace + 1);
+    q = [(m[1][2] - m[2][1]) * s, (m[2][0] - m[0][2]) * s, (m[0][1] - m[1][0]) * s, 0.25 / s];
+  } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+    const s = 2 * Math.sqrt(1 + m[0][0] - m[1][1] - m[2][2]);
+    q = [0.25 * s, (m[1][0] + m[0][1]) / s, (m[2][0] + m[0][2]) / s, (m[1][2] - m[2][1]) / s];
+  } else if (m[1][1] > m[2][2]) {
+    const s = 2 * Math.sqrt(1 + m[1][1] - m[0][0] - m[2][2]);
+    q = [(m[1][0] + m[0][1]) / s, 0.25 * s, (m[2][1] + m[1][2]) / s, (m[2][0] - m[0][2]) / s];
+  } else {
+    const s = 2 * Math.sqrt(1 + m[2][2] - m[0][0] - m[1][1]);
+    q = [(m[2][0] + m[0][2]) / s, (m[2][1] + m[1][2]) / s, 0.25 * s, (m[0][1] - m[1][0]) / s];
+  }
+  return normalize(q);
+}
+
+/** A glTF document under construction with one binary buffer. */
+class Doc {
+  constructor() {
+    this.json = {
+      asset: { version: '2.0', generator: 'seamlit bench/sample-viewer/models.mjs' },
+      scene: 0, scenes: [{ nodes: [] }], nodes: [], meshes: [], materials: [],
+      accessors: [], bufferViews: [], buffers: [{ byteLength: 0 }],
+    };
+    this.chunks = [];
+    this.length = 0;
+  }
+
+  view(bytes, target) {
+    const pad = (4 - (this.length % 4)) % 4;
+    if (pad) { this.chunks.push(Buffer.alloc(pad)); this.length += pad; }
+    const view = { buffer: 0, byteOffset: this.length, byteLength: bytes.byteLength };
+    if (target) view.target = target;
+    this.chunks.push(Buffer.from(bytes.buffer, bytes.byteOffset, bytes.byteLength));
+    this.length += bytes.byteLength;
+    this.json.bufferViews.push(view);
+    return this.json.bufferViews.length - 1;
+  }
+
+  accessor(array, type, componentType, target, minmax) {
+    const size = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 }[type];
+    const acc = { bufferView: this.view(array, target), componentType, count: array.length / size, type };
+    if (minmax) {
+      acc.min = []; acc.max = [];
+      for (let c = 0; c < size; c++) {
+        let lo = Infinity, hi = -Infinity;
+        for (let i = c; i < array.length; i += size) { lo = Math.min(lo, array[i]); hi = Math.max(hi, array[i]); }
+        acc.min.push(lo); acc.max.push(hi);
+      }
+    }
+    this.json.accessors.push(acc);
+    return this.json.accessors.length - 1;
+  }
+
+  /** Positions, normals, UVs and indices as one primitive's attributes. */
+  geometry({ positions, normals, tangents, uvs, indices }) {
+    return {
+      attributes: {
+        POSITION: this.accessor(new Float32Array(positions), 'VEC3', 5126, 34962, true),
+        NORMAL: this.accessor(new Float32Array(normals), 'VEC3', 5126, 34962),
+        TANGENT: this.accessor(new Float32Array(tangents), 'VEC4', 5126, 34962),
+        TEXCOORD_0: this.accessor(new Float32Array(uvs), 'VEC2', 5126, 34962),
+      },
+      indices: this.accessor(new Uint16Array(indices), 'SCALAR', 5123, 34963),
+    };
+  }
+
+  material(m) { this.json.materials.push(m); return this.json.materials.length - 1; }
+
+  /** A node with a one-primitive mesh at `translation`, in the scene. */
+  place(geometry, material, translation, name) {
+    this.json.meshes.push({ name, primitives: [{ ...geometry, material }] });
+    this.json.nodes.push({ name, mesh: this.json.meshes.length - 1, translation });
+    this.json.scenes[0].nodes.push(this.json.nodes.length - 1);
+  }
+
+  /** A PNG image as a texture (sampler: linear, mipmaps, repeat). */
+  texture(png) {
+    this.json.images ??= []; this.json.textures ??= []; this.json.samplers ??= [{ magFilter: 9729, minFilter: 9987 }];
+    this.json.images.push({ bufferView: this.view(png), mimeType: 'image/png' });
+    this.json.textures.push({ sampler: 0, source: this.json.images.length - 1 });
+    return this.json.textures.length - 1;
+  }
+
+  glb() {
+    this.json.buffers[0].byteLength = this.length;
+    return packGlb(this.json, Buffer.concat(this.chunks));
+  }
+}
+
+function packGlb(json, bin) {
+  const pad = (b, fill) => Buffer.concat([b, Buffer.alloc((4 - (b.length % 4)) % 4, fill)]);
+  const text = pad(Buffer.from(JSON.stringify(json)), 0x20);
+  const data = pad(bin, 0);
+  const header = Buffer.alloc(12);
+  header.writeUInt32LE(0x46546c67, 0); header.writeUInt32LE(2, 4);
+  header.writeUInt32LE(12 + 8 + text.length + (data.length ? 8 + data.length : 0), 8);
+  const chunk = (type, body) => {
+    const h = Buffer.alloc(8); h.writeUInt32LE(body.length, 0); h.writeUInt32LE(type, 4);
+    return Buffer.concat([h, body]);
+  };
+  return Buffer.concat([header, chunk(0x4e4f534a, text), ...(data.length ? [chunk(0x004e4942, data)] : [])]);
+}
+
+function unpackGlb(bytes) {
+  if (bytes.readUInt32LE(0) !== 0x46546c67) throw new Error('not a GLB file');
+  const jsonLength = bytes.readUInt32LE(12);
+  const json = JSON.parse(bytes.subarray(20, 20 + jsonLength).toString('utf8'));
+  const rest = 20 + jsonLength;
+  const bin = rest < bytes.length ? bytes.subarray(rest + 8, rest + 8 + bytes.readUInt32LE(rest)) : Buffer.alloc(0);
+  return { json, bin };
+}
+
+/** A UV sphere of `radius`: `rings` x `segments` quads, V running down as glTF's does; the
+ * tangents given (the Sample Viewer's MikkTSpace overflows its stack on the poles). */
+function sphere(radius, rings = 32, segments = 64) {
+  const positions = [], normals = [], tangents = [], uvs = [], indices = [];
+  for (let r = 0; r <= rings; r++) {
+    const theta = (r / rings) * Math.PI;
+    for (let s = 0; s <= segments; s++) {
+      const phi = (s / segments) * 2 * Math.PI;
+      const n = [Math.sin(theta) * Math.sin(phi), Math.cos(theta), Math.sin(theta) * Math.cos(phi)];
+      tangents.push(Math.cos(phi), 0, -Math.sin(phi), 1);
+      normals.push(...n); positions.push(...n.map((x) => x * radius)); uvs.push(s / segments, r / rings);
+    }
+  }
+  for (let r = 0; r < rings; r++) {
+    for (let s = 0; s < segments; s++) {
+      const a = r * (segments + 1) + s, b = a + segments + 1;
+      indices.push(a, b, a + 1, a + 1, b, b + 1);
+    }
+  }
+  return { positions, normals, tangents, uvs, indices };
+}
+
+/** A square in the XY plane facing +Z, side `size`. */
+function quad(size) {
+  const h = size / 2;
+  return {
+    positions: [-h, -h, 0, h, -h, 0, h, h, 0, -h, h, 0],
+    normals: [0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1],
+    tangents: [1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1],
+    uvs: [0, 1, 1, 1, 1, 0, 0, 0],
+    indices: [0, 1, 2, 0, 2, 3],
+  };
+}
+
+/** An RGBA PNG of `size` x `size` pixels, `pixel(x, y)` giving [r, g, b, a] in 0..255. */
+function png(size, pixel) {
+  const raw = Buffer.alloc(size * (size * 4 + 1));
+  for (let y = 0; y < size; y++) {
+    for (let x = 0; x < size; x++) raw.set(pixel(x, y), y * (size * 4 + 1) + 1 + x * 4);
+  }
+  const chunk = (type, body) => {
+    const len = Buffer.alloc(4); len.writeUInt32BE(body.length);
+    const tb = Buffer.concat([Buffer.from(type, 'latin1'), body]);
+    const crc = Buffer.alloc(4); crc.writeUInt32BE(crc32(tb));
+    return Buffer.concat([len, tb, crc]);
+  };
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(size, 0); ihdr.writeUInt32BE(size, 4); ihdr.set([8, 6, 0, 0, 0], 8);
+  return new Uint8Array(Buffer.concat([
+    Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]),
+    chunk('IHDR', ihdr), chunk('IDAT', deflateSync(raw)), chunk('IEND', Buffer.alloc(0)),
+  ]));
+}
+
+/** A Radiance .hdr (RGBE, run-length-encoded scanlines of literal runs) of `width` x
+ * `height` pixels, `radiance(x, y)` giving linear [r, g, b]. */
+function hdr(width, height, radiance) {
+  const parts = [Buffer.from(`#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ${height} +X ${width}\n`, 'latin1')];
+  for (let y = 0; y < height; y++) {
+    const rgbe = Array.from({ length: width }, (_, x) => {
+      const c = radiance(x, y), m = Math.max(...c);
+      if (m < 1e-32) return [0, 0, 0, 0];
+      const e = Math.ceil(Math.log2(m + 1e-12) + 1e-9);
+      const scale = 256 / 2 ** e;
+      return [...c.map((v) => Math.min(255, Math.floor(v * scale))), e + 128];
+    });
+    parts.push(Buffer.from([2, 2, width >> 8, width & 255]));
+    for (let ch = 0; ch < 4; ch++) {
+      for (let x = 0; x < width; x += 128) {
+        const run = rgbe.slice(x, x + 128).map((p) => p[ch]);
+        parts.push(Buffer.from([run.length, ...run]));
+      }
+    }
+  }
+  return Buffer.concat(parts);
+}
+
+/** The environment of the second mode: a sky from blue above to brown below, and a sun. */
+function sky() {
+  const [w, h] = [128, 64];
+  const sun = normalize([-0.5, 0.6, 0.62]);
+  return hdr(w, h, (x, y) => {
+    const phi = ((x + 0.5) / w) * 2 * Math.PI, theta = ((y + 0.5) / h) * Math.PI;
+    const d = [Math.sin(theta) * Math.cos(phi), Math.cos(theta), Math.sin(theta) * Math.sin(phi)];
+    const up = d[1];
+    const base = up > 0 ? [0.35 + 0.2 * (1 - up), 0.5 + 0.15 * (1 - up), 0.9] : [0.25, 0.2, 0.15];
+    const glow = Math.max(0, d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2]) ** 64 * 40;
+    return base.map((v) => v + glow);
+  });
+}
+
+/** Adds the light and a camera at `eye` looking at `target` to a document's JSON (after
+ * the cameras and lights it has); returns the camera as seamlit's scene file names it. */
+function addCameraAndLight(json, eye, target, aspect) {
+  json.extensionsUsed = [...new Set([...(json.extensionsUsed ?? []), 'KHR_lights_punctual'])];
+  json.extensions ??= {};
+  json.extensions.KHR_lights_punctual ??= { lights: [] };
+  const lights = json.extensions.KHR_lights_punctual.lights;
+  lights.push(LIGHT);
+  json.nodes ??= [];
+  json.cameras ??= [];
+  const dist = Math.hypot(...eye.map((x, i) => x - target[i]));
+  const [near, far] = [dist / 100, dist * 10];
+  json.cameras.push({ name: 'compare', type: 'perspective', perspective: {
+    yfov: (YFOV_DEG * Math.PI) / 180, aspectRatio: aspect, znear: near, zfar: far } });
+  json.nodes.push({ name: 'compare-camera', camera: json.cameras.length - 1, translation: eye,
+    rotation: lookRotation(eye.map((x, i) => target[i] - x)) });
+  json.nodes.push({ name: 'compare-light', rotation: lookRotation(LIGHT_DIRECTION),
+    extensions: { KHR_lights_punctual: { light: lights.length - 1 } } });
+  const scene = json.scenes[json.scene ?? 0];
+  scene.nodes.push(json.nodes.length - 2, json.nodes.length - 1);
+  return { name: 'compare', index: json.cameras.length - 1, position: eye, target, fov_deg: YFOV_DEG, near, far };
+}
+
+function spheres() {
+  const doc = new Doc();
+  const geometry = doc.geometry(sphere(0.4));
+  for (let row = 0; row < 5; row++) {
+    for (let col = 0; col < 5; col++) {
+      const material = doc.material({ name: `m${col}r${row}`, pbrMetallicRoughness: {
+        baseColorFactor: [0.9, 0.45, 0.2, 1], metallicFactor: col / 4, roughnessFactor: row / 4 } });
+      doc.place(geometry, material, [(col - 2), (row - 2), 0], `sphere m${col} r${row}`);
+    }
+  }
+  return doc;
+}
+
+function materials() {
+  const doc = new Doc();
+  const ball = doc.geometry(sphere(0.45));
+  // Emissive: a dark base, an orange glow beyond 1 (strength 4).
+  doc.json.extensionsUsed = ['KHR_materials_emissive_strength'];
+  doc.place(ball, doc.material({ name: 'emissive', emissiveFactor: [1, 0.4, 0.1],
+    pbrMetallicRoughness: { baseColorFactor: [0.1, 0.1, 0.1, 1], metallicFactor: 0, roughnessFactor: 0.5 },
+    extensions: { KHR_materials_emissive_strength: { emissiveStrength: 4 } } }), [-1.5, 0.5, 0], 'emissive');
+  // Textured: checker base colour (sRGB), occlusion stripes (R), metal/rough quarters (B/G).
+  const checker = doc.texture(png(64, (x, y) => (((x >> 3) + (y >> 3)) & 1 ? [230, 200, 60, 255] : [40, 90, 200, 255])));
+  const occlusion = doc.texture(png(64, (x) => [(x >> 2) & 1 ? 255 : 90, 0, 0, 255]));
+  const metalRough = doc.texture(png(64, (x, y) => [0, y < 32 ? 60 : 200, x < 32 ? 0 : 255, 255]));
+  doc.place(ball, doc.material({ name: 'textured',
+    pbrMetallicRoughness: { baseColorTexture: { index: checker }, metallicRoughnessTexture: { index: metalRough } },
+    occlusionTexture: { index: occlusion, strength: 0.8 } }), [-0.5, 0.5, 0], 'textured');
+  // Alpha MASK: a quad whose texture cuts out a disc.
+  const disc = doc.texture(png(64, (x, y) => [220, 220, 220, Math.hypot(x - 31.5, y - 31.5) < 24 ? 255 : 40]));
+  doc.place(doc.geometry(quad(0.9)), doc.material({ name: 'mask', alphaMode: 'MASK', alphaCutoff: 0.5, doubleSided: true,
+    pbrMetallicRoughness: { baseColorTexture: { index: disc }, metallicFactor: 0, roughnessFactor: 0.6 } }),
+  [0.5, 0.5, 0], 'mask');
+  // Alpha BLEND: a half-transparent green sphere in front of an opaque white one.
+  doc.place(ball, doc.material({ name: 'white', pbrMetallicRoughness: { baseColorFactor: [0.9, 0.9, 0.9, 1], metallicFactor: 0, roughnessFactor: 0.4 } }),
+    [1.5, 0.5, -0.6], 'behind');
+  doc.place(doc.geometry(sphere(0.3)), doc.material({ name: 'blend', alphaMode: 'BLEND',
+    pbrMetallicRoughness: { baseColorFactor: [0.1, 0.8, 0.2, 0.5], metallicFactor: 0, roughnessFactor: 0.3 } }),
+  [1.5, 0.5, 0.4], 'blend');
+  // A grey wall behind them all.
+  doc.place(doc.geometry(quad(4)), doc.material({ name: 'wall', pbrMetallicRoughness: {
+    baseColorFactor: [0.5, 0.5, 0.5, 1], metallicFactor: 0, roughnessFactor: 0.8 } }), [0, 0.5, -1.2], 'wall');
+  return doc;
+}
+
+/** World-space bounds of a document's meshes from the POSITION accessors' min and max. */
+function bounds(json) {
+  const mul = (a, b) => a.map((_, i) => [0, 1, 2, 3].reduce((s, k) => s + a[(i & 12) + k] * b[k * 4 + (i & 3)], 0));
+  const trs = (n) => {
+    if (n.matrix) return transpose(n.matrix);
+    const [x, y, z, w] = n.rotation ?? [0, 0, 0, 1], [sx, sy, sz] = n.scale ?? [1, 1, 1], t = n.translation ?? [0, 0, 0];
+    // Row-major 4x4.
+    return [
+      (1 - 2 * (y * y + z * z)) * sx, 2 * (x * y - z * w) * sy, 2 * (x * z + y * w) * sz, t[0],
+      2 * (x * y + z * w) * sx, (1 - 2 * (x * x + z * z)) * sy, 2 * (y * z - x * w) * sz, t[1],
+      2 * (x * z - y * w) * sx, 2 * (y * z + x * w) * sy, (1 - 2 * (x * x + y * y)) * sz, t[2],
+      0, 0, 0, 1];
+  };
+  const transpose = (m) => m.map((_, i) => m[(i % 4) * 4 + Math.floor(i / 4)]);
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  const visit = (index, parent) => {
+    const node = json.nodes[index];
+    const world = mul(parent, trs(node));
+    if (node.mesh !== undefined) {
+      for (const p of json.meshes[node.mesh].primitives) {
+        const a = json.accessors[p.attributes.POSITION];
+        for (let c = 0; c < 8; c++) {
+          const v = [0, 1, 2].map((k) => ((c >> k) & 1 ? a.max[k] : a.min[k]));
+          for (let k = 0; k < 3; k++) {
+            const w = world[k * 4] * v[0] + world[k * 4 + 1] * v[1] + world[k * 4 + 2] * v[2] + world[k * 4 + 3];
+            lo[k] = Math.min(lo[k], w); hi[k] = Math.max(hi[k], w);
+          }
+        }
+      }
+    }
+    for (const child of node.children ?? []) visit(child, world);
+  };
+  const identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
+  for (const n of json.scenes[json.scene ?? 0].nodes) visit(n, identity);
+  return { lo, hi };
+}
+
+/** A camera from the front (+Z), a little above, whose view takes in the bounds' sphere. */
+function framingEye(json) {
+  const { lo, hi } = bounds(json);
+  const centre = lo.map((x, i) => (x + hi[i]) / 2);
+  const radius = Math.hypot(...hi.map((x, i) => x - lo[i])) / 2;
+  const dist = radius / Math.sin(((YFOV_DEG * Math.PI) / 180) / 2) * 0.75;
+  const dir = normalize([0.25, 0.3, 1]);
+  return { eye: centre.map((x, i) => x + dir[i] * dist), target: centre };
+}
+
+function main() {
+  const [out, ...inputs] = process.argv.slice(2);
+  if (!out) { console.error('usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]'); process.exit(2); }
+  mkdirSync(out, { recursive: true });
+  // ASPECT is W/H (the image size, so that the viewer does not letterbox by a rounding).
+  const [w, h] = (process.env.ASPECT ?? '4/3').split('/').map(Number);
+  const aspect = w / h;
+  const models = [
+    ['spheres', spheres(), { eye: [0, 0, 10.5], target: [0, 0, 0] }],
+    ['materials', materials(), { eye: [0, 1.6, 6.2], target: [0, 0.5, 0] }],
+  ];
+  for (const [name, doc, { eye, target }] of models) {
+    const camera = addCameraAndLight(doc.json, eye, target, aspect);
+    writeFileSync(join(out, `${name}.glb`), doc.glb());
+    writeFileSync(join(out, `${name}.camera.json`), JSON.stringify(camera));
+  }
+  writeFileSync(join(out, 'sky.hdr'), sky());
+  for (const arg of inputs) {
+    const [name, file] = arg.split('=');
+    let glb;
+    try { glb = unpackGlb(readFileSync(file)); } catch (e) { console.error(`${file}: ${e.message}`); process.exit(2); }
+    const { eye, target } = framingEye(glb.json);
+    const camera = addCameraAndLight(glb.json, eye, target, aspect);
+    writeFileSync(join(out, `${name}.glb`), packGlb(glb.json, glb.bin));
+    writeFileSync(join(out, `${name}.camera.json`), JSON.stringify(camera));
+  }
+}
+
+main();

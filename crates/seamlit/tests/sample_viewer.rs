@@ -1,0 +1,84 @@
+//! seamlit's PBR against the Khronos glTF Sample Viewer: each model in assets/sample-viewer
+//! rendered by `seamlit render` through the file's camera, with its one punctual light, no
+//! ambient light and PBR Neutral tone mapping, must stay within a mean FLIP error of 0.05 of
+//! the Sample Viewer's picture of it (made once by bench/sample-viewer/compare.sh; how, in
+//! assets/sample-viewer/README.md). On failure the picture and the side by side (Sample
+//! Viewer | seamlit | FLIP error) are left in the test's temporary folder, named in the message.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The aim for punctual lights only.
+const MEAN_FLIP_AIM: f32 = 0.05;
+
+fn data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/sample-viewer")
+}
+
+/// `seamlit render NAME.toml` at the reference's size, as compare.sh runs it.
+fn render(name: &str, size: (u32, u32), out: &Path) -> image::RgbImage {
+    let output = Command::new(env!("CARGO_BIN_EXE_seamlit"))
+        .arg("render")
+        .arg(data().join(format!("{name}.toml")))
+        .arg("-o")
+        .arg(out)
+        .args(["--size", &format!("{}x{}", size.0, size.1), "--camera", "compare"])
+        .args(["--lighting", "pbr", "--tone-mapping", "neutral"])
+        .args(["--exposure", "1", "--ambient", "0"])
+        .output()
+        .expect("the binary runs");
+    assert!(output.status.success(), "{name}: {}", String::from_utf8_lossy(&output.stderr));
+    image::open(out).expect("a PNG").to_rgb8()
+}
+
+/// The mean FLIP error of `test` against `reference` and the error map (magma colours).
+fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, image::RgbImage) {
+    let (w, h) = reference.dimensions();
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, reference.as_raw()),
+        nv_flip::FlipImageRgb8::with_data(w, h, test.as_raw()),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mean = nv_flip::FlipPool::from_image(&error).mean();
+    let map = error.apply_color_lut(&nv_flip::magma_lut()).to_vec();
+    (mean, image::RgbImage::from_raw(w, h, map).expect("w x h RGB"))
+}
+
+fn within_aim_of_the_sample_viewer(name: &str) {
+    let reference = image::open(data().join(format!("{name}.viewer.png")))
+        .expect("the Sample Viewer's picture")
+        .to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours = render(name, reference.dimensions(), &dir.join(format!("{name}.png")));
+    assert_eq!(ours.dimensions(), reference.dimensions(), "{name}: picture size");
+    let (mean, map) = flip(&reference, &ours);
+    if mean >= MEAN_FLIP_AIM {
+        let (w, h) = reference.dimensions();
+        let mut sheet = image::RgbImage::new(w * 3, h);
+        for (i, picture) in [&reference, &ours, &map].into_iter().enumerate() {
+            image::imageops::replace(&mut sheet, picture, i64::from(w) * i as i64, 0);
+        }
+        let path = dir.join(format!("{name}.side-by-side.png"));
+        sheet.save(&path).unwrap();
+        panic!(
+            "{name}: mean FLIP {mean:.4} against the Sample Viewer, aim < {MEAN_FLIP_AIM}; see {}",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn metallic_roughness_spheres_match_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("spheres");
+}
+
+#[test]
+fn emissive_textured_occluded_and_alpha_materials_match_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("materials");
+}
+
+#[test]
+fn the_khronos_fox_matches_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("Fox");
+}
