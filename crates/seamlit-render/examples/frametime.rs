@@ -19,8 +19,8 @@ use glam::Vec3;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, LightingModel, Renderer,
-    TextureOptions, ToneMapping,
+    CameraView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light,
+    LightingModel, Renderer, TextureOptions, ToneMapping,
 };
 
 fn arg(name: &str) -> Option<String> {
@@ -130,8 +130,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 tone_mapping: ToneMapping::default_for(lighting_model),
                 ..FrameSettings::default()
             };
-            let times =
-                renderer.time_frames(&ctx, &scene, &camera, &settings, width, height, frames)?;
+            let times = renderer.time_frames(
+                &ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &camera,
+                    settings: &settings,
+                    size: (width, height),
+                },
+                frames,
+            )?;
             println!(
                 "| {} | {count} | {:.2} ms | {:.2} ms |",
                 scene.triangle_count(),

@@ -5,9 +5,10 @@ use std::time::{Duration, Instant};
 
 use image::RgbaImage;
 
+use crate::light::LightRaw;
 use crate::pipeline::{DEPTH_FORMAT, Pipelines};
 use crate::settings::FrameRaw;
-use crate::{CameraView, FrameSettings, GpuContext, GpuScene, LightRaw, RenderError};
+use crate::{CameraView, FrameSettings, GpuContext, GpuScene, RenderError};
 
 /// The format [`Renderer::render_to_image`] renders in and reads back.
 pub const IMAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -37,6 +38,20 @@ struct Attachments {
     size: (u32, u32),
     depth: wgpu::TextureView,
     msaa: Option<wgpu::TextureView>,
+}
+
+/// One frame to draw: the scene, the camera it is seen through, the frame's settings, and
+/// the target's size in pixels (width, height).
+#[derive(Clone, Copy, Debug)]
+pub struct FrameDescriptor<'a> {
+    /// What to draw.
+    pub scene: &'a GpuScene,
+    /// From where.
+    pub camera: &'a CameraView,
+    /// Lights, lighting model, debug view, tone mapping.
+    pub settings: &'a FrameSettings,
+    /// Width and height of the target in pixels.
+    pub size: (u32, u32),
 }
 
 /// Frame times measured by [`Renderer::time_frames`].
@@ -117,6 +132,19 @@ impl Renderer {
         })
     }
 
+    /// A renderer for [`Renderer::render_to_image`]: [`IMAGE_FORMAT`], with
+    /// [`DEFAULT_SAMPLE_COUNT`] samples where the adapter supports it, else none.
+    ///
+    /// # Errors
+    ///
+    /// As [`Renderer::new`].
+    pub fn for_images(ctx: &GpuContext) -> Result<Self, RenderError> {
+        let supported = ctx.supported_sample_counts(IMAGE_FORMAT);
+        let samples =
+            if supported.contains(&DEFAULT_SAMPLE_COUNT) { DEFAULT_SAMPLE_COUNT } else { 1 };
+        Self::new(ctx, IMAGE_FORMAT, samples)
+    }
+
     /// The target format this renderer draws into.
     #[must_use]
     pub fn format(&self) -> wgpu::TextureFormat {
@@ -130,8 +158,8 @@ impl Renderer {
     }
 
     /// Renders one frame into `target` (a view of a texture of this renderer's format and of
-    /// `size` = (width, height) pixels, e.g. a window's surface texture) and submits it.
-    /// The target is cleared to [`FrameSettings::clear_color`] first.
+    /// `frame.size` pixels, e.g. a window's surface texture) and submits it. The target is
+    /// cleared to [`FrameSettings::clear_color`] first.
     ///
     /// # Errors
     ///
@@ -139,18 +167,15 @@ impl Renderer {
     pub fn render(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
+        frame: &FrameDescriptor<'_>,
         target: &wgpu::TextureView,
-        size: (u32, u32),
     ) -> Result<(), RenderError> {
         ctx.scoped("rendering", || {
             let mut encoder =
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("seamlit frame"),
                 });
-            self.encode(ctx, &mut encoder, scene, camera, settings, target, size)?;
+            self.encode(ctx, &mut encoder, frame, target)?;
             ctx.queue().submit([encoder.finish()]);
             Ok(())
         })
@@ -163,19 +188,16 @@ impl Renderer {
     /// # Errors
     ///
     /// [`RenderError::BadSize`].
-    #[expect(clippy::too_many_arguments, reason = "a frame is all of these, and each is distinct")]
     pub fn encode(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
+        frame: &FrameDescriptor<'_>,
         target: &wgpu::TextureView,
-        size: (u32, u32),
     ) -> Result<(), RenderError> {
+        let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
-        self.prepare(ctx, scene, camera, settings, size);
+        self.prepare(ctx, frame);
         let Some(attachments) = &self.attachments else { return Ok(()) };
         let [r, g, b, a] = settings.clear_color.map(f64::from);
         let (view, resolve_target) = match &attachments.msaa {
@@ -235,14 +257,8 @@ impl Renderer {
     }
 
     /// Writes the uniforms and lights, and makes the attachments fit `size`.
-    fn prepare(
-        &mut self,
-        ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        size: (u32, u32),
-    ) {
+    fn prepare(&mut self, ctx: &GpuContext, frame: &FrameDescriptor<'_>) {
+        let FrameDescriptor { scene, camera, settings, size } = *frame;
         let raw = settings.to_raw(camera, scene.default_tbn_length(), !self.format.is_srgb());
         ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
         if settings.lights.len() > self.light_capacity {
@@ -251,7 +267,8 @@ impl Renderer {
             self.frame_bind_group = frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer);
         }
         if !settings.lights.is_empty() {
-            let lights: Vec<LightRaw> = settings.lights.iter().map(crate::Light::to_raw).collect();
+            let lights: Vec<LightRaw> =
+                settings.lights.iter().copied().map(crate::Light::to_raw).collect();
             ctx.queue().write_buffer(&self.light_buffer, 0, bytemuck::cast_slice(&lights));
         }
         if self.attachments.as_ref().is_none_or(|a| a.size != size) {
@@ -278,8 +295,7 @@ impl Renderer {
         }
     }
 
-    /// Renders one frame offscreen at `width` x `height` and reads it back as an sRGB RGBA
-    /// image. The renderer's format must be [`IMAGE_FORMAT`] (the hardware encodes sRGB) or
+    /// Renders one frame offscreen at `frame.size` and reads it back as an sRGB RGBA image. The renderer's format must be [`IMAGE_FORMAT`] (the hardware encodes sRGB) or
     /// `Rgba8Unorm` (the shader encodes, as for a window surface without an sRGB format).
     ///
     /// # Errors
@@ -289,12 +305,9 @@ impl Renderer {
     pub fn render_to_image(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        width: u32,
-        height: u32,
+        frame: &FrameDescriptor<'_>,
     ) -> Result<RgbaImage, RenderError> {
+        let (width, height) = frame.size;
         check_size(ctx, width, height)?;
         if !matches!(self.format, IMAGE_FORMAT | wgpu::TextureFormat::Rgba8Unorm) {
             return Err(RenderError::Gpu {
@@ -319,32 +332,25 @@ impl Renderer {
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("seamlit image"),
                 });
-            self.encode(ctx, &mut encoder, scene, camera, settings, &view, (width, height))?;
+            self.encode(ctx, &mut encoder, frame, &view)?;
             crate::readback::read_texture(ctx, encoder, &target, width, height)
         })
     }
 
-    /// Renders `frames` frames offscreen at `width` x `height` (after one unmeasured warm-up
+    /// Renders `frames` frames offscreen at `frame.size` (after one unmeasured warm-up
     /// frame) and measures each from recording to the GPU having finished it (submit, then
     /// wait). This is what `seamlit render --frames N` reports.
     ///
     /// # Errors
     ///
     /// As [`Renderer::render`], and [`RenderError::Poll`].
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "a timed frame is all of these, and each is distinct"
-    )]
     pub fn time_frames(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        width: u32,
-        height: u32,
+        frame: &FrameDescriptor<'_>,
         frames: usize,
     ) -> Result<FrameTimes, RenderError> {
+        let (width, height) = frame.size;
         check_size(ctx, width, height)?;
         let target = texture_2d(
             ctx,
@@ -358,7 +364,7 @@ impl Renderer {
         let mut times = Vec::with_capacity(frames);
         for i in 0..=frames {
             let start = Instant::now();
-            self.render(ctx, scene, camera, settings, &view, (width, height))?;
+            self.render(ctx, frame, &view)?;
             ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
             if i > 0 {
                 times.push(start.elapsed());
@@ -431,28 +437,4 @@ fn frame_bind_group(
             wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
         ],
     })
-}
-
-/// Renders one image with a fresh [`Renderer`] ([`IMAGE_FORMAT`], 4x MSAA where the adapter
-/// supports it, else none). For many images, keep a [`Renderer`] and call
-/// [`Renderer::render_to_image`].
-///
-/// # Errors
-///
-/// As [`Renderer::new`] and [`Renderer::render_to_image`].
-pub fn render_to_image(
-    ctx: &GpuContext,
-    scene: &GpuScene,
-    camera: &CameraView,
-    settings: &FrameSettings,
-    width: u32,
-    height: u32,
-) -> Result<RgbaImage, RenderError> {
-    let samples = if ctx.supported_sample_counts(IMAGE_FORMAT).contains(&DEFAULT_SAMPLE_COUNT) {
-        DEFAULT_SAMPLE_COUNT
-    } else {
-        1
-    };
-    Renderer::new(ctx, IMAGE_FORMAT, samples)?
-        .render_to_image(ctx, scene, camera, settings, width, height)
 }

@@ -4,7 +4,7 @@ use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::Asset;
 use seamlit_render::{
-    FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, LightingModel, Renderer, ToneMapping,
+    FrameDescriptor, FrameSettings, GpuContext, GpuScene, LightingModel, Renderer, ToneMapping,
 };
 use seamlit_scene::{Bounds, Camera};
 
@@ -45,7 +45,7 @@ pub fn default_ambient(model: LightingModel) -> f32 {
 pub struct Gpu {
     /// The device.
     pub ctx: GpuContext,
-    /// The renderer, drawing [`IMAGE_FORMAT`].
+    /// The renderer, drawing [`seamlit_render::IMAGE_FORMAT`].
     pub renderer: Renderer,
 }
 
@@ -56,15 +56,7 @@ impl Gpu {
     /// [`Failure::Processing`] when no adapter or device is available.
     pub fn open() -> Result<Self, Failure> {
         let ctx = GpuContext::headless().processing()?;
-        let samples = if ctx
-            .supported_sample_counts(IMAGE_FORMAT)
-            .contains(&seamlit_render::DEFAULT_SAMPLE_COUNT)
-        {
-            seamlit_render::DEFAULT_SAMPLE_COUNT
-        } else {
-            1
-        };
-        let renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples).processing()?;
+        let renderer = Renderer::for_images(&ctx).processing()?;
         Ok(Self { ctx, renderer })
     }
 
@@ -85,7 +77,10 @@ impl Gpu {
         let view = camera.view(aspect, Some(bounds));
         let image = self
             .renderer
-            .render_to_image(&self.ctx, &scene, &view, settings, size.0, size.1)
+            .render_to_image(
+                &self.ctx,
+                &FrameDescriptor { scene: &scene, camera: &view, settings, size: (size.0, size.1) },
+            )
             .processing()?;
         Ok((scene, image))
     }

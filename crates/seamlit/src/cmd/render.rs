@@ -1,5 +1,7 @@
 //! `seamlit render`: a scene or model to a PNG, and with `--frames N` the frame timing.
 
+use seamlit_render::FrameDescriptor;
+
 use crate::cli::RenderArgs;
 use crate::draw::{Gpu, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
@@ -38,7 +40,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         let view = camera.view(aspect, Some(bounds));
         let times = gpu
             .renderer
-            .time_frames(&gpu.ctx, &scene, &view, &settings, size.0, size.1, frames)
+            .time_frames(
+                &gpu.ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &view,
+                    settings: &settings,
+                    size: (size.0, size.1),
+                },
+                frames,
+            )
             .processing()?;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
         println!(

@@ -7,7 +7,9 @@ use std::time::Instant;
 use glam::Vec2;
 use image::RgbaImage;
 use seamlit_io::Asset;
-use seamlit_render::{FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Renderer};
+use seamlit_render::{
+    FrameDescriptor, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Renderer,
+};
 use seamlit_scene::{Bounds, Camera, FpsController, OrbitController};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -369,11 +371,13 @@ impl Viewer {
             .encode(
                 &gfx.ctx,
                 &mut encoder,
-                &gfx.scene,
-                &view,
-                &frame_settings,
+                &FrameDescriptor {
+                    scene: &gfx.scene,
+                    camera: &view,
+                    settings: &frame_settings,
+                    size: (width, height),
+                },
                 &target,
-                (width, height),
             )
             .processing()?;
         for (id, deltas) in &texture_sets {
@@ -424,7 +428,15 @@ impl Viewer {
             None => {
                 let mut offscreen = Renderer::new(&gfx.ctx, IMAGE_FORMAT, 1).processing()?;
                 offscreen
-                    .render_to_image(&gfx.ctx, &gfx.scene, &view, &frame_settings, width, height)
+                    .render_to_image(
+                        &gfx.ctx,
+                        &FrameDescriptor {
+                            scene: &gfx.scene,
+                            camera: &view,
+                            settings: &frame_settings,
+                            size: (width, height),
+                        },
+                    )
                     .processing()?
             }
         };
