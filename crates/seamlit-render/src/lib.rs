@@ -62,6 +62,7 @@
 #![deny(missing_docs)]
 
 mod context;
+mod environment;
 mod error;
 mod light;
 mod pipeline;
@@ -69,9 +70,11 @@ mod readback;
 mod renderer;
 mod scene;
 mod settings;
+mod shadow;
 mod texture;
 
 pub use context::GpuContext;
+pub use environment::{Environment, GpuEnvironment};
 pub use error::RenderError;
 pub use light::{CameraView, DebugView, Light, LightingModel};
 pub use readback::PendingReadback;

@@ -63,6 +63,7 @@ impl Light {
                 kind: LightRaw::DIRECTIONAL,
                 direction: unit(direction),
                 color: (color * intensity).to_array(),
+                shadow: -1.0,
                 ..LightRaw::zeroed()
             },
             Self::Point { position, color, intensity, range } => LightRaw {
@@ -70,6 +71,7 @@ impl Light {
                 kind: LightRaw::POINT,
                 range,
                 color: (color * intensity).to_array(),
+                shadow: -1.0,
                 ..LightRaw::zeroed()
             },
             Self::Spot {
@@ -91,6 +93,7 @@ impl Light {
                     color: (color * intensity).to_array(),
                     cos_inner: inner.to_radians().cos(),
                     cos_outer: outer.to_radians().cos(),
+                    shadow: -1.0,
                     ..LightRaw::zeroed()
                 }
             }
@@ -116,8 +119,10 @@ pub(crate) struct LightRaw {
     pub cos_inner: f32,
     /// Cosine of the outer cone half-angle (spot).
     pub cos_outer: f32,
+    /// The light's shadow-map layer; -1: no shadow.
+    pub shadow: f32,
     /// Padding to 64 bytes.
-    pub pad: [f32; 3],
+    pub pad: [f32; 2],
 }
 
 impl LightRaw {

@@ -8,7 +8,8 @@ use image::RgbaImage;
 use crate::light::LightRaw;
 use crate::pipeline::{DEPTH_FORMAT, Pipelines};
 use crate::settings::FrameRaw;
-use crate::{CameraView, FrameSettings, GpuContext, GpuScene, RenderError};
+use crate::shadow::{SHADOW_SIZE, Shadows};
+use crate::{CameraView, FrameSettings, GpuContext, GpuEnvironment, GpuScene, RenderError};
 
 /// The format [`Renderer::render_to_image`] renders in and reads back.
 pub const IMAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -30,6 +31,12 @@ pub struct Renderer {
     light_capacity: usize,
     frame_bind_group: wgpu::BindGroup,
     attachments: Option<Attachments>,
+    shadows: Shadows,
+    /// Shadow maps in use this frame.
+    shadows_used: usize,
+    /// The environment's image-based light, and whether it is a real one.
+    environment: GpuEnvironment,
+    has_environment: bool,
 }
 
 /// Depth (and, with MSAA, colour) attachments of one size.
@@ -118,7 +125,8 @@ impl Renderer {
             });
             let light_capacity = 16;
             let light_buffer = light_buffer(ctx, light_capacity);
-            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer);
+            let shadows = Shadows::new(ctx);
+            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer, &shadows);
             Ok(Self {
                 format,
                 sample_count,
@@ -128,6 +136,10 @@ impl Renderer {
                 light_capacity,
                 frame_bind_group,
                 attachments: None,
+                shadows,
+                shadows_used: 0,
+                environment: GpuEnvironment::none(ctx),
+                has_environment: false,
             })
         })
     }
@@ -143,6 +155,16 @@ impl Renderer {
         let samples =
             if supported.contains(&DEFAULT_SAMPLE_COUNT) { DEFAULT_SAMPLE_COUNT } else { 1 };
         Self::new(ctx, IMAGE_FORMAT, samples)
+    }
+
+    /// Lights PBR materials with `environment` from the next frame on (and, as
+    /// [`FrameSettings::environment_background`] says, draws it behind the scene); `None`
+    /// removes it.
+    pub fn set_environment(&mut self, environment: Option<GpuEnvironment>) {
+        self.has_environment = environment.is_some();
+        if let Some(environment) = environment {
+            self.environment = environment;
+        }
     }
 
     /// The target format this renderer draws into.
@@ -198,6 +220,7 @@ impl Renderer {
         let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
         self.prepare(ctx, frame);
+        self.shadows.encode(encoder, scene, self.shadows_used);
         let Some(attachments) = &self.attachments else { return Ok(()) };
         let [r, g, b, a] = settings.clear_color.map(f64::from);
         let (view, resolve_target) = match &attachments.msaa {
@@ -232,6 +255,10 @@ impl Renderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
+        pass.set_bind_group(3, &self.environment.bind_group, &[]);
+        if self.has_environment && settings.environment_background {
+            self.draw_sky(&mut pass, scene);
+        }
         for mesh in draw_order(scene, camera.eye) {
             let material = &scene.materials[mesh.material];
             pass.set_pipeline(self.pipelines.mesh(
@@ -256,19 +283,50 @@ impl Renderer {
         Ok(())
     }
 
+    /// Draws the environment behind everything. The sky reads only groups 0 and 3, but the
+    /// pipeline layout has all four set: any material and object will do (a scene without
+    /// objects has no sky).
+    fn draw_sky(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene) {
+        let (Some(material), Some(mesh)) = (scene.materials.last(), scene.meshes.first()) else {
+            return;
+        };
+        pass.set_pipeline(&self.pipelines.sky);
+        pass.set_bind_group(1, &material.bind_group, &[]);
+        pass.set_bind_group(2, &mesh.bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
     /// Writes the uniforms and lights, and makes the attachments fit `size`.
     fn prepare(&mut self, ctx: &GpuContext, frame: &FrameDescriptor<'_>) {
         let FrameDescriptor { scene, camera, settings, size } = *frame;
-        let raw = settings.to_raw(camera, scene.default_tbn_length(), !self.format.is_srgb());
+        let (shadow_layers, used) =
+            self.shadows.prepare(ctx, &settings.lights, settings.shadow_maps, scene.bounds());
+        self.shadows_used = used;
+        // Two shadow-map texels of the directional maps, which span the scene's bounds.
+        let normal_offset = (used > 0).then(|| {
+            scene.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length() / SHADOW_SIZE as f32 * 2.0)
+        });
+        let raw = settings.to_raw(
+            camera,
+            scene.default_tbn_length(),
+            !self.format.is_srgb(),
+            self.has_environment,
+            normal_offset,
+        );
         ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
         if settings.lights.len() > self.light_capacity {
             self.light_capacity = settings.lights.len().next_power_of_two();
             self.light_buffer = light_buffer(ctx, self.light_capacity);
-            self.frame_bind_group = frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer);
+            self.frame_bind_group =
+                frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer, &self.shadows);
         }
         if !settings.lights.is_empty() {
-            let lights: Vec<LightRaw> =
-                settings.lights.iter().copied().map(crate::Light::to_raw).collect();
+            let lights: Vec<LightRaw> = settings
+                .lights
+                .iter()
+                .zip(shadow_layers)
+                .map(|(light, shadow)| LightRaw { shadow, ..light.to_raw() })
+                .collect();
             ctx.queue().write_buffer(&self.light_buffer, 0, bytemuck::cast_slice(&lights));
         }
         if self.attachments.as_ref().is_none_or(|a| a.size != size) {
@@ -428,6 +486,7 @@ fn frame_bind_group(
     ctx: &GpuContext,
     frame: &wgpu::Buffer,
     lights: &wgpu::Buffer,
+    shadows: &Shadows,
 ) -> wgpu::BindGroup {
     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("seamlit frame"),
@@ -435,6 +494,15 @@ fn frame_bind_group(
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&shadows.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&shadows.sampler),
+            },
+            wgpu::BindGroupEntry { binding: 4, resource: shadows.matrices.as_entire_binding() },
         ],
     })
 }

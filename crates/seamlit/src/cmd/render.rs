@@ -3,7 +3,7 @@
 use seamlit_render::FrameDescriptor;
 
 use crate::cli::RenderArgs;
-use crate::draw::{Gpu, check_png, frame_settings};
+use crate::draw::{Gpu, Look, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
 use crate::prepare::{FixOverride, bounds_of, pick_camera};
@@ -24,7 +24,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let cameras = loaded.cameras(bounds, aspect);
     let camera = pick_camera(&cameras, args.scene.view.camera.as_deref(), &args.scene.input)?;
     let settings = frame_settings(&args.scene.view, &loaded);
+    let environment = Look::new(&args.scene.view, &loaded).read_environment()?;
     let mut gpu = Gpu::open()?;
+    gpu.set_environment(environment.as_ref())?;
     let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;
     println!(
