@@ -8,7 +8,9 @@ use clap::Args;
 use glam::Vec3;
 use image::{Rgba, RgbaImage, imageops};
 use seamlit_io::{Asset, LoadOptions};
-use seamlit_render::{DebugView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Renderer};
+use seamlit_render::{
+    DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Renderer,
+};
 use seamlit_scene::{Camera, demo, lights::three_point_rig};
 
 /// Pixels between pictures.
@@ -83,7 +85,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 normal_mapping,
                 ..FrameSettings::default()
             };
-            let image = renderer.render_to_image(&ctx, &scene, &view, &settings, w, h)?;
+            let image = renderer.render_to_image(
+                &ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &view,
+                    settings: &settings,
+                    size: (w, h),
+                },
+            )?;
             let x = col as u32 * (w + GAP);
             let y = row as u32 * (h + GAP);
             imageops::replace(&mut grid, &image, i64::from(x), i64::from(y));

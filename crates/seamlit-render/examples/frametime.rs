@@ -4,8 +4,12 @@
 //! ```text
 //! cargo run --release -p seamlit-render --example frametime -- [--size 1280x720] [--frames 20]
 //!     [--samples 4] [--anisotropy 16] [--sides 224,708] [--lights 1,16]
-//!     [--lighting blinn-phong|pbr]
+//!     [--lighting blinn-phong|pbr] [--environment none|builtin] [--shadows N]
 //! ```
+//!
+//! `--environment builtin` lights PBR materials with the procedural studio as well (split-sum
+//! image-based light) and draws it behind the sphere; `--shadows N` gives the first N
+//! directional and spot lights shadow maps (default 0).
 //!
 //! Each frame is recorded, submitted and waited for (`Renderer::time_frames`); the table gives
 //! the median and the fastest of N frames after one warm-up frame.
@@ -19,8 +23,8 @@ use glam::Vec3;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, LightingModel, Renderer,
-    TextureOptions, ToneMapping,
+    CameraView, Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene,
+    IMAGE_FORMAT, Light, LightingModel, Renderer, TextureOptions, ToneMapping,
 };
 
 fn arg(name: &str) -> Option<String> {
@@ -71,6 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(str::parse)
         .collect::<Result<_, _>>()?;
 
+    let shadow_maps: usize = arg("--shadows").map_or(Ok(0), |f| f.parse())?;
     let lighting_model = match arg("--lighting").as_deref() {
         None | Some("blinn-phong") => LightingModel::BlinnPhong,
         Some("pbr") => LightingModel::Pbr,
@@ -80,11 +85,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = GpuContext::headless()?;
     println!("adapter: {}", ctx.describe());
     println!(
-        "{width}x{height}, {samples}x MSAA, {anisotropy}x anisotropic, normal mapping on, {lighting_model:?}, median (min) of {frames} frames\n"
+        "{width}x{height}, {samples}x MSAA, {anisotropy}x anisotropic, normal mapping on, {lighting_model:?}, {shadow_maps} shadow maps, median (min) of {frames} frames\n"
     );
     println!("| triangles | lights | median frame | fastest frame |");
     println!("|---:|---:|---:|---:|");
     let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples)?;
+    match arg("--environment").as_deref() {
+        None | Some("none") => {}
+        Some("builtin") => {
+            let started = std::time::Instant::now();
+            let environment = GpuEnvironment::new(&ctx, &Environment::Builtin)?;
+            ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
+            println!(
+                "environment prefiltered in {:.0} ms\n",
+                started.elapsed().as_secs_f64() * 1e3
+            );
+            renderer.set_environment(Some(environment));
+        }
+        Some(other) => return Err(format!("--environment {other}: none or builtin").into()),
+    }
     for &side in &sides {
         let mut sphere = shapes::sphere("sphere", 1.0, side, side, 0.0, 1.0);
         sphere.material = Some(0);
@@ -128,10 +147,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 lights: lights(count),
                 lighting_model,
                 tone_mapping: ToneMapping::default_for(lighting_model),
+                shadow_maps,
                 ..FrameSettings::default()
             };
-            let times =
-                renderer.time_frames(&ctx, &scene, &camera, &settings, width, height, frames)?;
+            let times = renderer.time_frames(
+                &ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &camera,
+                    settings: &settings,
+                    size: (width, height),
+                },
+                frames,
+            )?;
             println!(
                 "| {} | {count} | {:.2} ms | {:.2} ms |",
                 scene.triangle_count(),

@@ -197,13 +197,16 @@ impl GpuContext {
 /// pipelines use them).
 #[derive(Debug)]
 pub(crate) struct Layouts {
-    /// Group 0: frame uniforms and the light storage buffer.
+    /// Group 0: frame uniforms, the light storage buffer, the shadow maps, their comparison
+    /// sampler and their matrices.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1: material uniforms, base colour and normal textures, sampler, then the
     /// metallic-roughness, occlusion and emissive textures.
     pub material: wgpu::BindGroupLayout,
     /// Group 2: object uniforms and the object's vertices (read as storage for TBN lines).
     pub object: wgpu::BindGroupLayout,
+    /// Group 3: the environment's specular and irradiance cubes, BRDF table and sampler.
+    pub environment: wgpu::BindGroupLayout,
 }
 
 impl Layouts {
@@ -241,7 +244,27 @@ impl Layouts {
         };
         let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("seamlit frame"),
-            entries: &[uniform(0, S::VERTEX_FRAGMENT), storage(1, S::VERTEX_FRAGMENT)],
+            entries: &[
+                uniform(0, S::VERTEX_FRAGMENT),
+                storage(1, S::VERTEX_FRAGMENT),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                uniform(4, S::FRAGMENT),
+            ],
         });
         let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("seamlit material"),
@@ -264,6 +287,30 @@ impl Layouts {
             label: Some("seamlit object"),
             entries: &[uniform(0, S::VERTEX_FRAGMENT), storage(1, S::VERTEX)],
         });
-        Self { frame, material, object }
+        let cube = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: S::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::Cube,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let environment = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("seamlit environment"),
+            entries: &[
+                cube(0),
+                cube(1),
+                texture(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        Self { frame, material, object, environment }
     }
 }

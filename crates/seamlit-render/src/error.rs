@@ -24,6 +24,14 @@ pub enum RenderError {
         #[source]
         source: wgpu::RequestDeviceError,
     },
+    /// An environment image could not be read (missing, unreadable, not a Radiance `.hdr`).
+    #[error("{}: cannot read the environment: {reason}", path.display())]
+    Environment {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why (the I/O or decoder error).
+        reason: String,
+    },
     /// An object has no normals; run `seamlit_mesh::fix` before uploading.
     #[error("object {object:?} has no normals; run seamlit_mesh::fix on the model first")]
     MissingNormals {

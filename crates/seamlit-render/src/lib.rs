@@ -22,7 +22,8 @@
 //!   [`GpuScene::replace_model`] swaps the geometry after a re-fix.
 //! - [`Renderer`]: pipelines for one target format and MSAA sample count;
 //!   [`Renderer::render`] into a view (a window), [`Renderer::render_to_image`] to an image,
-//!   [`Renderer::time_frames`] for frame timing.
+//!   [`Renderer::time_frames`] for frame timing, each given a [`FrameDescriptor`] (scene,
+//!   camera, settings, size); [`Renderer::for_images`] makes one for images.
 //! - [`FrameSettings`]: lights, ambient, lighting model, normal mapping, strength, green flip,
 //!   [`DebugView`], TBN lines, exposure, [`ToneMapping`]; [`CameraView`] the camera.
 //!
@@ -30,7 +31,7 @@
 //! use glam::{Vec2, Vec3};
 //! use seamlit_io::Asset;
 //! use seamlit_mesh::{FixOptions, Model, Object, fix};
-//! use seamlit_render::{CameraView, FrameSettings, GpuContext, GpuScene, render_to_image};
+//! use seamlit_render::{CameraView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, Renderer};
 //!
 //! // A quad facing +Z; fix gives it normals and tangents.
 //! let quad = Object::new(
@@ -45,7 +46,9 @@
 //! let ctx = GpuContext::headless()?;
 //! let scene = GpuScene::upload(&ctx, &asset)?;
 //! let camera = CameraView::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 45.0, 1.0, 0.1, 10.0);
-//! let image = render_to_image(&ctx, &scene, &camera, &FrameSettings::default(), 64, 64)?;
+//! let settings = FrameSettings::default();
+//! let frame = FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (64, 64) };
+//! let image = Renderer::for_images(&ctx)?.render_to_image(&ctx, &frame)?;
 //! assert_eq!(image.dimensions(), (64, 64));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -59,6 +62,7 @@
 #![deny(missing_docs)]
 
 mod context;
+mod environment;
 mod error;
 mod light;
 mod pipeline;
@@ -66,13 +70,15 @@ mod readback;
 mod renderer;
 mod scene;
 mod settings;
+mod shadow;
 mod texture;
 
 pub use context::GpuContext;
+pub use environment::{Environment, GpuEnvironment};
 pub use error::RenderError;
-pub use light::{CameraView, DebugView, Light, LightRaw, LightingModel};
+pub use light::{CameraView, DebugView, Light, LightingModel};
 pub use readback::PendingReadback;
-pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameTimes, IMAGE_FORMAT, Renderer, render_to_image};
+pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameDescriptor, FrameTimes, IMAGE_FORMAT, Renderer};
 pub use scene::GpuScene;
 pub use settings::{FrameSettings, ToneMapping};
 pub use texture::TextureOptions;

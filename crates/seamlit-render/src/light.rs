@@ -1,5 +1,5 @@
 //! Lights, cameras and the frame's shading switches: the CPU-side description of what to draw.
-//! The GPU layout of a light is [`LightRaw`], built by [`Light::to_raw`].
+//! The GPU layout of a light is `LightRaw`, built by `Light::to_raw` (both crate-private).
 //!
 //! Attenuation follows KHR_lights_punctual: a point or spot light at distance `d` delivers
 //! `color * intensity * clamp(1 - (d / range)^4, 0, 1)^2 / d^2`, and a spot light is further
@@ -56,13 +56,14 @@ impl Light {
     /// The light as the shader reads it: direction normalised, colour times intensity, cone
     /// angles as cosines.
     #[must_use]
-    pub fn to_raw(&self) -> LightRaw {
+    pub(crate) fn to_raw(self) -> LightRaw {
         let unit = |d: Vec3| d.try_normalize().unwrap_or(Vec3::NEG_Y).to_array();
-        match *self {
+        match self {
             Self::Directional { direction, color, intensity } => LightRaw {
                 kind: LightRaw::DIRECTIONAL,
                 direction: unit(direction),
                 color: (color * intensity).to_array(),
+                shadow: -1.0,
                 ..LightRaw::zeroed()
             },
             Self::Point { position, color, intensity, range } => LightRaw {
@@ -70,6 +71,7 @@ impl Light {
                 kind: LightRaw::POINT,
                 range,
                 color: (color * intensity).to_array(),
+                shadow: -1.0,
                 ..LightRaw::zeroed()
             },
             Self::Spot {
@@ -91,6 +93,7 @@ impl Light {
                     color: (color * intensity).to_array(),
                     cos_inner: inner.to_radians().cos(),
                     cos_outer: outer.to_radians().cos(),
+                    shadow: -1.0,
                     ..LightRaw::zeroed()
                 }
             }
@@ -101,7 +104,7 @@ impl Light {
 /// A light as the shaders read it from the light storage buffer (`Light` in `mesh.wgsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct LightRaw {
+pub(crate) struct LightRaw {
     /// World position (point and spot).
     pub position: [f32; 3],
     /// [`LightRaw::DIRECTIONAL`], [`LightRaw::POINT`] or [`LightRaw::SPOT`].
@@ -116,17 +119,19 @@ pub struct LightRaw {
     pub cos_inner: f32,
     /// Cosine of the outer cone half-angle (spot).
     pub cos_outer: f32,
+    /// The light's shadow-map layer; -1: no shadow.
+    pub shadow: f32,
     /// Padding to 64 bytes.
-    pub pad: [f32; 3],
+    pub pad: [f32; 2],
 }
 
 impl LightRaw {
     /// `kind` of a directional light.
-    pub const DIRECTIONAL: u32 = 0;
+    pub(crate) const DIRECTIONAL: u32 = 0;
     /// `kind` of a point light.
-    pub const POINT: u32 = 1;
+    pub(crate) const POINT: u32 = 1;
     /// `kind` of a spot light.
-    pub const SPOT: u32 = 2;
+    pub(crate) const SPOT: u32 = 2;
 }
 
 /// A camera as the renderer needs it: where the eye is and how it projects.
@@ -222,7 +227,7 @@ pub enum LightingModel {
 impl LightingModel {
     /// The number the shader switches on.
     #[must_use]
-    pub const fn to_raw(self) -> u32 {
+    pub(crate) const fn to_raw(self) -> u32 {
         match self {
             Self::BlinnPhong => 0,
             Self::Phong => 1,
@@ -262,7 +267,7 @@ pub enum DebugView {
 impl DebugView {
     /// The number the shader switches on.
     #[must_use]
-    pub const fn to_raw(self) -> u32 {
+    pub(crate) const fn to_raw(self) -> u32 {
         match self {
             Self::Lit => 0,
             Self::Normals => 1,

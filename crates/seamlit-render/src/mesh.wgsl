@@ -13,8 +13,14 @@
 // (the specification's fresnel_mix, as the Khronos Sample Viewer has it). Lit colours are scaled by the exposure and tone mapped (Khronos PBR
 // Neutral) when the frame asks for it.
 //
-// Entry points: vs_main / fs_main draw the meshes; vs_tbn / fs_tbn draw each vertex's
-// tangent, bitangent and normal as lines, reading the vertex buffer as storage.
+// Image-based light (PBR only) is the split sum (B. Karis, "Real Shading in Unreal Engine 4",
+// 2013) over the textures ibl.wgsl prefiltered: the specular cube at the mip of the
+// roughness times the BRDF table's f0 * scale + bias, plus the irradiance cube times the
+// diffuse colour and the energy the specular lobe leaves, both darkened by occlusion.
+//
+// Entry points: vs_main / fs_main draw the meshes; vs_sky / fs_sky the environment behind
+// them; vs_tbn / fs_tbn draw each vertex's tangent, bitangent and normal as lines, reading
+// the vertex buffer as storage.
 
 struct Frame {
     view_proj: mat4x4<f32>,
@@ -28,8 +34,12 @@ struct Frame {
     tbn_length: f32,
     exposure: f32,
     tone_mapping: u32,
-    pad0: u32,
-    pad1: u32,
+    environment_intensity: f32,
+    environment_max_lod: f32,
+    inv_view_proj: mat4x4<f32>,
+    environment_rotation: vec2<f32>,
+    background_lod: f32,
+    shadow_normal_offset: f32,
 }
 
 struct Light {
@@ -40,7 +50,7 @@ struct Light {
     color: vec3<f32>,
     cos_inner: f32,
     cos_outer: f32,
-    pad0: f32,
+    shadow: f32,
     pad1: f32,
     pad2: f32,
 }
@@ -99,11 +109,14 @@ const VIEW_OCCLUSION: u32 = 9u;
 
 // Tone mapping (ToneMapping::to_raw).
 const TONE_PBR_NEUTRAL: u32 = 1u;
+const TONE_ACES: u32 = 2u;
 
 // Frame flags (settings.rs).
 const FLAG_NORMAL_MAPPING: u32 = 1u;
 const FLAG_FLIP_GREEN: u32 = 2u;
 const FLAG_ENCODE_SRGB: u32 = 4u;
+const FLAG_ENVIRONMENT: u32 = 8u;
+const FLAG_SHADOWS: u32 = 16u;
 
 // Material flags (scene.rs).
 const MAT_NORMAL_MAP: u32 = 1u;
@@ -117,6 +130,9 @@ const PI: f32 = 3.141592653589793;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;
+@group(0) @binding(2) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(3) var shadow_sampler: sampler_comparison;
+@group(0) @binding(4) var<uniform> shadow_matrices: array<mat4x4<f32>, 4>;
 @group(1) @binding(0) var<uniform> material: Material;
 @group(1) @binding(1) var base_texture: texture_2d<f32>;
 @group(1) @binding(2) var normal_texture: texture_2d<f32>;
@@ -126,6 +142,10 @@ const PI: f32 = 3.141592653589793;
 @group(1) @binding(6) var emissive_texture: texture_2d<f32>;
 @group(2) @binding(0) var<uniform> object: Object;
 @group(2) @binding(1) var<storage, read> vertex_data: array<f32>;
+@group(3) @binding(0) var environment_specular: texture_cube<f32>;
+@group(3) @binding(1) var environment_irradiance: texture_cube<f32>;
+@group(3) @binding(2) var brdf_lut: texture_2d<f32>;
+@group(3) @binding(3) var environment_sampler: sampler;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -205,33 +225,82 @@ fn incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(l, attenuation);
 }
 
-// Sum over all lights of the diffuse and specular terms (without the material's colours) at
-// point p with unit normal n and unit view vector v.
+// How much of a light reaches point p with unit normal n past its shadow map: 3 x 3
+// comparisons, each filtered bilinearly (percentage-closer filtering), from a point moved
+// a little along the normal against self-shadowing. 1 outside the map or without one.
+fn shadow_factor(light: Light, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    if (frame.flags & FLAG_SHADOWS) == 0u || light.shadow < 0.0 {
+        return 1.0;
+    }
+    let layer = i32(light.shadow);
+    let clip = shadow_matrices[layer] * vec4<f32>(p + n * frame.shadow_normal_offset, 1.0);
+    let ndc = clip.xyz / clip.w;
+    let uv = ndc.xy * vec2<f32>(0.5, -0.5) + 0.5;
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 || clip.w <= 0.0 {
+        return 1.0;
+    }
+    let texel = 1.0 / vec2<f32>(textureDimensions(shadow_maps));
+    var lit = 0.0;
+    for (var y = -1; y <= 1; y = y + 1) {
+        for (var x = -1; x <= 1; x = x + 1) {
+            let at = uv + vec2<f32>(f32(x), f32(y)) * texel;
+            lit = lit + textureSampleCompareLevel(shadow_maps, shadow_sampler, at, layer, ndc.z);
+        }
+    }
+    return lit / 9.0;
+}
+
+// One light's diffuse and specular terms (without the material's colours) at point p with
+// unit normal n and unit view vector v, before shadowing.
+fn light_terms(light: Light, n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -> Shade {
+    var out: Shade;
+    out.diffuse = vec3<f32>(0.0);
+    out.specular = vec3<f32>(0.0);
+    let inc = incidence(light, p);
+    let l = inc.xyz;
+    let n_dot_l = dot(n, l);
+    if n_dot_l <= 0.0 || inc.w <= 0.0 {
+        return out;
+    }
+    let radiance = light.color * inc.w;
+    out.diffuse = radiance * n_dot_l;
+    if model == MODEL_LAMBERT {
+        return out;
+    }
+    var s: f32;
+    if model == MODEL_PHONG {
+        s = pow(max(dot(reflect(-l, n), v), 0.0), shininess);
+    } else {
+        s = pow(max(dot(n, safe_normalize(l + v, n)), 0.0), shininess);
+    }
+    out.specular = radiance * s;
+    return out;
+}
+
+// Sum over all lights of the diffuse and specular terms, unshadowed (Gouraud, per vertex:
+// the shadow maps are read in the fragment shader only).
 fn shade(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -> Shade {
     var out: Shade;
     out.diffuse = vec3<f32>(0.0);
     out.specular = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i = i + 1u) {
-        let light = lights[i];
-        let inc = incidence(light, p);
-        let l = inc.xyz;
-        let attenuation = inc.w;
-        let n_dot_l = dot(n, l);
-        if n_dot_l <= 0.0 || attenuation <= 0.0 {
-            continue;
-        }
-        let radiance = light.color * attenuation;
-        out.diffuse = out.diffuse + radiance * n_dot_l;
-        if model == MODEL_LAMBERT {
-            continue;
-        }
-        var s: f32;
-        if model == MODEL_PHONG {
-            s = pow(max(dot(reflect(-l, n), v), 0.0), shininess);
-        } else {
-            s = pow(max(dot(n, safe_normalize(l + v, n)), 0.0), shininess);
-        }
-        out.specular = out.specular + radiance * s;
+        let t = light_terms(lights[i], n, v, p, shininess, model);
+        out.diffuse = out.diffuse + t.diffuse;
+        out.specular = out.specular + t.specular;
+    }
+    return out;
+}
+
+// As shade, each light darkened by its shadow map.
+fn shade_shadowed(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, shininess: f32, model: u32) -> Shade {
+    var out: Shade;
+    out.diffuse = vec3<f32>(0.0);
+    out.specular = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i = i + 1u) {
+        let t = light_terms(lights[i], n, v, p, shininess, model);
+        let visible = shadow_factor(lights[i], p, n);
+        out.diffuse = out.diffuse + t.diffuse * visible;
+        out.specular = out.specular + t.specular * visible;
     }
     return out;
 }
@@ -266,7 +335,7 @@ fn shade_pbr(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, c_diff: vec3<f32>, f0: ve
         let visibility = select(0.0, 0.5 / vis_denom, vis_denom > 0.0);
         let diffuse = (1.0 - fresnel_dielectric) * c_diff / PI;
         let specular = fresnel * distribution * visibility;
-        sum = sum + light.color * inc.w * n_dot_l * (diffuse + specular);
+        sum = sum + light.color * inc.w * shadow_factor(light, p, n) * n_dot_l * (diffuse + specular);
     }
     return sum;
 }
@@ -280,6 +349,40 @@ fn env_specular(f0: vec3<f32>, roughness: f32, n_dot_v: f32) -> vec3<f32> {
     let a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
     let ab = vec2<f32>(-1.04, 1.04) * a004 + r.zw;
     return f0 * ab.x + ab.y;
+}
+
+// A world direction in the environment's own frame: turned back by its rotation about +Y.
+fn environment_direction(d: vec3<f32>) -> vec3<f32> {
+    let c = frame.environment_rotation.x;
+    let s = frame.environment_rotation.y;
+    return vec3<f32>(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+}
+
+// The environment's light reflected at a point with unit normal n and unit view vector v:
+// split-sum specular plus irradiance times the diffuse colour, the latter scaled by the
+// energy the specular lobe leaves (so a white dielectric in a uniform environment of
+// radiance L returns L).
+fn shade_environment(n: vec3<f32>, v: vec3<f32>, c_diff: vec3<f32>, f0: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
+    let lut_size = vec2<f32>(textureDimensions(brdf_lut));
+    let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
+    let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
+    let reflectance = f0 * ab.x + ab.y;
+    let r = environment_direction(reflect(-v, n));
+    let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
+    let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
+    return (specular * reflectance + irradiance * c_diff * (1.0 - reflectance)) * frame.environment_intensity;
+}
+
+// ACES filmic tone mapping, S. Hill's fit (the Khronos glTF Sample Viewer's "ACES Hill"):
+// sRGB to the ACES working space, the RRT and ODT fit, and back.
+fn aces_hill(color_in: vec3<f32>) -> vec3<f32> {
+    let to_aces = mat3x3<f32>(0.59719, 0.07600, 0.02840, 0.35458, 0.90834, 0.13383, 0.04823, 0.01566, 0.83777);
+    let from_aces = mat3x3<f32>(1.60475, -0.10208, -0.00327, -0.53108, 1.10813, -0.07276, -0.07367, -0.00605, 1.07602);
+    let c = to_aces * color_in;
+    let a = c * (c + 0.0245786) - 0.000090537;
+    let b = c * (0.983729 * c + 0.4329510) + 0.238081;
+    return clamp(from_aces * (a / b), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 // Khronos PBR Neutral tone mapping (github.com/KhronosGroup/ToneMapping, PBR_Neutral).
@@ -307,6 +410,8 @@ fn out_lit(c: vec3<f32>, alpha: f32) -> vec4<f32> {
     var mapped = c * frame.exposure;
     if frame.tone_mapping == TONE_PBR_NEUTRAL {
         mapped = pbr_neutral(mapped);
+    } else if frame.tone_mapping == TONE_ACES {
+        mapped = aces_hill(mapped);
     }
     return vec4<f32>(out_linear(mapped).rgb, alpha);
 }
@@ -462,11 +567,40 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         let c_diff = mix(albedo, vec3<f32>(0.0), metallic);
         let f0 = mix(vec3<f32>(0.04), albedo, metallic);
         let direct = shade_pbr(n, v, in.world, c_diff, f0, roughness * roughness);
-        let ambient = frame.ambient * (c_diff + env_specular(f0, roughness, abs(dot(n, v)))) * occlusion;
-        return out_lit(direct + ambient + emissive, alpha);
+        var ambient = frame.ambient * (c_diff + env_specular(f0, roughness, abs(dot(n, v))));
+        if (frame.flags & FLAG_ENVIRONMENT) != 0u {
+            ambient = ambient + shade_environment(n, v, c_diff, f0, roughness);
+        }
+        return out_lit(direct + ambient * occlusion + emissive, alpha);
     }
-    let s = shade(n, v, in.world, material.shininess, frame.lighting_model);
+    let s = shade_shadowed(n, v, in.world, material.shininess, frame.lighting_model);
     return out_lit(albedo * (frame.ambient + s.diffuse) + material.specular * s.specular + emissive, alpha);
+}
+
+struct SkyOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+// One triangle that covers the screen, at the far plane.
+@vertex
+fn vs_sky(@builtin(vertex_index) index: u32) -> SkyOut {
+    let p = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u)) * 2.0 - 1.0;
+    var out: SkyOut;
+    out.clip = vec4<f32>(p, 1.0, 1.0);
+    out.ndc = p;
+    return out;
+}
+
+// The environment behind the scene, blurred (a rough mip of the specular cube), exposed and
+// tone mapped as the lit colours are.
+@fragment
+fn fs_sky(in: SkyOut) -> @location(0) vec4<f32> {
+    let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
+    let near = frame.inv_view_proj * vec4<f32>(in.ndc, 0.0, 1.0);
+    let d = safe_normalize(far.xyz / far.w - near.xyz / near.w, vec3<f32>(0.0, 0.0, -1.0));
+    let c = textureSampleLevel(environment_specular, environment_sampler, environment_direction(d), frame.background_lod).rgb;
+    return out_lit(c * frame.environment_intensity, 1.0);
 }
 
 struct LineOut {

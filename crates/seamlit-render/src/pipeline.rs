@@ -1,5 +1,6 @@
 //! The render pipelines: meshes in eight variants (front faces counter-clockwise or clockwise,
-//! culled or double-sided, opaque or alpha-blended) and the TBN lines.
+//! culled or double-sided, opaque or alpha-blended), the environment behind them and the TBN
+//! lines.
 
 use crate::GpuContext;
 use crate::scene::VertexRaw;
@@ -13,6 +14,8 @@ pub(crate) struct Pipelines {
     /// Indexed by [`Pipelines::mesh_index`].
     mesh: [wgpu::RenderPipeline; 8],
     pub tbn: wgpu::RenderPipeline,
+    /// The environment, blurred, behind everything.
+    pub sky: wgpu::RenderPipeline,
 }
 
 impl Pipelines {
@@ -26,6 +29,7 @@ impl Pipelines {
                 Some(&layouts.frame),
                 Some(&layouts.material),
                 Some(&layouts.object),
+                Some(&layouts.environment),
             ],
             immediate_size: 0,
         });
@@ -115,7 +119,33 @@ impl Pipelines {
             multiview_mask: None,
             cache: None,
         });
-        Self { mesh, tbn }
+        let sky = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("seamlit sky"),
+            layout: Some(&mesh_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_sky"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            // Drawn first, everywhere, leaving the depth buffer cleared for the meshes.
+            depth_stencil: Some(wgpu::DepthStencilState {
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                ..depth()
+            }),
+            multisample,
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_sky"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self { mesh, tbn, sky }
     }
 
     /// Front face, whether back faces are culled and whether colour is blended, for a

@@ -5,9 +5,11 @@ use std::time::{Duration, Instant};
 
 use image::RgbaImage;
 
+use crate::light::LightRaw;
 use crate::pipeline::{DEPTH_FORMAT, Pipelines};
 use crate::settings::FrameRaw;
-use crate::{CameraView, FrameSettings, GpuContext, GpuScene, LightRaw, RenderError};
+use crate::shadow::{SHADOW_SIZE, Shadows};
+use crate::{CameraView, FrameSettings, GpuContext, GpuEnvironment, GpuScene, RenderError};
 
 /// The format [`Renderer::render_to_image`] renders in and reads back.
 pub const IMAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -29,6 +31,12 @@ pub struct Renderer {
     light_capacity: usize,
     frame_bind_group: wgpu::BindGroup,
     attachments: Option<Attachments>,
+    shadows: Shadows,
+    /// Shadow maps in use this frame.
+    shadows_used: usize,
+    /// The environment's image-based light, and whether it is a real one.
+    environment: GpuEnvironment,
+    has_environment: bool,
 }
 
 /// Depth (and, with MSAA, colour) attachments of one size.
@@ -37,6 +45,20 @@ struct Attachments {
     size: (u32, u32),
     depth: wgpu::TextureView,
     msaa: Option<wgpu::TextureView>,
+}
+
+/// One frame to draw: the scene, the camera it is seen through, the frame's settings, and
+/// the target's size in pixels (width, height).
+#[derive(Clone, Copy, Debug)]
+pub struct FrameDescriptor<'a> {
+    /// What to draw.
+    pub scene: &'a GpuScene,
+    /// From where.
+    pub camera: &'a CameraView,
+    /// Lights, lighting model, debug view, tone mapping.
+    pub settings: &'a FrameSettings,
+    /// Width and height of the target in pixels.
+    pub size: (u32, u32),
 }
 
 /// Frame times measured by [`Renderer::time_frames`].
@@ -103,7 +125,8 @@ impl Renderer {
             });
             let light_capacity = 16;
             let light_buffer = light_buffer(ctx, light_capacity);
-            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer);
+            let shadows = Shadows::new(ctx);
+            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer, &shadows);
             Ok(Self {
                 format,
                 sample_count,
@@ -113,8 +136,35 @@ impl Renderer {
                 light_capacity,
                 frame_bind_group,
                 attachments: None,
+                shadows,
+                shadows_used: 0,
+                environment: GpuEnvironment::none(ctx),
+                has_environment: false,
             })
         })
+    }
+
+    /// A renderer for [`Renderer::render_to_image`]: [`IMAGE_FORMAT`], with
+    /// [`DEFAULT_SAMPLE_COUNT`] samples where the adapter supports it, else none.
+    ///
+    /// # Errors
+    ///
+    /// As [`Renderer::new`].
+    pub fn for_images(ctx: &GpuContext) -> Result<Self, RenderError> {
+        let supported = ctx.supported_sample_counts(IMAGE_FORMAT);
+        let samples =
+            if supported.contains(&DEFAULT_SAMPLE_COUNT) { DEFAULT_SAMPLE_COUNT } else { 1 };
+        Self::new(ctx, IMAGE_FORMAT, samples)
+    }
+
+    /// Lights PBR materials with `environment` from the next frame on (and, as
+    /// [`FrameSettings::environment_background`] says, draws it behind the scene); `None`
+    /// removes it.
+    pub fn set_environment(&mut self, environment: Option<GpuEnvironment>) {
+        self.has_environment = environment.is_some();
+        if let Some(environment) = environment {
+            self.environment = environment;
+        }
     }
 
     /// The target format this renderer draws into.
@@ -130,8 +180,8 @@ impl Renderer {
     }
 
     /// Renders one frame into `target` (a view of a texture of this renderer's format and of
-    /// `size` = (width, height) pixels, e.g. a window's surface texture) and submits it.
-    /// The target is cleared to [`FrameSettings::clear_color`] first.
+    /// `frame.size` pixels, e.g. a window's surface texture) and submits it. The target is
+    /// cleared to [`FrameSettings::clear_color`] first.
     ///
     /// # Errors
     ///
@@ -139,18 +189,15 @@ impl Renderer {
     pub fn render(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
+        frame: &FrameDescriptor<'_>,
         target: &wgpu::TextureView,
-        size: (u32, u32),
     ) -> Result<(), RenderError> {
         ctx.scoped("rendering", || {
             let mut encoder =
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("seamlit frame"),
                 });
-            self.encode(ctx, &mut encoder, scene, camera, settings, target, size)?;
+            self.encode(ctx, &mut encoder, frame, target)?;
             ctx.queue().submit([encoder.finish()]);
             Ok(())
         })
@@ -163,19 +210,17 @@ impl Renderer {
     /// # Errors
     ///
     /// [`RenderError::BadSize`].
-    #[expect(clippy::too_many_arguments, reason = "a frame is all of these, and each is distinct")]
     pub fn encode(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
+        frame: &FrameDescriptor<'_>,
         target: &wgpu::TextureView,
-        size: (u32, u32),
     ) -> Result<(), RenderError> {
+        let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
-        self.prepare(ctx, scene, camera, settings, size);
+        self.prepare(ctx, frame);
+        self.shadows.encode(encoder, scene, self.shadows_used);
         let Some(attachments) = &self.attachments else { return Ok(()) };
         let [r, g, b, a] = settings.clear_color.map(f64::from);
         let (view, resolve_target) = match &attachments.msaa {
@@ -210,6 +255,10 @@ impl Renderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
+        pass.set_bind_group(3, &self.environment.bind_group, &[]);
+        if self.has_environment && settings.environment_background {
+            self.draw_sky(&mut pass, scene);
+        }
         for mesh in draw_order(scene, camera.eye) {
             let material = &scene.materials[mesh.material];
             pass.set_pipeline(self.pipelines.mesh(
@@ -234,24 +283,50 @@ impl Renderer {
         Ok(())
     }
 
+    /// Draws the environment behind everything. The sky reads only groups 0 and 3, but the
+    /// pipeline layout has all four set: any material and object will do (a scene without
+    /// objects has no sky).
+    fn draw_sky(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene) {
+        let (Some(material), Some(mesh)) = (scene.materials.last(), scene.meshes.first()) else {
+            return;
+        };
+        pass.set_pipeline(&self.pipelines.sky);
+        pass.set_bind_group(1, &material.bind_group, &[]);
+        pass.set_bind_group(2, &mesh.bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
     /// Writes the uniforms and lights, and makes the attachments fit `size`.
-    fn prepare(
-        &mut self,
-        ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        size: (u32, u32),
-    ) {
-        let raw = settings.to_raw(camera, scene.default_tbn_length(), !self.format.is_srgb());
+    fn prepare(&mut self, ctx: &GpuContext, frame: &FrameDescriptor<'_>) {
+        let FrameDescriptor { scene, camera, settings, size } = *frame;
+        let (shadow_layers, used) =
+            self.shadows.prepare(ctx, &settings.lights, settings.shadow_maps, scene.bounds());
+        self.shadows_used = used;
+        // Two shadow-map texels of the directional maps, which span the scene's bounds.
+        let normal_offset = (used > 0).then(|| {
+            scene.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length() / SHADOW_SIZE as f32 * 2.0)
+        });
+        let raw = settings.to_raw(
+            camera,
+            scene.default_tbn_length(),
+            !self.format.is_srgb(),
+            self.has_environment,
+            normal_offset,
+        );
         ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
         if settings.lights.len() > self.light_capacity {
             self.light_capacity = settings.lights.len().next_power_of_two();
             self.light_buffer = light_buffer(ctx, self.light_capacity);
-            self.frame_bind_group = frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer);
+            self.frame_bind_group =
+                frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer, &self.shadows);
         }
         if !settings.lights.is_empty() {
-            let lights: Vec<LightRaw> = settings.lights.iter().map(crate::Light::to_raw).collect();
+            let lights: Vec<LightRaw> = settings
+                .lights
+                .iter()
+                .zip(shadow_layers)
+                .map(|(light, shadow)| LightRaw { shadow, ..light.to_raw() })
+                .collect();
             ctx.queue().write_buffer(&self.light_buffer, 0, bytemuck::cast_slice(&lights));
         }
         if self.attachments.as_ref().is_none_or(|a| a.size != size) {
@@ -278,8 +353,7 @@ impl Renderer {
         }
     }
 
-    /// Renders one frame offscreen at `width` x `height` and reads it back as an sRGB RGBA
-    /// image. The renderer's format must be [`IMAGE_FORMAT`] (the hardware encodes sRGB) or
+    /// Renders one frame offscreen at `frame.size` and reads it back as an sRGB RGBA image. The renderer's format must be [`IMAGE_FORMAT`] (the hardware encodes sRGB) or
     /// `Rgba8Unorm` (the shader encodes, as for a window surface without an sRGB format).
     ///
     /// # Errors
@@ -289,12 +363,9 @@ impl Renderer {
     pub fn render_to_image(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        width: u32,
-        height: u32,
+        frame: &FrameDescriptor<'_>,
     ) -> Result<RgbaImage, RenderError> {
+        let (width, height) = frame.size;
         check_size(ctx, width, height)?;
         if !matches!(self.format, IMAGE_FORMAT | wgpu::TextureFormat::Rgba8Unorm) {
             return Err(RenderError::Gpu {
@@ -319,32 +390,25 @@ impl Renderer {
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("seamlit image"),
                 });
-            self.encode(ctx, &mut encoder, scene, camera, settings, &view, (width, height))?;
+            self.encode(ctx, &mut encoder, frame, &view)?;
             crate::readback::read_texture(ctx, encoder, &target, width, height)
         })
     }
 
-    /// Renders `frames` frames offscreen at `width` x `height` (after one unmeasured warm-up
+    /// Renders `frames` frames offscreen at `frame.size` (after one unmeasured warm-up
     /// frame) and measures each from recording to the GPU having finished it (submit, then
     /// wait). This is what `seamlit render --frames N` reports.
     ///
     /// # Errors
     ///
     /// As [`Renderer::render`], and [`RenderError::Poll`].
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "a timed frame is all of these, and each is distinct"
-    )]
     pub fn time_frames(
         &mut self,
         ctx: &GpuContext,
-        scene: &GpuScene,
-        camera: &CameraView,
-        settings: &FrameSettings,
-        width: u32,
-        height: u32,
+        frame: &FrameDescriptor<'_>,
         frames: usize,
     ) -> Result<FrameTimes, RenderError> {
+        let (width, height) = frame.size;
         check_size(ctx, width, height)?;
         let target = texture_2d(
             ctx,
@@ -358,7 +422,7 @@ impl Renderer {
         let mut times = Vec::with_capacity(frames);
         for i in 0..=frames {
             let start = Instant::now();
-            self.render(ctx, scene, camera, settings, &view, (width, height))?;
+            self.render(ctx, frame, &view)?;
             ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
             if i > 0 {
                 times.push(start.elapsed());
@@ -422,6 +486,7 @@ fn frame_bind_group(
     ctx: &GpuContext,
     frame: &wgpu::Buffer,
     lights: &wgpu::Buffer,
+    shadows: &Shadows,
 ) -> wgpu::BindGroup {
     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("seamlit frame"),
@@ -429,30 +494,15 @@ fn frame_bind_group(
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&shadows.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&shadows.sampler),
+            },
+            wgpu::BindGroupEntry { binding: 4, resource: shadows.matrices.as_entire_binding() },
         ],
     })
-}
-
-/// Renders one image with a fresh [`Renderer`] ([`IMAGE_FORMAT`], 4x MSAA where the adapter
-/// supports it, else none). For many images, keep a [`Renderer`] and call
-/// [`Renderer::render_to_image`].
-///
-/// # Errors
-///
-/// As [`Renderer::new`] and [`Renderer::render_to_image`].
-pub fn render_to_image(
-    ctx: &GpuContext,
-    scene: &GpuScene,
-    camera: &CameraView,
-    settings: &FrameSettings,
-    width: u32,
-    height: u32,
-) -> Result<RgbaImage, RenderError> {
-    let samples = if ctx.supported_sample_counts(IMAGE_FORMAT).contains(&DEFAULT_SAMPLE_COUNT) {
-        DEFAULT_SAMPLE_COUNT
-    } else {
-        1
-    };
-    Renderer::new(ctx, IMAGE_FORMAT, samples)?
-        .render_to_image(ctx, scene, camera, settings, width, height)
 }

@@ -33,6 +33,17 @@ pub struct FrameSettings {
     pub exposure: f32,
     /// How lit colours (linear, unbounded) become displayable ones.
     pub tone_mapping: ToneMapping,
+    /// Multiplies the image-based light of the renderer's environment
+    /// ([`crate::Renderer::set_environment`]); PBR materials only.
+    pub environment_intensity: f32,
+    /// Turns the environment about +Y, degrees (counter-clockwise seen from above).
+    pub environment_rotation_deg: f32,
+    /// Draw the environment, blurred, behind the scene instead of [`FrameSettings::clear_color`]
+    /// (when the renderer has one).
+    pub environment_background: bool,
+    /// How many lights cast shadows: the first this many directional and spot lights (at most
+    /// 4) get a shadow map with filtered (3 x 3 PCF) edges; 0, the default, turns shadows off.
+    pub shadow_maps: usize,
 }
 
 /// How lit colours, linear and unbounded, are mapped to 0..1 before the sRGB encoding.
@@ -45,6 +56,9 @@ pub enum ToneMapping {
     /// in the darks), brighter ones are compressed toward white with a little desaturation.
     /// <https://github.com/KhronosGroup/ToneMapping/tree/main/PBR_Neutral>
     PbrNeutral,
+    /// ACES filmic, S. Hill's fit of the RRT and ODT (as the Khronos glTF Sample Viewer's
+    /// "ACES Hill"): more contrast, highlights roll off to white.
+    Aces,
 }
 
 impl ToneMapping {
@@ -63,6 +77,7 @@ impl ToneMapping {
         match self {
             Self::None => 0,
             Self::PbrNeutral => 1,
+            Self::Aces => 2,
         }
     }
 }
@@ -88,6 +103,10 @@ impl Default for FrameSettings {
             clear_color: [0.02, 0.02, 0.025, 1.0],
             exposure: 1.0,
             tone_mapping: ToneMapping::None,
+            environment_intensity: 1.0,
+            environment_rotation_deg: 0.0,
+            environment_background: true,
+            shadow_maps: 0,
         }
     }
 }
@@ -98,6 +117,13 @@ pub(crate) const FLAG_NORMAL_MAPPING: u32 = 1;
 pub(crate) const FLAG_FLIP_GREEN: u32 = 2;
 /// Frame flag: the target is not sRGB, so the shader encodes.
 pub(crate) const FLAG_ENCODE_SRGB: u32 = 4;
+/// Frame flag: the renderer has an environment; PBR materials add its light.
+pub(crate) const FLAG_ENVIRONMENT: u32 = 8;
+/// Frame flag: some lights have shadow maps.
+pub(crate) const FLAG_SHADOWS: u32 = 16;
+
+/// How blurred the environment behind the scene is: the specular mip of roughness 0.6.
+const BACKGROUND_LOD: f32 = 3.0;
 
 /// The frame uniforms as the shaders read them (`Frame` in `mesh.wgsl`).
 #[repr(C)]
@@ -114,7 +140,16 @@ pub(crate) struct FrameRaw {
     pub tbn_length: f32,
     pub exposure: f32,
     pub tone_mapping: u32,
-    pub pad: [u32; 2],
+    pub environment_intensity: f32,
+    /// The specular cube's last mip (roughness 1).
+    pub environment_max_lod: f32,
+    pub inv_view_proj: [[f32; 4]; 4],
+    /// Cosine and sine of the environment's rotation about +Y.
+    pub environment_rotation: [f32; 2],
+    /// The specular mip the background shows.
+    pub background_lod: f32,
+    /// How far shadow lookups move along the normal, world units (against acne).
+    pub shadow_normal_offset: f32,
 }
 
 impl FrameSettings {
@@ -125,6 +160,8 @@ impl FrameSettings {
         camera: &CameraView,
         default_tbn_length: f32,
         encode_srgb: bool,
+        environment: bool,
+        shadow_normal_offset: Option<f32>,
     ) -> FrameRaw {
         let view_proj: Mat4 = camera.view_projection();
         let mut flags = 0;
@@ -137,6 +174,13 @@ impl FrameSettings {
         if encode_srgb {
             flags |= FLAG_ENCODE_SRGB;
         }
+        if environment {
+            flags |= FLAG_ENVIRONMENT;
+        }
+        if shadow_normal_offset.is_some() {
+            flags |= FLAG_SHADOWS;
+        }
+        let (sin, cos) = self.environment_rotation_deg.to_radians().sin_cos();
         FrameRaw {
             view_proj: view_proj.to_cols_array_2d(),
             eye: camera.eye.to_array(),
@@ -149,7 +193,12 @@ impl FrameSettings {
             tbn_length: self.tbn_length.unwrap_or(default_tbn_length),
             exposure: self.exposure,
             tone_mapping: self.tone_mapping.to_raw(),
-            pad: [0; 2],
+            environment_intensity: self.environment_intensity,
+            environment_max_lod: (crate::environment::SPECULAR_MIPS - 1) as f32,
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            environment_rotation: [cos, sin],
+            background_lod: BACKGROUND_LOD,
+            shadow_normal_offset: shadow_normal_offset.unwrap_or(0.0),
         }
     }
 }

@@ -4,13 +4,13 @@
 mod common;
 
 use common::{
-    assert_pixel, asset, ctx, decode, ortho_camera, pixel_world, plane, save, srgb, tex_ref,
-    texture,
+    assert_pixel, asset, ctx, decode, ortho_camera, pixel_world, plane, render_image, save, srgb,
+    tex_ref, texture,
 };
 use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::Material;
-use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel, render_to_image};
+use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingModel};
 
 const SIZE: u32 = 64;
 const HALF: f32 = 1.0;
@@ -65,8 +65,16 @@ fn directional_light_on_a_flat_normal_map_matches_blinn_phong() {
         ambient: Vec3::splat(0.05),
         ..FrameSettings::default()
     };
-    let image =
-        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings: &settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
     save("analytic_flat", &image);
 
     let n = texel_normal(texel);
@@ -113,8 +121,16 @@ fn a_normal_map_texel_tilted_45_degrees_is_darker_by_the_cosine() {
     let render = |texel: [u8; 3], direction: Vec3, name: &str| {
         let scene =
             GpuScene::upload(&ctx, &normal_mapped_plane(texel, material.clone())).expect("upload");
-        let image = render_to_image(&ctx, &scene, &camera, &lambert(direction), SIZE, SIZE)
-            .expect("render");
+        let image = render_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &camera,
+                settings: &lambert(direction),
+                size: (SIZE, SIZE),
+            },
+        )
+        .expect("render");
         save(name, &image);
         image
     };
@@ -189,8 +205,16 @@ fn point_light_falls_off_with_distance_as_specified() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image =
-        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings: &settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
     save("analytic_point", &image);
     // KHR_lights_punctual: clamp(1 - (d / range)^4, 0, 1)^2 / d^2, times N.L.
     let expected = |x: u32, y: u32| {
@@ -232,8 +256,16 @@ fn spot_light_is_full_inside_the_inner_cone_and_dark_outside_the_outer() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image =
-        render_to_image(&ctx, &scene, &ortho_camera(HALF), &settings, SIZE, SIZE).expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings: &settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
     save("analytic_spot", &image);
     // No range cut-off (range 0): 1 / d^2, times N.L, times the cone factor t^2 with
     // t = clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1).
@@ -281,13 +313,14 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
         ..FrameSettings::default()
     };
     // Phong: specular from the reflection vector R = 2 (N.L) N - L.
-    let phong = render_to_image(
+    let phong = render_image(
         &ctx,
-        &scene,
-        &ortho_camera(HALF),
-        &FrameSettings { lighting_model: LightingModel::Phong, ..base.clone() },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings: &FrameSettings { lighting_model: LightingModel::Phong, ..base.clone() },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     save("analytic_phong", &phong);
@@ -303,13 +336,14 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
     // diffuse term is the same everywhere; the specular term varies slowly, so the centre is
     // close to the average of the corner values. The diffuse part is checked exactly by
     // turning specular off in a second render.
-    let gouraud = render_to_image(
+    let gouraud = render_image(
         &ctx,
-        &scene,
-        &ortho_camera(HALF),
-        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base.clone() },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings: &FrameSettings { lighting_model: LightingModel::Gouraud, ..base.clone() },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     save("analytic_gouraud", &gouraud);
@@ -326,13 +360,14 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
         ),
     )
     .expect("upload");
-    let g = render_to_image(
+    let g = render_image(
         &ctx,
-        &diffuse_only,
-        &ortho_camera(HALF),
-        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &diffuse_only,
+            camera: &ortho_camera(HALF),
+            settings: &FrameSettings { lighting_model: LightingModel::Gouraud, ..base },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     assert_pixel(&g, 20, 40, [srgb(0.6 * (0.03 + 0.8 * dot(n, l))); 3], 2.0, "Gouraud diffuse");
@@ -388,15 +423,25 @@ fn green_flip_and_normal_mapping_switches() {
         [srgb(0.9 * (0.02 + dot(normalize(n), normalize([0.0, 1.0, 1.0])).max(0.0))); 3]
     };
     let (x, y, z) = (decode(texel[0]), decode(texel[1]), decode(texel[2]));
-    let up = render_to_image(&ctx, &scene, &camera, &settings, SIZE, SIZE).expect("render");
-    assert_pixel(&up, 32, 32, value([x, y, z]), 2.0, "green up faces the light");
-    let flipped = render_to_image(
+    let up = render_image(
         &ctx,
-        &scene,
-        &camera,
-        &FrameSettings { flip_green: true, ..settings.clone() },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &camera,
+            settings: &settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
+    assert_pixel(&up, 32, 32, value([x, y, z]), 2.0, "green up faces the light");
+    let flipped = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &camera,
+            settings: &FrameSettings { flip_green: true, ..settings.clone() },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     assert_pixel(&flipped, 32, 32, value([x, -y, z]), 2.0, "frame green flip faces away");
@@ -406,27 +451,33 @@ fn green_flip_and_normal_mapping_switches() {
         &normal_mapped_plane(texel, Material { normal_green_down: true, ..material.clone() }),
     )
     .expect("upload");
-    let dx_img = render_to_image(&ctx, &dx, &camera, &settings, SIZE, SIZE).expect("render");
+    let dx_img = render_image(
+        &ctx,
+        &FrameDescriptor { scene: &dx, camera: &camera, settings: &settings, size: (SIZE, SIZE) },
+    )
+    .expect("render");
     assert_pixel(&dx_img, 32, 32, value([x, -y, z]), 2.0, "material green-down flips");
     // Strength 0.5 halves the tangent-space x and y.
-    let half = render_to_image(
+    let half = render_image(
         &ctx,
-        &scene,
-        &camera,
-        &FrameSettings { normal_strength: 0.5, ..settings.clone() },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &camera,
+            settings: &FrameSettings { normal_strength: 0.5, ..settings.clone() },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     assert_pixel(&half, 32, 32, value([x * 0.5, y * 0.5, z]), 2.0, "strength 0.5");
     // Normal mapping off for the frame: the geometric normal.
-    let off = render_to_image(
+    let off = render_image(
         &ctx,
-        &scene,
-        &camera,
-        &FrameSettings { normal_mapping: false, ..settings },
-        SIZE,
-        SIZE,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &camera,
+            settings: &FrameSettings { normal_mapping: false, ..settings },
+            size: (SIZE, SIZE),
+        },
     )
     .expect("render");
     assert_pixel(&off, 32, 32, value([0.0, 0.0, 1.0]), 2.0, "normal mapping off");

@@ -3,11 +3,11 @@
 
 mod common;
 
-use common::{asset, ctx, ortho_camera, plane, save, tex_ref, texture};
+use common::{asset, ctx, ortho_camera, plane, render_image, save, tex_ref, texture};
 use glam::{Mat4, Vec3};
 use seamlit_io::Material;
 use seamlit_render::{
-    FrameSettings, GpuScene, IMAGE_FORMAT, RenderError, Renderer, TextureOptions,
+    FrameDescriptor, FrameSettings, GpuScene, IMAGE_FORMAT, RenderError, Renderer, TextureOptions,
 };
 
 #[test]
@@ -60,7 +60,15 @@ fn bad_sizes_and_sample_counts_are_errors() {
         GpuScene::upload(&ctx, &asset(plane(1.0), Material::default(), vec![])).expect("upload");
     let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, 1).expect("renderer");
     let err = renderer
-        .render_to_image(&ctx, &scene, &ortho_camera(1.0), &FrameSettings::default(), 0, 10)
+        .render_to_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &ortho_camera(1.0),
+                settings: &FrameSettings::default(),
+                size: (0, 10),
+            },
+        )
         .expect_err("zero width");
     assert!(matches!(err, RenderError::BadSize { width: 0, height: 10, .. }), "{err}");
     let err = Renderer::new(&ctx, IMAGE_FORMAT, 3).expect_err("3 samples");
@@ -83,11 +91,27 @@ fn a_non_srgb_target_gets_the_same_image() {
     let settings = FrameSettings::default();
     let srgb = Renderer::new(&ctx, IMAGE_FORMAT, 4)
         .expect("renderer")
-        .render_to_image(&ctx, &scene, &camera, &settings, 48, 48)
+        .render_to_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &camera,
+                settings: &settings,
+                size: (48, 48),
+            },
+        )
         .expect("render");
     let unorm = Renderer::new(&ctx, wgpu::TextureFormat::Rgba8Unorm, 4)
         .expect("renderer")
-        .render_to_image(&ctx, &scene, &camera, &settings, 48, 48)
+        .render_to_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &camera,
+                settings: &settings,
+                size: (48, 48),
+            },
+        )
         .expect("render");
     save("api_srgb_target", &srgb);
     save("api_unorm_target", &unorm);
@@ -115,8 +139,16 @@ fn culling_follows_the_determinant_and_double_sided_materials() {
             &asset(object, Material { double_sided, ..Material::default() }, vec![]),
         )
         .expect("upload");
-        let image = seamlit_render::render_to_image(&ctx, &scene, &camera, &settings, 32, 32)
-            .expect("render");
+        let image = render_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &camera,
+                settings: &settings,
+                size: (32, 32),
+            },
+        )
+        .expect("render");
         image.get_pixel(16, 16).0
     };
     let background = [0, 0, 0, 255];
@@ -153,9 +185,16 @@ fn tbn_lines_are_drawn_in_their_colours() {
         clear_color: [0.0, 0.0, 0.0, 1.0],
         ..FrameSettings::default()
     };
-    let image =
-        seamlit_render::render_to_image(&ctx, &scene, &ortho_camera(1.0), &settings, 64, 64)
-            .expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(1.0),
+            settings: &settings,
+            size: (64, 64),
+        },
+    )
+    .expect("render");
     save("api_tbn_lines", &image);
     // The top-right corner (0.5, 0.5) is pixel (48, 16); its T line runs right to x = 0.9
     // (pixel 60), its B line up to y = 0.9 (pixel 3).
@@ -196,9 +235,16 @@ fn minified_textures_use_mipmaps_averaged_in_linear_light() {
     let render = |options: TextureOptions, name: &str| {
         let scene = GpuScene::upload_parts(&ctx, &a.model, &a.materials, &a.textures, &options)
             .expect("upload");
-        let image =
-            seamlit_render::render_to_image(&ctx, &scene, &ortho_camera(0.9), &settings, 32, 32)
-                .expect("render");
+        let image = render_image(
+            &ctx,
+            &FrameDescriptor {
+                scene: &scene,
+                camera: &ortho_camera(0.9),
+                settings: &settings,
+                size: (32, 32),
+            },
+        )
+        .expect("render");
         save(name, &image);
         let reds: Vec<u8> = (2..30)
             .flat_map(|y| (2..30).map(move |x| (x, y)))
@@ -237,10 +283,13 @@ fn replacing_the_geometry_keeps_materials_and_refuses_bad_models() {
     };
     let camera = ortho_camera(1.0);
     let corner = |scene: &GpuScene| {
-        seamlit_render::render_to_image(&ctx, scene, &camera, &settings, 32, 32)
-            .expect("render")
-            .get_pixel(4, 4)
-            .0
+        render_image(
+            &ctx,
+            &FrameDescriptor { scene, camera: &camera, settings: &settings, size: (32, 32) },
+        )
+        .expect("render")
+        .get_pixel(4, 4)
+        .0
     };
     assert_eq!(corner(&scene), [0, 0, 0, 255], "the small plane does not reach the corner");
     // A bigger plane with the same material: the corner turns red.

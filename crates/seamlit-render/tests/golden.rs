@@ -19,8 +19,8 @@ use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, DebugView, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Light, LightingModel,
-    Renderer,
+    CameraView, DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT,
+    Light, LightingModel, Renderer,
 };
 
 const SIZE: (u32, u32) = (160, 96);
@@ -168,7 +168,15 @@ fn golden_views_match() {
     ];
     for (name, settings) in views {
         let image = renderer
-            .render_to_image(&ctx, &scene, &camera, &settings, SIZE.0, SIZE.1)
+            .render_to_image(
+                &ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &camera,
+                    settings: &settings,
+                    size: (SIZE.0, SIZE.1),
+                },
+            )
             .expect("render");
         save(&format!("golden-{name}-latest"), &image);
         check(name, &image);

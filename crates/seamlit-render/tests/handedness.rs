@@ -5,12 +5,12 @@
 
 mod common;
 
-use common::{ctx, luminance, ortho_camera, save, tex_ref, texture};
+use common::{ctx, luminance, ortho_camera, render_image, save, tex_ref, texture};
 use glam::{Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::{Model, Object};
-use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel, render_to_image};
+use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingModel};
 
 const SIZE: u32 = 128;
 
@@ -96,8 +96,16 @@ fn mirrored_uvs_light_the_bump_on_the_same_side() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image =
-        render_to_image(&ctx, &scene, &ortho_camera(1.0), &settings, SIZE, SIZE).expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(1.0),
+            settings: &settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
     let path = save("handedness_mirrored_bump", &image);
     let lum = |x: f32, y: f32| {
         let (px, py) = pixel(x, y);

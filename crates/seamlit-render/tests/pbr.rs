@@ -7,12 +7,13 @@
 mod common;
 
 use common::{
-    assert_pixel, asset, ctx, ortho_camera, pixel_world, plane, save, srgb, tex_ref, texture,
+    assert_pixel, asset, ctx, ortho_camera, pixel_world, plane, render_image, save, srgb, tex_ref,
+    texture,
 };
 use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::{AlphaMode, Asset, Material};
-use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel, ToneMapping, render_to_image};
+use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingModel, ToneMapping};
 
 const SIZE: u32 = 64;
 const HALF: f32 = 1.0;
@@ -98,8 +99,16 @@ fn render(asset: &Asset, name: &str) -> RgbaImage {
 fn render_with(asset: &Asset, settings: &FrameSettings, name: &str) -> RgbaImage {
     let ctx = ctx();
     let scene = GpuScene::upload(&ctx, asset).expect("upload");
-    let image =
-        render_to_image(&ctx, &scene, &ortho_camera(HALF), settings, SIZE, SIZE).expect("render");
+    let image = render_image(
+        &ctx,
+        &FrameDescriptor {
+            scene: &scene,
+            camera: &ortho_camera(HALF),
+            settings,
+            size: (SIZE, SIZE),
+        },
+    )
+    .expect("render");
     save(name, &image);
     image
 }

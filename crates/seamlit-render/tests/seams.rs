@@ -11,7 +11,7 @@ use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::{FixOptions, Mode, fix};
 use seamlit_render::{
-    CameraView, DebugView, FrameSettings, GpuScene, IMAGE_FORMAT, Light, Renderer,
+    CameraView, DebugView, FrameDescriptor, FrameSettings, GpuScene, IMAGE_FORMAT, Light, Renderer,
 };
 
 const TEAPOT: &str =
@@ -91,8 +91,17 @@ fn model_mode_removes_the_lighting_jump_at_patch_boundaries() {
     let mut render = |asset: &Asset, view: DebugView, name: &str| {
         let scene = GpuScene::upload(&ctx, asset).expect("upload");
         let s = FrameSettings { debug_view: view, ..settings.clone() };
-        let image =
-            renderer.render_to_image(&ctx, &scene, &camera, &s, SIZE, SIZE).expect("render");
+        let image = renderer
+            .render_to_image(
+                &ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &camera,
+                    settings: &s,
+                    size: (SIZE, SIZE),
+                },
+            )
+            .expect("render");
         save(name, &image);
         image
     };

@@ -51,4 +51,7 @@ pub use bricks::{brick_height, brick_normal_map};
 pub use camera::{Bounds, Camera};
 pub use controller::{FpsController, FpsInput, OrbitController};
 pub use error::SceneError;
-pub use scene::{MaterialOverride, NormalTexture, Scene, SceneModel, is_scene_path};
+pub use scene::{
+    EnvironmentChoice, MaterialOverride, NormalTexture, RenderOptions, Scene, SceneModel,
+    is_scene_path,
+};

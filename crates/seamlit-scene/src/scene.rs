@@ -6,13 +6,14 @@ use std::path::{Path, PathBuf};
 
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use seamlit_mesh::FixOptions;
-use seamlit_render::{Light, LightingModel};
+use seamlit_render::{Light, LightingModel, ToneMapping};
 
 use crate::camera::{Bounds, Camera};
 use crate::error::SceneError;
 use crate::lights::three_point_rig;
 use crate::schema::{
-    CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, Scale, SceneFile,
+    CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, RenderDef, Scale,
+    SceneFile, ToneMappingKind,
 };
 
 /// A scene, checked and with its paths resolved.
@@ -30,6 +31,53 @@ pub struct Scene {
     /// `[render] lighting`: the lighting equation the scene asks for; `None` leaves the choice
     /// to the program (seamlit: PBR for glTF models, Blinn-Phong otherwise).
     pub lighting: Option<LightingModel>,
+    /// The rest of `[render]`: environment, background, ambient, tone mapping, exposure.
+    pub render: RenderOptions,
+}
+
+/// `[render]` but for `lighting`: how the scene asks to be drawn. Each `None` leaves the
+/// choice to the program (and a command-line flag overrides a value given here).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RenderOptions {
+    /// `environment`: where image-based light comes from.
+    pub environment: Option<EnvironmentChoice>,
+    /// `environment_intensity`: multiplies the environment's light (>= 0).
+    pub environment_intensity: Option<f32>,
+    /// `environment_rotation`: degrees about +Y.
+    pub environment_rotation_deg: Option<f32>,
+    /// `background`: sRGB, 0..1.
+    pub background: Option<[f32; 3]>,
+    /// `ambient`: a grey ambient light, linear (0 = none).
+    pub ambient: Option<f32>,
+    /// `tone_mapping`.
+    pub tone_mapping: Option<ToneMapping>,
+    /// `exposure`: multiplies lit colours before tone mapping (> 0).
+    pub exposure: Option<f32>,
+    /// `shadows`: directional and spot lights cast shadows.
+    pub shadows: Option<bool>,
+}
+
+/// Where image-based light comes from: `"none"`, `"builtin"` or a Radiance `.hdr` file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EnvironmentChoice {
+    /// No image-based light.
+    None,
+    /// seamlit's procedural studio ([`seamlit_render::Environment::Builtin`]).
+    Builtin,
+    /// An equirectangular Radiance `.hdr` file.
+    File(PathBuf),
+}
+
+impl EnvironmentChoice {
+    /// `none`, `builtin`, or a path (resolved against `base_dir` when relative).
+    #[must_use]
+    pub fn parse(text: &str, base_dir: &Path) -> Self {
+        match text {
+            "none" => Self::None,
+            "builtin" => Self::Builtin,
+            path => Self::File(base_dir.join(path)),
+        }
+    }
 }
 
 /// One model placed in a scene.
@@ -144,14 +192,14 @@ impl Scene {
             }
             cameras.push(camera);
         }
-        let lighting = parsed.render.and_then(|r| r.lighting).map(|l| match l {
-            LightingKind::Pbr => LightingModel::Pbr,
-            LightingKind::BlinnPhong => LightingModel::BlinnPhong,
-            LightingKind::Phong => LightingModel::Phong,
-            LightingKind::Lambert => LightingModel::Lambert,
-            LightingKind::Gouraud => LightingModel::Gouraud,
-        });
-        Ok(Self { source: None, models, lights, cameras, lighting })
+        let (lighting, render) = match parsed.render {
+            Some(r) => {
+                let span = r.span();
+                ctx.render(&r.into_inner(), &span, base_dir)?
+            }
+            None => (None, RenderOptions::default()),
+        };
+        Ok(Self { source: None, models, lights, cameras, lighting, render })
     }
 
     /// A scene of one model file, with default options, no lights and no cameras (so the
@@ -170,6 +218,7 @@ impl Scene {
             lights: Vec::new(),
             cameras: Vec::new(),
             lighting: None,
+            render: RenderOptions::default(),
         }
     }
 
@@ -261,6 +310,67 @@ impl Ctx<'_> {
         let (key, _) = line.split_once('=')?;
         let key = key.trim().trim_matches('"');
         (!key.is_empty() && !key.starts_with('[')).then(|| key.to_string())
+    }
+
+    /// `[render]`, checked: the lighting model and the other options.
+    fn render(
+        &self,
+        def: &RenderDef,
+        span: &Range<usize>,
+        base_dir: &Path,
+    ) -> Result<(Option<LightingModel>, RenderOptions), SceneError> {
+        let lighting = def.lighting.map(|l| match l {
+            LightingKind::Pbr => LightingModel::Pbr,
+            LightingKind::BlinnPhong => LightingModel::BlinnPhong,
+            LightingKind::Phong => LightingModel::Phong,
+            LightingKind::Lambert => LightingModel::Lambert,
+            LightingKind::Gouraud => LightingModel::Gouraud,
+        });
+        let check = |key: &str, value: Option<f32>, ok: fn(f32) -> bool, what: &str| match value {
+            Some(v) if !ok(v) => {
+                Err(self.invalid(span, format!("[render] {key} = {v}: must be {what}")))
+            }
+            _ => Ok(value),
+        };
+        let background = def.background;
+        if let Some(b) = background
+            && !b.iter().all(|c| (0.0..=1.0).contains(c))
+        {
+            return Err(self.invalid(
+                span,
+                format!("[render] background = {b:?}: each of r, g, b must be in 0..1"),
+            ));
+        }
+        let options = RenderOptions {
+            environment: def.environment.as_deref().map(|e| EnvironmentChoice::parse(e, base_dir)),
+            environment_intensity: check(
+                "environment_intensity",
+                def.environment_intensity,
+                |v| v.is_finite() && v >= 0.0,
+                "a number >= 0",
+            )?,
+            environment_rotation_deg: check(
+                "environment_rotation",
+                def.environment_rotation,
+                f32::is_finite,
+                "a number of degrees",
+            )?,
+            background,
+            ambient: check("ambient", def.ambient, |v| v.is_finite() && v >= 0.0, "a number >= 0")?,
+            tone_mapping: def.tone_mapping.map(|t| match t {
+                ToneMappingKind::KhrPbrNeutral => ToneMapping::PbrNeutral,
+                ToneMappingKind::Aces => ToneMapping::Aces,
+                ToneMappingKind::None => ToneMapping::None,
+            }),
+            exposure: check(
+                "exposure",
+                def.exposure,
+                |v| v.is_finite() && v > 0.0,
+                "a number > 0",
+            )?,
+            shadows: def.shadows,
+        };
+        Ok((lighting, options))
     }
 
     fn invalid(&self, span: &Range<usize>, message: String) -> SceneError {
@@ -558,6 +668,37 @@ fov_deg = 50
         );
         assert!(e.starts_with("/scenes/s.toml: line 8,"), "{e}");
         assert!(e.contains("key `fov_deg`"), "{e}");
+    }
+
+    #[test]
+    fn the_render_table_sets_environment_background_and_tone_mapping() {
+        let scene = parse(
+            "[[model]]\npath = \"a.obj\"\n[render]\nenvironment = \"sky.hdr\"\n\
+             environment_intensity = 2\nenvironment_rotation = 90\nbackground = [1, 0.5, 0]\n\
+             ambient = 0\ntone_mapping = \"aces\"\nexposure = 1.5\nshadows = false\n",
+        )
+        .unwrap();
+        let r = &scene.render;
+        assert_eq!(r.environment, Some(EnvironmentChoice::File(PathBuf::from("/scenes/sky.hdr"))));
+        assert_eq!(r.environment_intensity, Some(2.0));
+        assert_eq!(r.environment_rotation_deg, Some(90.0));
+        assert_eq!(r.background, Some([1.0, 0.5, 0.0]));
+        assert_eq!(r.ambient, Some(0.0));
+        assert_eq!(r.tone_mapping, Some(ToneMapping::Aces));
+        assert_eq!(r.exposure, Some(1.5));
+        assert_eq!(r.shadows, Some(false));
+        let builtin = parse("[[model]]\npath = \"a.obj\"\n[render]\nenvironment = \"builtin\"\n");
+        assert_eq!(builtin.unwrap().render.environment, Some(EnvironmentChoice::Builtin));
+        assert_eq!(
+            parse("[[model]]\npath = \"a.obj\"\n").unwrap().render,
+            RenderOptions::default()
+        );
+        let e = err("[[model]]\npath = \"a.obj\"\n[render]\nexposure = 0\n");
+        assert!(e.contains("exposure = 0: must be a number > 0"), "{e}");
+        let e = err("[[model]]\npath = \"a.obj\"\n[render]\nbackground = [2, 0, 0]\n");
+        assert!(e.contains("background"), "{e}");
+        let e = err("[[model]]\npath = \"a.obj\"\n[render]\ntone_mapping = \"reinhard\"\n");
+        assert!(e.contains("line 4") && e.contains("tone_mapping"), "{e}");
     }
 
     #[test]

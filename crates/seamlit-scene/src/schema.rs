@@ -16,7 +16,7 @@ pub(crate) struct SceneFile {
     pub light: Vec<Spanned<LightDef>>,
     #[serde(default)]
     pub camera: Vec<Spanned<CameraDef>>,
-    pub render: Option<RenderDef>,
+    pub render: Option<Spanned<RenderDef>>,
 }
 
 /// `[render]`: how the scene is drawn.
@@ -24,6 +24,23 @@ pub(crate) struct SceneFile {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RenderDef {
     pub lighting: Option<LightingKind>,
+    pub environment: Option<String>,
+    pub environment_intensity: Option<f32>,
+    pub environment_rotation: Option<f32>,
+    pub background: Option<[f32; 3]>,
+    pub ambient: Option<f32>,
+    pub tone_mapping: Option<ToneMappingKind>,
+    pub exposure: Option<f32>,
+    pub shadows: Option<bool>,
+}
+
+/// The tone mappings a scene can ask for.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum ToneMappingKind {
+    KhrPbrNeutral,
+    Aces,
+    None,
 }
 
 /// The lighting equations a scene can ask for.

@@ -236,22 +236,51 @@ pub struct ViewFlags {
     /// model is glTF and blinn-phong otherwise].
     #[arg(long, value_enum, value_name = "MODEL")]
     pub lighting: Option<LightingArg>,
-    /// How lit colours are brought into 0..1 [default: neutral for pbr, none otherwise].
+    /// How lit colours are brought into 0..1 [default: the scene's `tone_mapping`, else
+    /// neutral for pbr, none otherwise].
     #[arg(long, value_enum, value_name = "MAP")]
     pub tone_mapping: Option<ToneMappingArg>,
-    /// Multiplies the lit colour before tone mapping.
-    #[arg(long, value_name = "X", default_value_t = 1.0)]
-    pub exposure: f32,
-    /// Ambient light (grey, linear) [default: 0.05; for pbr, where it stands in for an
-    /// environment, 0.3].
+    /// Multiplies the lit colour before tone mapping [default: the scene's `exposure`, else 1].
+    #[arg(long, value_name = "X", value_parser = parse_positive)]
+    pub exposure: Option<f32>,
+    /// Ambient light (grey, linear; 0 = none) [default: the scene's `ambient`, else 0 where
+    /// an environment lights pbr, 0.05, and 0.3 for pbr without an environment].
     #[arg(long, value_name = "X")]
     pub ambient: Option<f32>,
+    /// Image-based light for pbr materials: none, builtin (a procedural studio, no file
+    /// needed) or an equirectangular Radiance .hdr file [default: the scene's `environment`,
+    /// else builtin when every model is glTF and lighting is pbr, none otherwise].
+    #[arg(long, value_name = "none|builtin|PATH.hdr")]
+    pub environment: Option<String>,
+    /// Multiplies the environment's light [default: the scene's, else 1].
+    #[arg(long, value_name = "F", value_parser = parse_non_negative)]
+    pub environment_intensity: Option<f32>,
+    /// Turns the environment about +Y, degrees [default: the scene's, else 0].
+    #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
+    pub environment_rotation: Option<f32>,
+    /// Background colour, sRGB 0..1, e.g. 1,1,1 [default: the scene's `background`, else the
+    /// environment, blurred, when there is one, else dark grey].
+    #[arg(long, value_name = "R,G,B", value_parser = parse_rgb)]
+    pub background: Option<[f32; 3]>,
+    /// Shadows from directional and spot lights (shadow maps with filtered edges, up to four
+    /// lights) [default: the scene's `shadows`, else on].
+    #[arg(long, value_enum, value_name = "on|off")]
+    pub shadows: Option<Switch>,
     /// Switch normal mapping off.
     #[arg(long)]
     pub no_normal_map: bool,
     /// Draw each vertex's tangent (red), bitangent (green) and normal (blue) as lines.
     #[arg(long)]
     pub tbn: bool,
+}
+
+/// `--shadows`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Switch {
+    /// On.
+    On,
+    /// Off.
+    Off,
 }
 
 /// `--mode`.
@@ -449,7 +478,10 @@ impl From<LightingArg> for LightingModel {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ToneMappingArg {
     /// Khronos PBR Neutral.
+    #[value(alias = "khr-pbr-neutral")]
     Neutral,
+    /// ACES filmic (S. Hill's fit, as the Khronos glTF Sample Viewer).
+    Aces,
     /// Clamp to 0..1.
     None,
 }
@@ -458,9 +490,39 @@ impl From<ToneMappingArg> for ToneMapping {
     fn from(t: ToneMappingArg) -> Self {
         match t {
             ToneMappingArg::Neutral => Self::PbrNeutral,
+            ToneMappingArg::Aces => Self::Aces,
             ToneMappingArg::None => Self::None,
         }
     }
+}
+
+/// A finite number > 0.
+fn parse_positive(s: &str) -> Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .ok_or_else(|| format!("{s:?} is not a number > 0"))
+}
+
+/// A finite number >= 0.
+fn parse_non_negative(s: &str) -> Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite() && *v >= 0.0)
+        .ok_or_else(|| format!("{s:?} is not a number >= 0"))
+}
+
+/// `R,G,B`, each 0..=1.
+fn parse_rgb(s: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>().ok().filter(|v| (0.0..=1.0).contains(v)))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("{s:?} is not R,G,B with each in 0..1 (e.g. 1,1,1)"))?;
+    <[f32; 3]>::try_from(parts)
+        .map_err(|_| format!("{s:?} is not R,G,B with each in 0..1 (e.g. 1,1,1)"))
 }
 
 /// `WIDTHxHEIGHT`, each 1..=16384.

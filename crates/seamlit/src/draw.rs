@@ -1,41 +1,160 @@
 //! Headless rendering for the commands: one GPU context, one renderer, images out.
 
+use std::path::Path;
+
 use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::Asset;
 use seamlit_render::{
-    FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, LightingModel, Renderer, ToneMapping,
+    Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene, Light,
+    LightingModel, Renderer, ToneMapping,
 };
-use seamlit_scene::{Bounds, Camera};
+use seamlit_scene::{Bounds, Camera, EnvironmentChoice};
 
-use crate::cli::ViewFlags;
+use crate::cli::{Switch, ViewFlags};
 use crate::failure::{Classify, Failure};
 use crate::prepare::Loaded;
 
-/// Frame settings from the command line's view flags and the scene: its lights, and its
-/// lighting model unless `--lighting` names one; tone mapping as `--tone-mapping` says, else
-/// the lighting model's usual one.
-#[must_use]
-pub fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
-    let lighting_model = flags.lighting.map_or_else(|| loaded.lighting(), Into::into);
-    FrameSettings {
-        lights: loaded.lights(),
-        lighting_model,
-        tone_mapping: flags
-            .tone_mapping
-            .map_or_else(|| ToneMapping::default_for(lighting_model), Into::into),
-        exposure: flags.exposure,
-        ambient: Vec3::splat(flags.ambient.unwrap_or(default_ambient(lighting_model))),
-        normal_mapping: !flags.no_normal_map,
-        debug_view: flags.view.into(),
-        show_tbn: flags.tbn,
-        ..FrameSettings::default()
+/// How frames look: each value from the command line's flag, else the scene's `[render]`
+/// key, else the default.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Look {
+    /// `--lighting`, `[render] lighting`, else PBR when every model is glTF.
+    pub lighting: LightingModel,
+    /// `--tone-mapping`, `tone_mapping`; `None`: the lighting model's usual one.
+    pub tone_mapping: Option<ToneMapping>,
+    /// `--exposure`, `exposure`, else 1.
+    pub exposure: f32,
+    /// `--ambient`, `ambient`; `None`: [`default_ambient`].
+    pub ambient: Option<f32>,
+    /// `--environment`, `environment`, else [`default_environment`].
+    pub environment: EnvironmentChoice,
+    /// `--environment-intensity`, `environment_intensity`, else 1.
+    pub environment_intensity: f32,
+    /// `--environment-rotation`, `environment_rotation`, else 0.
+    pub environment_rotation_deg: f32,
+    /// `--background`, `background` (sRGB); `None`: the environment, blurred, when there is
+    /// one, else the usual dark grey.
+    pub background: Option<[f32; 3]>,
+    /// `--shadows`, `shadows`, else on.
+    pub shadows: bool,
+}
+
+impl Look {
+    /// The look of `loaded` as `flags` change it.
+    #[must_use]
+    pub fn new(flags: &ViewFlags, loaded: &Loaded) -> Self {
+        let scene = &loaded.scene.render;
+        let lighting = flags.lighting.map_or_else(|| loaded.lighting(), Into::into);
+        let environment = flags
+            .environment
+            .as_deref()
+            .map(|e| EnvironmentChoice::parse(e, Path::new("")))
+            .or_else(|| scene.environment.clone())
+            .unwrap_or_else(|| default_environment(loaded, lighting));
+        Self {
+            lighting,
+            tone_mapping: flags.tone_mapping.map(Into::into).or(scene.tone_mapping),
+            exposure: flags.exposure.or(scene.exposure).unwrap_or(1.0),
+            ambient: flags.ambient.or(scene.ambient),
+            environment,
+            environment_intensity: flags
+                .environment_intensity
+                .or(scene.environment_intensity)
+                .unwrap_or(1.0),
+            environment_rotation_deg: flags
+                .environment_rotation
+                .or(scene.environment_rotation_deg)
+                .unwrap_or(0.0),
+            background: flags.background.or(scene.background),
+            shadows: flags.shadows.map(|s| s == Switch::On).or(scene.shadows).unwrap_or(true),
+        }
+    }
+
+    /// Reads the environment the look names: `None` for `none`, the procedural studio for
+    /// `builtin`, the image of a `.hdr` file.
+    ///
+    /// # Errors
+    /// [`Failure::BadInput`] naming the file when it is missing or not a Radiance image.
+    pub fn read_environment(&self) -> Result<Option<Environment>, Failure> {
+        match &self.environment {
+            EnvironmentChoice::None => Ok(None),
+            EnvironmentChoice::Builtin => Ok(Some(Environment::Builtin)),
+            EnvironmentChoice::File(path) => Environment::from_hdr_file(path)
+                .map(Some)
+                .map_err(|e| Failure::input(e.to_string())),
+        }
+    }
+
+    /// The frame settings for `lighting` (the viewer switches it live) and `lights`: ambient
+    /// light 0 where an environment lights the scene, the background as [`Look::background`]
+    /// says.
+    #[must_use]
+    pub fn settings(&self, lighting: LightingModel, lights: Vec<Light>) -> FrameSettings {
+        let environment = self.environment != EnvironmentChoice::None;
+        let ambient = self.ambient.unwrap_or(if environment && lighting == LightingModel::Pbr {
+            0.0
+        } else {
+            default_ambient(lighting)
+        });
+        let defaults = FrameSettings::default();
+        let clear_color = self.background.map_or(defaults.clear_color, |[r, g, b]| {
+            [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), 1.0]
+        });
+        FrameSettings {
+            lights,
+            lighting_model: lighting,
+            tone_mapping: self.tone_mapping.unwrap_or(ToneMapping::default_for(lighting)),
+            exposure: self.exposure,
+            ambient: Vec3::splat(ambient),
+            environment_intensity: self.environment_intensity,
+            environment_rotation_deg: self.environment_rotation_deg,
+            environment_background: self.background.is_none(),
+            shadow_maps: if self.shadows { SHADOW_MAPS } else { 0 },
+            clear_color,
+            ..defaults
+        }
     }
 }
 
-/// The ambient light when `--ambient` is not given: the paper's pictures' 0.05; for PBR,
-/// where a uniform ambient light stands in for the environment that metals reflect (without
-/// it they render black but for their highlights), 0.3.
+/// Shadow-casting lights when shadows are on: the renderer's most.
+const SHADOW_MAPS: usize = 4;
+
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// The environment when neither `--environment` nor the scene names one: the built-in studio
+/// for PBR scenes whose models are all glTF (their materials expect image-based light, as in
+/// every glTF viewer), none otherwise (OBJ models and the paper's demo keep their look).
+#[must_use]
+pub fn default_environment(loaded: &Loaded, lighting: LightingModel) -> EnvironmentChoice {
+    let all_gltf = loaded.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
+    if all_gltf && lighting == LightingModel::Pbr {
+        EnvironmentChoice::Builtin
+    } else {
+        EnvironmentChoice::None
+    }
+}
+
+/// Frame settings from the command line's view flags and the scene ([`Look`]), with the
+/// scene's lights.
+#[must_use]
+pub fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
+    let look = Look::new(flags, loaded);
+    let settings = look.settings(look.lighting, loaded.lights());
+    FrameSettings {
+        normal_mapping: !flags.no_normal_map,
+        debug_view: flags.view.into(),
+        show_tbn: flags.tbn,
+        ..settings
+    }
+}
+
+/// The ambient light when neither `--ambient` nor the scene gives one and no environment
+/// lights the scene: the paper's pictures' 0.05; for PBR, where a uniform ambient light stands
+/// in for the environment that metals reflect (without it they render black but for their
+/// highlights), 0.3.
 #[must_use]
 pub fn default_ambient(model: LightingModel) -> f32 {
     if model == LightingModel::Pbr { 0.3 } else { 0.05 }
@@ -45,7 +164,7 @@ pub fn default_ambient(model: LightingModel) -> f32 {
 pub struct Gpu {
     /// The device.
     pub ctx: GpuContext,
-    /// The renderer, drawing [`IMAGE_FORMAT`].
+    /// The renderer, drawing [`seamlit_render::IMAGE_FORMAT`].
     pub renderer: Renderer,
 }
 
@@ -56,16 +175,19 @@ impl Gpu {
     /// [`Failure::Processing`] when no adapter or device is available.
     pub fn open() -> Result<Self, Failure> {
         let ctx = GpuContext::headless().processing()?;
-        let samples = if ctx
-            .supported_sample_counts(IMAGE_FORMAT)
-            .contains(&seamlit_render::DEFAULT_SAMPLE_COUNT)
-        {
-            seamlit_render::DEFAULT_SAMPLE_COUNT
-        } else {
-            1
-        };
-        let renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples).processing()?;
+        let renderer = Renderer::for_images(&ctx).processing()?;
         Ok(Self { ctx, renderer })
+    }
+
+    /// Prefilters `environment` on the GPU and lights every following frame with it.
+    ///
+    /// # Errors
+    /// [`Failure::Processing`] when the GPU fails.
+    pub fn set_environment(&mut self, environment: Option<&Environment>) -> Result<(), Failure> {
+        let gpu =
+            environment.map(|e| GpuEnvironment::new(&self.ctx, e)).transpose().processing()?;
+        self.renderer.set_environment(gpu);
+        Ok(())
     }
 
     /// Uploads `asset` and renders it through `camera`.
@@ -85,7 +207,10 @@ impl Gpu {
         let view = camera.view(aspect, Some(bounds));
         let image = self
             .renderer
-            .render_to_image(&self.ctx, &scene, &view, settings, size.0, size.1)
+            .render_to_image(
+                &self.ctx,
+                &FrameDescriptor { scene: &scene, camera: &view, settings, size: (size.0, size.1) },
+            )
             .processing()?;
         Ok((scene, image))
     }
@@ -95,7 +220,7 @@ impl Gpu {
 ///
 /// # Errors
 /// [`Failure::BadInput`] otherwise.
-pub fn check_png(path: &std::path::Path) -> Result<(), Failure> {
+pub fn check_png(path: &Path) -> Result<(), Failure> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
         Ok(())
     } else {

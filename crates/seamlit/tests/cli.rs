@@ -1033,3 +1033,50 @@ fn fix_reads_meshopt_and_draco_and_writes_them_uncompressed_and_says_so() {
     let written = std::fs::read(&out).unwrap();
     assert!(!String::from_utf8_lossy(&written).contains("draco"));
 }
+
+#[test]
+fn render_and_compare_refuse_a_missing_or_malformed_environment_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = models().join("NormalTangentTest.glb").display().to_string();
+    let bad = write(dir.path(), "bad.hdr", "#?RADIANCE\nFORMAT=nonsense\n");
+    let missing = dir.path().join("missing.hdr").display().to_string();
+    for command in ["render", "compare"] {
+        let png = dir.path().join("out.png").display().to_string();
+        for (hdr, name) in [(&bad, "bad.hdr"), (&missing, "missing.hdr")] {
+            let o =
+                seamlit(&[command, &model, "-o", &png, "--size", "32x24", "--environment", hdr]);
+            assert_bad_input(&o, &[name, "environment"]);
+        }
+    }
+    assert_eq!(listing(dir.path()), ["bad.hdr"]);
+    // Every flag of the look is read, and a value out of range is refused by name.
+    let png = dir.path().join("ok.png").display().to_string();
+    let o = seamlit(&[
+        "render",
+        &model,
+        "-o",
+        &png,
+        "--size",
+        "32x24",
+        "--environment",
+        "builtin",
+        "--environment-intensity",
+        "0.5",
+        "--environment-rotation",
+        "-90",
+        "--background",
+        "1,1,1",
+        "--tone-mapping",
+        "aces",
+        "--exposure",
+        "1.5",
+        "--ambient",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let image = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(image.get_pixel(0, 0).0, [255, 255, 255, 255], "the background is white");
+    let o = seamlit(&["render", &model, "-o", &png, "--background", "1,2,3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("1,2,3"));
+}

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::{Model, Object};
-use seamlit_render::GpuContext;
+use seamlit_render::{FrameDescriptor, GpuContext, RenderError, Renderer};
 
 /// The headless context (lavapipe on CI).
 pub fn ctx() -> GpuContext {
@@ -17,6 +17,14 @@ pub fn ctx() -> GpuContext {
         Ok(ctx) => ctx,
         Err(e) => panic!("rendering tests need a GPU or lavapipe: {e}"),
     }
+}
+
+/// One frame rendered to an image by a fresh [`Renderer::for_images`].
+pub fn render_image(
+    ctx: &GpuContext,
+    frame: &FrameDescriptor<'_>,
+) -> Result<RgbaImage, RenderError> {
+    Renderer::for_images(ctx)?.render_to_image(ctx, frame)
 }
 
 /// A square in the plane z = 0, from -half to +half, facing +Z, with normal +Z, tangent +X

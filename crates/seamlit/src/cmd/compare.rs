@@ -5,7 +5,7 @@ use image::RgbaImage;
 use seamlit_mesh::Mode;
 
 use crate::cli::CompareArgs;
-use crate::draw::{Gpu, check_png, frame_settings};
+use crate::draw::{Gpu, Look, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::{frame, labelled_row, most_different_window, save_png, stack, zoom};
 use crate::prepare::{FixOverride, Loaded, bounds_of, pick_camera};
@@ -33,6 +33,7 @@ pub fn render_modes(
     let size = view.size;
     let aspect = size.0 as f32 / size.1 as f32;
     let settings = frame_settings(view, loaded);
+    let environment = Look::new(view, loaded).read_environment()?;
     let mut jobs = Vec::with_capacity(MODES.len());
     for (mode, ..) in MODES {
         let asset = loaded.build(&FixOverride { mode: Some(mode), flags: flags.clone() })?;
@@ -44,6 +45,7 @@ pub fn render_modes(
         Some(g) => g,
         None => Gpu::open()?,
     };
+    gpu.set_environment(environment.as_ref())?;
     let mut images = Vec::with_capacity(MODES.len());
     for (asset, camera, bounds) in &jobs {
         images.push(gpu.render(asset, camera, *bounds, &settings, size)?.1);

@@ -56,8 +56,13 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         view: ViewArg::Lit,
         lighting: Some(LightingArg::BlinnPhong),
         tone_mapping: None,
-        exposure: 1.0,
+        exposure: None,
         ambient: None,
+        environment: None,
+        environment_intensity: None,
+        environment_rotation: None,
+        background: None,
+        shadows: Some(crate::cli::Switch::Off),
         no_normal_map: false,
         tbn: false,
     };
@@ -110,6 +115,7 @@ fn demo_scene(asset: Asset) -> Loaded {
         lights: demo::lights(),
         cameras: vec![demo::camera()],
         lighting: Some(LightingModel::BlinnPhong),
+        render: seamlit_scene::RenderOptions::default(),
     };
     Loaded { scene, parts: vec![(model, asset)] }
 }

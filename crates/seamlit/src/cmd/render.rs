@@ -1,7 +1,9 @@
 //! `seamlit render`: a scene or model to a PNG, and with `--frames N` the frame timing.
 
+use seamlit_render::FrameDescriptor;
+
 use crate::cli::RenderArgs;
-use crate::draw::{Gpu, check_png, frame_settings};
+use crate::draw::{Gpu, Look, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
 use crate::prepare::{FixOverride, bounds_of, pick_camera};
@@ -22,7 +24,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let cameras = loaded.cameras(bounds, aspect);
     let camera = pick_camera(&cameras, args.scene.view.camera.as_deref(), &args.scene.input)?;
     let settings = frame_settings(&args.scene.view, &loaded);
+    let environment = Look::new(&args.scene.view, &loaded).read_environment()?;
     let mut gpu = Gpu::open()?;
+    gpu.set_environment(environment.as_ref())?;
     let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;
     println!(
@@ -38,7 +42,16 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         let view = camera.view(aspect, Some(bounds));
         let times = gpu
             .renderer
-            .time_frames(&gpu.ctx, &scene, &view, &settings, size.0, size.1, frames)
+            .time_frames(
+                &gpu.ctx,
+                &FrameDescriptor {
+                    scene: &scene,
+                    camera: &view,
+                    settings: &settings,
+                    size: (size.0, size.1),
+                },
+                frames,
+            )
             .processing()?;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
         println!(

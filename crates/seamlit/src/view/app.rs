@@ -7,7 +7,10 @@ use std::time::Instant;
 use glam::Vec2;
 use image::RgbaImage;
 use seamlit_io::Asset;
-use seamlit_render::{FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT, Renderer};
+use seamlit_render::{
+    Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene,
+    IMAGE_FORMAT, Renderer,
+};
 use seamlit_scene::{Bounds, Camera, FpsController, OrbitController};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -18,6 +21,7 @@ use winit::window::{Window, WindowId};
 
 use super::input::Held;
 use super::panel::{self, Actions, Controller, Readout, Settings};
+use crate::draw::Look;
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
 use crate::prepare::{FixOverride, Loaded, bounds_of};
@@ -34,6 +38,11 @@ pub struct Options {
     pub exit_after_frames: Option<u64>,
     /// The command line's fix flags (crease and weighting come from the panel).
     pub fix: FixOverride,
+    /// The look from the flags and the scene (lighting, tone mapping, exposure and ambient
+    /// come from the panel).
+    pub look: Look,
+    /// The environment, read before the window opens.
+    pub environment: Option<Environment>,
 }
 
 /// The window's GPU side.
@@ -43,6 +52,7 @@ struct Gfx {
     config: wgpu::SurfaceConfiguration,
     ctx: GpuContext,
     renderer: Renderer,
+    environment: Option<GpuEnvironment>,
     scene: GpuScene,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
@@ -158,7 +168,15 @@ impl Viewer {
         config.present_mode = wgpu::PresentMode::AutoVsync;
         surface.configure(ctx.device(), &config);
         let samples = if ctx.supported_sample_counts(format).contains(&4) { 4 } else { 1 };
-        let renderer = Renderer::new(&ctx, format, samples).processing()?;
+        let mut renderer = Renderer::new(&ctx, format, samples).processing()?;
+        let environment = self
+            .options
+            .environment
+            .as_ref()
+            .map(|e| GpuEnvironment::new(&ctx, e))
+            .transpose()
+            .processing()?;
+        renderer.set_environment(environment.clone());
         let scene = GpuScene::upload(&ctx, &self.asset).processing()?;
         let egui_ctx = egui::Context::default();
         let max_texture = usize::try_from(ctx.device().limits().max_texture_dimension_2d).ok();
@@ -178,6 +196,7 @@ impl Viewer {
             config,
             ctx,
             renderer,
+            environment,
             scene,
             egui_state,
             egui_renderer,
@@ -258,23 +277,19 @@ impl Viewer {
     }
 
     fn frame_settings(&self) -> FrameSettings {
+        let s = &self.settings;
+        let look = Look {
+            lighting: s.lighting,
+            tone_mapping: s.tone_mapping,
+            exposure: s.exposure,
+            ambient: s.ambient,
+            ..self.options.look.clone()
+        };
         FrameSettings {
-            lights: self.settings.lights.clone(),
-            lighting_model: self.settings.lighting,
-            tone_mapping: self
-                .settings
-                .tone_mapping
-                .unwrap_or(seamlit_render::ToneMapping::default_for(self.settings.lighting)),
-            exposure: self.settings.exposure,
-            ambient: glam::Vec3::splat(
-                self.settings
-                    .ambient
-                    .unwrap_or(crate::draw::default_ambient(self.settings.lighting)),
-            ),
-            normal_mapping: self.settings.normal_mapping,
-            debug_view: self.settings.debug_view,
-            show_tbn: self.settings.show_tbn,
-            ..FrameSettings::default()
+            normal_mapping: s.normal_mapping,
+            debug_view: s.debug_view,
+            show_tbn: s.show_tbn,
+            ..look.settings(s.lighting, s.lights.clone())
         }
     }
 
@@ -369,11 +384,13 @@ impl Viewer {
             .encode(
                 &gfx.ctx,
                 &mut encoder,
-                &gfx.scene,
-                &view,
-                &frame_settings,
+                &FrameDescriptor {
+                    scene: &gfx.scene,
+                    camera: &view,
+                    settings: &frame_settings,
+                    size: (width, height),
+                },
                 &target,
-                (width, height),
             )
             .processing()?;
         for (id, deltas) in &texture_sets {
@@ -423,8 +440,17 @@ impl Viewer {
             // The surface cannot be copied from: render the scene (without the panel) offscreen.
             None => {
                 let mut offscreen = Renderer::new(&gfx.ctx, IMAGE_FORMAT, 1).processing()?;
+                offscreen.set_environment(gfx.environment.clone());
                 offscreen
-                    .render_to_image(&gfx.ctx, &gfx.scene, &view, &frame_settings, width, height)
+                    .render_to_image(
+                        &gfx.ctx,
+                        &FrameDescriptor {
+                            scene: &gfx.scene,
+                            camera: &view,
+                            settings: &frame_settings,
+                            size: (width, height),
+                        },
+                    )
                     .processing()?
             }
         };

@@ -31,16 +31,18 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
         crate::output::prepare_folder_of(shot)?;
     }
     let loaded = args.scene.load()?;
+    let look = crate::draw::Look::new(&args.scene.view, &loaded);
+    let environment = look.read_environment()?;
     let base =
         args.scene.fix.apply(loaded.scene.models.first().map_or(FixOptions::DEFAULT, |m| m.fix));
     let settings = panel::Settings {
         mode: args.mode.map_or(base.mode, Mode::from),
         crease_deg: base.crease_angle_deg,
         weighting: base.weighting,
-        lighting: args.scene.view.lighting.map_or_else(|| loaded.lighting(), Into::into),
-        tone_mapping: args.scene.view.tone_mapping.map(Into::into),
-        exposure: args.scene.view.exposure,
-        ambient: args.scene.view.ambient,
+        lighting: look.lighting,
+        tone_mapping: look.tone_mapping,
+        exposure: look.exposure,
+        ambient: look.ambient,
         normal_mapping: !args.scene.view.no_normal_map,
         debug_view: args.scene.view.view.into(),
         show_tbn: args.scene.view.tbn,
@@ -54,6 +56,8 @@ pub fn run(args: &ViewArgs) -> Result<(), Failure> {
         screenshot: args.screenshot.clone(),
         exit_after_frames: args.exit_after_frames,
         fix: FixOverride { mode: None, flags: args.scene.fix.clone() },
+        look,
+        environment,
     };
     let mut viewer =
         app::Viewer::new(loaded, settings, args.scene.view.camera.as_deref(), options)?;

@@ -1,0 +1,185 @@
+//! Image-based lighting: a white furnace (a uniform environment lights a rough white sphere
+//! to the environment's radiance times its albedo), a mirror sphere that reflects the sky
+//! above and the ground below, a rotation that moves a reflected bright spot, and a
+//! malformed or missing .hdr file refused with its name.
+
+mod common;
+
+use common::shapes::sphere;
+use common::{asset, ctx, ortho_camera, save};
+use glam::Vec3;
+use image::{Rgba, Rgba32FImage, RgbaImage};
+use seamlit_io::Material;
+use seamlit_render::{
+    Environment, FrameDescriptor, FrameSettings, GpuEnvironment, GpuScene, LightingModel,
+    RenderError, Renderer, ToneMapping,
+};
+
+const SIZE: u32 = 64;
+const HALF: f32 = 1.2;
+
+/// sRGB byte to linear.
+fn linear(b: u8) -> f64 {
+    let c = f64::from(b) / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// The pixel of the image that shows world point (x, y) on the plane z = 0.
+fn pixel_of(x: f32, y: f32) -> (u32, u32) {
+    let px = (x / HALF * 0.5 + 0.5) * SIZE as f32;
+    let py = (0.5 - y / HALF * 0.5) * SIZE as f32;
+    (px as u32, py as u32)
+}
+
+/// No lights, no ambient, no tone mapping, PBR, no environment behind, black background.
+fn settings(rotation_deg: f32) -> FrameSettings {
+    FrameSettings {
+        lights: Vec::new(),
+        ambient: Vec3::ZERO,
+        lighting_model: LightingModel::Pbr,
+        tone_mapping: ToneMapping::None,
+        clear_color: [0.0, 0.0, 0.0, 1.0],
+        environment_background: false,
+        environment_rotation_deg: rotation_deg,
+        ..FrameSettings::default()
+    }
+}
+
+/// A unit sphere of one material, lit by `environment` (none: no image-based light).
+fn render(
+    material: Material,
+    environment: Option<&Environment>,
+    rotation_deg: f32,
+    name: &str,
+) -> RgbaImage {
+    let ctx = ctx();
+    let scene =
+        GpuScene::upload(&ctx, &asset(sphere("ball", 1.0, 48, 96, 0.0, 1.0), material, vec![]))
+            .expect("upload");
+    let mut renderer = Renderer::for_images(&ctx).expect("renderer");
+    renderer.set_environment(
+        environment.map(|e| GpuEnvironment::new(&ctx, e).expect("prefilter the environment")),
+    );
+    let camera = ortho_camera(HALF);
+    let settings = settings(rotation_deg);
+    let frame =
+        FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (SIZE, SIZE) };
+    let image = renderer.render_to_image(&ctx, &frame).expect("render");
+    save(name, &image);
+    image
+}
+
+fn material(base: f32, metallic: f32, roughness: f32) -> Material {
+    Material { base_color: [base, base, base, 1.0], metallic, roughness, ..Material::default() }
+}
+
+/// Points on the sphere's visible face, from its centre out to where n.v = 0.6.
+const POINTS: [(f32, f32); 5] = [(0.0, 0.0), (0.5, 0.1), (-0.3, 0.6), (0.1, -0.7), (-0.75, -0.2)];
+
+#[test]
+fn a_white_furnace_returns_the_environment_times_the_albedo() {
+    let radiance = 0.5;
+    let environment = Environment::Uniform(Vec3::splat(radiance as f32));
+    for albedo in [1.0, 0.5] {
+        let name = format!("ibl_furnace_{albedo}");
+        let image = render(material(albedo as f32, 0.0, 1.0), Some(&environment), 0.0, &name);
+        let expected = radiance * albedo;
+        for (x, y) in POINTS {
+            let (px, py) = pixel_of(x, y);
+            let p = image.get_pixel(px, py).0;
+            for c in 0..3 {
+                let got = linear(p[c]);
+                // The specular lobe reflects a few percent of L on top of the diffuse part
+                // (all of it for albedo 1, where diffuse takes exactly what it leaves).
+                assert!(
+                    (got - expected).abs() <= 0.05 * expected + 0.004,
+                    "albedo {albedo}, point ({x}, {y}): {got:.4} for {expected:.4} (pixel {p:?})"
+                );
+            }
+        }
+    }
+}
+
+/// An equirectangular image: `top` radiance above the horizon, `bottom` below.
+fn sky_and_ground(top: [f32; 3], bottom: [f32; 3]) -> Rgba32FImage {
+    Rgba32FImage::from_fn(64, 32, |_, y| {
+        let c = if y < 16 { top } else { bottom };
+        Rgba([c[0], c[1], c[2], 1.0])
+    })
+}
+
+#[test]
+fn a_mirror_sphere_reflects_the_sky_above_and_the_ground_below() {
+    let environment = Environment::Equirect(sky_and_ground([1.0, 0.1, 0.1], [0.1, 0.1, 1.0]));
+    let image = render(material(1.0, 1.0, 0.0), Some(&environment), 0.0, "ibl_mirror");
+    // Near the top the view reflects upward, near the bottom downward.
+    let (tx, ty) = pixel_of(0.0, 0.7);
+    let (bx, by) = pixel_of(0.0, -0.7);
+    let top = image.get_pixel(tx, ty).0;
+    let bottom = image.get_pixel(bx, by).0;
+    assert!(top[0] > 200 && top[2] < 120, "the top reflects the red sky: {top:?}");
+    assert!(bottom[2] > 200 && bottom[0] < 120, "the bottom reflects the blue ground: {bottom:?}");
+    // Without the environment a smooth metal under no light is black.
+    let dark = render(material(1.0, 1.0, 0.0), None, 0.0, "ibl_mirror_off");
+    assert!(dark.get_pixel(tx, ty).0[..3].iter().all(|&c| c < 8), "{:?}", dark.get_pixel(tx, ty));
+}
+
+/// Black but for a bright spot around +Z (the left and right edges of the image, mid-height).
+fn spot_at_plus_z() -> Rgba32FImage {
+    Rgba32FImage::from_fn(128, 64, |x, y| {
+        let near_edge = !(4..124).contains(&x);
+        let c = if near_edge && (28..36).contains(&y) { 50.0 } else { 0.0 };
+        Rgba([c, c, c, 1.0])
+    })
+}
+
+/// The column of the brightest pixel in the middle row.
+fn brightest_column(image: &RgbaImage) -> u32 {
+    (0..SIZE)
+        .max_by_key(|&x| {
+            let p = image.get_pixel(x, SIZE / 2).0;
+            u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])
+        })
+        .unwrap_or(0)
+}
+
+#[test]
+fn rotating_the_environment_moves_the_reflected_spot() {
+    // Through a Radiance file, as `--environment PATH.hdr` reads it.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("spot.hdr");
+    let image = spot_at_plus_z();
+    let rgb: Vec<image::Rgb<f32>> =
+        image.pixels().map(|p| image::Rgb([p[0], p[1], p[2]])).collect();
+    let file = std::fs::File::create(&path).expect("create");
+    image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
+        .encode(&rgb, 128, 64)
+        .expect("encode");
+    let environment = Environment::from_hdr_file(&path).expect("read the .hdr");
+    let mirror = material(1.0, 1.0, 0.0);
+    // The spot behind the camera (+Z) reflects in the middle of the sphere.
+    let straight = render(mirror.clone(), Some(&environment), 0.0, "ibl_spot_0");
+    let centre = brightest_column(&straight);
+    assert!(centre.abs_diff(SIZE / 2) <= 3, "spot at column {centre}");
+    // Turned 90 degrees about +Y, the spot lies at +X: it reflects where the normal is
+    // halfway between +Z and +X, at x = sin 45 degrees.
+    let turned = render(mirror, Some(&environment), 90.0, "ibl_spot_90");
+    let (expected, _) = pixel_of(std::f32::consts::FRAC_1_SQRT_2, 0.0);
+    let moved = brightest_column(&turned);
+    assert!(moved.abs_diff(expected) <= 3, "spot at column {moved}, expected {expected}");
+}
+
+#[test]
+fn a_missing_or_malformed_hdr_file_is_refused_by_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let missing = dir.path().join("missing.hdr");
+    let bad = dir.path().join("bad.hdr");
+    std::fs::write(&bad, b"#?RADIANCE\nnot really\n").expect("write");
+    for path in [missing, bad] {
+        let err = Environment::from_hdr_file(&path).expect_err("refused");
+        assert!(matches!(err, RenderError::Environment { .. }), "{err:?}");
+        let message = err.to_string();
+        assert!(message.starts_with(&format!("{}: ", path.display())), "{message}");
+        assert!(!message.contains('\n'), "{message}");
+    }
+}
