@@ -7,9 +7,12 @@
 //! hook records the message instead of printing it (with a backtrace hint) through the
 //! progress bar; with `RUST_BACKTRACE` set (not `0`) the standard report is printed as well.
 //!
-//! Test hook, in debug builds only (the binary's tests run one; a release build, what users
-//! install, has none): with `SEAMLIT_DEBUG_PANIC_ON=TEXT` set, processing a file whose name
-//! contains TEXT panics, so that this path can be exercised.
+//! Test hook, compiled into debug builds only (`#[cfg(debug_assertions)]`: the binary's tests
+//! run the debug build, and no input reaches this path otherwise; the release build that users
+//! install does not contain the hook or read the variable): with `SEAMLIT_DEBUG_PANIC_ON=TEXT`
+//! set, processing a file whose name contains TEXT panics, so that this path can be exercised
+//! (`a_panic_in_one_file_of_a_folder_is_its_internal_error_and_the_others_go_on`,
+//! crates/seamlit/tests/hostile.rs).
 
 use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, PanicHookInfo};
@@ -66,6 +69,7 @@ fn guarded(
 ) -> Result<String, Failure> {
     // Nothing the closure touches is observed after a panic: its state is dropped.
     let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        #[cfg(debug_assertions)]
         debug_panic(input);
         work()
     }));
@@ -88,11 +92,9 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// The `SEAMLIT_DEBUG_PANIC_ON` test hook (see the module docs): panics when the file's name
-/// contains the variable's text. Compiled out of release builds.
+/// contains the variable's text. Not compiled into release builds.
+#[cfg(debug_assertions)]
 fn debug_panic(input: &Path) {
-    if !cfg!(debug_assertions) {
-        return;
-    }
     let Some(text) = std::env::var_os("SEAMLIT_DEBUG_PANIC_ON") else { return };
     let name = input.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     if !text.is_empty() && name.contains(&*text.to_string_lossy()) {
