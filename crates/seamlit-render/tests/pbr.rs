@@ -32,10 +32,14 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// glTF 2.0 Appendix B: the BRDF times n.l for unit vectors n, v, l, with
-/// `c_diff = lerp(base, 0, metallic)`, `f0 = lerp(0.04, base, metallic)`, `alpha = roughness^2`:
-/// `(1 - F) c_diff / pi + F D Vis`, D the GGX distribution, Vis the height-correlated Smith
-/// visibility, F Schlick's Fresnel with v.h.
+/// glTF 2.0 Appendix B (section B.3, "Metals" to "Mixed materials"): the BRDF times n.l for
+/// unit vectors n, v, l, written as the specification composes it:
+/// `metal_brdf = specular_brdf * conductor_fresnel(base)`,
+/// `dielectric_brdf = fresnel_mix(ior 1.5, diffuse_brdf(base), specular_brdf)` and
+/// `mix(dielectric_brdf, metal_brdf, metallic)`, with `specular_brdf = D Vis` (D the GGX
+/// distribution, Vis the height-correlated Smith visibility, alpha = roughness^2), Schlick's
+/// Fresnel on v.h, f0 = 0.04 for the dielectric. (The diffuse layer sits under the
+/// dielectric's Fresnel, not the metallic-mixed one.)
 fn appendix_b(
     n: [f64; 3],
     v: [f64; 3],
@@ -54,11 +58,13 @@ fn appendix_b(
     let d = a2 / (PI * (n_h * n_h * (a2 - 1.0) + 1.0).powi(2));
     let vis = 0.5
         / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt() + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
+    let schlick = (1.0 - v_h).powi(5);
+    let specular_brdf = d * vis;
     std::array::from_fn(|c| {
-        let c_diff = base[c] * (1.0 - metallic);
-        let f0 = 0.04 + (base[c] - 0.04) * metallic;
-        let f = f0 + (1.0 - f0) * (1.0 - v_h).powi(5);
-        ((1.0 - f) * c_diff / PI + f * d * vis) * n_l
+        let metal_brdf = specular_brdf * (base[c] + (1.0 - base[c]) * schlick);
+        let fresnel = 0.04 + (1.0 - 0.04) * schlick;
+        let dielectric_brdf = base[c] / PI * (1.0 - fresnel) + specular_brdf * fresnel;
+        (dielectric_brdf * (1.0 - metallic) + metal_brdf * metallic) * n_l
     })
 }
 
