@@ -84,14 +84,15 @@ echo "Sample Viewer: ${names[*]} at ${width}x${height}"
 CHROMIUM=$chromium node "$here/render.mjs" "$out/viewer/jobs.json"
 
 echo "seamlit: $seamlit"
-lighting=(--lighting pbr --tone-mapping neutral --exposure 1)
+# The Sample Viewer draws no shadows: seamlit's are switched off to compare the shading.
+lighting=(--lighting pbr --tone-mapping neutral --exposure 1 --shadows off)
 if [ $environment = 1 ]; then
     # The Sample Viewer's environment rotation 90 puts the panorama's middle at +Z; seamlit's
     # --environment-rotation 0 is taken to do the same (check when image-based lighting lands).
     lighting+=(--ambient 0 --environment "$sky" --environment-intensity 1 --environment-rotation 0
         --background "$(awk "BEGIN { printf \"%.4f,%.4f,%.4f\", ${background[0]}/255, ${background[1]}/255, ${background[2]}/255 }")")
 else
-    lighting+=(--ambient 0)
+    lighting+=(--ambient 0 --environment none)
 fi
 for name in "${names[@]}"; do
     node -e "

@@ -1,6 +1,7 @@
 //! seamlit's PBR against the Khronos glTF Sample Viewer: each model in assets/sample-viewer
 //! rendered by `seamlit render` through the file's camera, with its one punctual light, no
-//! ambient light and PBR Neutral tone mapping, must stay within a mean FLIP error of 0.05 of
+//! ambient light, no environment, no shadows (the Sample Viewer draws none) and PBR Neutral
+//! tone mapping, must stay within a mean FLIP error of 0.05 of
 //! the Sample Viewer's picture of it (made once by bench/sample-viewer/compare.sh; how, in
 //! assets/sample-viewer/README.md). On failure the picture and the side by side (Sample
 //! Viewer | seamlit | FLIP error) are left in the test's temporary folder, named in the message.
@@ -25,6 +26,7 @@ fn render(name: &str, size: (u32, u32), out: &Path) -> image::RgbImage {
         .args(["--size", &format!("{}x{}", size.0, size.1), "--camera", "compare"])
         .args(["--lighting", "pbr", "--tone-mapping", "neutral"])
         .args(["--exposure", "1", "--ambient", "0"])
+        .args(["--environment", "none", "--shadows", "off"])
         .output()
         .expect("the binary runs");
     assert!(output.status.success(), "{name}: {}", String::from_utf8_lossy(&output.stderr));
