@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::{Model, Object};
-use seamlit_render::{FrameDescriptor, GpuContext, RenderError, Renderer};
+use seamlit_render::{FrameDescriptor, FrameSettings, GpuContext, GpuScene, RenderError, Renderer};
 
 /// The headless context (lavapipe on CI).
 pub fn ctx() -> GpuContext {
@@ -25,6 +25,31 @@ pub fn render_image(
     frame: &FrameDescriptor<'_>,
 ) -> Result<RgbaImage, RenderError> {
     Renderer::for_images(ctx)?.render_to_image(ctx, frame)
+}
+
+/// A square orthographic view: [`ortho_camera`]`(half)` onto `size` x `size` pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct Ortho {
+    /// World units shown above, below and to each side of the centre.
+    pub half: f32,
+    /// Pixels per side.
+    pub size: u32,
+}
+
+/// One frame of `scene` seen through `view`, rendered by a fresh [`Renderer::for_images`].
+pub fn render_ortho(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    settings: &FrameSettings,
+    view: Ortho,
+) -> RgbaImage {
+    let frame = FrameDescriptor {
+        scene,
+        camera: &ortho_camera(view.half),
+        settings,
+        size: (view.size, view.size),
+    };
+    render_image(ctx, &frame).expect("render")
 }
 
 /// A square in the plane z = 0, from -half to +half, facing +Z, with normal +Z, tangent +X
@@ -70,6 +95,17 @@ pub fn asset(mut object: Object, material: Material, textures: Vec<Texture>) -> 
         textures,
         ..Asset::default()
     }
+}
+
+/// `v` scaled to unit length.
+pub fn normalize(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / l, v[1] / l, v[2] / l]
+}
+
+/// The dot product.
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Linear to sRGB, as a byte value (not rounded).
