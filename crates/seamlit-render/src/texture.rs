@@ -13,7 +13,7 @@ pub struct TextureOptions {
     /// renormalised). Default `true`.
     pub mipmaps: bool,
     /// Largest anisotropic filtering ratio, 1 to 16 (1 = off). Default 16. On lavapipe
-    /// anisotropic filtering is a large part of the frame time.
+    /// anisotropic filtering is a large part of the frame time (BENCHMARKS.md, Rendering).
     pub anisotropy: u16,
 }
 

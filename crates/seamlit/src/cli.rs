@@ -54,8 +54,8 @@ pub struct DemoArgs {
     pub size: (u32, u32),
     /// Quads per patch side when tessellating the 32 Bezier patches. The demo's default is 8,
     /// where the other commands default to 16: at 8 the seams it shows are larger (up to 43.7
-    /// degrees, against 22.1 at 16) and its renders take a second instead of six on a CPU
-    /// renderer (lavapipe).
+    /// degrees, against 22.1 at 16) and its renders are several times faster on a CPU
+    /// renderer (lavapipe; figures in BENCHMARKS.md).
     #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub tessellation: u32,
 }
