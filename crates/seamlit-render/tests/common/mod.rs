@@ -129,15 +129,15 @@ pub fn pixel_world(x: u32, y: u32, size: u32, half: f32) -> [f64; 3] {
 
 /// An orthographic camera on the +Z axis looking at the origin, showing +-`half`.
 pub fn ortho_camera(half: f32) -> seamlit_render::CameraView {
-    seamlit_render::CameraView::orthographic(
-        Vec3::new(0.0, 0.0, 5.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        half,
-        1.0,
-        0.1,
-        10.0,
-    )
+    seamlit_render::CameraView::look_at(&seamlit_render::CameraDescriptor {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: seamlit_render::Projection::Orthographic { half_height: half },
+        aspect: 1.0,
+        near: 0.1,
+        far: 10.0,
+    })
 }
 
 /// Where tests write images: target/tmp/seamlit-render/NAME.png. Returns the path.
