@@ -91,30 +91,16 @@ fn a_non_srgb_target_gets_the_same_image() {
     .expect("upload");
     let camera = ortho_camera(1.2);
     let settings = FrameSettings::default();
-    let srgb = Renderer::new(&ctx, IMAGE_FORMAT, 4)
-        .expect("renderer")
-        .render_to_image(
-            &ctx,
-            &FrameDescriptor {
-                scene: &scene,
-                camera: &camera,
-                settings: &settings,
-                size: (48, 48),
-            },
-        )
-        .expect("render");
-    let unorm = Renderer::new(&ctx, wgpu::TextureFormat::Rgba8Unorm, 4)
-        .expect("renderer")
-        .render_to_image(
-            &ctx,
-            &FrameDescriptor {
-                scene: &scene,
-                camera: &camera,
-                settings: &settings,
-                size: (48, 48),
-            },
-        )
-        .expect("render");
+    let frame =
+        FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (48, 48) };
+    let render = |format| {
+        Renderer::new(&ctx, format, 4)
+            .expect("renderer")
+            .render_to_image(&ctx, &frame)
+            .expect("render")
+    };
+    let srgb = render(IMAGE_FORMAT);
+    let unorm = render(wgpu::TextureFormat::Rgba8Unorm);
     save("api_srgb_target", &srgb);
     save("api_unorm_target", &unorm);
     // Interior pixels (MSAA resolves edges differently in the two encodings).
