@@ -66,7 +66,12 @@ struct PanelOutput {
     actions: Actions,
     /// The pointer is over the picture, not the panel: it moves the camera.
     pointer_free: bool,
-    /// The panel's triangles, drawn over the scene.
+    overlay: Overlay,
+}
+
+/// The panel as drawn over the scene.
+struct Overlay {
+    /// The panel's triangles.
     paint: Vec<egui::ClippedPrimitive>,
     pixels_per_point: f32,
     /// The panel's right edge, in physical pixels.
@@ -77,7 +82,7 @@ struct PanelOutput {
 struct WindowFrame<'a> {
     camera: &'a CameraView,
     settings: &'a FrameSettings,
-    panel: &'a PanelOutput,
+    overlay: &'a Overlay,
     /// Copy the frame for a screenshot.
     copy: bool,
 }
@@ -128,7 +133,7 @@ impl Gfx {
                 &target,
             )
             .processing()?;
-        let extra = self.encode_panel(&mut encoder, &target, frame.panel, &texture_sets);
+        let extra = self.encode_panel(&mut encoder, &target, frame.overlay, &texture_sets);
         let readback = (frame.copy && self.can_copy).then(|| {
             super::capture::copy_to_buffer(
                 self.ctx.device(),
@@ -152,7 +157,7 @@ impl Gfx {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         target: &wgpu::TextureView,
-        panel: &PanelOutput,
+        overlay: &Overlay,
         textures: &[(egui::TextureId, impl AsRef<[egui::epaint::ImageDelta]>)],
     ) -> Vec<wgpu::CommandBuffer> {
         let (device, queue) = (self.ctx.device(), self.ctx.queue());
@@ -164,10 +169,10 @@ impl Gfx {
         }
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.config.width, self.config.height],
-            pixels_per_point: panel.pixels_per_point,
+            pixels_per_point: overlay.pixels_per_point,
         };
         let extra =
-            self.egui_renderer.update_buffers(device, queue, encoder, &panel.paint, &screen);
+            self.egui_renderer.update_buffers(device, queue, encoder, &overlay.paint, &screen);
         let mut pass = encoder
             .begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("egui"),
@@ -180,7 +185,7 @@ impl Gfx {
                 ..Default::default()
             })
             .forget_lifetime();
-        self.egui_renderer.render(&mut pass, &panel.paint, &screen);
+        self.egui_renderer.render(&mut pass, &overlay.paint, &screen);
         extra
     }
 
@@ -420,21 +425,23 @@ impl Viewer {
     /// Draws one frame; returns a screenshot when one was taken.
     fn redraw(&mut self) -> Result<Option<RgbaImage>, Failure> {
         let dt = self.tick();
-        let Some(panel) = self.run_panel() else { return Ok(None) };
-        self.apply_panel(panel.settings.clone(), panel.actions);
+        let Some(PanelOutput { settings: edited, actions, pointer_free, overlay }) =
+            self.run_panel()
+        else {
+            return Ok(None);
+        };
+        self.apply_panel(edited, actions);
         self.refix_if_needed();
-        self.update_camera(dt, panel.pointer_free);
+        self.update_camera(dt, pointer_free);
         let Some(size) = self.gfx.as_ref().map(|g| (g.config.width, g.config.height)) else {
             return Ok(None);
         };
-        let camera = self.camera_view(size, panel.panel_px);
+        let camera = self.camera_view(size, overlay.panel_px);
         let settings = self.frame_settings();
-        let copy = self.screenshot_requested
-            || (self.options.screenshot.is_some()
-                && self.options.exit_after_frames == Some(self.frames + 1));
+        let copy = self.screenshot_due();
         let Some(gfx) = self.gfx.as_mut() else { return Ok(None) };
         let Some(surface) = gfx.acquire() else { return Ok(None) };
-        let frame = WindowFrame { camera: &camera, settings: &settings, panel: &panel, copy };
+        let frame = WindowFrame { camera: &camera, settings: &settings, overlay: &overlay, copy };
         let readback = gfx.draw(surface, &frame, std::mem::take(&mut self.pending_textures))?;
         self.frames += 1;
         if !copy {
@@ -442,6 +449,14 @@ impl Viewer {
         }
         self.screenshot_requested = false;
         gfx.screenshot(readback, &frame).map(Some)
+    }
+
+    /// Whether this frame is kept as a screenshot: F12 or the panel's button was pressed, or
+    /// it is the last frame of a run with `--screenshot` and `--exit-after-frames`.
+    fn screenshot_due(&self) -> bool {
+        self.screenshot_requested
+            || (self.options.screenshot.is_some()
+                && self.options.exit_after_frames == Some(self.frames + 1))
     }
 
     /// Advances the clock: returns the seconds since the last frame (at most a quarter) and
@@ -490,9 +505,11 @@ impl Viewer {
             settings,
             actions,
             pointer_free,
-            paint: egui_ctx.tessellate(output.shapes, output.pixels_per_point),
-            pixels_per_point: output.pixels_per_point,
-            panel_px: panel_right * output.pixels_per_point,
+            overlay: Overlay {
+                paint: egui_ctx.tessellate(output.shapes, output.pixels_per_point),
+                pixels_per_point: output.pixels_per_point,
+                panel_px: panel_right * output.pixels_per_point,
+            },
         })
     }
 
