@@ -823,81 +823,19 @@ impl Reader<'_> {
         types: &[DataType],
         attribute: &str,
     ) -> Result<(), IoError> {
-        let bad = |reason: String| IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            reason,
-        };
-        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
-            return Err(bad(format!(
-                "{attribute} must be {dimensions:?} of {types:?}, found {:?} of {:?}",
-                accessor.dimensions(),
-                accessor.data_type()
-            )));
-        }
+        let check = AccessorCheck { reader: self, accessor, attribute };
+        // Type, count at least 1 and within the limits.
+        check.layout(dimensions, types)?;
+        // The elements inside their buffer view (or the zeros within what the file can hold).
         let count = accessor.count() as u64;
-        // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
-        // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
-        if count == 0 {
-            return Err(bad(format!("{attribute} has count 0; glTF requires at least 1")));
-        }
-        if count > self.options.max_elements as u64 {
-            return Err(IoError::TooManyElements {
-                path: self.path.to_path_buf(),
-                what: format!("accessor {} ({attribute})", accessor.index()),
-                limit: self.options.max_elements,
-                actual: accessor.count(),
-            });
-        }
         let element = accessor.size() as u64;
-        let check = |view: gltf::buffer::View<'_>, offset: u64, count: u64, element: u64| {
-            let stride = view.stride().map_or(element, |s| s as u64);
-            // Saturating: offsets and strides come from the file and may be near u64::MAX.
-            let needed = if count == 0 {
-                0
-            } else {
-                offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
-            };
-            if needed > view.length() as u64 {
-                return Err(IoError::AccessorOutOfRange {
-                    path: self.path.to_path_buf(),
-                    accessor: accessor.index(),
-                    view: view.index(),
-                    needed,
-                    available: view.length() as u64,
-                });
-            }
-            Ok(())
-        };
-        match (accessor.view(), accessor.sparse()) {
-            (Some(view), _) => check(view, accessor.offset() as u64, count, element)?,
-            // An accessor without a view is zeros (plus its sparse values): its count costs
-            // memory that the file does not hold, so it may not exceed the file's bytes.
-            (None, _) => {
-                if count.saturating_mul(element) > self.buffer_bytes.max(ZEROS_FLOOR) {
-                    return Err(bad(format!(
-                        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes (or 1 MiB) can hold",
-                        self.buffer_bytes
-                    )));
-                }
-            }
+        match accessor.view() {
+            Some(view) => check.extent(view, accessor.offset() as u64, count, element)?,
+            None => check.zeros(count, element)?,
         }
+        // The sparse indices and values inside theirs.
         if let Some(sparse) = accessor.sparse() {
-            let n = sparse.count() as u64;
-            // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
-            // unchecked (tests/sparse.rs).
-            if n == 0 {
-                return Err(bad(format!(
-                    "{attribute} has sparse count 0; glTF requires at least 1"
-                )));
-            }
-            if n > count {
-                return Err(bad(format!("sparse count {n} exceeds the accessor count {count}")));
-            }
-            let indices = sparse.indices();
-            check(indices.view(), indices.offset() as u64, n, indices.index_type().size() as u64)?;
-            let values = sparse.values();
-            check(values.view(), values.offset() as u64, n, element)?;
+            check.sparse(&sparse, count, element)?;
         }
         Ok(())
     }
@@ -1407,4 +1345,116 @@ fn punctual_light(def: &serde_json::Value, global: Mat4) -> Result<crate::Punctu
         direction: global.transform_vector3(Vec3::NEG_Z).try_normalize().unwrap_or(Vec3::NEG_Z),
         range: number(def, "range").filter(|r| *r > 0.0),
     })
+}
+
+/// One accessor being checked by [`Reader::check_accessor`], with what its errors name.
+struct AccessorCheck<'a, 'r, 'd> {
+    reader: &'a Reader<'r>,
+    accessor: &'a gltf::Accessor<'d>,
+    attribute: &'a str,
+}
+
+impl AccessorCheck<'_, '_, '_> {
+    fn bad(&self, reason: String) -> IoError {
+        IoError::BadAccessor {
+            path: self.reader.path.to_path_buf(),
+            accessor: self.accessor.index(),
+            reason,
+        }
+    }
+
+    /// The accessor's type is one of `(dimensions, types)`; its count is at least 1 and
+    /// within [`crate::LoadOptions::max_elements`].
+    fn layout(&self, dimensions: Dimensions, types: &[DataType]) -> Result<(), IoError> {
+        let (accessor, attribute) = (self.accessor, self.attribute);
+        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+            return Err(self.bad(format!(
+                "{attribute} must be {dimensions:?} of {types:?}, found {:?} of {:?}",
+                accessor.dimensions(),
+                accessor.data_type()
+            )));
+        }
+        let count = accessor.count() as u64;
+        // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
+        // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
+        if count == 0 {
+            return Err(self.bad(format!("{attribute} has count 0; glTF requires at least 1")));
+        }
+        if count > self.reader.options.max_elements as u64 {
+            return Err(IoError::TooManyElements {
+                path: self.reader.path.to_path_buf(),
+                what: format!("accessor {} ({attribute})", accessor.index()),
+                limit: self.reader.options.max_elements,
+                actual: accessor.count(),
+            });
+        }
+        Ok(())
+    }
+
+    /// `count` elements of `element` bytes from `offset` lie inside `view`.
+    fn extent(
+        &self,
+        view: gltf::buffer::View<'_>,
+        offset: u64,
+        count: u64,
+        element: u64,
+    ) -> Result<(), IoError> {
+        let stride = view.stride().map_or(element, |s| s as u64);
+        // Saturating: offsets and strides come from the file and may be near u64::MAX.
+        let needed = if count == 0 {
+            0
+        } else {
+            offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
+        };
+        if needed > view.length() as u64 {
+            return Err(IoError::AccessorOutOfRange {
+                path: self.reader.path.to_path_buf(),
+                accessor: self.accessor.index(),
+                view: view.index(),
+                needed,
+                available: view.length() as u64,
+            });
+        }
+        Ok(())
+    }
+
+    /// An accessor without a view is zeros (plus its sparse values): its count costs memory
+    /// that the file does not hold, so it may not exceed the file's bytes.
+    fn zeros(&self, count: u64, element: u64) -> Result<(), IoError> {
+        if count.saturating_mul(element) > self.reader.buffer_bytes.max(ZEROS_FLOOR) {
+            return Err(self.bad(format!(
+                "{} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes (or 1 MiB) can hold",
+                self.attribute, self.reader.buffer_bytes
+            )));
+        }
+        Ok(())
+    }
+
+    /// The sparse count is 1 to `count`, and its indices and values lie inside their views.
+    fn sparse(
+        &self,
+        sparse: &gltf::accessor::sparse::Sparse<'_>,
+        count: u64,
+        element: u64,
+    ) -> Result<(), IoError> {
+        let n = sparse.count() as u64;
+        // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
+        // unchecked (tests/sparse.rs).
+        if n == 0 {
+            return Err(self
+                .bad(format!("{} has sparse count 0; glTF requires at least 1", self.attribute)));
+        }
+        if n > count {
+            return Err(self.bad(format!("sparse count {n} exceeds the accessor count {count}")));
+        }
+        let indices = sparse.indices();
+        self.extent(
+            indices.view(),
+            indices.offset() as u64,
+            n,
+            indices.index_type().size() as u64,
+        )?;
+        let values = sparse.values();
+        self.extent(values.view(), values.offset() as u64, n, element)
+    }
 }
