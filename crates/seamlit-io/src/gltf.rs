@@ -32,6 +32,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::error::BadAccessor;
 use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 
@@ -856,10 +857,11 @@ impl Reader<'_> {
             return Err(IoError::BadAccessor {
                 path: self.path.to_path_buf(),
                 accessor: accessor.index(),
-                reason: format!(
-                    "{name} has {} elements, POSITION has {vertex_count}",
-                    accessor.count()
-                ),
+                kind: BadAccessor::CountMismatch {
+                    attribute: name.to_owned(),
+                    count: accessor.count(),
+                    vertex_count,
+                },
             });
         }
         Ok(())
@@ -875,10 +877,10 @@ impl Reader<'_> {
         buffers: &[Vec<u8>],
     ) -> Result<(), IoError> {
         let Some(sparse) = accessor.sparse() else { return Ok(()) };
-        let bad = |reason: String| IoError::BadAccessor {
+        let bad = |kind: BadAccessor| IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason,
+            kind,
         };
         let indices = sparse.indices();
         let view = indices.view();
@@ -892,18 +894,17 @@ impl Reader<'_> {
                 Some(&[a]) => u32::from(a),
                 Some(&[a, b]) => u32::from(u16::from_le_bytes([a, b])),
                 Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
-                _ => return Err(bad(format!("sparse index {k} lies outside its buffer"))),
+                _ => return Err(bad(BadAccessor::SparseIndexOutside { element: k })),
             };
             if index as usize >= accessor.count() {
-                return Err(bad(format!(
-                    "sparse index {index} (element {k}) is out of range: the accessor has {} elements",
-                    accessor.count()
-                )));
+                return Err(bad(BadAccessor::SparseIndexOutOfRange {
+                    index,
+                    element: k,
+                    count: accessor.count(),
+                }));
             }
             if let Some(before) = previous.filter(|&before| index <= before) {
-                return Err(bad(format!(
-                    "sparse indices must be strictly increasing: element {k} is {index}, after {before}"
-                )));
+                return Err(bad(BadAccessor::SparseNotIncreasing { element: k, index, before }));
             }
             previous = Some(index);
         }
@@ -1010,18 +1011,16 @@ impl Reader<'_> {
                 self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
             }
         }
-        let bad = |accessor: &gltf::Accessor<'_>, reason: String| IoError::BadAccessor {
+        let bad = |accessor: &gltf::Accessor<'_>, kind: BadAccessor| IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason,
+            kind,
         };
         let Some(accessor) = primitive.indices() else {
             if !vertex_count.is_multiple_of(3) {
                 return Err(bad(
                     position,
-                    format!(
-                        "a non-indexed triangle list needs a multiple of 3 vertices, found {vertex_count}"
-                    ),
+                    BadAccessor::NotTriangles { what: "vertices", count: vertex_count },
                 ));
             }
             return Ok(());
@@ -1032,10 +1031,7 @@ impl Reader<'_> {
         if !accessor.count().is_multiple_of(3) {
             return Err(bad(
                 &accessor,
-                format!(
-                    "a triangle list needs a multiple of 3 indices, found {}",
-                    accessor.count()
-                ),
+                BadAccessor::NotTriangles { what: "indices", count: accessor.count() },
             ));
         }
         Ok(())
@@ -1046,7 +1042,7 @@ impl Reader<'_> {
         IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason: format!("expected {} elements, read {got}", accessor.count()),
+            kind: BadAccessor::ShortRead { expected: accessor.count(), read: got },
         }
     }
 
@@ -1355,11 +1351,11 @@ struct AccessorCheck<'a, 'r, 'd> {
 }
 
 impl AccessorCheck<'_, '_, '_> {
-    fn bad(&self, reason: String) -> IoError {
+    fn bad(&self, kind: BadAccessor) -> IoError {
         IoError::BadAccessor {
             path: self.reader.path.to_path_buf(),
             accessor: self.accessor.index(),
-            reason,
+            kind,
         }
     }
 
@@ -1368,17 +1364,17 @@ impl AccessorCheck<'_, '_, '_> {
     fn layout(&self, dimensions: Dimensions, types: &[DataType]) -> Result<(), IoError> {
         let (accessor, attribute) = (self.accessor, self.attribute);
         if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
-            return Err(self.bad(format!(
-                "{attribute} must be {dimensions:?} of {types:?}, found {:?} of {:?}",
-                accessor.dimensions(),
-                accessor.data_type()
-            )));
+            return Err(self.bad(BadAccessor::WrongType {
+                attribute: attribute.to_owned(),
+                expected: format!("{dimensions:?} of {types:?}"),
+                found: format!("{:?} of {:?}", accessor.dimensions(), accessor.data_type()),
+            }));
         }
         let count = accessor.count() as u64;
         // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
         // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
         if count == 0 {
-            return Err(self.bad(format!("{attribute} has count 0; glTF requires at least 1")));
+            return Err(self.bad(BadAccessor::ZeroCount { attribute: attribute.to_owned() }));
         }
         if count > self.reader.options.max_elements as u64 {
             return Err(IoError::TooManyElements {
@@ -1422,10 +1418,12 @@ impl AccessorCheck<'_, '_, '_> {
     /// that the file does not hold, so it may not exceed the file's bytes.
     fn zeros(&self, count: u64, element: u64) -> Result<(), IoError> {
         if count.saturating_mul(element) > self.reader.buffer_bytes.max(ZEROS_FLOOR) {
-            return Err(self.bad(format!(
-                "{} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes (or 1 MiB) can hold",
-                self.attribute, self.reader.buffer_bytes
-            )));
+            return Err(self.bad(BadAccessor::ZerosTooLarge {
+                attribute: self.attribute.to_owned(),
+                count,
+                element,
+                buffer_bytes: self.reader.buffer_bytes,
+            }));
         }
         Ok(())
     }
@@ -1441,11 +1439,12 @@ impl AccessorCheck<'_, '_, '_> {
         // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
         // unchecked (tests/sparse.rs).
         if n == 0 {
-            return Err(self
-                .bad(format!("{} has sparse count 0; glTF requires at least 1", self.attribute)));
+            return Err(
+                self.bad(BadAccessor::ZeroSparseCount { attribute: self.attribute.to_owned() })
+            );
         }
         if n > count {
-            return Err(self.bad(format!("sparse count {n} exceeds the accessor count {count}")));
+            return Err(self.bad(BadAccessor::SparseCountExceeds { sparse: n, count }));
         }
         let indices = sparse.indices();
         self.extent(

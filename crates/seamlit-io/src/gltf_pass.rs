@@ -32,6 +32,7 @@ use seamlit_mesh::{Model, Object};
 use serde_json::{Map, Value, json};
 
 use crate::IoError;
+use crate::error::BadAccessor;
 use crate::gltf_prune::Kept;
 use crate::gltf_write::{check_object, unit_normal, unit_tangent};
 
@@ -577,13 +578,12 @@ impl<'a> Output<'a> {
     /// elements keep their bytes (component type, normalisation, min and max as written).
     fn duplicate(&mut self, index: &Value, object: &Object) -> Result<usize, IoError> {
         let source = self.source;
-        let bad = |accessor: usize, reason: String| IoError::BadAccessor {
-            path: source.path.clone(),
-            accessor,
-            reason,
-        };
         let Some(index) = integer(index).and_then(|i| usize::try_from(i).ok()) else {
-            return Err(bad(usize::MAX, format!("an attribute names accessor {index}")));
+            return Err(IoError::BadAccessor {
+                path: source.path.clone(),
+                accessor: usize::MAX,
+                kind: BadAccessor::NotAnAccessor { found: index.to_string() },
+            });
         };
         let elements = read_elements(source, index, object.input_vertex_count())?;
         let size = elements.size;
@@ -815,9 +815,9 @@ fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Eleme
     let at = AccessorAt { source, index };
     // Bytes per element, from componentType and type.
     let size = at.element_size(accessor)?;
-    let count = uint(accessor, "count").ok_or_else(|| at.bad("no count".to_owned()))?;
+    let count = uint(accessor, "count").ok_or_else(|| at.bad(BadAccessor::NoCount))?;
     if count != expected {
-        return Err(at.bad(format!("has {count} elements, the primitive {expected} vertices")));
+        return Err(at.bad(BadAccessor::PrimitiveCount { count, vertices: expected }));
     }
     // The dense elements: from the buffer view, or zeros.
     let mut bytes = vec![0u8; count * size];
@@ -838,8 +838,8 @@ struct AccessorAt<'a> {
 }
 
 impl AccessorAt<'_> {
-    fn bad(&self, reason: String) -> IoError {
-        IoError::BadAccessor { path: self.source.path.clone(), accessor: self.index, reason }
+    fn bad(&self, kind: BadAccessor) -> IoError {
+        IoError::BadAccessor { path: self.source.path.clone(), accessor: self.index, kind }
     }
 
     /// Bytes per element as stored (matrix columns padded to 4 bytes).
@@ -848,7 +848,7 @@ impl AccessorAt<'_> {
             Some(5120 | 5121) => 1,
             Some(5122 | 5123) => 2,
             Some(5125 | 5126) => 4,
-            other => return Err(self.bad(format!("unknown componentType {other:?}"))),
+            found => return Err(self.bad(BadAccessor::UnknownComponentType { found })),
         };
         let (columns, rows) = match accessor["type"].as_str() {
             Some("SCALAR") => (1, 1),
@@ -858,7 +858,10 @@ impl AccessorAt<'_> {
             Some("MAT2") => (2, 2),
             Some("MAT3") => (3, 3),
             Some("MAT4") => (4, 4),
-            other => return Err(self.bad(format!("unknown type {other:?}"))),
+            found => {
+                let found = found.map(str::to_owned);
+                return Err(self.bad(BadAccessor::UnknownType { found }));
+            }
         };
         Ok(if columns == 1 {
             rows * component
@@ -907,13 +910,13 @@ impl AccessorAt<'_> {
         bytes: &mut [u8],
     ) -> Result<(), IoError> {
         let count = bytes.len() / size;
-        let n = uint(sparse, "count").ok_or_else(|| self.bad("sparse without count".to_owned()))?;
+        let n = uint(sparse, "count").ok_or_else(|| self.bad(BadAccessor::SparseWithoutCount))?;
         let indices = &sparse["indices"];
         let index_size = match integer(&indices["componentType"]) {
             Some(UNSIGNED_BYTE) => 1,
             Some(UNSIGNED_SHORT) => 2,
             Some(UNSIGNED_INT) => 4,
-            other => return Err(self.bad(format!("sparse indices of componentType {other:?}"))),
+            found => return Err(self.bad(BadAccessor::SparseIndexType { found })),
         };
         let sparse_indices = self.sparse_part(indices, n, index_size)?;
         let values = self.sparse_part(&sparse["values"], n, size)?;
@@ -923,7 +926,7 @@ impl AccessorAt<'_> {
             word[..index_size].copy_from_slice(at);
             let target = u32::from_le_bytes(word) as usize;
             if target >= count {
-                return Err(self.bad(format!("sparse index {target} is past the {count} elements")));
+                return Err(self.bad(BadAccessor::SparseIndexPast { index: target, count }));
             }
             bytes[target * size..(target + 1) * size].copy_from_slice(value);
         }
@@ -937,8 +940,8 @@ impl AccessorAt<'_> {
         n: usize,
         element: usize,
     ) -> Result<&'s [u8], IoError> {
-        let view = uint(part, "bufferView")
-            .ok_or_else(|| self.bad("sparse part without bufferView".to_owned()))?;
+        let view =
+            uint(part, "bufferView").ok_or_else(|| self.bad(BadAccessor::SparseWithoutView))?;
         let (data, _) = view_bytes(self.source, self.index, view, element)?;
         let offset = uint(part, "byteOffset").unwrap_or(0);
         let needed = offset.saturating_add(n.saturating_mul(element));
