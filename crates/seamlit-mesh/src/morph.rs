@@ -22,7 +22,8 @@
 //! groups that hold a corner of a moved face change: every other vertex gets a delta of
 //! exactly zero, and only the faces around the changed groups are computed again (a blend
 //! shape that moves a face's mouth costs what the mouth costs). The changed groups get the
-//! bits a computation over every face would give them (`sparse_targets_get_the_bits_of_the_dense_computation`).
+//! bits a computation over every face would give them (the unit test
+//! `sparse_targets_get_the_bits_of_the_dense_computation`).
 //!
 //! Cost per target: a pass over the triangles and the vertices to find what the target moves,
 //! then the faces and vertices of the groups it reaches; the weld and the grouping are done
