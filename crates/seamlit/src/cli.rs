@@ -68,7 +68,9 @@ pub struct FixArgs {
     pub input: PathBuf,
     /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
     /// missing) that receives one file per model, in the same subfolders as the input's, with
-    /// each model's textures beside it (.gltf, .obj) or inside it (.glb).
+    /// each model's textures beside it (.gltf, .obj) or inside it (.glb). glTF geometry that
+    /// came meshopt- or Draco-compressed is written uncompressed (a line says so); quantised
+    /// attributes (KHR_mesh_quantization) stay quantised.
     #[arg(long, short, value_name = "OUTPUT")]
     pub output: PathBuf,
     /// For a folder INPUT: only the models directly in it, not those in its subfolders.
