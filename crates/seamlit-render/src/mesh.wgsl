@@ -15,8 +15,9 @@
 //
 // Image-based light (PBR only) is the split sum (B. Karis, "Real Shading in Unreal Engine 4",
 // 2013) over the textures ibl.wgsl prefiltered: the specular cube at the mip of the
-// roughness times the BRDF table's f0 * scale + bias, plus the irradiance cube times the
-// diffuse colour and the energy the specular lobe leaves, both darkened by occlusion.
+// roughness times a Fresnel term from the BRDF table (with multiple scattering), over the
+// irradiance cube times the albedo for the dielectric, mixed by metallic with the metal's,
+// darkened by occlusion; composed as the Khronos glTF Sample Viewer does.
 //
 // Entry points: vs_main / fs_main draw the meshes; vs_sky / fs_sky the environment behind
 // them; vs_tbn / fs_tbn draw each vertex's tangent, bitangent and normal as lines, reading
@@ -358,20 +359,35 @@ fn environment_direction(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
 }
 
-// The environment's light reflected at a point with unit normal n and unit view vector v:
-// split-sum specular plus irradiance times the diffuse colour, the latter scaled by the
-// energy the specular lobe leaves (so a white dielectric in a uniform environment of
-// radiance L returns L).
-fn shade_environment(n: vec3<f32>, v: vec3<f32>, c_diff: vec3<f32>, f0: vec3<f32>, roughness: f32) -> vec3<f32> {
+// The split-sum reflectance for f0, with the BRDF table's scale and bias `ab`: single
+// scattering with a roughness-dependent Fresnel term, plus the energy multiple scattering
+// adds back (C. Fdez-Aguera, "A Multiple-Scattering Microfacet Model for Real-Time
+// Image-based Lighting", JCGT 2019), as the Khronos glTF Sample Viewer computes it.
+fn environment_fresnel(f0: vec3<f32>, ab: vec2<f32>, n_dot_v: f32, roughness: f32) -> vec3<f32> {
+    let fr = max(vec3<f32>(1.0 - roughness), f0) - f0;
+    let k_s = f0 + fr * pow(1.0 - n_dot_v, 5.0);
+    let single = k_s * ab.x + ab.y;
+    let e_ms = 1.0 - (ab.x + ab.y);
+    let f_avg = f0 + (1.0 - f0) / 21.0;
+    return single + e_ms * single * f_avg / (1.0 - f_avg * e_ms);
+}
+
+// The environment's light reflected at a point with unit normal n and unit view vector v,
+// composed as glTF's metallic-roughness BRDF is: a dielectric (irradiance times the albedo,
+// under the split-sum specular by its Fresnel term, so a white dielectric in a uniform
+// environment of radiance L returns L) mixed by metallic with a metal (the specular times
+// its Fresnel term with f0 = albedo).
+fn shade_environment(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32) -> vec3<f32> {
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
     let lut_size = vec2<f32>(textureDimensions(brdf_lut));
     let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
     let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
-    let reflectance = f0 * ab.x + ab.y;
     let r = environment_direction(reflect(-v, n));
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
-    return (specular * reflectance + irradiance * c_diff * (1.0 - reflectance)) * frame.environment_intensity;
+    let dielectric = mix(irradiance * albedo, specular, environment_fresnel(vec3<f32>(0.04), ab, n_dot_v, roughness));
+    let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness);
+    return mix(dielectric, metal, metallic) * frame.environment_intensity;
 }
 
 // ACES filmic tone mapping, S. Hill's fit (the Khronos glTF Sample Viewer's "ACES Hill"):
@@ -569,7 +585,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         let direct = shade_pbr(n, v, in.world, c_diff, f0, roughness * roughness);
         var ambient = frame.ambient * (c_diff + env_specular(f0, roughness, abs(dot(n, v))));
         if (frame.flags & FLAG_ENVIRONMENT) != 0u {
-            ambient = ambient + shade_environment(n, v, c_diff, f0, roughness);
+            ambient = ambient + shade_environment(n, v, albedo, metallic, roughness);
         }
         return out_lit(direct + ambient * occlusion + emissive, alpha);
     }
