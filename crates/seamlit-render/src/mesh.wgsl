@@ -154,6 +154,7 @@ struct VertexIn {
     @location(2) tangent: vec4<f32>,
     @location(3) uv: vec2<f32>,
     @location(4) color: vec4<f32>,
+    @location(5) uv1: vec2<f32>,
 }
 
 struct VertexOut {
@@ -167,6 +168,7 @@ struct VertexOut {
     @location(6) gouraud_diffuse: vec3<f32>,
     @location(7) gouraud_specular: vec3<f32>,
     @location(8) color: vec4<f32>,
+    @location(9) uv1: vec2<f32>,
 }
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -443,6 +445,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.tangent = tbn.t;
     out.bitangent = tbn.b;
     out.uv = in.uv;
+    out.uv1 = in.uv1;
     out.color = in.color;
     out.handedness = select(1.0, -1.0, in.tangent.w < 0.0);
     out.gouraud_diffuse = vec3<f32>(0.0);
@@ -457,9 +460,11 @@ fn vs_main(in: VertexIn) -> VertexOut {
     return out;
 }
 
-// uv through a material's 2x3 texture transform, then V flipped for V-up texcoords (the
-// texture's first row is the top of the image).
-fn material_uv(rows: array<vec4<f32>, 2>, uv: vec2<f32>) -> vec2<f32> {
+// The texture coordinate set a slot reads (rows[0].w: 1 = TEXCOORD_1, 0 = TEXCOORD_0)
+// through its 2x3 texture transform, then V flipped for V-up texcoords (the texture's first
+// row is the top of the image).
+fn material_uv(rows: array<vec4<f32>, 2>, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
+    let uv = select(uv0, uv1, rows[0].w > 0.5);
     let t = vec2<f32>(dot(rows[0].xyz, vec3<f32>(uv, 1.0)), dot(rows[1].xyz, vec3<f32>(uv, 1.0)));
     if object.flip_v != 0u {
         return vec2<f32>(t.x, 1.0 - t.y);
@@ -503,11 +508,11 @@ fn id_color(id: u32) -> vec3<f32> {
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     // Sample first: texture sampling must stay in uniform control flow.
-    let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv));
-    var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv)).xyz * 2.0 - 1.0;
-    let mr_sample = textureSample(metallic_roughness_texture, material_sampler, material_uv(material.metallic_roughness_uv, in.uv));
-    let occlusion_sample = textureSample(occlusion_texture, material_sampler, material_uv(material.occlusion_uv, in.uv)).r;
-    let emissive_sample = textureSample(emissive_texture, material_sampler, material_uv(material.emissive_uv, in.uv)).rgb;
+    let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv, in.uv1));
+    var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv, in.uv1)).xyz * 2.0 - 1.0;
+    let mr_sample = textureSample(metallic_roughness_texture, material_sampler, material_uv(material.metallic_roughness_uv, in.uv, in.uv1));
+    let occlusion_sample = textureSample(occlusion_texture, material_sampler, material_uv(material.occlusion_uv, in.uv, in.uv1)).r;
+    let emissive_sample = textureSample(emissive_texture, material_sampler, material_uv(material.emissive_uv, in.uv, in.uv1)).rgb;
 
     // Base colour: factor x texture x COLOR_0; its alpha cuts (MASK) or blends (BLEND).
     let base = material.base_color * base_sample * in.color;
@@ -626,13 +631,13 @@ struct LineOut {
 
 // Six vertices per mesh vertex: tangent (red), bitangent (green), normal (blue), each a line
 // from the vertex outward by frame.tbn_length. Reads the interleaved vertex buffer
-// (16 floats: position, normal, tangent, uv, colour).
+// (18 floats: position, normal, tangent, uv, colour, uv1).
 @vertex
 fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
     let vertex = index / 6u;
     let axis = (index / 2u) % 3u;
     let tip = f32(index % 2u);
-    let o = vertex * 16u;
+    let o = vertex * 18u;
     let position = vec3<f32>(vertex_data[o], vertex_data[o + 1u], vertex_data[o + 2u]);
     let normal = vec3<f32>(vertex_data[o + 3u], vertex_data[o + 4u], vertex_data[o + 5u]);
     let tangent = vec4<f32>(vertex_data[o + 6u], vertex_data[o + 7u], vertex_data[o + 8u], vertex_data[o + 9u]);
