@@ -952,6 +952,10 @@ impl Reader<'_> {
             self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(0), "TEXCOORD_0", |a| {
                 read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
             })?;
+        let uvs1 =
+            self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(1), "TEXCOORD_1", |a| {
+                read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
+            })?;
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let colors =
             self.vertex_attribute(&vertices, gltf::Semantic::Colors(0), "COLOR_0", |_| {
@@ -963,6 +967,7 @@ impl Reader<'_> {
             name: String::new(),
             positions,
             uvs,
+            uvs1,
             normals,
             tangents,
             colors,
@@ -977,7 +982,7 @@ impl Reader<'_> {
     }
 
     /// Checks a primitive's accessors before anything is read: POSITION, NORMAL, TANGENT,
-    /// TEXCOORD_0 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
+    /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
     /// (a triangle list: a multiple of 3).
     fn check_primitive(
         &self,
@@ -1004,6 +1009,7 @@ impl Reader<'_> {
             (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
             (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
             (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
+            (gltf::Semantic::TexCoords(1), Dimensions::Vec2, &quantized[..], "TEXCOORD_1"),
             (gltf::Semantic::Colors(0), color_dimensions, &colors[..], "COLOR_0"),
         ];
         for (semantic, dimensions, types, name) in attributes {

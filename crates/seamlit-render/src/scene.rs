@@ -4,14 +4,14 @@ use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef, UvTransform};
+use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
 use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
-/// One vertex as the vertex shader reads it (64 bytes).
+/// One vertex as the vertex shader reads it (72 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct VertexRaw {
@@ -21,11 +21,14 @@ pub(crate) struct VertexRaw {
     pub uv: [f32; 2],
     /// glTF COLOR_0 (linear RGBA), white when the object has none.
     pub color: [f32; 4],
+    /// glTF TEXCOORD_1, `uv` when the object has none.
+    pub uv1: [f32; 2],
 }
 
 impl VertexRaw {
-    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
-        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x4
+    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x4,
+        5 => Float32x2
     ];
 
     pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -87,12 +90,17 @@ pub(crate) struct MaterialRaw {
     pub pad: [u32; 3],
 }
 
-/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`.
-fn uv_rows(transform: Option<&UvTransform>) -> [[f32; 4]; 2] {
-    let Some(t) = transform else { return [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]] };
+/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
+/// first row's `w` the texture coordinate set the slot reads (1: TEXCOORD_1, else
+/// TEXCOORD_0).
+fn uv_rows(texture: Option<&TextureRef>) -> [[f32; 4]; 2] {
+    let set = texture.map_or(0.0, |r| if r.tex_coord == 1 { 1.0 } else { 0.0 });
+    let Some(t) = texture.and_then(|r| r.transform.as_ref()) else {
+        return [[1.0, 0.0, 0.0, set], [0.0, 1.0, 0.0, 0.0]];
+    };
     let (s, c) = t.rotation.sin_cos();
     [
-        [c * t.scale[0], s * t.scale[1], t.offset[0], 0.0],
+        [c * t.scale[0], s * t.scale[1], t.offset[0], set],
         [-s * t.scale[0], c * t.scale[1], t.offset[1], 0.0],
     ]
 }
@@ -123,7 +131,7 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
             0.0
         }
     };
-    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref().and_then(|r| r.transform.as_ref()));
+    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref());
     MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
@@ -472,8 +480,10 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
     if let Some(t) = &object.tangents {
         check("tangents", t.len())?;
     }
-    if let Some(uv) = &object.uvs {
-        check("uvs", uv.len())?;
+    for (name, uvs) in [("uvs", &object.uvs), ("uvs1", &object.uvs1)] {
+        if let Some(uv) = uvs {
+            check(name, uv.len())?;
+        }
     }
     if let Some(c) = &object.colors {
         check("colors", c.len())?;
@@ -487,12 +497,16 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
         return Err(bad(format!("triangle {t} uses vertex {i}, but there are {n}")));
     }
     Ok((0..n)
-        .map(|i| VertexRaw {
-            position: object.positions[i].to_array(),
-            normal: normals[i].to_array(),
-            tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
-            uv: object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array()),
-            color: object.colors.as_ref().map_or([1.0; 4], |c| c[i].to_array()),
+        .map(|i| {
+            let uv = object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array());
+            VertexRaw {
+                position: object.positions[i].to_array(),
+                normal: normals[i].to_array(),
+                tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
+                uv,
+                color: object.colors.as_ref().map_or([1.0; 4], |c| c[i].to_array()),
+                uv1: object.uvs1.as_ref().map_or(uv, |uv1| uv1[i].to_array()),
+            }
         })
         .collect())
 }

@@ -198,7 +198,7 @@ fn merge(parts: Vec<Asset>) -> Asset {
             (out.model.objects.len(), out.materials.len(), out.textures.len(), out.nodes.len());
         if part.model.v_axis != out.model.v_axis {
             for object in &mut part.model.objects {
-                if let Some(uvs) = &mut object.uvs {
+                for uvs in [&mut object.uvs, &mut object.uvs1].into_iter().flatten() {
                     for uv in uvs {
                         uv.y = 1.0 - uv.y;
                     }

@@ -257,7 +257,9 @@ pub struct ViewFlags {
     /// Multiplies the environment's light [default: the scene's, else 1].
     #[arg(long, value_name = "F", value_parser = parse_non_negative)]
     pub environment_intensity: Option<f32>,
-    /// Turns the environment about +Y, degrees [default: the scene's, else 0].
+    /// Turns the environment about +Y, degrees, counter-clockwise seen from above; at 0 the
+    /// middle of an .hdr panorama is at +Z, as in the Khronos glTF Sample Viewer at its
+    /// default (its environmentRotation V is 90 - V here) [default: the scene's, else 0].
     #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
     pub environment_rotation: Option<f32>,
     /// Background colour, sRGB 0..1, e.g. 1,1,1 [default: the scene's `background`, else the
