@@ -12,8 +12,8 @@ use glam::Vec3;
 use image::{Rgba, Rgba32FImage, RgbaImage};
 use seamlit_io::Material;
 use seamlit_render::{
-    CameraView, Environment, FrameDescriptor, FrameSettings, GpuEnvironment, GpuScene,
-    LightingModel, RenderError, Renderer, ToneMapping,
+    CameraDescriptor, CameraView, Environment, FrameDescriptor, FrameSettings, GpuEnvironment,
+    GpuScene, LightingModel, Projection, RenderError, Renderer, ToneMapping,
 };
 
 const SIZE: u32 = 64;
@@ -182,15 +182,15 @@ fn a_mirror_sphere_seen_from_above_reflects_the_sky_at_its_centre() {
     // at screen y = -0.5 the view reflects 30 degrees downward (the ground).
     let environment = through_hdr_file(&sky_and_ground([1.0, 0.1, 0.1], [0.1, 0.1, 1.0]));
     let (s, c) = 30f32.to_radians().sin_cos();
-    let camera = CameraView::orthographic(
-        Vec3::new(0.0, 5.0 * s, 5.0 * c),
-        Vec3::ZERO,
-        Vec3::Y,
-        HALF,
-        1.0,
-        0.1,
-        10.0,
-    );
+    let camera = CameraView::look_at(&CameraDescriptor {
+        eye: Vec3::new(0.0, 5.0 * s, 5.0 * c),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: Projection::Orthographic { half_height: HALF },
+        aspect: 1.0,
+        near: 0.1,
+        far: 10.0,
+    });
     let image =
         render_from(&camera, material(1.0, 1.0, 0.0), Some(&environment), 0.0, "ibl_mirror_above");
     for (y, sky) in [(0.0, true), (0.2, true), (-0.45, false), (-0.6, false)] {
