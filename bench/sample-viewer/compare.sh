@@ -87,8 +87,8 @@ echo "seamlit: $seamlit"
 # The Sample Viewer draws no shadows: seamlit's are switched off to compare the shading.
 lighting=(--lighting pbr --tone-mapping neutral --exposure 1 --shadows off)
 if [ $environment = 1 ]; then
-    # The Sample Viewer's environment rotation 90 puts the panorama's middle at +Z; seamlit's
-    # --environment-rotation 0 is taken to do the same (check when image-based lighting lands).
+    # The Sample Viewer's environment rotation 90 puts the panorama's middle at +Z, as
+    # seamlit's --environment-rotation 0 does (its V is seamlit's 90 - V).
     lighting+=(--ambient 0 --environment "$sky" --environment-intensity 1 --environment-rotation 0
         --background "$(awk "BEGIN { printf \"%.4f,%.4f,%.4f\", ${background[0]}/255, ${background[1]}/255, ${background[2]}/255 }")")
 else

@@ -112,15 +112,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 
 /// Loads `path` as it is; with `demo`, every object gets the demo's brick material.
 fn load(path: &Path, demo: bool) -> anyhow::Result<Asset> {
+    if !demo {
+        // As the command line loads a model file: a default material where an object has none.
+        let scene = seamlit_scene::Scene::from_model_path(path);
+        let [model] = &scene.models[..] else { anyhow::bail!("{}: not one model", path.display()) };
+        return Ok(model.load_asset(&LoadOptions::DEFAULT)?);
+    }
     let mut asset = seamlit_io::load(path, &LoadOptions::DEFAULT)?;
-    if demo {
-        asset.materials = vec![demo::material()];
-        asset.textures = vec![seamlit_scene::bricks_texture()];
-        for object in &mut asset.model.objects {
-            object.material = Some(0);
-        }
-    } else {
-        seamlit_scene::ensure_material(&mut asset);
+    asset.materials = vec![demo::material()];
+    asset.textures = vec![demo::bricks_texture()];
+    for object in &mut asset.model.objects {
+        object.material = Some(0);
     }
     Ok(asset)
 }

@@ -184,7 +184,8 @@ impl Default for Material {
 pub struct TextureRef {
     /// Index into [`Asset::textures`].
     pub texture: usize,
-    /// Which texture coordinate set (only 0 is carried through the pipeline).
+    /// Which texture coordinate set: 0 reads `Object::uvs` (TEXCOORD_0), 1 reads
+    /// `Object::uvs1` (TEXCOORD_1); the renderer reads set 0 for any other.
     pub tex_coord: u32,
     /// KHR_texture_transform, if present.
     pub transform: Option<UvTransform>,

@@ -169,14 +169,14 @@ pub enum IoError {
 
     /// A glTF accessor has a layout this reader does not accept (wrong type for the
     /// attribute, a sparse accessor without data, a count that does not match the others).
-    #[error("{}: glTF accessor {accessor}: {reason}", path.display())]
+    #[error("{}: glTF accessor {accessor}: {kind}", path.display())]
     BadAccessor {
         /// The file.
         path: PathBuf,
         /// Accessor index.
         accessor: usize,
         /// What is wrong, with expected and actual.
-        reason: String,
+        kind: BadAccessor,
     },
 
     /// A vertex index in a glTF primitive is not below the vertex count.
@@ -445,6 +445,163 @@ pub enum Syntax {
         points: usize,
         /// The line.
         text: String,
+    },
+}
+
+/// What is wrong with a glTF accessor (see [`IoError::BadAccessor`]): a kind, with the
+/// expected and the actual values.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BadAccessor {
+    /// The accessor's type or component type is not one the attribute takes.
+    #[error("{attribute} must be {expected}, found {found}")]
+    WrongType {
+        /// The attribute (`POSITION`, `indices`, ...).
+        attribute: String,
+        /// The types it takes, as `Vec3 of [F32]`.
+        expected: String,
+        /// The accessor's, as `Vec2 of F32`.
+        found: String,
+    },
+    /// The accessor's count is 0 (glTF requires at least 1).
+    #[error("{attribute} has count 0; glTF requires at least 1")]
+    ZeroCount {
+        /// The attribute.
+        attribute: String,
+    },
+    /// An accessor without a buffer view (zeros) declares more bytes than the file holds.
+    #[error(
+        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {buffer_bytes} buffer bytes (or 1 MiB) can hold"
+    )]
+    ZerosTooLarge {
+        /// The attribute.
+        attribute: String,
+        /// The declared count.
+        count: u64,
+        /// Bytes per element.
+        element: u64,
+        /// The file's buffer bytes.
+        buffer_bytes: u64,
+    },
+    /// A vertex attribute whose count is not the primitive's vertex count (POSITION's).
+    #[error("{attribute} has {count} elements, POSITION has {vertex_count}")]
+    CountMismatch {
+        /// The attribute.
+        attribute: String,
+        /// Its count.
+        count: usize,
+        /// POSITION's count.
+        vertex_count: usize,
+    },
+    /// The accessor gave fewer elements than its count.
+    #[error("expected {expected} elements, read {read}")]
+    ShortRead {
+        /// Its count.
+        expected: usize,
+        /// How many were read.
+        read: usize,
+    },
+    /// A triangle list whose index count (or, without indices, vertex count) is not a
+    /// multiple of 3.
+    #[error("a {} needs a multiple of 3 {what}, found {count}", if *what == "vertices" { "non-indexed triangle list" } else { "triangle list" })]
+    NotTriangles {
+        /// `indices` or `vertices`.
+        what: &'static str,
+        /// The count.
+        count: usize,
+    },
+    /// The sparse count is 0 (glTF requires at least 1).
+    #[error("{attribute} has sparse count 0; glTF requires at least 1")]
+    ZeroSparseCount {
+        /// The attribute.
+        attribute: String,
+    },
+    /// The sparse count exceeds the accessor's.
+    #[error("sparse count {sparse} exceeds the accessor count {count}")]
+    SparseCountExceeds {
+        /// The sparse count.
+        sparse: u64,
+        /// The accessor's count.
+        count: u64,
+    },
+    /// A sparse index that lies outside its buffer.
+    #[error("sparse index {element} lies outside its buffer")]
+    SparseIndexOutside {
+        /// Which of the sparse indices.
+        element: usize,
+    },
+    /// A sparse index past the accessor's elements.
+    #[error(
+        "sparse index {index} (element {element}) is out of range: the accessor has {count} elements"
+    )]
+    SparseIndexOutOfRange {
+        /// The index.
+        index: u32,
+        /// Which of the sparse indices.
+        element: usize,
+        /// The accessor's count.
+        count: usize,
+    },
+    /// Sparse indices that do not strictly increase.
+    #[error(
+        "sparse indices must be strictly increasing: element {element} is {index}, after {before}"
+    )]
+    SparseNotIncreasing {
+        /// Which of the sparse indices.
+        element: usize,
+        /// Its value.
+        index: u32,
+        /// The value before it.
+        before: u32,
+    },
+    /// A `componentType` that glTF does not define (or none).
+    #[error("unknown componentType {found:?}")]
+    UnknownComponentType {
+        /// The value written, if it is a whole number.
+        found: Option<u64>,
+    },
+    /// A `type` that glTF does not define (or none).
+    #[error("unknown type {found:?}")]
+    UnknownType {
+        /// The value written, if it is a string.
+        found: Option<String>,
+    },
+    /// An accessor the pass-through copies whose count is not its primitive's vertex count.
+    #[error("has {count} elements, the primitive {vertices} vertices")]
+    PrimitiveCount {
+        /// Its count.
+        count: usize,
+        /// The primitive's vertex count.
+        vertices: usize,
+    },
+    /// A sparse index past the accessor's elements (found by the pass-through).
+    #[error("sparse index {index} is past the {count} elements")]
+    SparseIndexPast {
+        /// The index.
+        index: usize,
+        /// The accessor's count.
+        count: usize,
+    },
+    /// No `count`.
+    #[error("no count")]
+    NoCount,
+    /// A `sparse` without `count`.
+    #[error("sparse without count")]
+    SparseWithoutCount,
+    /// Sparse indices of a component type other than an unsigned integer.
+    #[error("sparse indices of componentType {found:?}")]
+    SparseIndexType {
+        /// The value written, if it is a whole number.
+        found: Option<u64>,
+    },
+    /// A sparse `indices` or `values` without `bufferView`.
+    #[error("sparse part without bufferView")]
+    SparseWithoutView,
+    /// An attribute that names no accessor index (the accessor number is then `usize::MAX`).
+    #[error("an attribute names accessor {found}")]
+    NotAnAccessor {
+        /// The value written, as JSON.
+        found: String,
     },
 }
 

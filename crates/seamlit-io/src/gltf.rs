@@ -32,6 +32,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
+use crate::error::BadAccessor;
 use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 
@@ -823,81 +824,19 @@ impl Reader<'_> {
         types: &[DataType],
         attribute: &str,
     ) -> Result<(), IoError> {
-        let bad = |reason: String| IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            reason,
-        };
-        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
-            return Err(bad(format!(
-                "{attribute} must be {dimensions:?} of {types:?}, found {:?} of {:?}",
-                accessor.dimensions(),
-                accessor.data_type()
-            )));
-        }
+        let check = AccessorCheck { reader: self, accessor, attribute };
+        // Type, count at least 1 and within the limits.
+        check.layout(dimensions, types)?;
+        // The elements inside their buffer view (or the zeros within what the file can hold).
         let count = accessor.count() as u64;
-        // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
-        // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
-        if count == 0 {
-            return Err(bad(format!("{attribute} has count 0; glTF requires at least 1")));
-        }
-        if count > self.options.max_elements as u64 {
-            return Err(IoError::TooManyElements {
-                path: self.path.to_path_buf(),
-                what: format!("accessor {} ({attribute})", accessor.index()),
-                limit: self.options.max_elements,
-                actual: accessor.count(),
-            });
-        }
         let element = accessor.size() as u64;
-        let check = |view: gltf::buffer::View<'_>, offset: u64, count: u64, element: u64| {
-            let stride = view.stride().map_or(element, |s| s as u64);
-            // Saturating: offsets and strides come from the file and may be near u64::MAX.
-            let needed = if count == 0 {
-                0
-            } else {
-                offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
-            };
-            if needed > view.length() as u64 {
-                return Err(IoError::AccessorOutOfRange {
-                    path: self.path.to_path_buf(),
-                    accessor: accessor.index(),
-                    view: view.index(),
-                    needed,
-                    available: view.length() as u64,
-                });
-            }
-            Ok(())
-        };
-        match (accessor.view(), accessor.sparse()) {
-            (Some(view), _) => check(view, accessor.offset() as u64, count, element)?,
-            // An accessor without a view is zeros (plus its sparse values): its count costs
-            // memory that the file does not hold, so it may not exceed the file's bytes.
-            (None, _) => {
-                if count.saturating_mul(element) > self.buffer_bytes.max(ZEROS_FLOOR) {
-                    return Err(bad(format!(
-                        "{attribute} declares {count} elements of {element} bytes without a buffer view, more than the file's {} buffer bytes (or 1 MiB) can hold",
-                        self.buffer_bytes
-                    )));
-                }
-            }
+        match accessor.view() {
+            Some(view) => check.extent(view, accessor.offset() as u64, count, element)?,
+            None => check.zeros(count, element)?,
         }
+        // The sparse indices and values inside theirs.
         if let Some(sparse) = accessor.sparse() {
-            let n = sparse.count() as u64;
-            // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
-            // unchecked (tests/sparse.rs).
-            if n == 0 {
-                return Err(bad(format!(
-                    "{attribute} has sparse count 0; glTF requires at least 1"
-                )));
-            }
-            if n > count {
-                return Err(bad(format!("sparse count {n} exceeds the accessor count {count}")));
-            }
-            let indices = sparse.indices();
-            check(indices.view(), indices.offset() as u64, n, indices.index_type().size() as u64)?;
-            let values = sparse.values();
-            check(values.view(), values.offset() as u64, n, element)?;
+            check.sparse(&sparse, count, element)?;
         }
         Ok(())
     }
@@ -918,10 +857,11 @@ impl Reader<'_> {
             return Err(IoError::BadAccessor {
                 path: self.path.to_path_buf(),
                 accessor: accessor.index(),
-                reason: format!(
-                    "{name} has {} elements, POSITION has {vertex_count}",
-                    accessor.count()
-                ),
+                kind: BadAccessor::CountMismatch {
+                    attribute: name.to_owned(),
+                    count: accessor.count(),
+                    vertex_count,
+                },
             });
         }
         Ok(())
@@ -937,10 +877,10 @@ impl Reader<'_> {
         buffers: &[Vec<u8>],
     ) -> Result<(), IoError> {
         let Some(sparse) = accessor.sparse() else { return Ok(()) };
-        let bad = |reason: String| IoError::BadAccessor {
+        let bad = |kind: BadAccessor| IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason,
+            kind,
         };
         let indices = sparse.indices();
         let view = indices.view();
@@ -954,18 +894,17 @@ impl Reader<'_> {
                 Some(&[a]) => u32::from(a),
                 Some(&[a, b]) => u32::from(u16::from_le_bytes([a, b])),
                 Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
-                _ => return Err(bad(format!("sparse index {k} lies outside its buffer"))),
+                _ => return Err(bad(BadAccessor::SparseIndexOutside { element: k })),
             };
             if index as usize >= accessor.count() {
-                return Err(bad(format!(
-                    "sparse index {index} (element {k}) is out of range: the accessor has {} elements",
-                    accessor.count()
-                )));
+                return Err(bad(BadAccessor::SparseIndexOutOfRange {
+                    index,
+                    element: k,
+                    count: accessor.count(),
+                }));
             }
             if let Some(before) = previous.filter(|&before| index <= before) {
-                return Err(bad(format!(
-                    "sparse indices must be strictly increasing: element {k} is {index}, after {before}"
-                )));
+                return Err(bad(BadAccessor::SparseNotIncreasing { element: k, index, before }));
             }
             previous = Some(index);
         }
@@ -1013,6 +952,10 @@ impl Reader<'_> {
             self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(0), "TEXCOORD_0", |a| {
                 read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
             })?;
+        let uvs1 =
+            self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(1), "TEXCOORD_1", |a| {
+                read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
+            })?;
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let colors =
             self.vertex_attribute(&vertices, gltf::Semantic::Colors(0), "COLOR_0", |_| {
@@ -1024,6 +967,7 @@ impl Reader<'_> {
             name: String::new(),
             positions,
             uvs,
+            uvs1,
             normals,
             tangents,
             colors,
@@ -1038,7 +982,7 @@ impl Reader<'_> {
     }
 
     /// Checks a primitive's accessors before anything is read: POSITION, NORMAL, TANGENT,
-    /// TEXCOORD_0 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
+    /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
     /// (a triangle list: a multiple of 3).
     fn check_primitive(
         &self,
@@ -1065,6 +1009,7 @@ impl Reader<'_> {
             (gltf::Semantic::Normals, Dimensions::Vec3, &signed[..], "NORMAL"),
             (gltf::Semantic::Tangents, Dimensions::Vec4, &signed[..], "TANGENT"),
             (gltf::Semantic::TexCoords(0), Dimensions::Vec2, &quantized[..], "TEXCOORD_0"),
+            (gltf::Semantic::TexCoords(1), Dimensions::Vec2, &quantized[..], "TEXCOORD_1"),
             (gltf::Semantic::Colors(0), color_dimensions, &colors[..], "COLOR_0"),
         ];
         for (semantic, dimensions, types, name) in attributes {
@@ -1072,18 +1017,16 @@ impl Reader<'_> {
                 self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
             }
         }
-        let bad = |accessor: &gltf::Accessor<'_>, reason: String| IoError::BadAccessor {
+        let bad = |accessor: &gltf::Accessor<'_>, kind: BadAccessor| IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason,
+            kind,
         };
         let Some(accessor) = primitive.indices() else {
             if !vertex_count.is_multiple_of(3) {
                 return Err(bad(
                     position,
-                    format!(
-                        "a non-indexed triangle list needs a multiple of 3 vertices, found {vertex_count}"
-                    ),
+                    BadAccessor::NotTriangles { what: "vertices", count: vertex_count },
                 ));
             }
             return Ok(());
@@ -1094,10 +1037,7 @@ impl Reader<'_> {
         if !accessor.count().is_multiple_of(3) {
             return Err(bad(
                 &accessor,
-                format!(
-                    "a triangle list needs a multiple of 3 indices, found {}",
-                    accessor.count()
-                ),
+                BadAccessor::NotTriangles { what: "indices", count: accessor.count() },
             ));
         }
         Ok(())
@@ -1108,7 +1048,7 @@ impl Reader<'_> {
         IoError::BadAccessor {
             path: self.path.to_path_buf(),
             accessor: accessor.index(),
-            reason: format!("expected {} elements, read {got}", accessor.count()),
+            kind: BadAccessor::ShortRead { expected: accessor.count(), read: got },
         }
     }
 
@@ -1407,4 +1347,119 @@ fn punctual_light(def: &serde_json::Value, global: Mat4) -> Result<crate::Punctu
         direction: global.transform_vector3(Vec3::NEG_Z).try_normalize().unwrap_or(Vec3::NEG_Z),
         range: number(def, "range").filter(|r| *r > 0.0),
     })
+}
+
+/// One accessor being checked by [`Reader::check_accessor`], with what its errors name.
+struct AccessorCheck<'a, 'r, 'd> {
+    reader: &'a Reader<'r>,
+    accessor: &'a gltf::Accessor<'d>,
+    attribute: &'a str,
+}
+
+impl AccessorCheck<'_, '_, '_> {
+    fn bad(&self, kind: BadAccessor) -> IoError {
+        IoError::BadAccessor {
+            path: self.reader.path.to_path_buf(),
+            accessor: self.accessor.index(),
+            kind,
+        }
+    }
+
+    /// The accessor's type is one of `(dimensions, types)`; its count is at least 1 and
+    /// within [`crate::LoadOptions::max_elements`].
+    fn layout(&self, dimensions: Dimensions, types: &[DataType]) -> Result<(), IoError> {
+        let (accessor, attribute) = (self.accessor, self.attribute);
+        if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+            return Err(self.bad(BadAccessor::WrongType {
+                attribute: attribute.to_owned(),
+                expected: format!("{dimensions:?} of {types:?}"),
+                found: format!("{:?} of {:?}", accessor.dimensions(), accessor.data_type()),
+            }));
+        }
+        let count = accessor.count() as u64;
+        // glTF requires count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked (found
+        // by the `gltf` fuzz target: regression input `gltf_index_accessor_count_0.gltf`).
+        if count == 0 {
+            return Err(self.bad(BadAccessor::ZeroCount { attribute: attribute.to_owned() }));
+        }
+        if count > self.reader.options.max_elements as u64 {
+            return Err(IoError::TooManyElements {
+                path: self.reader.path.to_path_buf(),
+                what: format!("accessor {} ({attribute})", accessor.index()),
+                limit: self.reader.options.max_elements,
+                actual: accessor.count(),
+            });
+        }
+        Ok(())
+    }
+
+    /// `count` elements of `element` bytes from `offset` lie inside `view`.
+    fn extent(
+        &self,
+        view: gltf::buffer::View<'_>,
+        offset: u64,
+        count: u64,
+        element: u64,
+    ) -> Result<(), IoError> {
+        let stride = view.stride().map_or(element, |s| s as u64);
+        // Saturating: offsets and strides come from the file and may be near u64::MAX.
+        let needed = if count == 0 {
+            0
+        } else {
+            offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
+        };
+        if needed > view.length() as u64 {
+            return Err(IoError::AccessorOutOfRange {
+                path: self.reader.path.to_path_buf(),
+                accessor: self.accessor.index(),
+                view: view.index(),
+                needed,
+                available: view.length() as u64,
+            });
+        }
+        Ok(())
+    }
+
+    /// An accessor without a view is zeros (plus its sparse values): its count costs memory
+    /// that the file does not hold, so it may not exceed the file's bytes.
+    fn zeros(&self, count: u64, element: u64) -> Result<(), IoError> {
+        if count.saturating_mul(element) > self.reader.buffer_bytes.max(ZEROS_FLOOR) {
+            return Err(self.bad(BadAccessor::ZerosTooLarge {
+                attribute: self.attribute.to_owned(),
+                count,
+                element,
+                buffer_bytes: self.reader.buffer_bytes,
+            }));
+        }
+        Ok(())
+    }
+
+    /// The sparse count is 1 to `count`, and its indices and values lie inside their views.
+    fn sparse(
+        &self,
+        sparse: &gltf::accessor::sparse::Sparse<'_>,
+        count: u64,
+        element: u64,
+    ) -> Result<(), IoError> {
+        let n = sparse.count() as u64;
+        // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1`
+        // unchecked (tests/sparse.rs).
+        if n == 0 {
+            return Err(
+                self.bad(BadAccessor::ZeroSparseCount { attribute: self.attribute.to_owned() })
+            );
+        }
+        if n > count {
+            return Err(self.bad(BadAccessor::SparseCountExceeds { sparse: n, count }));
+        }
+        let indices = sparse.indices();
+        self.extent(
+            indices.view(),
+            indices.offset() as u64,
+            n,
+            indices.index_type().size() as u64,
+        )?;
+        let values = sparse.values();
+        self.extent(values.view(), values.offset() as u64, n, element)
+    }
 }

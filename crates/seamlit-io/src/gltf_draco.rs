@@ -141,8 +141,11 @@ mod decoder {
     }
 
     /// Decodes every Draco primitive of `json`: the decoded data is appended to buffer 0
-    /// (`buffers[0]`, cut to its `byteLength` first) as new buffer views, the primitives'
-    /// accessors point at them (with `min` and `max` of the decoded values where the file
+    /// (`buffers[0]`, cut to its `byteLength` first) as buffer views, the primitives'
+    /// accessors point at them. The first of a primitive's views takes the place of its
+    /// stream's view where nothing else names that one (so the pass-through's pruning frees
+    /// the stream's index for new data, and its bytes leave the buffer); the others are
+    /// new (with `min` and `max` of the decoded values where the file
     /// gave them), and buffer 0's `byteLength` grows. Returns how many primitives were
     /// decoded. `max_elements` bounds every accessor's count before the decoder runs.
     ///
@@ -179,8 +182,9 @@ mod decoder {
                 reason,
             };
             let plain = decode_primitive(json, (m, p), buffers, max_elements).map_err(error)?;
+            let mut stream_view = stream_view_alone(json, (m, p));
             for piece in plain {
-                append(json, &mut host, piece);
+                append(json, &mut host, piece, stream_view.take());
             }
         }
         json["buffers"][0]["byteLength"] = json!(host.len());
@@ -468,9 +472,18 @@ mod decoder {
         Ok(Plain { accessor: target.accessor, bytes, stride: None, indices: true })
     }
 
-    /// Appends one accessor's data to `host` (buffer 0) as a new buffer view and points the
-    /// accessor at it; its `min` and `max`, where present, become the decoded values'.
-    fn append(json: &mut Value, host: &mut Vec<u8>, plain: Plain) {
+    /// The index of primitive `(m, p)`'s stream view when only that primitive names it, in a
+    /// document whose every reference to a view is known.
+    fn stream_view_alone(json: &Value, (m, p): (usize, usize)) -> Option<usize> {
+        let view = uint(&json["meshes"][m]["primitives"][p]["extensions"][DRACO], "bufferView")?;
+        let known = crate::gltf_prune::unknown_extensions(json).is_empty();
+        (known && crate::gltf_prune::view_uses(json, view) == 1).then_some(view)
+    }
+
+    /// Appends one accessor's data to `host` (buffer 0) as a buffer view (in place of view
+    /// `into`, or a new one) and points the accessor at it; its `min` and `max`, where
+    /// present, become the decoded values'.
+    fn append(json: &mut Value, host: &mut Vec<u8>, plain: Plain, into: Option<usize>) {
         host.resize(host.len().next_multiple_of(4), 0);
         let mut view = json!({
             "buffer": 0,
@@ -483,8 +496,16 @@ mod decoder {
         }
         host.extend_from_slice(&plain.bytes);
         let views = json["bufferViews"].as_array_mut().expect("the stream's view is in it");
-        views.push(view);
-        let view = views.len() - 1;
+        let view = match into {
+            Some(into) => {
+                views[into] = view;
+                into
+            }
+            None => {
+                views.push(view);
+                views.len() - 1
+            }
+        };
         let accessor = &mut json["accessors"][plain.accessor];
         if accessor.get("min").is_some() || accessor.get("max").is_some() {
             let (min, max) = bounds(accessor, &plain);

@@ -32,6 +32,7 @@ use seamlit_mesh::{Model, Object};
 use serde_json::{Map, Value, json};
 
 use crate::IoError;
+use crate::error::BadAccessor;
 use crate::gltf_prune::Kept;
 use crate::gltf_write::{check_object, unit_normal, unit_tangent};
 
@@ -577,13 +578,12 @@ impl<'a> Output<'a> {
     /// elements keep their bytes (component type, normalisation, min and max as written).
     fn duplicate(&mut self, index: &Value, object: &Object) -> Result<usize, IoError> {
         let source = self.source;
-        let bad = |accessor: usize, reason: String| IoError::BadAccessor {
-            path: source.path.clone(),
-            accessor,
-            reason,
-        };
         let Some(index) = integer(index).and_then(|i| usize::try_from(i).ok()) else {
-            return Err(bad(usize::MAX, format!("an attribute names accessor {index}")));
+            return Err(IoError::BadAccessor {
+                path: source.path.clone(),
+                accessor: usize::MAX,
+                kind: BadAccessor::NotAnAccessor { found: index.to_string() },
+            });
         };
         let elements = read_elements(source, index, object.input_vertex_count())?;
         let size = elements.size;
@@ -812,39 +812,74 @@ struct Elements {
 /// element's bytes, from its buffer view (or zeros) with the sparse values substituted.
 fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Elements, IoError> {
     let accessor = &source.json["accessors"][index];
-    let bad = |reason: String| IoError::BadAccessor {
-        path: source.path.clone(),
-        accessor: index,
-        reason,
-    };
-    let component: usize = match integer(&accessor["componentType"]) {
-        Some(5120 | 5121) => 1,
-        Some(5122 | 5123) => 2,
-        Some(5125 | 5126) => 4,
-        other => return Err(bad(format!("unknown componentType {other:?}"))),
-    };
-    let (columns, rows) = match accessor["type"].as_str() {
-        Some("SCALAR") => (1, 1),
-        Some("VEC2") => (1, 2),
-        Some("VEC3") => (1, 3),
-        Some("VEC4") => (1, 4),
-        Some("MAT2") => (2, 2),
-        Some("MAT3") => (3, 3),
-        Some("MAT4") => (4, 4),
-        other => return Err(bad(format!("unknown type {other:?}"))),
-    };
-    let size = if columns == 1 {
-        rows * component
-    } else {
-        columns * (rows * component).next_multiple_of(4)
-    };
-    let count = uint(accessor, "count").ok_or_else(|| bad("no count".to_owned()))?;
+    let at = AccessorAt { source, index };
+    // Bytes per element, from componentType and type.
+    let size = at.element_size(accessor)?;
+    let count = uint(accessor, "count").ok_or_else(|| at.bad(BadAccessor::NoCount))?;
     if count != expected {
-        return Err(bad(format!("has {count} elements, the primitive {expected} vertices")));
+        return Err(at.bad(BadAccessor::PrimitiveCount { count, vertices: expected }));
     }
+    // The dense elements: from the buffer view, or zeros.
     let mut bytes = vec![0u8; count * size];
     if let Some(view) = uint(accessor, "bufferView") {
-        let (data, stride) = view_bytes(source, index, view, size)?;
+        at.copy_dense(accessor, view, size, &mut bytes)?;
+    }
+    // The sparse values over them.
+    if let Some(sparse) = accessor.get("sparse") {
+        at.substitute_sparse(sparse, size, &mut bytes)?;
+    }
+    Ok(Elements { bytes, size })
+}
+
+/// Accessor `index` of `source`, being read by [`read_elements`].
+struct AccessorAt<'a> {
+    source: &'a Source,
+    index: usize,
+}
+
+impl AccessorAt<'_> {
+    fn bad(&self, kind: BadAccessor) -> IoError {
+        IoError::BadAccessor { path: self.source.path.clone(), accessor: self.index, kind }
+    }
+
+    /// Bytes per element as stored (matrix columns padded to 4 bytes).
+    fn element_size(&self, accessor: &Value) -> Result<usize, IoError> {
+        let component: usize = match integer(&accessor["componentType"]) {
+            Some(5120 | 5121) => 1,
+            Some(5122 | 5123) => 2,
+            Some(5125 | 5126) => 4,
+            found => return Err(self.bad(BadAccessor::UnknownComponentType { found })),
+        };
+        let (columns, rows) = match accessor["type"].as_str() {
+            Some("SCALAR") => (1, 1),
+            Some("VEC2") => (1, 2),
+            Some("VEC3") => (1, 3),
+            Some("VEC4") => (1, 4),
+            Some("MAT2") => (2, 2),
+            Some("MAT3") => (3, 3),
+            Some("MAT4") => (4, 4),
+            found => {
+                let found = found.map(str::to_owned);
+                return Err(self.bad(BadAccessor::UnknownType { found }));
+            }
+        };
+        Ok(if columns == 1 {
+            rows * component
+        } else {
+            columns * (rows * component).next_multiple_of(4)
+        })
+    }
+
+    /// Copies the elements of buffer view `view` into `bytes` (`size` bytes each).
+    fn copy_dense(
+        &self,
+        accessor: &Value,
+        view: usize,
+        size: usize,
+        bytes: &mut [u8],
+    ) -> Result<(), IoError> {
+        let count = bytes.len() / size;
+        let (data, stride) = view_bytes(self.source, self.index, view, size)?;
         let offset = uint(accessor, "byteOffset").unwrap_or(0);
         // Saturating: offsets and strides come from the file.
         let needed = match count {
@@ -853,8 +888,8 @@ fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Eleme
         };
         if needed > data.len() {
             return Err(IoError::AccessorOutOfRange {
-                path: source.path.clone(),
-                accessor: index,
+                path: self.source.path.clone(),
+                accessor: self.index,
                 view,
                 needed: needed as u64,
                 available: data.len() as u64,
@@ -864,44 +899,60 @@ fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Eleme
             let at = offset + k * stride;
             element.copy_from_slice(&data[at..at + size]);
         }
+        Ok(())
     }
-    if let Some(sparse) = accessor.get("sparse") {
-        let n = uint(sparse, "count").ok_or_else(|| bad("sparse without count".to_owned()))?;
+
+    /// Writes the accessor's sparse values over `bytes` (`size` bytes an element).
+    fn substitute_sparse(
+        &self,
+        sparse: &Value,
+        size: usize,
+        bytes: &mut [u8],
+    ) -> Result<(), IoError> {
+        let count = bytes.len() / size;
+        let n = uint(sparse, "count").ok_or_else(|| self.bad(BadAccessor::SparseWithoutCount))?;
         let indices = &sparse["indices"];
         let index_size = match integer(&indices["componentType"]) {
             Some(UNSIGNED_BYTE) => 1,
             Some(UNSIGNED_SHORT) => 2,
             Some(UNSIGNED_INT) => 4,
-            other => return Err(bad(format!("sparse indices of componentType {other:?}"))),
+            found => return Err(self.bad(BadAccessor::SparseIndexType { found })),
         };
-        let part = |part: &Value, element: usize| -> Result<&[u8], IoError> {
-            let view = uint(part, "bufferView")
-                .ok_or_else(|| bad("sparse part without bufferView".to_owned()))?;
-            let (data, _) = view_bytes(source, index, view, element)?;
-            let offset = uint(part, "byteOffset").unwrap_or(0);
-            let needed = offset.saturating_add(n.saturating_mul(element));
-            data.get(offset..needed).ok_or(IoError::AccessorOutOfRange {
-                path: source.path.clone(),
-                accessor: index,
-                view,
-                needed: needed as u64,
-                available: data.len() as u64,
-            })
-        };
-        let sparse_indices = part(indices, index_size)?;
-        let values = part(&sparse["values"], size)?;
+        let sparse_indices = self.sparse_part(indices, n, index_size)?;
+        let values = self.sparse_part(&sparse["values"], n, size)?;
         for (k, value) in values.chunks_exact(size).enumerate() {
             let at = &sparse_indices[k * index_size..(k + 1) * index_size];
             let mut word = [0u8; 4];
             word[..index_size].copy_from_slice(at);
             let target = u32::from_le_bytes(word) as usize;
             if target >= count {
-                return Err(bad(format!("sparse index {target} is past the {count} elements")));
+                return Err(self.bad(BadAccessor::SparseIndexPast { index: target, count }));
             }
             bytes[target * size..(target + 1) * size].copy_from_slice(value);
         }
+        Ok(())
     }
-    Ok(Elements { bytes, size })
+
+    /// The bytes of a sparse part (`indices` or `values`): `n` elements of `element` bytes.
+    fn sparse_part<'s>(
+        &'s self,
+        part: &Value,
+        n: usize,
+        element: usize,
+    ) -> Result<&'s [u8], IoError> {
+        let view =
+            uint(part, "bufferView").ok_or_else(|| self.bad(BadAccessor::SparseWithoutView))?;
+        let (data, _) = view_bytes(self.source, self.index, view, element)?;
+        let offset = uint(part, "byteOffset").unwrap_or(0);
+        let needed = offset.saturating_add(n.saturating_mul(element));
+        data.get(offset..needed).ok_or(IoError::AccessorOutOfRange {
+            path: self.source.path.clone(),
+            accessor: self.index,
+            view,
+            needed: needed as u64,
+            available: data.len() as u64,
+        })
+    }
 }
 
 /// A buffer view's bytes and its stride (`element` when it declares none).

@@ -152,6 +152,15 @@ fn view_sites(document: &Value) -> Vec<String> {
     sites
 }
 
+/// How many places of `document` name buffer view `view` (in a document whose every
+/// reference [`unknown_extensions`] vouches for).
+pub(crate) fn view_uses(document: &Value, view: usize) -> usize {
+    view_sites(document)
+        .iter()
+        .filter(|site| document.pointer(site).and_then(index) == Some(view))
+        .count()
+}
+
 /// The array member `key` of `value`, or none.
 fn array<'v>(value: &'v Value, key: &str) -> &'v [Value] {
     value.get(key).and_then(Value::as_array).map_or(&[], Vec::as_slice)

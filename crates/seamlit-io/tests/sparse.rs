@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use seamlit_io::{IoError, LoadOptions};
+use seamlit_io::{BadAccessor, IoError, LoadOptions};
 use serde_json::{Value, json};
 
 /// The four base positions of the quad (when the accessor has a buffer view).
@@ -161,32 +161,35 @@ fn sparse_values_may_replace_every_position() {
     assert_eq!(sparse.positions(), vec3s(values));
 }
 
-/// The error of a hostile sparse POSITION accessor (accessor 0): a `BadAccessor` or
-/// `AccessorOutOfRange` naming accessor 0, whose message contains `expected`.
-fn refused(sparse: &Sparse, expected: &str) {
+/// The error of a hostile sparse POSITION accessor (accessor 0): a `BadAccessor` naming
+/// accessor 0 and the file, of kind `expected`.
+fn refused(sparse: &Sparse, expected: &BadAccessor) {
     let err = match sparse.load() {
         Ok(asset) => panic!("loaded: {:?}", asset.model.objects[0].positions),
         Err(err) => err,
     };
     let message = err.to_string();
     match &err {
-        IoError::BadAccessor { accessor, .. } | IoError::AccessorOutOfRange { accessor, .. } => {
+        IoError::BadAccessor { accessor, kind, .. } => {
             assert_eq!(*accessor, 0, "{message}");
+            assert_eq!(kind, expected, "{message}");
         }
         other => panic!("expected an accessor error, got {other:?}"),
     }
     assert!(message.contains("sparse.gltf"), "{message}");
-    assert!(message.contains(expected), "{message:?} should contain {expected:?}");
 }
 
 #[test]
 fn a_sparse_index_out_of_range_is_refused() {
     for (with_base, index_type) in [(true, U8), (false, U16), (true, U32)] {
         let sparse = Sparse::new(with_base, index_type, &[1, 4], &[[5.0; 3], [6.0; 3]]);
-        refused(&sparse, "sparse index 4");
+        refused(&sparse, &BadAccessor::SparseIndexOutOfRange { index: 4, element: 1, count: 4 });
     }
     // Far past any count, with u32 indices.
-    refused(&Sparse::new(true, U32, &[u32::MAX], &[[5.0; 3]]), "sparse index 4294967295");
+    refused(
+        &Sparse::new(true, U32, &[u32::MAX], &[[5.0; 3]]),
+        &BadAccessor::SparseIndexOutOfRange { index: u32::MAX, element: 0, count: 4 },
+    );
 }
 
 #[test]
@@ -195,7 +198,8 @@ fn sparse_indices_must_strictly_increase() {
     for indices in [[3, 1], [2, 2]] {
         for index_type in [U8, U16, U32] {
             let sparse = Sparse::new(true, index_type, &indices, &[[5.0; 3], [6.0; 3]]);
-            refused(&sparse, "strictly increasing");
+            let [before, index] = indices;
+            refused(&sparse, &BadAccessor::SparseNotIncreasing { element: 1, index, before });
         }
     }
 }
@@ -204,7 +208,7 @@ fn sparse_indices_must_strictly_increase() {
 fn a_sparse_count_above_the_accessor_count_is_refused() {
     let values = [[1.0; 3], [2.0; 3], [3.0; 3], [4.0; 3], [5.0; 3]];
     let sparse = Sparse::new(true, U16, &[0, 1, 2, 3, 4], &values);
-    refused(&sparse, "sparse count 5 exceeds the accessor count 4");
+    refused(&sparse, &BadAccessor::SparseCountExceeds { sparse: 5, count: 4 });
 }
 
 #[test]
@@ -212,7 +216,7 @@ fn a_sparse_count_of_zero_is_refused() {
     // glTF requires sparse.count >= 1; gltf 1.4.1's reader computes `count - 1` unchecked.
     let mut sparse = Sparse::new(true, U16, &[1], &[[5.0; 3]]);
     sparse.sparse_count = 0;
-    refused(&sparse, "sparse count 0");
+    refused(&sparse, &BadAccessor::ZeroSparseCount { attribute: "POSITION".to_owned() });
 }
 
 #[test]

@@ -73,7 +73,7 @@ pub enum MeshError {
         object: usize,
         /// The object's name.
         name: String,
-        /// Which attribute (`"uvs"`, `"normals"`, `"tangents"`, `"colors"`).
+        /// Which attribute (`"uvs"`, `"uvs1"`, `"normals"`, `"tangents"`, `"colors"`).
         attribute: &'static str,
         /// `positions.len()`.
         expected: usize,

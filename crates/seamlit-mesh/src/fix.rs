@@ -54,6 +54,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
             name: o.name.clone(),
             positions: o.positions.clone(),
             uvs: o.uvs.clone(),
+            uvs1: o.uvs1.clone(),
             colors: o.colors.clone(),
             // Kept normals are copied; computed objects' vertices that no triangle uses keep
             // their input normal, read from `model` below.
@@ -311,6 +312,7 @@ pub(crate) struct Out<'a> {
     /// Input vertices whose normal was set to other bits than the input's.
     changed: usize,
     uvs: &'a mut Option<Vec<Vec2>>,
+    uvs1: &'a mut Option<Vec<Vec2>>,
     colors: &'a mut Option<Vec<Vec4>>,
     skin: &'a mut Vec<crate::Influences>,
     morph_targets: &'a mut Vec<crate::MorphTarget>,
@@ -349,6 +351,7 @@ impl<'a> Out<'a> {
             keep_normals: false,
             changed: 0,
             uvs: &mut object.uvs,
+            uvs1: &mut object.uvs1,
             colors: &mut object.colors,
             skin: &mut object.skin,
             morph_targets: &mut object.morph_targets,
@@ -430,6 +433,9 @@ impl<'a> Out<'a> {
                 self.split_from.push(source);
                 if let Some(uvs) = self.uvs {
                     uvs.push(uvs[vi]);
+                }
+                if let Some(uvs1) = self.uvs1 {
+                    uvs1.push(uvs1[vi]);
                 }
                 if let Some(colors) = self.colors {
                     colors.push(colors[vi]);

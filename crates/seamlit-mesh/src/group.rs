@@ -15,10 +15,6 @@
 //! Only the positions that need it come here ([`crate::smooth`] settles the others in one
 //! pass), with their corners in ascending order, so the sums do not depend on the number of
 //! threads.
-#![expect(
-    clippy::needless_range_loop,
-    reason = "corners are local indices into several parallel scratch arrays at once"
-)]
 
 use glam::{Vec3, Vec4};
 
@@ -138,77 +134,126 @@ pub(crate) fn group_position(
     s: &mut Scratch,
     frames: &mut Vec<Frame>,
 ) {
-    let k = corners.len();
-    let face_of = |a: usize| corners[a] as usize / 3;
-    let usable = |a: usize| !faces[a].is(DEGENERATE_UV | DEGENERATE);
+    let at = Position { corners, faces, groups, rules };
+    // Faces within the crease angle (and of one smoothing group) form normal groups.
+    at.normal_groups(&mut s.normal_parent);
+    // Per normal group: the weighted normal sum, a fallback normal, the first usable corner.
+    at.normal_sums(s);
+    // Within each normal group, faces whose tangents agree form tangent groups.
+    at.tangent_groups(s);
+    // Per tangent group: the weighted tangent and bitangent sums.
+    let position_tb = at.tangent_sums(s);
+    // One frame per tangent group, in order of first corner.
+    at.emit_frames(s, position_tb, frames);
+}
 
-    // Normal groups.
-    let np = &mut s.normal_parent;
-    np.clear();
-    let grouped = !groups.is_empty();
-    let same_group = |a: usize, b: usize| !grouped || (groups[a] == groups[b] && groups[a] != 0);
-    match rules.crease_cos {
-        None if !grouped => np.resize(k, 0),
-        cos => {
-            np.extend(0..k as u32);
-            for a in 1..k {
-                if face_of(a) == face_of(a - 1) {
-                    union(np, a as u32 - 1, a as u32);
-                }
-            }
-            for a in 0..k {
-                let fa = &faces[a];
-                if fa.is(DEGENERATE) {
-                    continue;
-                }
-                for b in a + 1..k {
-                    let fb = &faces[b];
-                    let within = cos.is_none_or(|cos| fa.normal.dot(fb.normal) >= cos);
-                    if !fb.is(DEGENERATE) && within && same_group(a, b) {
-                        union(np, a as u32, b as u32);
+/// The corners at one position and the rules that group them: the input of
+/// [`group_position`]'s steps.
+struct Position<'a> {
+    corners: &'a [u32],
+    faces: &'a [Face],
+    groups: &'a [u64],
+    rules: Rules,
+}
+
+impl Position<'_> {
+    fn len(&self) -> usize {
+        self.corners.len()
+    }
+
+    fn face_of(&self, a: usize) -> usize {
+        self.corners[a] as usize / 3
+    }
+
+    /// Whether local corner `a`'s face has usable UVs (and is not degenerate).
+    fn usable(&self, a: usize) -> bool {
+        !self.faces[a].is(DEGENERATE_UV | DEGENERATE)
+    }
+
+    /// Weight of local corner `a` in its face.
+    fn weight(&self, a: usize) -> f32 {
+        weight(self.rules.weighting, &self.faces[a], self.corners[a] as usize % 3)
+    }
+
+    /// Normal groups into `np` (each corner's root): corners of one face, and faces within the
+    /// crease angle that share a nonzero smoothing key.
+    fn normal_groups(&self, np: &mut Vec<u32>) {
+        let k = self.len();
+        np.clear();
+        let grouped = !self.groups.is_empty();
+        let groups = self.groups;
+        let same_group =
+            |a: usize, b: usize| !grouped || (groups[a] == groups[b] && groups[a] != 0);
+        match self.rules.crease_cos {
+            None if !grouped => np.resize(k, 0),
+            cos => {
+                np.extend(0..k as u32);
+                for a in 1..k {
+                    if self.face_of(a) == self.face_of(a - 1) {
+                        union(np, a as u32 - 1, a as u32);
                     }
                 }
+                for a in 0..k {
+                    let fa = &self.faces[a];
+                    if fa.is(DEGENERATE) {
+                        continue;
+                    }
+                    for b in a + 1..k {
+                        let fb = &self.faces[b];
+                        let within = cos.is_none_or(|cos| fa.normal.dot(fb.normal) >= cos);
+                        if !fb.is(DEGENERATE) && within && same_group(a, b) {
+                            union(np, a as u32, b as u32);
+                        }
+                    }
+                }
+                flatten(np);
             }
-            flatten(np);
         }
     }
 
-    // Per normal group: the weighted normal sum, a fallback normal, the first usable corner.
-    s.n_sum.clear();
-    s.n_sum.resize(k, Vec3::ZERO);
-    s.fallback.clear();
-    s.fallback.resize(k, Vec3::ZERO);
-    s.first_usable.clear();
-    s.first_usable.resize(k, u32::MAX);
-    for a in 0..k {
-        let c = corners[a] as usize;
-        let f = &faces[a];
-        let g = np[a] as usize;
-        s.n_sum[g] += f.normal * weight(rules.weighting, f, c % 3);
-        if s.fallback[g] == Vec3::ZERO {
-            s.fallback[g] = f.normal;
-        }
-        if s.first_usable[g] == u32::MAX && usable(a) {
-            s.first_usable[g] = a as u32;
+    /// Per normal group root: `n_sum`, `fallback` (the first face's normal) and
+    /// `first_usable`.
+    fn normal_sums(&self, s: &mut Scratch) {
+        let k = self.len();
+        s.n_sum.clear();
+        s.n_sum.resize(k, Vec3::ZERO);
+        s.fallback.clear();
+        s.fallback.resize(k, Vec3::ZERO);
+        s.first_usable.clear();
+        s.first_usable.resize(k, u32::MAX);
+        for a in 0..k {
+            let f = &self.faces[a];
+            let g = s.normal_parent[a] as usize;
+            s.n_sum[g] += f.normal * self.weight(a);
+            if s.fallback[g] == Vec3::ZERO {
+                s.fallback[g] = f.normal;
+            }
+            if s.first_usable[g] == u32::MAX && self.usable(a) {
+                s.first_usable[g] = a as u32;
+            }
         }
     }
 
-    // Tangent groups, within normal groups. Unusable corners (degenerate UVs) form one group
-    // per normal group, whose tangent is the sum over all the normal group's usable corners:
-    // a value that does not depend on the order of the corners (so not on how the model is
-    // cut into objects), and equal to the usable group's where there is only one.
-    let tp = &mut s.tangent_parent;
-    tp.clear();
-    if !rules.tangents {
-        tp.extend_from_slice(np);
-    } else {
+    /// Tangent groups into `s.tangent_parent`, within normal groups. Unusable corners
+    /// (degenerate UVs) form one group per normal group, whose tangent is the sum over all the
+    /// normal group's usable corners: a value that does not depend on the order of the corners
+    /// (so not on how the model is cut into objects), and equal to the usable group's where
+    /// there is only one.
+    fn tangent_groups(&self, s: &mut Scratch) {
+        let k = self.len();
+        let tp = &mut s.tangent_parent;
+        tp.clear();
+        if !self.rules.tangents {
+            tp.extend_from_slice(&s.normal_parent);
+            return;
+        }
         tp.extend(0..k as u32);
         s.first_unusable.clear();
         s.first_unusable.resize(k, u32::MAX);
         for a in 0..k {
-            let g = np[a] as usize;
-            if usable(a) {
-                if rules.tangents_unconditional() {
+            let g = s.normal_parent[a] as usize;
+            if self.usable(a) {
+                if self.rules.tangents_unconditional() {
                     union(tp, a as u32, s.first_usable[g]);
                 }
             } else if s.first_unusable[g] == u32::MAX {
@@ -217,54 +262,64 @@ pub(crate) fn group_position(
                 union(tp, a as u32, s.first_unusable[g]);
             }
         }
-        if !rules.tangents_unconditional() {
-            for a in 1..k {
-                if face_of(a) == face_of(a - 1) && usable(a) {
-                    union(tp, a as u32 - 1, a as u32);
-                }
-            }
-            for a in 0..k {
-                if !usable(a) {
-                    continue;
-                }
-                let ta = &faces[a];
-                for b in a + 1..k {
-                    if np[a] != np[b] || !usable(b) {
-                        continue;
-                    }
-                    let tb = &faces[b];
-                    let join = (!rules.split_mirrored || ta.sign() == tb.sign())
-                        && rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
-                    if join {
-                        union(tp, a as u32, b as u32);
-                    }
-                }
-            }
+        if !self.rules.tangents_unconditional() {
+            self.join_tangents(&s.normal_parent, tp);
         }
         flatten(tp);
     }
 
-    // Sums: per tangent group over its usable corners; per normal group over all its usable
-    // corners (for the unusable group), or over its unusable ones where none is usable.
-    // Degenerate faces never count.
-    for v in [&mut s.t_sum, &mut s.b_sum, &mut s.group_t, &mut s.group_b] {
-        v.clear();
-        v.resize(k, Vec3::ZERO);
-    }
-    s.w_sum.clear();
-    s.w_sum.resize(k, 0.0);
-    let (mut position_t, mut position_b) = (Vec3::ZERO, Vec3::ZERO);
-    if rules.tangents {
+    /// Joins the usable corners of one face, and usable faces of one normal group whose UV
+    /// handedness agrees (where that split is on) and whose tangents are within the angle.
+    fn join_tangents(&self, np: &[u32], tp: &mut [u32]) {
+        let k = self.len();
+        for a in 1..k {
+            if self.face_of(a) == self.face_of(a - 1) && self.usable(a) {
+                union(tp, a as u32 - 1, a as u32);
+            }
+        }
         for a in 0..k {
-            let c = corners[a] as usize;
-            let f = &faces[a];
+            if !self.usable(a) {
+                continue;
+            }
+            let ta = &self.faces[a];
+            for b in a + 1..k {
+                if np[a] != np[b] || !self.usable(b) {
+                    continue;
+                }
+                let tb = &self.faces[b];
+                let join = (!self.rules.split_mirrored || ta.sign() == tb.sign())
+                    && self.rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
+                if join {
+                    union(tp, a as u32, b as u32);
+                }
+            }
+        }
+    }
+
+    /// Sums: per tangent group over its usable corners; per normal group over all its usable
+    /// corners (for the unusable group), or over its unusable ones where none is usable.
+    /// Degenerate faces never count. Returns the whole position's tangent and bitangent sums.
+    fn tangent_sums(&self, s: &mut Scratch) -> (Vec3, Vec3) {
+        let k = self.len();
+        for v in [&mut s.t_sum, &mut s.b_sum, &mut s.group_t, &mut s.group_b] {
+            v.clear();
+            v.resize(k, Vec3::ZERO);
+        }
+        s.w_sum.clear();
+        s.w_sum.resize(k, 0.0);
+        let (mut position_t, mut position_b) = (Vec3::ZERO, Vec3::ZERO);
+        if !self.rules.tangents {
+            return (position_t, position_b);
+        }
+        for a in 0..k {
+            let f = &self.faces[a];
             if f.is(DEGENERATE) {
                 continue;
             }
-            let g = np[a] as usize;
-            if usable(a) {
-                let w = weight(rules.weighting, f, c % 3);
-                let root = tp[a] as usize;
+            let g = s.normal_parent[a] as usize;
+            let root = s.tangent_parent[a] as usize;
+            if self.usable(a) {
+                let w = self.weight(a);
                 s.t_sum[root] += f.tangent * w;
                 s.b_sum[root] += f.bitangent * w;
                 s.w_sum[root] += w;
@@ -273,54 +328,65 @@ pub(crate) fn group_position(
                 position_t += f.tangent * w;
                 position_b += f.bitangent * w;
             } else if s.first_usable[g] == u32::MAX {
-                let root = tp[a] as usize;
                 s.t_sum[root] += f.tangent;
                 s.b_sum[root] += f.bitangent;
             }
         }
         for a in 0..k {
-            let g = np[a] as usize;
-            if tp[a] as usize == a && !usable(a) && s.first_usable[g] != u32::MAX {
+            let g = s.normal_parent[a] as usize;
+            if s.tangent_parent[a] as usize == a && !self.usable(a) && s.first_usable[g] != u32::MAX
+            {
                 s.t_sum[a] = s.group_t[g];
                 s.b_sum[a] = s.group_b[g];
             }
         }
+        (position_t, position_b)
     }
 
-    // One frame per tangent group, in order of first corner.
-    s.frame_of_root.clear();
-    s.frame_of_root.resize(k, u32::MAX);
-    s.local_group.clear();
-    let mut position_normal: Option<Vec3> = None;
-    for a in 0..k {
-        let root = s.tangent_parent[a] as usize;
-        // A group whose tangents cancel (a fan around a pole, chained through neighbours each
-        // within the tangent angle) has no meaningful average: each corner keeps its face's
-        // tangent. The test depends on the group as a set, not on the order of its corners.
-        let incoherent = rules.tangents
-            && s.w_sum[root] > 0.0
-            && rules.tangent_cos.is_some_and(|c| s.t_sum[root].length() < c * s.w_sum[root]);
-        if incoherent {
-            let f = &faces[a];
+    /// Pushes one frame per tangent group onto `frames`, in order of first corner, and each
+    /// corner's index into `frames` onto `s.local_group`. `position_tb` is the whole position's
+    /// tangent and bitangent sums, for groups of degenerate faces only.
+    fn emit_frames(&self, s: &mut Scratch, position_tb: (Vec3, Vec3), frames: &mut Vec<Frame>) {
+        let k = self.len();
+        s.frame_of_root.clear();
+        s.frame_of_root.resize(k, u32::MAX);
+        s.local_group.clear();
+        let mut position_normal: Option<Vec3> = None;
+        for a in 0..k {
+            let root = s.tangent_parent[a] as usize;
             let g = s.normal_parent[a] as usize;
-            let (normal, tangent) = finish(s.n_sum[g], s.fallback[g], f.tangent, f.bitangent);
-            s.local_group.push(frames.len() as u32);
-            frames.push(Frame { normal, tangent });
-            continue;
-        }
-        if s.frame_of_root[root] == u32::MAX {
-            let g = s.normal_parent[a] as usize;
-            let mut n_sum = s.n_sum[g];
-            let (mut t_sum, mut b_sum) = (s.t_sum[root], s.b_sum[root]);
-            if n_sum == Vec3::ZERO && s.fallback[g] == Vec3::ZERO {
-                // Only degenerate faces in this group: use the whole position's frame.
-                n_sum = *position_normal.get_or_insert_with(|| s.n_sum.iter().sum());
-                (t_sum, b_sum) = (position_t, position_b);
+            // A group whose tangents cancel (a fan around a pole, chained through neighbours
+            // each within the tangent angle) has no meaningful average: each corner keeps its
+            // face's tangent. The test depends on the group as a set, not on the order of its
+            // corners.
+            if self.incoherent(s, root) {
+                let f = &self.faces[a];
+                let (normal, tangent) = finish(s.n_sum[g], s.fallback[g], f.tangent, f.bitangent);
+                s.local_group.push(frames.len() as u32);
+                frames.push(Frame { normal, tangent });
+                continue;
             }
-            let (normal, tangent) = finish(n_sum, s.fallback[g], t_sum, b_sum);
-            s.frame_of_root[root] = frames.len() as u32;
-            frames.push(Frame { normal, tangent });
+            if s.frame_of_root[root] == u32::MAX {
+                let mut n_sum = s.n_sum[g];
+                let (mut t_sum, mut b_sum) = (s.t_sum[root], s.b_sum[root]);
+                if n_sum == Vec3::ZERO && s.fallback[g] == Vec3::ZERO {
+                    // Only degenerate faces in this group: use the whole position's frame.
+                    n_sum = *position_normal.get_or_insert_with(|| s.n_sum.iter().sum());
+                    (t_sum, b_sum) = position_tb;
+                }
+                let (normal, tangent) = finish(n_sum, s.fallback[g], t_sum, b_sum);
+                s.frame_of_root[root] = frames.len() as u32;
+                frames.push(Frame { normal, tangent });
+            }
+            s.local_group.push(s.frame_of_root[root]);
         }
-        s.local_group.push(s.frame_of_root[root]);
+    }
+
+    /// Whether the tangent group rooted at `root` cancels out: its summed tangent is shorter
+    /// than the tangent angle's cosine times its weight.
+    fn incoherent(&self, s: &Scratch, root: usize) -> bool {
+        self.rules.tangents
+            && s.w_sum[root] > 0.0
+            && self.rules.tangent_cos.is_some_and(|c| s.t_sum[root].length() < c * s.w_sum[root])
     }
 }

@@ -48,6 +48,10 @@ pub struct Object {
     pub positions: Vec<Vec3>,
     /// Texture coordinates (TEXCOORD_0), if the object has them.
     pub uvs: Option<Vec<Vec2>>,
+    /// The second set of texture coordinates (glTF TEXCOORD_1), if the object has them: what
+    /// a material's texture reads when its `tex_coord` is 1. Carried, never computed with
+    /// (tangents follow [`Object::uvs`]); [`crate::fix`] copies a vertex's to its copies.
+    pub uvs1: Option<Vec<Vec2>>,
     /// Vertex normals in local space: as loaded (input), or as computed by [`crate::fix`].
     pub normals: Option<Vec<Vec3>>,
     /// Vertex colours (COLOR_0), linear RGBA, if the object has them. No colour space is

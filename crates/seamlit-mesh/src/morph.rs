@@ -18,8 +18,16 @@
 //! normalised; a tangent is its sum made orthogonal to that normal, the base handedness kept.
 //! The delta is the local-space difference from the base frame (tangents: `xyz` only).
 //!
-//! Cost per target: one pass over the triangles and one over the vertices; the weld and the
-//! grouping are done once for all targets.
+//! A target that does not move any corner of a face leaves that face as it was, so only the
+//! groups that hold a corner of a moved face change: every other vertex gets a delta of
+//! exactly zero, and only the faces around the changed groups are computed again (a blend
+//! shape that moves a face's mouth costs what the mouth costs). The changed groups get the
+//! bits a computation over every face would give them (the unit test
+//! `sparse_targets_get_the_bits_of_the_dense_computation`).
+//!
+//! Cost per target: a pass over the triangles and the vertices to find what the target moves,
+//! then the faces and vertices of the groups it reaches; the weld and the grouping are done
+//! once for all targets.
 
 use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
@@ -76,8 +84,12 @@ pub(crate) fn compute_deltas(
     }
     let flat = validate::flatten(model)?;
     let groups = Groups::of(model, &flat, options, weld);
-    let deltas: Vec<Vec<Deltas>> =
-        (0..targets).map(|k| target_deltas(model, &flat, &groups, options, k)).collect();
+    let deltas: Vec<Vec<Deltas>> = (0..targets)
+        .map(|k| {
+            let reach = Reach::of(model, &flat, &groups, k, Scope::Moved);
+            target_deltas(model, &flat, &groups, options, &reach, k)
+        })
+        .collect();
     for (k, per_object) in deltas.into_iter().enumerate() {
         for (o, d) in per_object.into_iter().enumerate() {
             if !computed[o] {
@@ -206,27 +218,88 @@ fn base_frames(model: &Model, flat: &Flat) -> Vec<(Vec3, Vec4)> {
         .collect()
 }
 
-/// Per group (indexed by its first vertex): the weighted sums of the normals (normal groups)
-/// and tangents (tangent groups) of target `k`'s faces. Each object adds its faces into its
-/// own vertices in parallel (triangle order); the vertices are then added into their groups
-/// in vertex order, so the bits do not depend on the thread count.
-fn group_sums(
-    model: &Model,
-    flat: &Flat,
-    groups: &Groups,
-    options: &FixOptions,
-    k: usize,
-) -> (Vec<Vec3>, Vec<Vec3>) {
-    let n = flat.positions.len();
-    let mut sums = vec![(Vec3::ZERO, Vec3::ZERO); n];
+/// Which vertices a target's deltas are computed for.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Scope {
+    /// Those whose normal group holds a corner of a face that the target moves; the others
+    /// get a delta of exactly zero.
+    Moved,
+    /// Every vertex (the dense computation, kept as the tests' oracle).
+    All,
+}
+
+/// Per vertex (model-wide index): whether its deltas are computed for one target.
+struct Reach {
+    needed: Vec<bool>,
+}
+
+impl Reach {
+    /// The vertices of the normal groups that hold a corner of a face target `k` moves (a
+    /// face moves when a corner's position delta is not zero). A tangent group lies inside
+    /// one normal group, so these are also every vertex of the tangent groups it reaches.
+    fn of(model: &Model, flat: &Flat, groups: &Groups, k: usize, scope: Scope) -> Self {
+        let n = flat.positions.len();
+        if scope == Scope::All {
+            return Self { needed: vec![true; n] };
+        }
+        // 1. The corners of the moved faces, object by object.
+        let mut touched = vec![false; n];
+        split_by_object(&mut touched, model).into_par_iter().zip(&model.objects).for_each(
+            |(touched, object)| {
+                let Some(deltas) = object.morph_targets.get(k).map(|t| &t.position_deltas) else {
+                    return;
+                };
+                for tri in &object.triangles {
+                    if tri.iter().any(|&i| deltas[i as usize] != Vec3::ZERO) {
+                        tri.iter().for_each(|&i| touched[i as usize] = true);
+                    }
+                }
+            },
+        );
+        // 2. Their normal groups (named by their first vertex, which comes first), then every
+        //    member of those groups.
+        let mut needed = vec![false; n];
+        for v in (0..n).filter(|&v| touched[v]) {
+            needed[groups.normal[v] as usize] = true;
+        }
+        for v in 0..n {
+            needed[v] = needed[groups.normal[v] as usize];
+        }
+        Self { needed }
+    }
+}
+
+/// `values` (one per vertex of the model, in object order) cut into one slice per object.
+fn split_by_object<'a, T>(values: &'a mut [T], model: &Model) -> Vec<&'a mut [T]> {
     let mut parts = Vec::with_capacity(model.objects.len());
-    let mut rest = sums.as_mut_slice();
+    let mut rest = values;
     for object in &model.objects {
         let (part, tail) = rest.split_at_mut(object.vertex_count());
         parts.push(part);
         rest = tail;
     }
-    parts.into_par_iter().zip(&model.objects).for_each(|(sums, object)| {
+    parts
+}
+
+/// Per group (indexed by its first vertex): the weighted sums of the normals (normal groups)
+/// and tangents (tangent groups) of target `k`'s faces. Each object adds its faces into its
+/// own vertices in parallel (triangle order); the vertices are then added into their groups
+/// in vertex order, so the bits do not depend on the thread count. Only the faces with a
+/// corner in `reach` are computed, and only the groups in `reach` summed: a vertex's sum still
+/// takes every face around it, in triangle order, so those groups get the dense bits.
+fn group_sums(
+    model: &Model,
+    flat: &Flat,
+    groups: &Groups,
+    options: &FixOptions,
+    reach: &Reach,
+    k: usize,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let n = flat.positions.len();
+    let mut sums = vec![(Vec3::ZERO, Vec3::ZERO); n];
+    let parts = split_by_object(&mut sums, model);
+    parts.into_par_iter().zip(&model.objects).enumerate().for_each(|(o, (sums, object))| {
+        let needed = &reach.needed[flat.vertex_start[o] as usize..][..object.vertex_count()];
         let deltas = object.morph_targets.get(k).map(|t| t.position_deltas.as_slice());
         let transform = object.transform.map(|_| object.model_transform());
         let displaced = |i: u32| {
@@ -235,7 +308,7 @@ fn group_sums(
             transform.map_or(p, |m| m.transform_point3(p))
         };
         let uvs = object.uvs.as_deref();
-        for tri in &object.triangles {
+        for tri in object.triangles.iter().filter(|t| t.iter().any(|&i| needed[i as usize])) {
             let f =
                 face(tri.map(displaced), uvs.map(|uv| tri.map(|i| uv[i as usize])), model.v_axis);
             let tangent = !f.is(DEGENERATE | DEGENERATE_UV);
@@ -251,7 +324,7 @@ fn group_sums(
     });
     // A group's first vertex comes before its other vertices: add each into it in order.
     let (mut n_sum, mut t_sum): (Vec<Vec3>, Vec<Vec3>) = sums.into_iter().unzip();
-    for v in 0..n {
+    for v in (0..n).filter(|&v| reach.needed[v]) {
         let (gn, gt) = (groups.normal[v] as usize, groups.tangent[v] as usize);
         if gn != v {
             n_sum[gn] = n_sum[gn] + n_sum[v];
@@ -269,15 +342,17 @@ struct Deltas {
     tangents: Option<Vec<Vec3>>,
 }
 
-/// The deltas of target `k` for every object (empty for objects without vertices).
+/// The deltas of target `k` for every object (empty for objects without vertices): zero
+/// outside `reach`.
 fn target_deltas(
     model: &Model,
     flat: &Flat,
     groups: &Groups,
     options: &FixOptions,
+    reach: &Reach,
     k: usize,
 ) -> Vec<Deltas> {
-    let (n_sum, t_sum) = group_sums(model, flat, groups, options, k);
+    let (n_sum, t_sum) = group_sums(model, flat, groups, options, reach, k);
     model
         .objects
         .par_iter()
@@ -289,6 +364,13 @@ fn target_deltas(
             let mut dn = Vec::with_capacity(object.vertex_count());
             let mut dt = object.tangents.as_ref().map(|_| Vec::with_capacity(dn.capacity()));
             for v in 0..object.vertex_count() {
+                if !reach.needed[base + v] {
+                    dn.push(Vec3::ZERO);
+                    if let Some(dt) = &mut dt {
+                        dt.push(Vec3::ZERO);
+                    }
+                    continue;
+                }
                 let (n0, t0) = groups.frames[base + v];
                 let nk = n_sum[groups.normal[base + v] as usize].try_normalize().unwrap_or(n0);
                 let tk = t_sum[groups.tangent[base + v] as usize];
@@ -307,4 +389,91 @@ fn target_deltas(
             Deltas { normals: dn, tangents: dt }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Mat4, Vec2};
+
+    use super::*;
+    use crate::{Object, VAxis, fix};
+
+    /// An 8 x 8 grid of quads over `[x0, x0 + 2] x [0, 2]` with a 70-degree ridge at
+    /// `x0 + 1` (a crease that splits vertices), UVs, and one target: a bump of radius 0.6
+    /// around the seam point (2, 1), exactly zero outside it.
+    fn sheet(name: &str, x0: f32) -> Object {
+        let n = 9;
+        let (mut positions, mut uvs, mut deltas) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..n {
+            for i in 0..n {
+                let (x, y) = (x0 + 0.25 * i as f32, 0.25 * j as f32);
+                let ridge = 2.75 * (x - x0 - 1.0).max(0.0);
+                positions.push(Vec3::new(x, y, 0.05 * x * x + ridge));
+                uvs.push(Vec2::new(x / 4.0, 1.0 - y / 2.0));
+                let r2 = (x - 2.0).powi(2) + (y - 1.0).powi(2);
+                deltas.push(if r2 < 0.36 { Vec3::Z * 0.3 * (1.0 - r2 / 0.36) } else { Vec3::ZERO });
+            }
+        }
+        let mut triangles = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let v = j * n + i;
+                triangles.push([v, v + 1, v + n + 1]);
+                triangles.push([v, v + n + 1, v + n]);
+            }
+        }
+        let mut object = Object::new(name, positions, triangles).with_uvs(uvs);
+        object.morph_targets =
+            vec![MorphTarget { position_deltas: deltas, ..MorphTarget::default() }];
+        object
+    }
+
+    #[test]
+    fn sparse_targets_get_the_bits_of_the_dense_computation() {
+        let options = FixOptions::default();
+        let mut right = sheet("right", 2.0);
+        // A transform that moves the object and back: its deltas go through model space.
+        right.positions.iter_mut().for_each(|p| *p -= Vec3::X);
+        right.transform = Some(Mat4::from_translation(Vec3::X));
+        let input = Model { objects: vec![sheet("left", 0.0), right], v_axis: VAxis::Down };
+        let model = fix(&input, &options).unwrap();
+        let flat = validate::flatten(&model).unwrap();
+        let groups = Groups::of(&model, &flat, &options, None);
+        let deltas = |scope| {
+            let reach = Reach::of(&model, &flat, &groups, 0, scope);
+            (target_deltas(&model, &flat, &groups, &options, &reach, 0), reach)
+        };
+        let ((sparse, reach), (dense, _)) = (deltas(Scope::Moved), deltas(Scope::All));
+        let (mut computed, mut zero, mut unmoved) = (0, 0, 0);
+        for (o, object) in model.objects.iter().enumerate() {
+            let (s, d) = (&sparse[o], &dense[o]);
+            let (st, dt) = (s.tangents.as_ref().unwrap(), d.tangents.as_ref().unwrap());
+            for v in 0..object.vertex_count() {
+                if reach.needed[flat.vertex_start[o] as usize + v] {
+                    assert_eq!(
+                        s.normals[v].to_array().map(f32::to_bits),
+                        d.normals[v].to_array().map(f32::to_bits),
+                        "{o} v{v}"
+                    );
+                    assert_eq!(
+                        st[v].to_array().map(f32::to_bits),
+                        dt[v].to_array().map(f32::to_bits),
+                        "{o} v{v}"
+                    );
+                    computed += 1;
+                    let source = object.source_vertex(v as u32) as usize;
+                    if object.morph_targets[0].position_deltas[source] == Vec3::ZERO {
+                        unmoved += 1;
+                    }
+                } else {
+                    assert_eq!((s.normals[v], st[v]), (Vec3::ZERO, Vec3::ZERO), "{o} v{v}");
+                    // What the dense computation gives there is rounding only.
+                    assert!(d.normals[v].length() < 1e-5, "{o} v{v}: {}", d.normals[v]);
+                    zero += 1;
+                }
+            }
+        }
+        // Both objects are reached (across the seam), and beyond the moved vertices.
+        assert!(computed > 20 && zero > 100 && unmoved > 10, "{computed} {zero} {unmoved}");
+    }
 }

@@ -190,72 +190,23 @@ fn cross_object(
     shared: &[bool],
     options: &ReportOptions,
 ) -> CrossObject {
+    // The corners at shared positions, sorted by position.
     let entries = flat.corners_at(model, roots, |r| shared[r as usize]);
     let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
-    let corner = |e: u64| -> SharedCorner {
-        let c = (e & 0xFFFF_FFFF) as usize;
-        let t = c / 3;
-        let o = flat.object_of_triangle(t);
-        let local = t - flat.triangle_start[o] as usize;
-        let cs = flat.corners(model, o, local);
-        let i = model.objects[o].triangles[local][c % 3] as usize;
-        let (normal, tangent) = model_space_frame(&model.objects[o], i, linear[o].as_ref());
-        SharedCorner {
-            object: o as u32,
-            roots: cs.vertices.map(|v| roots[v as usize]),
-            face: face(cs.positions, cs.uvs, model.v_axis),
-            normal,
-            tangent,
-        }
+    let corners = Corners { model, flat, roots, linear: &linear };
+    let limits = Limits {
+        crease_cos: options.crease_angle_deg.clamp(0.0, 180.0).to_radians().cos(),
+        tangent_cos: options.tangent_angle_deg.clamp(0.0, 180.0).to_radians().cos(),
     };
-    let crease_cos = options.crease_angle_deg.clamp(0.0, 180.0).to_radians().cos();
-    let tangent_cos = options.tangent_angle_deg.clamp(0.0, 180.0).to_radians().cos();
+    // Every pair of corners of different objects at each position, one position per task.
     let stats = entries
         .par_chunk_by(|a, b| a >> 32 == b >> 32)
         .fold(Stats::default, |mut s, run| {
             let p = (run[0] >> 32) as u32;
-            let corners: Vec<SharedCorner> = run.iter().map(|&e| corner(e)).collect();
-            for (i, ca) in corners.iter().enumerate() {
-                for cb in &corners[i + 1..] {
-                    if ca.object == cb.object {
-                        continue;
-                    }
-                    let (a, b) = (&ca.face, &cb.face);
-                    if a.is(DEGENERATE) || b.is(DEGENERATE) {
-                        continue;
-                    }
-                    let Some(&q) = ca.roots.iter().find(|&&q| q != p && cb.roots.contains(&q))
-                    else {
-                        continue;
-                    };
-                    let hard = a.normal.dot(b.normal) < crease_cos;
-                    if p < q {
-                        s.edges += 1;
-                        s.hard_edges += usize::from(hard);
-                    }
-                    let (na, nb) = (ca.normal, cb.normal);
-                    if na == Vec3::ZERO || nb == Vec3::ZERO {
-                        continue;
-                    }
-                    let normal_angle = angle_deg(na, nb);
-                    if hard {
-                        s.min_hard =
-                            Some(s.min_hard.map_or(normal_angle, |m: f32| m.min(normal_angle)));
-                        continue;
-                    }
-                    s.pairs += 1;
-                    s.normal.add(normal_angle);
-                    s.normal_breaks += usize::from(normal_angle > 1.0);
-                    let (ta, tb) = (ca.tangent, cb.tangent);
-                    let comparable = ta != Vec4::ZERO
-                        && tb != Vec4::ZERO
-                        && !a.is(DEGENERATE_UV)
-                        && !b.is(DEGENERATE_UV)
-                        && a.sign() == b.sign()
-                        && a.tangent.dot(b.tangent) >= tangent_cos;
-                    if comparable {
-                        s.tangent.add(angle_deg(ta.xyz(), tb.xyz()));
-                    }
+            let at: Vec<SharedCorner> = run.iter().map(|&e| corners.get(e)).collect();
+            for (i, ca) in at.iter().enumerate() {
+                for cb in &at[i + 1..] {
+                    s.compare(p, ca, cb, limits);
                 }
             }
             s
@@ -273,6 +224,43 @@ fn cross_object(
         mean_tangent_angle_deg: stats.tangent.mean(),
         min_hard_edge_normal_angle_deg: stats.min_hard,
     }
+}
+
+/// What [`Corners::get`] needs to build a [`SharedCorner`].
+struct Corners<'a> {
+    model: &'a Model,
+    flat: &'a validate::Flat,
+    roots: &'a [u32],
+    /// Per object, the linear part of its transform (`None`: the identity).
+    linear: &'a [Option<Linear>],
+}
+
+impl Corners<'_> {
+    /// The corner of entry `e` (position in the high 32 bits, global corner in the low).
+    fn get(&self, e: u64) -> SharedCorner {
+        let (model, flat) = (self.model, self.flat);
+        let c = (e & 0xFFFF_FFFF) as usize;
+        let t = c / 3;
+        let o = flat.object_of_triangle(t);
+        let local = t - flat.triangle_start[o] as usize;
+        let cs = flat.corners(model, o, local);
+        let i = model.objects[o].triangles[local][c % 3] as usize;
+        let (normal, tangent) = model_space_frame(&model.objects[o], i, self.linear[o].as_ref());
+        SharedCorner {
+            object: o as u32,
+            roots: cs.vertices.map(|v| self.roots[v as usize]),
+            face: face(cs.positions, cs.uvs, model.v_axis),
+            normal,
+            tangent,
+        }
+    }
+}
+
+/// Cosines of the report's crease and tangent angles.
+#[derive(Clone, Copy)]
+struct Limits {
+    crease_cos: f32,
+    tangent_cos: f32,
 }
 
 fn angle_deg(a: Vec3, b: Vec3) -> f32 {
@@ -316,6 +304,49 @@ struct Stats {
 }
 
 impl Stats {
+    /// Adds corners `ca` and `cb` at position `p`, when they belong to different objects and
+    /// their triangles share an edge from `p`: the edge (counted once, from its lower end),
+    /// whether it is hard, and the angles between the model's frames on its two sides.
+    fn compare(&mut self, p: u32, ca: &SharedCorner, cb: &SharedCorner, limits: Limits) {
+        if ca.object == cb.object {
+            return;
+        }
+        let (a, b) = (&ca.face, &cb.face);
+        if a.is(DEGENERATE) || b.is(DEGENERATE) {
+            return;
+        }
+        let Some(&q) = ca.roots.iter().find(|&&q| q != p && cb.roots.contains(&q)) else {
+            return;
+        };
+        let hard = a.normal.dot(b.normal) < limits.crease_cos;
+        if p < q {
+            self.edges += 1;
+            self.hard_edges += usize::from(hard);
+        }
+        let (na, nb) = (ca.normal, cb.normal);
+        if na == Vec3::ZERO || nb == Vec3::ZERO {
+            return;
+        }
+        let normal_angle = angle_deg(na, nb);
+        if hard {
+            self.min_hard = Some(self.min_hard.map_or(normal_angle, |m: f32| m.min(normal_angle)));
+            return;
+        }
+        self.pairs += 1;
+        self.normal.add(normal_angle);
+        self.normal_breaks += usize::from(normal_angle > 1.0);
+        let (ta, tb) = (ca.tangent, cb.tangent);
+        let comparable = ta != Vec4::ZERO
+            && tb != Vec4::ZERO
+            && !a.is(DEGENERATE_UV)
+            && !b.is(DEGENERATE_UV)
+            && a.sign() == b.sign()
+            && a.tangent.dot(b.tangent) >= limits.tangent_cos;
+        if comparable {
+            self.tangent.add(angle_deg(ta.xyz(), tb.xyz()));
+        }
+    }
+
     fn merge(self, o: Self) -> Self {
         Self {
             edges: self.edges + o.edges,

@@ -124,6 +124,7 @@ fn check_lengths(index: usize, object: &Object) -> Result<(), MeshError> {
     let expected = object.positions.len();
     let lens = [
         ("uvs", object.uvs.as_ref().map(Vec::len)),
+        ("uvs1", object.uvs1.as_ref().map(Vec::len)),
         ("normals", object.normals.as_ref().map(Vec::len)),
         ("tangents", object.tangents.as_ref().map(Vec::len)),
         ("colors", object.colors.as_ref().map(Vec::len)),

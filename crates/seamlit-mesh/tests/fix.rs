@@ -452,13 +452,16 @@ fn split_vertices_record_the_input_vertex_they_copy() {
     assert!(matches!(fix(&bad, &FixOptions::default()), Err(MeshError::BadSplitFrom { .. })));
 }
 
-/// Vertex colours follow their vertex through the splits, in `fix` and `fix_in_place`, in
-/// every mode, and a wrong length is refused.
+/// Vertex colours and second texture coordinates follow their vertex through the splits, in
+/// `fix` and `fix_in_place`, in every mode, and a wrong length is refused.
 #[test]
-fn split_vertices_keep_their_colour() {
+fn split_vertices_keep_their_colour_and_second_uvs() {
     let colors: Vec<Vec4> = (0..8).map(|i| Vec4::new(i as f32 / 8.0, 0.25, 1.0, 0.5)).collect();
+    let uvs1: Vec<Vec2> =
+        (0..8).map(|i| Vec2::new(i as f32 / 8.0, 1.0 - i as f32 / 16.0)).collect();
     let mut object = common::shared_corner_cube();
     object.colors = Some(colors.clone());
+    object.uvs1 = Some(uvs1.clone());
     let model = Model::new(vec![object]);
     for mode in [Mode::Flat, Mode::Object, Mode::Model] {
         let options = FixOptions::default().with_mode(mode);
@@ -469,8 +472,11 @@ fn split_vertices_keep_their_colour() {
             assert_eq!(o.vertex_count(), 24, "{mode:?}: each corner split");
             let got = o.colors.as_ref().expect("colours kept");
             assert_eq!(got.len(), 24);
+            let got_uvs1 = o.uvs1.as_ref().expect("second uvs kept");
+            assert_eq!(got_uvs1.len(), 24);
             for v in 0..24 {
                 assert_eq!(got[v as usize], colors[o.source_vertex(v) as usize], "{mode:?} {v}");
+                assert_eq!(got_uvs1[v as usize], uvs1[o.source_vertex(v) as usize], "{mode:?} {v}");
             }
         }
     }
@@ -479,5 +485,11 @@ fn split_vertices_keep_their_colour() {
     assert!(matches!(
         fix(&bad, &FixOptions::default()),
         Err(MeshError::AttributeLength { attribute: "colors", expected: 8, actual: 7, .. })
+    ));
+    let mut bad = model.clone();
+    bad.objects[0].uvs1.as_mut().unwrap().pop();
+    assert!(matches!(
+        fix(&bad, &FixOptions::default()),
+        Err(MeshError::AttributeLength { attribute: "uvs1", expected: 8, actual: 7, .. })
     ));
 }

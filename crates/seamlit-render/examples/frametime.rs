@@ -23,8 +23,9 @@ use glam::Vec3;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene,
-    IMAGE_FORMAT, Light, LightingModel, Renderer, TextureOptions, ToneMapping,
+    CameraDescriptor, CameraView, Environment, FrameDescriptor, FrameSettings, GpuContext,
+    GpuEnvironment, GpuScene, IMAGE_FORMAT, Light, LightingModel, Projection, Renderer,
+    TextureOptions, ToneMapping,
 };
 
 fn arg(name: &str) -> Option<String> {
@@ -133,15 +134,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &asset.textures,
             &options,
         )?;
-        let camera = CameraView::look_at(
-            Vec3::new(0.0, 0.5, 3.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            45.0,
-            width as f32 / height as f32,
-            0.1,
-            20.0,
-        );
+        let camera = CameraView::look_at(&CameraDescriptor {
+            eye: Vec3::new(0.0, 0.5, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective { fov_y_deg: 45.0 },
+            aspect: width as f32 / height as f32,
+            near: 0.1,
+            far: 20.0,
+        });
         for &count in &light_counts {
             let settings = FrameSettings {
                 lights: lights(count),

@@ -1,6 +1,8 @@
 //! The GPU context: instance, adapter, device and queue, headless or for a window surface,
 //! plus the bind group layouts that [`crate::GpuScene`] and [`crate::Renderer`] share.
 
+use wgpu::ShaderStages as S;
+
 use crate::RenderError;
 
 /// Where the renderer runs: a wgpu device and queue (and the adapter they came from).
@@ -211,106 +213,116 @@ pub(crate) struct Layouts {
 
 impl Layouts {
     fn new(device: &wgpu::Device) -> Self {
-        use wgpu::ShaderStages as S;
-        let uniform = |binding, visibility| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let storage = |binding, visibility| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let texture = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: S::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("seamlit frame"),
-            entries: &[
-                uniform(0, S::VERTEX_FRAGMENT),
-                storage(1, S::VERTEX_FRAGMENT),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: S::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
+        Self {
+            frame: frame_layout(device),
+            material: material_layout(device),
+            object: object_layout(device),
+            environment: environment_layout(device),
+        }
+    }
+}
+
+/// Group 0: see [`Layouts::frame`].
+fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("seamlit frame"),
+        entries: &[
+            buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
+            buffer(1, S::VERTEX_FRAGMENT, STORAGE),
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: S::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    multisampled: false,
                 },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: S::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                uniform(4, S::FRAGMENT),
-            ],
-        });
-        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("seamlit material"),
-            entries: &[
-                uniform(0, S::VERTEX_FRAGMENT),
-                texture(1),
-                texture(2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: S::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-                texture(4),
-                texture(5),
-                texture(6),
-            ],
-        });
-        let object = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("seamlit object"),
-            entries: &[uniform(0, S::VERTEX_FRAGMENT), storage(1, S::VERTEX)],
-        });
-        let cube = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: S::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::Cube,
-                multisampled: false,
+                count: None,
             },
-            count: None,
-        };
-        let environment = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("seamlit environment"),
-            entries: &[
-                cube(0),
-                cube(1),
-                texture(2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: S::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
-        Self { frame, material, object, environment }
+            sampler(3, wgpu::SamplerBindingType::Comparison),
+            buffer(4, S::FRAGMENT, wgpu::BufferBindingType::Uniform),
+        ],
+    })
+}
+
+/// Group 1: see [`Layouts::material`].
+fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("seamlit material"),
+        entries: &[
+            buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
+            texture(1, D2),
+            texture(2, D2),
+            sampler(3, wgpu::SamplerBindingType::Filtering),
+            texture(4, D2),
+            texture(5, D2),
+            texture(6, D2),
+        ],
+    })
+}
+
+/// Group 2: see [`Layouts::object`].
+fn object_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("seamlit object"),
+        entries: &[
+            buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
+            buffer(1, S::VERTEX, STORAGE),
+        ],
+    })
+}
+
+/// Group 3: see [`Layouts::environment`].
+fn environment_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("seamlit environment"),
+        entries: &[
+            texture(0, CUBE),
+            texture(1, CUBE),
+            texture(2, D2),
+            sampler(3, wgpu::SamplerBindingType::Filtering),
+        ],
+    })
+}
+
+const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
+const CUBE: wgpu::TextureViewDimension = wgpu::TextureViewDimension::Cube;
+const STORAGE: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+
+/// A buffer binding of `ty` (uniform or read-only storage), its size unchecked.
+fn buffer(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// A filterable float texture the fragment shader samples, of one view dimension.
+fn texture(binding: u32, view_dimension: wgpu::TextureViewDimension) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: S::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A sampler the fragment shader uses.
+fn sampler(binding: u32, ty: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: S::FRAGMENT,
+        ty: wgpu::BindingType::Sampler(ty),
+        count: None,
     }
 }

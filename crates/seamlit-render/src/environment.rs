@@ -35,7 +35,9 @@ pub enum Environment {
     /// The same radiance (linear RGB) from every direction.
     Uniform(Vec3),
     /// An equirectangular image of linear radiance: longitude across (the centre column
-    /// looks toward -Z, a quarter of the width to the right toward +X), +Y at the top row.
+    /// looks toward +Z, a quarter of the width to the right toward -X, the edges toward -Z),
+    /// +Y at the top row: as the Khronos glTF Sample Viewer shows it at its default
+    /// environment rotation (90 degrees there, 0 here).
     Equirect(Rgba32FImage),
 }
 

@@ -10,8 +10,9 @@
 // Smith visibility (glTF 2.0, Appendix B) into the scale and bias applied to f0.
 //
 // Cube faces are in wgpu's order +X, -X, +Y, -Y, +Z, -Z. Equirectangular images: the
-// longitude runs across (the centre column looks toward -Z, a quarter to the right toward +X),
-// the top row looks up (+Y).
+// longitude runs across (the centre column looks toward +Z, a quarter to the right toward -X,
+// the left and right edges toward -Z), the top row looks up (+Y); the Khronos glTF Sample
+// Viewer maps them so at its default environmentRotation of 90 degrees.
 
 struct Params {
     // Face size in texels of the mip being written.
@@ -74,7 +75,7 @@ fn texel_solid_angle(x: u32, y: u32, size: u32) -> f32 {
 // poles).
 fn sample_equirect(d: vec3<f32>) -> vec3<f32> {
     let dims = vec2<f32>(textureDimensions(equirect));
-    let u = 0.5 + atan2(d.x, -d.z) / (2.0 * PI);
+    let u = 0.5 + atan2(-d.x, d.z) / (2.0 * PI);
     let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
     let p = vec2<f32>(u, v) * dims - 0.5;
     let p0 = floor(p);

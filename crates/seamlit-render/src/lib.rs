@@ -31,7 +31,10 @@
 //! use glam::{Vec2, Vec3};
 //! use seamlit_io::Asset;
 //! use seamlit_mesh::{FixOptions, Model, Object, fix};
-//! use seamlit_render::{CameraView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, Renderer};
+//! use seamlit_render::{
+//!     CameraDescriptor, CameraView, FrameDescriptor, FrameSettings, GpuContext, GpuScene,
+//!     Projection, Renderer,
+//! };
 //!
 //! // A quad facing +Z; fix gives it normals and tangents.
 //! let quad = Object::new(
@@ -45,7 +48,15 @@
 //!
 //! let ctx = GpuContext::headless()?;
 //! let scene = GpuScene::upload(&ctx, &asset)?;
-//! let camera = CameraView::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 45.0, 1.0, 0.1, 10.0);
+//! let camera = CameraView::look_at(&CameraDescriptor {
+//!     eye: Vec3::new(0.0, 0.0, 3.0),
+//!     target: Vec3::ZERO,
+//!     up: Vec3::Y,
+//!     projection: Projection::Perspective { fov_y_deg: 45.0 },
+//!     aspect: 1.0,
+//!     near: 0.1,
+//!     far: 10.0,
+//! });
 //! let settings = FrameSettings::default();
 //! let frame = FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (64, 64) };
 //! let image = Renderer::for_images(&ctx)?.render_to_image(&ctx, &frame)?;
@@ -76,7 +87,7 @@ mod texture;
 pub use context::GpuContext;
 pub use environment::{Environment, GpuEnvironment};
 pub use error::RenderError;
-pub use light::{CameraView, DebugView, Light, LightingModel};
+pub use light::{CameraDescriptor, CameraView, DebugView, Light, LightingModel, Projection};
 pub use readback::PendingReadback;
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameDescriptor, FrameTimes, IMAGE_FORMAT, Renderer};
 pub use scene::GpuScene;

@@ -145,56 +145,68 @@ pub struct CameraView {
     pub eye: Vec3,
 }
 
-impl CameraView {
-    /// A perspective camera at `eye` looking at `target`; `fov_y_deg` is the vertical field of
-    /// view in degrees, `aspect` width over height, `near` and `far` the clip distances.
-    #[must_use]
-    pub fn look_at(
-        eye: Vec3,
-        target: Vec3,
-        up: Vec3,
+/// How a camera projects (see [`CameraDescriptor`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Perspective, with a vertical field of view in degrees.
+    Perspective {
+        /// Vertical field of view, degrees.
         fov_y_deg: f32,
-        aspect: f32,
-        near: f32,
-        far: f32,
-    ) -> Self {
-        Self {
-            view: glam::camera::rh::view::look_at_mat4(eye, target, up),
-            projection: glam::camera::rh::proj::directx::perspective(
+    },
+    /// Orthographic, showing `half_height` world units above and below the centre (and
+    /// `half_height * aspect` to each side).
+    Orthographic {
+        /// World units from the centre to the top edge.
+        half_height: f32,
+    },
+}
+
+/// A camera for [`CameraView::look_at`]: where the eye is, where it looks, and how it
+/// projects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraDescriptor {
+    /// Eye position, world space.
+    pub eye: Vec3,
+    /// The point looked at.
+    pub target: Vec3,
+    /// The world direction that is up in the picture.
+    pub up: Vec3,
+    /// Perspective or orthographic.
+    pub projection: Projection,
+    /// Width over height.
+    pub aspect: f32,
+    /// Near clip distance.
+    pub near: f32,
+    /// Far clip distance.
+    pub far: f32,
+}
+
+impl CameraView {
+    /// The camera `desc` describes: at `desc.eye` looking at `desc.target`, projecting into
+    /// wgpu's depth range 0..1.
+    #[must_use]
+    pub fn look_at(desc: &CameraDescriptor) -> Self {
+        let CameraDescriptor { eye, target, up, projection, aspect, near, far } = *desc;
+        let projection = match projection {
+            Projection::Perspective { fov_y_deg } => glam::camera::rh::proj::directx::perspective(
                 fov_y_deg.to_radians(),
                 aspect,
                 near,
                 far,
             ),
-            eye,
-        }
-    }
-
-    /// An orthographic camera at `eye` looking at `target`, showing `half_height` world units
-    /// above and below the centre (and `half_height * aspect` to each side).
-    #[must_use]
-    pub fn orthographic(
-        eye: Vec3,
-        target: Vec3,
-        up: Vec3,
-        half_height: f32,
-        aspect: f32,
-        near: f32,
-        far: f32,
-    ) -> Self {
-        let w = half_height * aspect;
-        Self {
-            view: glam::camera::rh::view::look_at_mat4(eye, target, up),
-            projection: glam::camera::rh::proj::directx::orthographic(
-                -w,
-                w,
-                -half_height,
-                half_height,
-                near,
-                far,
-            ),
-            eye,
-        }
+            Projection::Orthographic { half_height } => {
+                let w = half_height * aspect;
+                glam::camera::rh::proj::directx::orthographic(
+                    -w,
+                    w,
+                    -half_height,
+                    half_height,
+                    near,
+                    far,
+                )
+            }
+        };
+        Self { view: glam::camera::rh::view::look_at_mat4(eye, target, up), projection, eye }
     }
 
     /// `projection * view`.

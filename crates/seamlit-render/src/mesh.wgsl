@@ -15,8 +15,9 @@
 //
 // Image-based light (PBR only) is the split sum (B. Karis, "Real Shading in Unreal Engine 4",
 // 2013) over the textures ibl.wgsl prefiltered: the specular cube at the mip of the
-// roughness times the BRDF table's f0 * scale + bias, plus the irradiance cube times the
-// diffuse colour and the energy the specular lobe leaves, both darkened by occlusion.
+// roughness times a Fresnel term from the BRDF table (with multiple scattering), over the
+// irradiance cube times the albedo for the dielectric, mixed by metallic with the metal's,
+// darkened by occlusion; composed as the Khronos glTF Sample Viewer does.
 //
 // Entry points: vs_main / fs_main draw the meshes; vs_sky / fs_sky the environment behind
 // them; vs_tbn / fs_tbn draw each vertex's tangent, bitangent and normal as lines, reading
@@ -153,6 +154,7 @@ struct VertexIn {
     @location(2) tangent: vec4<f32>,
     @location(3) uv: vec2<f32>,
     @location(4) color: vec4<f32>,
+    @location(5) uv1: vec2<f32>,
 }
 
 struct VertexOut {
@@ -166,6 +168,7 @@ struct VertexOut {
     @location(6) gouraud_diffuse: vec3<f32>,
     @location(7) gouraud_specular: vec3<f32>,
     @location(8) color: vec4<f32>,
+    @location(9) uv1: vec2<f32>,
 }
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -358,20 +361,35 @@ fn environment_direction(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
 }
 
-// The environment's light reflected at a point with unit normal n and unit view vector v:
-// split-sum specular plus irradiance times the diffuse colour, the latter scaled by the
-// energy the specular lobe leaves (so a white dielectric in a uniform environment of
-// radiance L returns L).
-fn shade_environment(n: vec3<f32>, v: vec3<f32>, c_diff: vec3<f32>, f0: vec3<f32>, roughness: f32) -> vec3<f32> {
+// The split-sum reflectance for f0, with the BRDF table's scale and bias `ab`: single
+// scattering with a roughness-dependent Fresnel term, plus the energy multiple scattering
+// adds back (C. Fdez-Aguera, "A Multiple-Scattering Microfacet Model for Real-Time
+// Image-based Lighting", JCGT 2019), as the Khronos glTF Sample Viewer computes it.
+fn environment_fresnel(f0: vec3<f32>, ab: vec2<f32>, n_dot_v: f32, roughness: f32) -> vec3<f32> {
+    let fr = max(vec3<f32>(1.0 - roughness), f0) - f0;
+    let k_s = f0 + fr * pow(1.0 - n_dot_v, 5.0);
+    let single = k_s * ab.x + ab.y;
+    let e_ms = 1.0 - (ab.x + ab.y);
+    let f_avg = f0 + (1.0 - f0) / 21.0;
+    return single + e_ms * single * f_avg / (1.0 - f_avg * e_ms);
+}
+
+// The environment's light reflected at a point with unit normal n and unit view vector v,
+// composed as glTF's metallic-roughness BRDF is: a dielectric (irradiance times the albedo,
+// under the split-sum specular by its Fresnel term, so a white dielectric in a uniform
+// environment of radiance L returns L) mixed by metallic with a metal (the specular times
+// its Fresnel term with f0 = albedo).
+fn shade_environment(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32) -> vec3<f32> {
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
     let lut_size = vec2<f32>(textureDimensions(brdf_lut));
     let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
     let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
-    let reflectance = f0 * ab.x + ab.y;
     let r = environment_direction(reflect(-v, n));
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
-    return (specular * reflectance + irradiance * c_diff * (1.0 - reflectance)) * frame.environment_intensity;
+    let dielectric = mix(irradiance * albedo, specular, environment_fresnel(vec3<f32>(0.04), ab, n_dot_v, roughness));
+    let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness);
+    return mix(dielectric, metal, metallic) * frame.environment_intensity;
 }
 
 // ACES filmic tone mapping, S. Hill's fit (the Khronos glTF Sample Viewer's "ACES Hill"):
@@ -427,6 +445,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.tangent = tbn.t;
     out.bitangent = tbn.b;
     out.uv = in.uv;
+    out.uv1 = in.uv1;
     out.color = in.color;
     out.handedness = select(1.0, -1.0, in.tangent.w < 0.0);
     out.gouraud_diffuse = vec3<f32>(0.0);
@@ -441,9 +460,11 @@ fn vs_main(in: VertexIn) -> VertexOut {
     return out;
 }
 
-// uv through a material's 2x3 texture transform, then V flipped for V-up texcoords (the
-// texture's first row is the top of the image).
-fn material_uv(rows: array<vec4<f32>, 2>, uv: vec2<f32>) -> vec2<f32> {
+// The texture coordinate set a slot reads (rows[0].w: 1 = TEXCOORD_1, 0 = TEXCOORD_0)
+// through its 2x3 texture transform, then V flipped for V-up texcoords (the texture's first
+// row is the top of the image).
+fn material_uv(rows: array<vec4<f32>, 2>, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
+    let uv = select(uv0, uv1, rows[0].w > 0.5);
     let t = vec2<f32>(dot(rows[0].xyz, vec3<f32>(uv, 1.0)), dot(rows[1].xyz, vec3<f32>(uv, 1.0)));
     if object.flip_v != 0u {
         return vec2<f32>(t.x, 1.0 - t.y);
@@ -487,11 +508,11 @@ fn id_color(id: u32) -> vec3<f32> {
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     // Sample first: texture sampling must stay in uniform control flow.
-    let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv));
-    var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv)).xyz * 2.0 - 1.0;
-    let mr_sample = textureSample(metallic_roughness_texture, material_sampler, material_uv(material.metallic_roughness_uv, in.uv));
-    let occlusion_sample = textureSample(occlusion_texture, material_sampler, material_uv(material.occlusion_uv, in.uv)).r;
-    let emissive_sample = textureSample(emissive_texture, material_sampler, material_uv(material.emissive_uv, in.uv)).rgb;
+    let base_sample = textureSample(base_texture, material_sampler, material_uv(material.base_uv, in.uv, in.uv1));
+    var tn = textureSample(normal_texture, material_sampler, material_uv(material.normal_uv, in.uv, in.uv1)).xyz * 2.0 - 1.0;
+    let mr_sample = textureSample(metallic_roughness_texture, material_sampler, material_uv(material.metallic_roughness_uv, in.uv, in.uv1));
+    let occlusion_sample = textureSample(occlusion_texture, material_sampler, material_uv(material.occlusion_uv, in.uv, in.uv1)).r;
+    let emissive_sample = textureSample(emissive_texture, material_sampler, material_uv(material.emissive_uv, in.uv, in.uv1)).rgb;
 
     // Base colour: factor x texture x COLOR_0; its alpha cuts (MASK) or blends (BLEND).
     let base = material.base_color * base_sample * in.color;
@@ -569,7 +590,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         let direct = shade_pbr(n, v, in.world, c_diff, f0, roughness * roughness);
         var ambient = frame.ambient * (c_diff + env_specular(f0, roughness, abs(dot(n, v))));
         if (frame.flags & FLAG_ENVIRONMENT) != 0u {
-            ambient = ambient + shade_environment(n, v, c_diff, f0, roughness);
+            ambient = ambient + shade_environment(n, v, albedo, metallic, roughness);
         }
         return out_lit(direct + ambient * occlusion + emissive, alpha);
     }
@@ -610,13 +631,13 @@ struct LineOut {
 
 // Six vertices per mesh vertex: tangent (red), bitangent (green), normal (blue), each a line
 // from the vertex outward by frame.tbn_length. Reads the interleaved vertex buffer
-// (16 floats: position, normal, tangent, uv, colour).
+// (18 floats: position, normal, tangent, uv, colour, uv1).
 @vertex
 fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
     let vertex = index / 6u;
     let axis = (index / 2u) % 3u;
     let tip = f32(index % 2u);
-    let o = vertex * 16u;
+    let o = vertex * 18u;
     let position = vec3<f32>(vertex_data[o], vertex_data[o + 1u], vertex_data[o + 2u]);
     let normal = vec3<f32>(vertex_data[o + 3u], vertex_data[o + 4u], vertex_data[o + 5u]);
     let tangent = vec4<f32>(vertex_data[o + 6u], vertex_data[o + 7u], vertex_data[o + 8u], vertex_data[o + 9u]);

@@ -21,131 +21,23 @@ pub(crate) struct Pipelines {
 impl Pipelines {
     pub(crate) fn new(ctx: &GpuContext, format: wgpu::TextureFormat, sample_count: u32) -> Self {
         let device = ctx.device();
-        let module = device.create_shader_module(wgpu::include_wgsl!("mesh.wgsl"));
-        let layouts = &ctx.layouts;
-        let mesh_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("seamlit mesh"),
-            bind_group_layouts: &[
-                Some(&layouts.frame),
-                Some(&layouts.material),
-                Some(&layouts.object),
-                Some(&layouts.environment),
-            ],
-            immediate_size: 0,
-        });
-        let depth = || wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        };
-        let multisample = wgpu::MultisampleState {
-            count: sample_count,
-            mask: !0,
-            alpha_to_coverage_enabled: false,
-        };
-        let targets = [Some(wgpu::ColorTargetState {
+        let shared = Shared {
+            device,
+            module: &device.create_shader_module(wgpu::include_wgsl!("mesh.wgsl")),
+            layout: &mesh_layout(ctx),
             format,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let blended = [Some(wgpu::ColorTargetState {
-            format,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let mesh_pipeline = |index: usize| {
-            let (front_face, cull, blend) = Self::variant(index);
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("seamlit mesh"),
-                layout: Some(&mesh_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    buffers: &[Some(VertexRaw::layout())],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face,
-                    cull_mode: cull.then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                // Blended surfaces are tested against the depth of opaque ones but do not hide
-                // what lies behind them.
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    depth_write_enabled: Some(!blend),
-                    ..depth()
-                }),
-                multisample,
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    targets: if blend { &blended } else { &targets },
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            multisample: wgpu::MultisampleState {
+                count: sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
         };
-        let mesh = std::array::from_fn(mesh_pipeline);
-        let tbn = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("seamlit tbn lines"),
-            // The mesh layout, material group included though the lines do not read it: a gap
-            // in the layout (None) misplaced the object group on lavapipe.
-            layout: Some(&mesh_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_tbn"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                ..depth()
-            }),
-            multisample,
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_tbn"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let sky = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("seamlit sky"),
-            layout: Some(&mesh_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_sky"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            // Drawn first, everywhere, leaving the depth buffer cleared for the meshes.
-            depth_stencil: Some(wgpu::DepthStencilState {
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                ..depth()
-            }),
-            multisample,
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_sky"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Self { mesh, tbn, sky }
+        let vertices = [Some(VertexRaw::layout())];
+        Self {
+            mesh: std::array::from_fn(|index| shared.create(&mesh_pipeline(index, &vertices))),
+            tbn: shared.create(&tbn_pipeline()),
+            sky: shared.create(&sky_pipeline()),
+        }
     }
 
     /// Front face, whether back faces are culled and whether colour is blended, for a
@@ -166,5 +58,148 @@ impl Pipelines {
     ) -> &wgpu::RenderPipeline {
         &self.mesh
             [usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
+    }
+}
+
+/// The layout of every pipeline: frame, material, object and environment groups.
+fn mesh_layout(ctx: &GpuContext) -> wgpu::PipelineLayout {
+    let layouts = &ctx.layouts;
+    ctx.device().create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("seamlit mesh"),
+        bind_group_layouts: &[
+            Some(&layouts.frame),
+            Some(&layouts.material),
+            Some(&layouts.object),
+            Some(&layouts.environment),
+        ],
+        immediate_size: 0,
+    })
+}
+
+/// What every pipeline of one [`Pipelines`] shares: the shader module (`mesh.wgsl`), the
+/// layout, the target's format and the multisampling.
+struct Shared<'a> {
+    device: &'a wgpu::Device,
+    module: &'a wgpu::ShaderModule,
+    layout: &'a wgpu::PipelineLayout,
+    format: wgpu::TextureFormat,
+    multisample: wgpu::MultisampleState,
+}
+
+/// What differs between the pipelines.
+struct PipelineDescriptor<'a> {
+    label: &'a str,
+    /// The vertex shader's entry point in `mesh.wgsl`.
+    vertex: &'a str,
+    /// The fragment shader's entry point in `mesh.wgsl`.
+    fragment: &'a str,
+    /// The vertex buffers read (none: the shader reads storage or makes its own vertices).
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    primitive: wgpu::PrimitiveState,
+    depth_stencil: wgpu::DepthStencilState,
+    /// How colour is blended into the target (`None`: replaced).
+    blend: Option<wgpu::BlendState>,
+}
+
+impl Shared<'_> {
+    fn create(&self, desc: &PipelineDescriptor<'_>) -> wgpu::RenderPipeline {
+        self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(desc.label),
+            layout: Some(self.layout),
+            vertex: wgpu::VertexState {
+                module: self.module,
+                entry_point: Some(desc.vertex),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: desc.buffers,
+            },
+            primitive: desc.primitive,
+            depth_stencil: Some(desc.depth_stencil.clone()),
+            multisample: self.multisample,
+            fragment: Some(wgpu::FragmentState {
+                module: self.module,
+                entry_point: Some(desc.fragment),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: self.format,
+                    blend: desc.blend,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// Depth tested (less) and written.
+fn depth() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
+    }
+}
+
+/// The mesh pipeline of a variant index (see [`Pipelines::mesh`]), reading `vertices`.
+fn mesh_pipeline<'a>(
+    index: usize,
+    vertices: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+) -> PipelineDescriptor<'a> {
+    let (front_face, cull, blend) = Pipelines::variant(index);
+    PipelineDescriptor {
+        label: "seamlit mesh",
+        vertex: "vs_main",
+        fragment: "fs_main",
+        buffers: vertices,
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face,
+            cull_mode: cull.then_some(wgpu::Face::Back),
+            ..Default::default()
+        },
+        // Blended surfaces are tested against the depth of opaque ones but do not hide what
+        // lies behind them.
+        depth_stencil: wgpu::DepthStencilState { depth_write_enabled: Some(!blend), ..depth() },
+        blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+    }
+}
+
+/// The TBN lines. They use the mesh layout, material group included though the lines do not
+/// read it: a gap in the layout (None) misplaced the object group on lavapipe.
+fn tbn_pipeline() -> PipelineDescriptor<'static> {
+    PipelineDescriptor {
+        label: "seamlit tbn lines",
+        vertex: "vs_tbn",
+        fragment: "fs_tbn",
+        buffers: &[],
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::LineList,
+            ..Default::default()
+        },
+        depth_stencil: wgpu::DepthStencilState {
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            ..depth()
+        },
+        blend: None,
+    }
+}
+
+/// The environment behind everything: drawn first, everywhere, leaving the depth buffer
+/// cleared for the meshes.
+fn sky_pipeline() -> PipelineDescriptor<'static> {
+    PipelineDescriptor {
+        label: "seamlit sky",
+        vertex: "vs_sky",
+        fragment: "fs_sky",
+        buffers: &[],
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: wgpu::DepthStencilState {
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            ..depth()
+        },
+        blend: None,
     }
 }

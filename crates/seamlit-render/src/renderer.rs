@@ -7,7 +7,7 @@ use image::RgbaImage;
 
 use crate::light::LightRaw;
 use crate::pipeline::{DEPTH_FORMAT, Pipelines};
-use crate::settings::FrameRaw;
+use crate::settings::{FrameInputs, FrameRaw};
 use crate::shadow::{SHADOW_SIZE, Shadows};
 use crate::{CameraView, FrameSettings, GpuContext, GpuEnvironment, GpuScene, RenderError};
 
@@ -222,44 +222,22 @@ impl Renderer {
         self.prepare(ctx, frame);
         self.shadows.encode(encoder, scene, self.shadows_used);
         let Some(attachments) = &self.attachments else { return Ok(()) };
-        let [r, g, b, a] = settings.clear_color.map(f64::from);
-        let (view, resolve_target) = match &attachments.msaa {
-            Some(msaa) => (msaa, Some(target)),
-            None => (target, None),
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("seamlit scene"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                    store: if resolve_target.is_some() {
-                        wgpu::StoreOp::Discard
-                    } else {
-                        wgpu::StoreOp::Store
-                    },
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &attachments.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_scene_pass(encoder, attachments, target, settings.clear_color);
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
         pass.set_bind_group(3, &self.environment.bind_group, &[]);
         if self.has_environment && settings.environment_background {
             self.draw_sky(&mut pass, scene);
         }
-        for mesh in draw_order(scene, camera.eye) {
+        self.draw_meshes(&mut pass, scene, camera.eye);
+        if settings.show_tbn {
+            self.draw_tbn(&mut pass, scene);
+        }
+        Ok(())
+    }
+
+    /// Draws every mesh, in [`draw_order`] from `eye`, with its variant of the mesh pipeline.
+    fn draw_meshes(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene, eye: glam::Vec3) {
+        for mesh in draw_order(scene, eye) {
             let material = &scene.materials[mesh.material];
             pass.set_pipeline(self.pipelines.mesh(
                 mesh.mirrored,
@@ -272,15 +250,16 @@ impl Renderer {
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..mesh.index_count, 0, 0..1);
         }
-        if settings.show_tbn {
-            pass.set_pipeline(&self.pipelines.tbn);
-            for mesh in &scene.meshes {
-                pass.set_bind_group(1, &scene.materials[mesh.material].bind_group, &[]);
-                pass.set_bind_group(2, &mesh.bind_group, &[]);
-                pass.draw(0..mesh.tbn_vertex_count * 6, 0..1);
-            }
+    }
+
+    /// Draws each mesh's tangent, bitangent and normal lines (six vertices per vertex).
+    fn draw_tbn(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene) {
+        pass.set_pipeline(&self.pipelines.tbn);
+        for mesh in &scene.meshes {
+            pass.set_bind_group(1, &scene.materials[mesh.material].bind_group, &[]);
+            pass.set_bind_group(2, &mesh.bind_group, &[]);
+            pass.draw(0..mesh.tbn_vertex_count * 6, 0..1);
         }
-        Ok(())
     }
 
     /// Draws the environment behind everything. The sky reads only groups 0 and 3, but the
@@ -306,13 +285,13 @@ impl Renderer {
         let normal_offset = (used > 0).then(|| {
             scene.bounds().map_or(0.0, |(lo, hi)| (hi - lo).length() / SHADOW_SIZE as f32 * 2.0)
         });
-        let raw = settings.to_raw(
+        let raw = settings.to_raw(&FrameInputs {
             camera,
-            scene.default_tbn_length(),
-            !self.format.is_srgb(),
-            self.has_environment,
-            normal_offset,
-        );
+            default_tbn_length: scene.default_tbn_length(),
+            encode_srgb: !self.format.is_srgb(),
+            environment: self.has_environment,
+            shadow_normal_offset: normal_offset,
+        });
         ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
         if settings.lights.len() > self.light_capacity {
             self.light_capacity = settings.lights.len().next_power_of_two();
@@ -336,15 +315,12 @@ impl Renderer {
 
     fn create_attachments(&self, ctx: &GpuContext, size: (u32, u32)) -> Attachments {
         let texture = |label, format| {
-            texture_2d(
-                ctx,
-                label,
-                size,
-                format,
-                self.sample_count,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&wgpu::TextureViewDescriptor::default())
+            ctx.device()
+                .create_texture(&wgpu::TextureDescriptor {
+                    sample_count: self.sample_count,
+                    ..target_descriptor(label, size, format)
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
         };
         Attachments {
             size,
@@ -377,14 +353,10 @@ impl Renderer {
             });
         }
         ctx.scoped("rendering to an image", || {
-            let target = texture_2d(
-                ctx,
-                "seamlit image",
-                (width, height),
-                self.format,
-                1,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            );
+            let target = ctx.device().create_texture(&wgpu::TextureDescriptor {
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                ..target_descriptor("seamlit image", frame.size, self.format)
+            });
             let view = target.create_view(&wgpu::TextureViewDescriptor::default());
             let mut encoder =
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -410,14 +382,11 @@ impl Renderer {
     ) -> Result<FrameTimes, RenderError> {
         let (width, height) = frame.size;
         check_size(ctx, width, height)?;
-        let target = texture_2d(
-            ctx,
+        let target = ctx.device().create_texture(&target_descriptor(
             "seamlit timing target",
-            (width, height),
+            frame.size,
             self.format,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        ));
         let view = target.create_view(&wgpu::TextureViewDescriptor::default());
         let mut times = Vec::with_capacity(frames);
         for i in 0..=frames {
@@ -444,25 +413,66 @@ fn draw_order(scene: &GpuScene, eye: glam::Vec3) -> Vec<&crate::scene::GpuMesh> 
     order
 }
 
-/// A single-level 2D texture.
-fn texture_2d(
-    ctx: &GpuContext,
+/// Begins the scene's pass: colour cleared to `clear` (drawn into the multisampled
+/// attachment and resolved into `target` when there is one, else into `target`), depth
+/// cleared to 1; neither attachment but the target is kept.
+fn begin_scene_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    attachments: &Attachments,
+    target: &wgpu::TextureView,
+    clear: [f32; 4],
+) -> wgpu::RenderPass<'e> {
+    let [r, g, b, a] = clear.map(f64::from);
+    let (view, resolve_target) = match &attachments.msaa {
+        Some(msaa) => (msaa, Some(target)),
+        None => (target, None),
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("seamlit scene"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                store: if resolve_target.is_some() {
+                    wgpu::StoreOp::Discard
+                } else {
+                    wgpu::StoreOp::Store
+                },
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &attachments.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Discard,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// The descriptor of a render target of `size` pixels: 2D, one mip level, one sample, usable
+/// as a render attachment only. Callers change what differs with struct update syntax.
+fn target_descriptor(
     label: &str,
     (width, height): (u32, u32),
     format: wgpu::TextureFormat,
-    sample_count: u32,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device().create_texture(&wgpu::TextureDescriptor {
+) -> wgpu::TextureDescriptor<'_> {
+    wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
         mip_level_count: 1,
-        sample_count,
+        sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
         view_formats: &[],
-    })
+    }
 }
 
 fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {

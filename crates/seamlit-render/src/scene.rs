@@ -4,14 +4,14 @@ use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef, UvTransform};
+use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
-use crate::texture::{self, TexelKind, TextureOptions};
+use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
-/// One vertex as the vertex shader reads it (64 bytes).
+/// One vertex as the vertex shader reads it (72 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct VertexRaw {
@@ -21,11 +21,14 @@ pub(crate) struct VertexRaw {
     pub uv: [f32; 2],
     /// glTF COLOR_0 (linear RGBA), white when the object has none.
     pub color: [f32; 4],
+    /// glTF TEXCOORD_1, `uv` when the object has none.
+    pub uv1: [f32; 2],
 }
 
 impl VertexRaw {
-    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
-        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x4
+    pub(crate) const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x2, 4 => Float32x4,
+        5 => Float32x2
     ];
 
     pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -87,12 +90,17 @@ pub(crate) struct MaterialRaw {
     pub pad: [u32; 3],
 }
 
-/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`.
-fn uv_rows(transform: Option<&UvTransform>) -> [[f32; 4]; 2] {
-    let Some(t) = transform else { return [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]] };
+/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
+/// first row's `w` the texture coordinate set the slot reads (1: TEXCOORD_1, else
+/// TEXCOORD_0).
+fn uv_rows(texture: Option<&TextureRef>) -> [[f32; 4]; 2] {
+    let set = texture.map_or(0.0, |r| if r.tex_coord == 1 { 1.0 } else { 0.0 });
+    let Some(t) = texture.and_then(|r| r.transform.as_ref()) else {
+        return [[1.0, 0.0, 0.0, set], [0.0, 1.0, 0.0, 0.0]];
+    };
     let (s, c) = t.rotation.sin_cos();
     [
-        [c * t.scale[0], s * t.scale[1], t.offset[0], 0.0],
+        [c * t.scale[0], s * t.scale[1], t.offset[0], set],
         [-s * t.scale[0], c * t.scale[1], t.offset[1], 0.0],
     ]
 }
@@ -123,7 +131,7 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
             0.0
         }
     };
-    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref().and_then(|r| r.transform.as_ref()));
+    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref());
     MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
@@ -295,98 +303,166 @@ impl GpuScene {
     }
 }
 
+/// Uploads every material, then [`Material::default`] for objects without one (the last
+/// entry), sharing each texture between the materials that use it.
 fn upload_materials(
     ctx: &GpuContext,
     materials: &[Material],
     textures: &[Texture],
     options: &TextureOptions,
 ) -> Result<Vec<GpuMaterial>, RenderError> {
-    let white = texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?;
-    let flat = texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?;
-    // Metallic-roughness, occlusion and emissive textures multiply their factors: white.
-    let white_data = texture::solid(ctx, "default data", [255; 4], TexelKind::Data)?;
-    let sampler = texture::sampler(ctx, options);
-    let mut cache: HashMap<(usize, TexelKind), wgpu::TextureView> = HashMap::new();
+    let defaults = DefaultTextures::new(ctx, options)?;
+    let mut cache = TextureCache { textures, options, views: HashMap::new() };
     let default = Material::default();
-    let mut out = Vec::with_capacity(materials.len() + 1);
-    for material in materials.iter().chain(std::iter::once(&default)) {
-        let mut view = |r: Option<&TextureRef>,
-                        kind: TexelKind|
-         -> Result<Option<wgpu::TextureView>, RenderError> {
-            let Some(r) = r else { return Ok(None) };
-            let tex = textures.get(r.texture).ok_or_else(|| RenderError::IndexOutOfRange {
-                what: format!("texture (of material {:?})", material.name),
-                index: r.texture,
-                count: textures.len(),
-            })?;
-            let Some(image) = tex.image.as_deref() else { return Ok(None) };
-            if let Some(v) = cache.get(&(r.texture, kind)) {
-                return Ok(Some(v.clone()));
-            }
-            let v = texture::upload(ctx, &tex.name, image, kind, options.mipmaps)?;
-            cache.insert((r.texture, kind), v.clone());
-            Ok(Some(v))
-        };
-        let base = view(material.base_color_texture.as_ref(), TexelKind::Color)?;
-        let normal = view(material.normal_texture.as_ref(), TexelKind::Normal)?;
-        let metallic_roughness =
-            view(material.metallic_roughness_texture.as_ref(), TexelKind::Data)?;
-        let occlusion = view(material.occlusion_texture.as_ref(), TexelKind::Data)?;
-        let emissive = view(material.emissive_texture.as_ref(), TexelKind::Color)?;
-        let mut raw = material_to_raw(material);
-        if normal.is_none() {
-            // A normal map that could not be loaded is no normal map.
-            raw.flags &= !MAT_NORMAL_MAP;
-        }
-        let uniform = ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("seamlit material"),
-            contents: bytemuck::bytes_of(&raw),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let bind_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(&material.name),
-            layout: &ctx.layouts.material,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(base.as_ref().unwrap_or(&white)),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(normal.as_ref().unwrap_or(&flat)),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(
-                        metallic_roughness.as_ref().unwrap_or(&white_data),
-                    ),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::TextureView(
-                        occlusion.as_ref().unwrap_or(&white_data),
-                    ),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(
-                        emissive.as_ref().unwrap_or(&white),
-                    ),
-                },
-            ],
-        });
-        out.push(GpuMaterial {
-            bind_group,
-            double_sided: material.double_sided,
-            blend: material.alpha_mode == AlphaMode::Blend,
-        });
+    materials
+        .iter()
+        .chain(std::iter::once(&default))
+        .map(|material| upload_material(ctx, material, &mut cache, &defaults))
+        .collect()
+}
+
+/// One material: its textures' views, its uniforms and its bind group.
+fn upload_material(
+    ctx: &GpuContext,
+    material: &Material,
+    cache: &mut TextureCache<'_>,
+    defaults: &DefaultTextures,
+) -> Result<GpuMaterial, RenderError> {
+    let views = MaterialViews {
+        base: cache.view(ctx, material, material.base_color_texture.as_ref(), TexelKind::Color)?,
+        normal: cache.view(ctx, material, material.normal_texture.as_ref(), TexelKind::Normal)?,
+        metallic_roughness: cache.view(
+            ctx,
+            material,
+            material.metallic_roughness_texture.as_ref(),
+            TexelKind::Data,
+        )?,
+        occlusion: cache.view(
+            ctx,
+            material,
+            material.occlusion_texture.as_ref(),
+            TexelKind::Data,
+        )?,
+        emissive: cache.view(
+            ctx,
+            material,
+            material.emissive_texture.as_ref(),
+            TexelKind::Color,
+        )?,
+    };
+    let mut raw = material_to_raw(material);
+    if views.normal.is_none() {
+        // A normal map that could not be loaded is no normal map.
+        raw.flags &= !MAT_NORMAL_MAP;
     }
-    Ok(out)
+    let uniform = ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("seamlit material"),
+        contents: bytemuck::bytes_of(&raw),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    Ok(GpuMaterial {
+        bind_group: material_bind_group(ctx, &material.name, &uniform, &views, defaults),
+        double_sided: material.double_sided,
+        blend: material.alpha_mode == AlphaMode::Blend,
+    })
+}
+
+/// The 1x1 textures that stand in for a material's missing ones, and the material sampler.
+struct DefaultTextures {
+    /// White sRGB colour: base colour and emissive.
+    white: wgpu::TextureView,
+    /// The flat tangent-space normal.
+    flat: wgpu::TextureView,
+    /// White linear data: metallic-roughness and occlusion multiply their factors by it.
+    white_data: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+}
+
+impl DefaultTextures {
+    fn new(ctx: &GpuContext, options: &TextureOptions) -> Result<Self, RenderError> {
+        Ok(Self {
+            white: texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?,
+            flat: texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?,
+            white_data: texture::solid(ctx, "default data", [255; 4], TexelKind::Data)?,
+            sampler: texture::sampler(ctx, options),
+        })
+    }
+}
+
+/// The asset's textures, each uploaded once per way it is read.
+struct TextureCache<'a> {
+    textures: &'a [Texture],
+    options: &'a TextureOptions,
+    views: HashMap<(usize, TexelKind), wgpu::TextureView>,
+}
+
+impl TextureCache<'_> {
+    /// The view of the texture `r` points at, read as `kind`, uploaded on first use; `None`
+    /// when `r` is `None` or the texture's image could not be loaded.
+    fn view(
+        &mut self,
+        ctx: &GpuContext,
+        material: &Material,
+        r: Option<&TextureRef>,
+        kind: TexelKind,
+    ) -> Result<Option<wgpu::TextureView>, RenderError> {
+        let Some(r) = r else { return Ok(None) };
+        let tex = self.textures.get(r.texture).ok_or_else(|| RenderError::IndexOutOfRange {
+            what: format!("texture (of material {:?})", material.name),
+            index: r.texture,
+            count: self.textures.len(),
+        })?;
+        let Some(image) = tex.image.as_deref() else { return Ok(None) };
+        if let Some(v) = self.views.get(&(r.texture, kind)) {
+            return Ok(Some(v.clone()));
+        }
+        let upload = ImageUpload { name: &tex.name, image, kind, mipmaps: self.options.mipmaps };
+        let v = texture::upload(ctx, &upload)?;
+        self.views.insert((r.texture, kind), v.clone());
+        Ok(Some(v))
+    }
+}
+
+/// A material's texture views, `None` where it has none.
+struct MaterialViews {
+    base: Option<wgpu::TextureView>,
+    normal: Option<wgpu::TextureView>,
+    metallic_roughness: Option<wgpu::TextureView>,
+    occlusion: Option<wgpu::TextureView>,
+    emissive: Option<wgpu::TextureView>,
+}
+
+/// Group 1 of `mesh.wgsl`: the material's uniforms, its textures (or the defaults) and the
+/// sampler.
+fn material_bind_group<'a>(
+    ctx: &GpuContext,
+    label: &str,
+    uniform: &wgpu::Buffer,
+    views: &'a MaterialViews,
+    defaults: &'a DefaultTextures,
+) -> wgpu::BindGroup {
+    let view = |binding, view: &'a Option<wgpu::TextureView>, default: &'a wgpu::TextureView| {
+        wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view.as_ref().unwrap_or(default)),
+        }
+    };
+    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &ctx.layouts.material,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+            view(1, &views.base, &defaults.white),
+            view(2, &views.normal, &defaults.flat),
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&defaults.sampler),
+            },
+            view(4, &views.metallic_roughness, &defaults.white_data),
+            view(5, &views.occlusion, &defaults.white_data),
+            view(6, &views.emissive, &defaults.white),
+        ],
+    })
 }
 
 /// Checks an object's arrays and indices and interleaves its vertices.
@@ -404,8 +480,10 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
     if let Some(t) = &object.tangents {
         check("tangents", t.len())?;
     }
-    if let Some(uv) = &object.uvs {
-        check("uvs", uv.len())?;
+    for (name, uvs) in [("uvs", &object.uvs), ("uvs1", &object.uvs1)] {
+        if let Some(uv) = uvs {
+            check(name, uv.len())?;
+        }
     }
     if let Some(c) = &object.colors {
         check("colors", c.len())?;
@@ -419,16 +497,22 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
         return Err(bad(format!("triangle {t} uses vertex {i}, but there are {n}")));
     }
     Ok((0..n)
-        .map(|i| VertexRaw {
-            position: object.positions[i].to_array(),
-            normal: normals[i].to_array(),
-            tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
-            uv: object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array()),
-            color: object.colors.as_ref().map_or([1.0; 4], |c| c[i].to_array()),
+        .map(|i| {
+            let uv = object.uvs.as_ref().map_or([0.0; 2], |uv| uv[i].to_array());
+            VertexRaw {
+                position: object.positions[i].to_array(),
+                normal: normals[i].to_array(),
+                tangent: object.tangents.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |t| t[i].to_array()),
+                uv,
+                color: object.colors.as_ref().map_or([1.0; 4], |c| c[i].to_array()),
+                uv1: object.uvs1.as_ref().map_or(uv, |uv1| uv1[i].to_array()),
+            }
         })
         .collect())
 }
 
+/// One object: its material index checked, its vertices, indices and uniforms uploaded, its
+/// bind group.
 fn upload_object(
     ctx: &GpuContext,
     object: &Object,
@@ -437,63 +521,28 @@ fn upload_object(
     material_count: usize,
 ) -> Result<GpuMesh, RenderError> {
     let vertices = interleave(object)?;
-    let material = match object.material {
-        Some(m) if m >= material_count => {
-            return Err(RenderError::IndexOutOfRange {
-                what: format!("material (of object {:?})", object.name),
-                index: m,
-                count: material_count,
-            });
-        }
-        Some(m) => m,
-        None => material_count,
-    };
+    let material = material_index(object, material_count)?;
     let model: Mat4 = object.model_transform();
-    let det = model.determinant();
-    let raw = ObjectRaw {
-        model: model.to_cols_array_2d(),
-        normal: model.inverse().transpose().to_cols_array_2d(),
-        det_sign: if det < 0.0 { -1.0 } else { 1.0 },
-        object_id: id,
-        flip_v: u32::from(flip_v),
-        has_tangents: u32::from(object.tangents.is_some()),
-    };
-    let device = ctx.device();
+    let raw = object_to_raw(object, model, id, flip_v);
     // The TBN lines read the vertices as a storage buffer, which may be smaller than the
     // vertex buffer on some adapters: lines are drawn for the vertices that fit.
-    let max_storage = device.limits().max_storage_buffer_binding_size;
+    let max_storage = ctx.device().limits().max_storage_buffer_binding_size;
     let tbn_vertices =
         usize::try_from(max_storage / VERTEX_SIZE).unwrap_or(usize::MAX).min(vertices.len()).max(1);
-    let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(&object.name),
-        contents: bytemuck::cast_slice(&vertices),
-        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
-    });
-    let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(&object.name),
-        contents: bytemuck::cast_slice(&object.triangles),
-        usage: wgpu::BufferUsages::INDEX,
-    });
-    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(&object.name),
-        contents: bytemuck::bytes_of(&raw),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(&object.name),
-        layout: &ctx.layouts.object,
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &vertex_buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(tbn_vertices as u64 * VERTEX_SIZE),
-                }),
-            },
-        ],
-    });
+    let buffer = |contents: &[u8], usage| {
+        ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(&object.name),
+            contents,
+            usage,
+        })
+    };
+    let vertex_buffer = buffer(
+        bytemuck::cast_slice(&vertices),
+        wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+    );
+    let index_buffer = buffer(bytemuck::cast_slice(&object.triangles), wgpu::BufferUsages::INDEX);
+    let uniform = buffer(bytemuck::bytes_of(&raw), wgpu::BufferUsages::UNIFORM);
+    let bind_group = object_bind_group(ctx, &object.name, &uniform, &vertex_buffer, tbn_vertices);
     let too_many = |what: &str| RenderError::BadObject {
         object: object.name.clone(),
         what: format!("too many {what} for 32-bit indices"),
@@ -507,8 +556,61 @@ fn upload_object(
         indices: index_buffer,
         bind_group,
         material,
-        mirrored: det < 0.0,
+        mirrored: raw.det_sign < 0.0,
         center: world_center(object, model),
+    })
+}
+
+/// The object's material index, checked against `material_count`; objects without a
+/// material get the default one, which follows the asset's materials.
+fn material_index(object: &Object, material_count: usize) -> Result<usize, RenderError> {
+    match object.material {
+        Some(m) if m >= material_count => Err(RenderError::IndexOutOfRange {
+            what: format!("material (of object {:?})", object.name),
+            index: m,
+            count: material_count,
+        }),
+        Some(m) => Ok(m),
+        None => Ok(material_count),
+    }
+}
+
+/// The object's uniforms under the transform `model`.
+fn object_to_raw(object: &Object, model: Mat4, id: u32, flip_v: bool) -> ObjectRaw {
+    let det = model.determinant();
+    ObjectRaw {
+        model: model.to_cols_array_2d(),
+        normal: model.inverse().transpose().to_cols_array_2d(),
+        det_sign: if det < 0.0 { -1.0 } else { 1.0 },
+        object_id: id,
+        flip_v: u32::from(flip_v),
+        has_tangents: u32::from(object.tangents.is_some()),
+    }
+}
+
+/// Group 2 of `mesh.wgsl`: the object's uniforms and its first `tbn_vertices` vertices as
+/// storage, for the TBN lines.
+fn object_bind_group(
+    ctx: &GpuContext,
+    label: &str,
+    uniform: &wgpu::Buffer,
+    vertices: &wgpu::Buffer,
+    tbn_vertices: usize,
+) -> wgpu::BindGroup {
+    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &ctx.layouts.object,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: vertices,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(tbn_vertices as u64 * VERTEX_SIZE),
+                }),
+            },
+        ],
     })
 }
 

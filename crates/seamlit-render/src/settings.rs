@@ -152,17 +152,33 @@ pub(crate) struct FrameRaw {
     pub shadow_normal_offset: f32,
 }
 
+/// What the frame uniforms take from beyond [`FrameSettings`]: the camera, the scene and the
+/// renderer.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FrameInputs<'a> {
+    /// The camera the frame is seen through.
+    pub camera: &'a CameraView,
+    /// The TBN lines' length when [`FrameSettings::tbn_length`] is `None`.
+    pub default_tbn_length: f32,
+    /// The target is not sRGB, so the shader encodes.
+    pub encode_srgb: bool,
+    /// The renderer has an environment (PBR materials add its light).
+    pub environment: bool,
+    /// How far shadow lookups move along the normal, in world units; `None` when no light has
+    /// a shadow map this frame.
+    pub shadow_normal_offset: Option<f32>,
+}
+
 impl FrameSettings {
-    /// The uniforms for this frame seen through `camera`. `default_tbn_length` is used when
-    /// [`FrameSettings::tbn_length`] is `None`; `encode_srgb` when the target is not sRGB.
-    pub(crate) fn to_raw(
-        &self,
-        camera: &CameraView,
-        default_tbn_length: f32,
-        encode_srgb: bool,
-        environment: bool,
-        shadow_normal_offset: Option<f32>,
-    ) -> FrameRaw {
+    /// The uniforms for this frame, given what they take from beyond the settings.
+    pub(crate) fn to_raw(&self, inputs: &FrameInputs<'_>) -> FrameRaw {
+        let FrameInputs {
+            camera,
+            default_tbn_length,
+            encode_srgb,
+            environment,
+            shadow_normal_offset,
+        } = *inputs;
         let view_proj: Mat4 = camera.view_projection();
         let mut flags = 0;
         if self.normal_mapping {

@@ -32,44 +32,9 @@ pub(crate) struct Shadows {
 impl Shadows {
     pub(crate) fn new(ctx: &GpuContext) -> Self {
         let device = ctx.device();
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("seamlit shadow maps"),
-            size: wgpu::Extent3d {
-                width: SHADOW_SIZE,
-                height: SHADOW_SIZE,
-                depth_or_array_layers: MAX_SHADOW_MAPS as u32,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let layers = (0..MAX_SHADOW_MAPS as u32)
-            .map(|layer| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let uniform = |label, size| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let (view, layers) = shadow_maps(device);
         let pass_buffers: Vec<wgpu::Buffer> =
-            (0..MAX_SHADOW_MAPS).map(|_| uniform("seamlit shadow pass", 64)).collect();
+            (0..MAX_SHADOW_MAPS).map(|_| uniform(device, "seamlit shadow pass", 64)).collect();
         let pass_layout = pass_layout(device);
         let pass_bind_groups = pass_buffers
             .iter()
@@ -96,7 +61,7 @@ impl Shadows {
             layers,
             pass_buffers,
             pass_bind_groups,
-            matrices: uniform("seamlit shadow matrices", 64 * MAX_SHADOW_MAPS as u64),
+            matrices: uniform(device, "seamlit shadow matrices", 64 * MAX_SHADOW_MAPS as u64),
             sampler,
             pipeline: pipeline(ctx, &pass_layout),
         }
@@ -205,6 +170,49 @@ fn light_matrix(light: &Light, lo: Vec3, hi: Vec3) -> Option<Mat4> {
         }
         Light::Point { .. } => None,
     }
+}
+
+/// The shadow maps' depth texture: a view of all its layers, and one view per layer.
+fn shadow_maps(device: &wgpu::Device) -> (wgpu::TextureView, Vec<wgpu::TextureView>) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("seamlit shadow maps"),
+        size: wgpu::Extent3d {
+            width: SHADOW_SIZE,
+            height: SHADOW_SIZE,
+            depth_or_array_layers: MAX_SHADOW_MAPS as u32,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let all = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let layers = (0..MAX_SHADOW_MAPS as u32)
+        .map(|layer| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    (all, layers)
+}
+
+/// A uniform buffer of `size` bytes, written through the queue.
+fn uniform(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 fn pass_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {

@@ -13,7 +13,7 @@ pub struct TextureOptions {
     /// renormalised). Default `true`.
     pub mipmaps: bool,
     /// Largest anisotropic filtering ratio, 1 to 16 (1 = off). Default 16. On lavapipe
-    /// anisotropic filtering is a large part of the frame time.
+    /// anisotropic filtering is a large part of the frame time (BENCHMARKS.md, Rendering).
     pub anisotropy: u16,
 }
 
@@ -108,14 +108,25 @@ pub(crate) fn downsample(src: &RgbaImage, kind: TexelKind) -> RgbaImage {
     })
 }
 
-/// Uploads `image`, with its full mip chain if `mipmaps`, and returns a view of it.
+/// An image to upload as a material texture (see [`upload`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ImageUpload<'a> {
+    /// The texture's name, for its label and errors.
+    pub name: &'a str,
+    pub image: &'a RgbaImage,
+    /// How its texels are read: the texture's format and how mips average.
+    pub kind: TexelKind,
+    /// Build and upload the full mip chain.
+    pub mipmaps: bool,
+}
+
+/// Uploads `upload.image`, with its full mip chain if `upload.mipmaps`, and returns a view
+/// of it.
 pub(crate) fn upload(
     ctx: &GpuContext,
-    name: &str,
-    image: &RgbaImage,
-    kind: TexelKind,
-    mipmaps: bool,
+    upload: &ImageUpload<'_>,
 ) -> Result<wgpu::TextureView, RenderError> {
+    let ImageUpload { name, image, kind, mipmaps } = *upload;
     let (width, height) = image.dimensions();
     let max = ctx.device().limits().max_texture_dimension_2d;
     if width == 0 || height == 0 || width > max || height > max {
@@ -152,7 +163,8 @@ pub(crate) fn solid(
     texel: [u8; 4],
     kind: TexelKind,
 ) -> Result<wgpu::TextureView, RenderError> {
-    upload(ctx, name, &RgbaImage::from_pixel(1, 1, image::Rgba(texel)), kind, false)
+    let image = RgbaImage::from_pixel(1, 1, image::Rgba(texel));
+    upload(ctx, &ImageUpload { name, image: &image, kind, mipmaps: false })
 }
 
 /// The material sampler: repeat, trilinear, anisotropic as `options` say.

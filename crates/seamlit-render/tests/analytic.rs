@@ -4,8 +4,8 @@
 mod common;
 
 use common::{
-    assert_pixel, asset, ctx, decode, ortho_camera, pixel_world, plane, render_image, save, srgb,
-    tex_ref, texture,
+    Ortho, assert_pixel, asset, ctx, decode, dot, normalize, ortho_camera, pixel_world, plane,
+    render_image, render_ortho, save, srgb, tex_ref, texture,
 };
 use glam::Vec3;
 use image::RgbaImage;
@@ -14,16 +14,9 @@ use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingMo
 
 const SIZE: u32 = 64;
 const HALF: f32 = 1.0;
+/// The plane seen head-on, filling the picture.
+const VIEW: Ortho = Ortho { half: HALF, size: SIZE };
 const EYE: [f64; 3] = [0.0, 0.0, 5.0];
-
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    [v[0] / l, v[1] / l, v[2] / l]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// A plane with one uniform normal-map texel everywhere.
 fn normal_mapped_plane(texel: [u8; 3], material: Material) -> seamlit_io::Asset {
@@ -65,16 +58,7 @@ fn directional_light_on_a_flat_normal_map_matches_blinn_phong() {
         ambient: Vec3::splat(0.05),
         ..FrameSettings::default()
     };
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings: &settings,
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, &settings, VIEW);
     save("analytic_flat", &image);
 
     let n = texel_normal(texel);
@@ -205,16 +189,7 @@ fn point_light_falls_off_with_distance_as_specified() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings: &settings,
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, &settings, VIEW);
     save("analytic_point", &image);
     // KHR_lights_punctual: clamp(1 - (d / range)^4, 0, 1)^2 / d^2, times N.L.
     let expected = |x: u32, y: u32| {
@@ -256,16 +231,7 @@ fn spot_light_is_full_inside_the_inner_cone_and_dark_outside_the_outer() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings: &settings,
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, &settings, VIEW);
     save("analytic_spot", &image);
     // No range cut-off (range 0): 1 / d^2, times N.L, times the cone factor t^2 with
     // t = clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1).
@@ -313,16 +279,12 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
         ..FrameSettings::default()
     };
     // Phong: specular from the reflection vector R = 2 (N.L) N - L.
-    let phong = render_image(
+    let phong = render_ortho(
         &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings: &FrameSettings { lighting_model: LightingModel::Phong, ..base.clone() },
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+        &scene,
+        &FrameSettings { lighting_model: LightingModel::Phong, ..base.clone() },
+        VIEW,
+    );
     save("analytic_phong", &phong);
     for (x, y) in [(32, 32), (10, 50)] {
         let p = pixel_world(x, y, SIZE, HALF);
@@ -336,16 +298,12 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
     // diffuse term is the same everywhere; the specular term varies slowly, so the centre is
     // close to the average of the corner values. The diffuse part is checked exactly by
     // turning specular off in a second render.
-    let gouraud = render_image(
+    let gouraud = render_ortho(
         &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings: &FrameSettings { lighting_model: LightingModel::Gouraud, ..base.clone() },
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+        &scene,
+        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base.clone() },
+        VIEW,
+    );
     save("analytic_gouraud", &gouraud);
     let diffuse_only = GpuScene::upload(
         &ctx,
@@ -360,16 +318,12 @@ fn phong_and_gouraud_match_their_equations_on_a_plane() {
         ),
     )
     .expect("upload");
-    let g = render_image(
+    let g = render_ortho(
         &ctx,
-        &FrameDescriptor {
-            scene: &diffuse_only,
-            camera: &ortho_camera(HALF),
-            settings: &FrameSettings { lighting_model: LightingModel::Gouraud, ..base },
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+        &diffuse_only,
+        &FrameSettings { lighting_model: LightingModel::Gouraud, ..base },
+        VIEW,
+    );
     assert_pixel(&g, 20, 40, [srgb(0.6 * (0.03 + 0.8 * dot(n, l))); 3], 2.0, "Gouraud diffuse");
     // The per-vertex specular at the plane's corners (+-1.5) interpolated bilinearly-ish across
     // two triangles: at the centre it lies between the smallest and largest corner value.

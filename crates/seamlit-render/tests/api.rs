@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{asset, ctx, ortho_camera, plane, render_image, save, tex_ref, texture};
+use common::{
+    Ortho, asset, ctx, ortho_camera, plane, render_image, render_ortho, save, tex_ref, texture,
+};
 use glam::{Mat4, Vec3};
 use seamlit_io::Material;
 use seamlit_render::{
@@ -89,30 +91,16 @@ fn a_non_srgb_target_gets_the_same_image() {
     .expect("upload");
     let camera = ortho_camera(1.2);
     let settings = FrameSettings::default();
-    let srgb = Renderer::new(&ctx, IMAGE_FORMAT, 4)
-        .expect("renderer")
-        .render_to_image(
-            &ctx,
-            &FrameDescriptor {
-                scene: &scene,
-                camera: &camera,
-                settings: &settings,
-                size: (48, 48),
-            },
-        )
-        .expect("render");
-    let unorm = Renderer::new(&ctx, wgpu::TextureFormat::Rgba8Unorm, 4)
-        .expect("renderer")
-        .render_to_image(
-            &ctx,
-            &FrameDescriptor {
-                scene: &scene,
-                camera: &camera,
-                settings: &settings,
-                size: (48, 48),
-            },
-        )
-        .expect("render");
+    let frame =
+        FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (48, 48) };
+    let render = |format| {
+        Renderer::new(&ctx, format, 4)
+            .expect("renderer")
+            .render_to_image(&ctx, &frame)
+            .expect("render")
+    };
+    let srgb = render(IMAGE_FORMAT);
+    let unorm = render(wgpu::TextureFormat::Rgba8Unorm);
     save("api_srgb_target", &srgb);
     save("api_unorm_target", &unorm);
     // Interior pixels (MSAA resolves edges differently in the two encodings).
@@ -185,16 +173,7 @@ fn tbn_lines_are_drawn_in_their_colours() {
         clear_color: [0.0, 0.0, 0.0, 1.0],
         ..FrameSettings::default()
     };
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(1.0),
-            settings: &settings,
-            size: (64, 64),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, &settings, Ortho { half: 1.0, size: 64 });
     save("api_tbn_lines", &image);
     // The top-right corner (0.5, 0.5) is pixel (48, 16); its T line runs right to x = 0.9
     // (pixel 60), its B line up to y = 0.9 (pixel 3).
@@ -235,16 +214,7 @@ fn minified_textures_use_mipmaps_averaged_in_linear_light() {
     let render = |options: TextureOptions, name: &str| {
         let scene = GpuScene::upload_parts(&ctx, &a.model, &a.materials, &a.textures, &options)
             .expect("upload");
-        let image = render_image(
-            &ctx,
-            &FrameDescriptor {
-                scene: &scene,
-                camera: &ortho_camera(0.9),
-                settings: &settings,
-                size: (32, 32),
-            },
-        )
-        .expect("render");
+        let image = render_ortho(&ctx, &scene, &settings, Ortho { half: 0.9, size: 32 });
         save(name, &image);
         let reds: Vec<u8> = (2..30)
             .flat_map(|y| (2..30).map(move |x| (x, y)))

@@ -19,8 +19,8 @@ use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::Model;
 use seamlit_render::{
-    CameraView, DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, IMAGE_FORMAT,
-    Light, LightingModel, Renderer,
+    CameraDescriptor, CameraView, DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene,
+    IMAGE_FORMAT, Light, LightingModel, Projection, Renderer,
 };
 
 const SIZE: (u32, u32) = (160, 96);
@@ -137,15 +137,15 @@ fn check(name: &str, actual: &RgbaImage) {
 fn golden_views_match() {
     let ctx = ctx();
     let scene = scene(&ctx);
-    let camera = CameraView::look_at(
-        Vec3::new(0.0, 0.6, 5.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        40.0,
-        SIZE.0 as f32 / SIZE.1 as f32,
-        0.1,
-        20.0,
-    );
+    let camera = CameraView::look_at(&CameraDescriptor {
+        eye: Vec3::new(0.0, 0.6, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: Projection::Perspective { fov_y_deg: 40.0 },
+        aspect: SIZE.0 as f32 / SIZE.1 as f32,
+        near: 0.1,
+        far: 20.0,
+    });
     let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, 4).expect("renderer");
     let views = [
         ("lit", FrameSettings { ..settings() }),

@@ -5,12 +5,12 @@
 
 mod common;
 
-use common::{ctx, luminance, ortho_camera, render_image, save, tex_ref, texture};
+use common::{Ortho, ctx, luminance, render_ortho, save, tex_ref, texture};
 use glam::{Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::{Model, Object};
-use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingModel};
+use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel};
 
 const SIZE: u32 = 128;
 
@@ -96,16 +96,7 @@ fn mirrored_uvs_light_the_bump_on_the_same_side() {
         lighting_model: LightingModel::Lambert,
         ..FrameSettings::default()
     };
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(1.0),
-            settings: &settings,
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, &settings, Ortho { half: 1.0, size: SIZE });
     let path = save("handedness_mirrored_bump", &image);
     let lum = |x: f32, y: f32| {
         let (px, py) = pixel(x, y);

@@ -1,5 +1,6 @@
 //! Image-based lighting: a white furnace (a uniform environment lights a rough white sphere
-//! to the environment's radiance times its albedo), a mirror sphere that reflects the sky
+//! to the environment's radiance times its albedo, and a white rough metal to the
+//! radiance), a mirror sphere that reflects the sky
 //! above and the ground below, a rotation that moves a reflected bright spot, and a
 //! malformed or missing .hdr file refused with its name.
 
@@ -11,8 +12,8 @@ use glam::Vec3;
 use image::{Rgba, Rgba32FImage, RgbaImage};
 use seamlit_io::Material;
 use seamlit_render::{
-    Environment, FrameDescriptor, FrameSettings, GpuEnvironment, GpuScene, LightingModel,
-    RenderError, Renderer, ToneMapping,
+    CameraDescriptor, CameraView, Environment, FrameDescriptor, FrameSettings, GpuEnvironment,
+    GpuScene, LightingModel, Projection, RenderError, Renderer, ToneMapping,
 };
 
 const SIZE: u32 = 64;
@@ -52,6 +53,17 @@ fn render(
     rotation_deg: f32,
     name: &str,
 ) -> RgbaImage {
+    render_from(&ortho_camera(HALF), material, environment, rotation_deg, name)
+}
+
+/// [`render`] through `camera`.
+fn render_from(
+    camera: &CameraView,
+    material: Material,
+    environment: Option<&Environment>,
+    rotation_deg: f32,
+    name: &str,
+) -> RgbaImage {
     let ctx = ctx();
     let scene =
         GpuScene::upload(&ctx, &asset(sphere("ball", 1.0, 48, 96, 0.0, 1.0), material, vec![]))
@@ -60,10 +72,8 @@ fn render(
     renderer.set_environment(
         environment.map(|e| GpuEnvironment::new(&ctx, e).expect("prefilter the environment")),
     );
-    let camera = ortho_camera(HALF);
     let settings = settings(rotation_deg);
-    let frame =
-        FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (SIZE, SIZE) };
+    let frame = FrameDescriptor { scene: &scene, camera, settings: &settings, size: (SIZE, SIZE) };
     let image = renderer.render_to_image(&ctx, &frame).expect("render");
     save(name, &image);
     image
@@ -100,7 +110,47 @@ fn a_white_furnace_returns_the_environment_times_the_albedo() {
     }
 }
 
-/// An equirectangular image: `top` radiance above the horizon, `bottom` below.
+#[test]
+fn a_white_rough_metal_in_a_white_furnace_loses_no_energy() {
+    // A white metal reflects all the light: with the energy multiple scattering between
+    // microfacets returns (Fdez-Aguera 2019, as the Khronos Sample Viewer has it) a uniform
+    // environment lights it to the environment's radiance at any roughness; single
+    // scattering alone loses a quarter of it at roughness 1.
+    let radiance = 0.5;
+    let environment = Environment::Uniform(Vec3::splat(radiance as f32));
+    for roughness in [0.5, 1.0] {
+        let name = format!("ibl_furnace_metal_{roughness}");
+        let image = render(material(1.0, 1.0, roughness), Some(&environment), 0.0, &name);
+        for (x, y) in POINTS {
+            let (px, py) = pixel_of(x, y);
+            let p = image.get_pixel(px, py).0;
+            for c in 0..3 {
+                let got = linear(p[c]);
+                assert!(
+                    (got - radiance).abs() <= 0.03 * radiance + 0.004,
+                    "roughness {roughness}, point ({x}, {y}): {got:.4} for {radiance} (pixel {p:?})"
+                );
+            }
+        }
+    }
+}
+
+/// `image` written to a Radiance file (its first row first) and read back, as
+/// `--environment PATH.hdr` reads it.
+fn through_hdr_file(image: &Rgba32FImage) -> Environment {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("environment.hdr");
+    let rgb: Vec<image::Rgb<f32>> =
+        image.pixels().map(|p| image::Rgb([p[0], p[1], p[2]])).collect();
+    let file = std::fs::File::create(&path).expect("create");
+    image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
+        .encode(&rgb, image.width() as usize, image.height() as usize)
+        .expect("encode");
+    Environment::from_hdr_file(&path).expect("read the .hdr")
+}
+
+/// An equirectangular image: `top` radiance above the horizon (the first rows), `bottom`
+/// below.
 fn sky_and_ground(top: [f32; 3], bottom: [f32; 3]) -> Rgba32FImage {
     Rgba32FImage::from_fn(64, 32, |_, y| {
         let c = if y < 16 { top } else { bottom };
@@ -110,7 +160,7 @@ fn sky_and_ground(top: [f32; 3], bottom: [f32; 3]) -> Rgba32FImage {
 
 #[test]
 fn a_mirror_sphere_reflects_the_sky_above_and_the_ground_below() {
-    let environment = Environment::Equirect(sky_and_ground([1.0, 0.1, 0.1], [0.1, 0.1, 1.0]));
+    let environment = through_hdr_file(&sky_and_ground([1.0, 0.1, 0.1], [0.1, 0.1, 1.0]));
     let image = render(material(1.0, 1.0, 0.0), Some(&environment), 0.0, "ibl_mirror");
     // Near the top the view reflects upward, near the bottom downward.
     let (tx, ty) = pixel_of(0.0, 0.7);
@@ -124,11 +174,41 @@ fn a_mirror_sphere_reflects_the_sky_above_and_the_ground_below() {
     assert!(dark.get_pixel(tx, ty).0[..3].iter().all(|&c| c < 8), "{:?}", dark.get_pixel(tx, ty));
 }
 
-/// Black but for a bright spot around +Z (the left and right edges of the image, mid-height).
+#[test]
+fn a_mirror_sphere_seen_from_above_reflects_the_sky_at_its_centre() {
+    // An orthographic camera 30 degrees above the horizon: at the sphere's centre the
+    // normal points back at the camera and the view reflects 30 degrees upward (the sky); the
+    // reflected horizon lies 15 degrees below the centre, at screen y = -sin 15 = -0.26, and
+    // at screen y = -0.5 the view reflects 30 degrees downward (the ground).
+    let environment = through_hdr_file(&sky_and_ground([1.0, 0.1, 0.1], [0.1, 0.1, 1.0]));
+    let (s, c) = 30f32.to_radians().sin_cos();
+    let camera = CameraView::look_at(&CameraDescriptor {
+        eye: Vec3::new(0.0, 5.0 * s, 5.0 * c),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: Projection::Orthographic { half_height: HALF },
+        aspect: 1.0,
+        near: 0.1,
+        far: 10.0,
+    });
+    let image =
+        render_from(&camera, material(1.0, 1.0, 0.0), Some(&environment), 0.0, "ibl_mirror_above");
+    for (y, sky) in [(0.0, true), (0.2, true), (-0.45, false), (-0.6, false)] {
+        let (px, py) = pixel_of(0.0, y);
+        let p = image.get_pixel(px, py).0;
+        let (bright, dim) = if sky { (p[0], p[2]) } else { (p[2], p[0]) };
+        assert!(
+            bright > 200 && dim < 120,
+            "screen y {y}: {p:?}, expected the {}",
+            if sky { "red sky" } else { "blue ground" }
+        );
+    }
+}
+
+/// Black but for a bright spot around +Z (the middle of the image).
 fn spot_at_plus_z() -> Rgba32FImage {
     Rgba32FImage::from_fn(128, 64, |x, y| {
-        let near_edge = !(4..124).contains(&x);
-        let c = if near_edge && (28..36).contains(&y) { 50.0 } else { 0.0 };
+        let c = if (60..68).contains(&x) && (28..36).contains(&y) { 50.0 } else { 0.0 };
         Rgba([c, c, c, 1.0])
     })
 }
@@ -145,17 +225,7 @@ fn brightest_column(image: &RgbaImage) -> u32 {
 
 #[test]
 fn rotating_the_environment_moves_the_reflected_spot() {
-    // Through a Radiance file, as `--environment PATH.hdr` reads it.
-    let dir = tempfile::tempdir().expect("temp dir");
-    let path = dir.path().join("spot.hdr");
-    let image = spot_at_plus_z();
-    let rgb: Vec<image::Rgb<f32>> =
-        image.pixels().map(|p| image::Rgb([p[0], p[1], p[2]])).collect();
-    let file = std::fs::File::create(&path).expect("create");
-    image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
-        .encode(&rgb, 128, 64)
-        .expect("encode");
-    let environment = Environment::from_hdr_file(&path).expect("read the .hdr");
+    let environment = through_hdr_file(&spot_at_plus_z());
     let mirror = material(1.0, 1.0, 0.0);
     // The spot behind the camera (+Z) reflects in the middle of the sphere.
     let straight = render(mirror.clone(), Some(&environment), 0.0, "ibl_spot_0");

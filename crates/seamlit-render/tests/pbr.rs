@@ -7,30 +7,23 @@
 mod common;
 
 use common::{
-    assert_pixel, asset, ctx, ortho_camera, pixel_world, plane, render_image, save, srgb, tex_ref,
-    texture,
+    Ortho, assert_pixel, asset, ctx, dot, normalize, pixel_world, plane, render_ortho, save, srgb,
+    tex_ref, texture,
 };
 use glam::Vec3;
 use image::RgbaImage;
 use seamlit_io::{AlphaMode, Asset, Material};
-use seamlit_render::{FrameDescriptor, FrameSettings, GpuScene, Light, LightingModel, ToneMapping};
+use seamlit_render::{FrameSettings, GpuScene, Light, LightingModel, ToneMapping};
 
 const SIZE: u32 = 64;
 const HALF: f32 = 1.0;
+/// The plane seen head-on, filling the picture.
+const VIEW: Ortho = Ortho { half: HALF, size: SIZE };
 const EYE: [f64; 3] = [0.0, 0.0, 5.0];
 /// The light's direction of travel, colour and intensity (lux).
 const LIGHT_DIR: [f64; 3] = [-0.5, -0.3, -1.0];
 const LIGHT_COLOR: [f64; 3] = [1.0, 0.95, 0.9];
 const LIGHT_INTENSITY: f64 = 2.5;
-
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    [v[0] / l, v[1] / l, v[2] / l]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// glTF 2.0 Appendix B (section B.3, "Metals" to "Mixed materials"): the BRDF times n.l for
 /// unit vectors n, v, l, written as the specification composes it:
@@ -105,16 +98,7 @@ fn render(asset: &Asset, name: &str) -> RgbaImage {
 fn render_with(asset: &Asset, settings: &FrameSettings, name: &str) -> RgbaImage {
     let ctx = ctx();
     let scene = GpuScene::upload(&ctx, asset).expect("upload");
-    let image = render_image(
-        &ctx,
-        &FrameDescriptor {
-            scene: &scene,
-            camera: &ortho_camera(HALF),
-            settings,
-            size: (SIZE, SIZE),
-        },
-    )
-    .expect("render");
+    let image = render_ortho(&ctx, &scene, settings, VIEW);
     save(name, &image);
     image
 }

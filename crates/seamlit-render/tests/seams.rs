@@ -11,7 +11,8 @@ use image::RgbaImage;
 use seamlit_io::{Asset, Material};
 use seamlit_mesh::{FixOptions, Mode, fix};
 use seamlit_render::{
-    CameraView, DebugView, FrameDescriptor, FrameSettings, GpuScene, IMAGE_FORMAT, Light, Renderer,
+    CameraDescriptor, CameraView, DebugView, FrameDescriptor, FrameSettings, GpuScene,
+    IMAGE_FORMAT, Light, Projection, Renderer,
 };
 
 const TEAPOT: &str =
@@ -68,7 +69,15 @@ fn model_mode_removes_the_lighting_jump_at_patch_boundaries() {
     let radius = (hi - lo).length() * 0.5;
     // The Newell teapot has Z up.
     let eye = centre + Vec3::new(1.2, -2.0, 1.1).normalize() * radius * 2.6;
-    let camera = CameraView::look_at(eye, centre, Vec3::Z, 40.0, 1.0, radius * 0.1, radius * 10.0);
+    let camera = CameraView::look_at(&CameraDescriptor {
+        eye,
+        target: centre,
+        up: Vec3::Z,
+        projection: Projection::Perspective { fov_y_deg: 40.0 },
+        aspect: 1.0,
+        near: radius * 0.1,
+        far: radius * 10.0,
+    });
     let settings = FrameSettings {
         lights: vec![
             Light::Directional {

@@ -5,20 +5,62 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::Mat4;
-use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
+use seamlit_io::{Asset, LoadOptions, Material, Texture, TextureRef, TextureSource};
 
 use crate::bricks::brick_normal_map;
 use crate::error::SceneError;
-use crate::scene::{MaterialOverride, NormalTexture};
+use crate::scene::{MaterialOverride, NormalTexture, Scene, SceneModel};
 
 /// Side of the generated brick normal map, texels.
-pub const BRICKS_SIZE: u32 = 256;
+const BRICKS_SIZE: u32 = 256;
 /// Relief of the generated brick normal map (see [`brick_normal_map`]).
-pub const BRICKS_STRENGTH: f32 = 6.0;
+const BRICKS_STRENGTH: f32 = 6.0;
+
+impl SceneModel {
+    /// Loads the model file with `options` and gives it the scene's materials: the overrides
+    /// applied in order, then a default material for every object that has none. The asset
+    /// is neither fixed nor placed yet (fix it, then hand it to [`Scene::assemble`]). Its
+    /// `warnings` are the loader's.
+    ///
+    /// # Errors
+    /// [`SceneError::Model`] when the model file cannot be read (naming the file and the
+    /// place in it), [`SceneError::UnknownMaterial`] when an override names a material the
+    /// model lacks, [`SceneError::Texture`] when a normal map file cannot be read.
+    pub fn load_asset(&self, options: &LoadOptions) -> Result<Asset, SceneError> {
+        let mut asset = seamlit_io::load(&self.path, options)?;
+        apply_overrides(&mut asset, &self.materials, &self.path)?;
+        ensure_material(&mut asset);
+        Ok(asset)
+    }
+}
+
+impl Scene {
+    /// One asset of the scene's models: `assets[i]` (model `i`'s, loaded with
+    /// [`SceneModel::load_asset`] and fixed) is placed by model `i`'s transform, after each
+    /// object's own, and the assets are merged: objects, materials, textures and nodes
+    /// concatenated, their indices shifted. The first asset's V axis wins; assets whose V
+    /// runs the other way have their UVs flipped (`v' = 1 - v`).
+    ///
+    /// # Panics
+    /// If `assets` does not hold one asset per model of the scene.
+    #[must_use]
+    pub fn assemble(&self, assets: Vec<Asset>) -> Asset {
+        assert_eq!(assets.len(), self.models.len(), "one asset per model of the scene");
+        let placed = assets
+            .into_iter()
+            .zip(&self.models)
+            .map(|(mut asset, model)| {
+                place(&mut asset, model.transform);
+                asset
+            })
+            .collect();
+        merge(placed)
+    }
+}
 
 /// The generated brick normal map as a texture.
 #[must_use]
-pub fn bricks_texture() -> Texture {
+pub(crate) fn bricks_texture() -> Texture {
     Texture {
         name: "bricks (generated)".into(),
         source: TextureSource::Generated,
@@ -33,7 +75,7 @@ pub fn bricks_texture() -> Texture {
 /// # Errors
 /// [`SceneError::UnknownMaterial`] when an override names a material the asset lacks,
 /// [`SceneError::Texture`] when a normal map file cannot be read.
-pub fn apply_overrides(
+fn apply_overrides(
     asset: &mut Asset,
     overrides: &[MaterialOverride],
     model_path: &Path,
@@ -100,7 +142,7 @@ pub fn apply_overrides(
 
 /// Gives an asset without materials one default material, used by every object that has
 /// none.
-pub fn ensure_material(asset: &mut Asset) {
+fn ensure_material(asset: &mut Asset) {
     if asset.materials.is_empty() {
         asset.materials.push(Material { name: "default".into(), ..Material::default() });
     }
@@ -134,7 +176,7 @@ fn load_normal_texture(t: &NormalTexture) -> Result<Texture, SceneError> {
 }
 
 /// Places an asset in the world: `transform` is applied after each object's own transform.
-pub fn place(asset: &mut Asset, transform: Mat4) {
+pub(crate) fn place(asset: &mut Asset, transform: Mat4) {
     if transform == Mat4::IDENTITY {
         return;
     }
@@ -148,7 +190,7 @@ pub fn place(asset: &mut Asset, transform: Mat4) {
 /// their UVs flipped (`v' = 1 - v`) and their tangent handedness kept, as a conversion
 /// between OBJ and glTF does.
 #[must_use]
-pub fn merge(parts: Vec<Asset>) -> Asset {
+fn merge(parts: Vec<Asset>) -> Asset {
     let mut parts = parts.into_iter();
     let Some(mut out) = parts.next() else { return Asset::default() };
     for mut part in parts {
@@ -156,7 +198,7 @@ pub fn merge(parts: Vec<Asset>) -> Asset {
             (out.model.objects.len(), out.materials.len(), out.textures.len(), out.nodes.len());
         if part.model.v_axis != out.model.v_axis {
             for object in &mut part.model.objects {
-                if let Some(uvs) = &mut object.uvs {
+                for uvs in [&mut object.uvs, &mut object.uvs1].into_iter().flatten() {
                     for uv in uvs {
                         uv.y = 1.0 - uv.y;
                     }

@@ -11,7 +11,11 @@ const ROWS: u32 = 8;
 /// Height of the brick wall at texel `(x, y)` of a `size` x `size` image: 1 on a brick face,
 /// 0 in the mortar, with a bevel between them. Rows alternate by half a brick. Wraps around.
 #[must_use]
-pub fn brick_height(x: u32, y: u32, size: u32) -> f32 {
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "row is a whole, non-negative number of rows below size / 8"
+)]
+pub(crate) fn brick_height(x: u32, y: u32, size: u32) -> f32 {
     let size = size.max(1) as f32;
     let (x, y) = (x as f32 + 0.5, y as f32 + 0.5);
     let row_h = size / ROWS as f32;
@@ -30,7 +34,11 @@ pub fn brick_height(x: u32, y: u32, size: u32) -> f32 {
 /// The brick normal map, `size` x `size` RGBA8 (linear data, `n * 0.5 + 0.5`). `strength`
 /// scales the slopes: the relief in texels per unit of height.
 #[must_use]
-pub fn brick_normal_map(size: u32, strength: f32) -> RgbaImage {
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "rem_euclid(size) lies in 0..size, a u32; the encoded component is clamped to 0..=255"
+)]
+pub(crate) fn brick_normal_map(size: u32, strength: f32) -> RgbaImage {
     let size = size.max(4);
     let h = |x: i64, y: i64| {
         let s = i64::from(size);

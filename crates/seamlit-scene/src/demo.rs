@@ -81,6 +81,13 @@ pub fn teapot_transform() -> glam::Mat4 {
     glam::Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2)
 }
 
+/// The demo's generated brick normal map as a texture (texture 0 of [`teapot_asset`], the
+/// normal texture of [`material`]).
+#[must_use]
+pub fn bricks_texture() -> seamlit_io::Texture {
+    crate::assemble::bricks_texture()
+}
+
 /// The demo teapot: the embedded patches tessellated into 32 objects of `tessellation` x
 /// `tessellation` quads each (UVs = patch parameters), turned Y up, with the demo
 /// [`material`] and the generated brick normal map as texture 0.

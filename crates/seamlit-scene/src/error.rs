@@ -52,6 +52,10 @@ pub enum SceneError {
         /// The model's material names, comma separated.
         available: String,
     },
+    /// A model file of the scene could not be read: the loader's error, which names the file
+    /// and the place in it.
+    #[error(transparent)]
+    Model(#[from] seamlit_io::IoError),
     /// A texture named by the scene could not be read or decoded.
     #[error("{}: cannot load the texture: {message}", path.display())]
     Texture {

@@ -6,6 +6,10 @@
 //! and camera a bare model gets, and the embedded demo scene (the Newell teapot with a brick
 //! normal map made in code). docs/design.md section 7; the file format is in docs/scene.md.
 //!
+//! A scene's models come together in two calls around the fix:
+//! [`SceneModel::load_asset`] loads a model with its material overrides applied, and
+//! [`Scene::assemble`] places the fixed assets by their transforms and merges them into one.
+//!
 //! ```
 //! use std::path::Path;
 //! use seamlit_scene::Scene;
@@ -33,6 +37,9 @@
 //! # Ok::<(), seamlit_scene::SceneError>(())
 //! ```
 #![deny(missing_docs)]
+// Not yet workspace-wide (Cargo.toml): seamlit-mesh and seamlit-io have about a hundred sites
+// to check first.
+#![warn(clippy::cast_possible_truncation)]
 
 mod assemble;
 mod bricks;
@@ -44,10 +51,6 @@ pub mod lights;
 mod scene;
 mod schema;
 
-pub use assemble::{
-    BRICKS_SIZE, BRICKS_STRENGTH, apply_overrides, bricks_texture, ensure_material, merge, place,
-};
-pub use bricks::{brick_height, brick_normal_map};
 pub use camera::{Bounds, Camera};
 pub use controller::{FpsController, FpsInput, OrbitController};
 pub use error::SceneError;

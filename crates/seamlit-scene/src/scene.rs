@@ -473,85 +473,15 @@ impl Ctx<'_> {
         })
     }
 
+    /// A `[[light]]` table: the checks every kind shares, then its own kind's.
     fn light(&self, def: &LightDef, span: Range<usize>) -> Result<Light, SceneError> {
-        let kind = match def.kind {
-            LightKind::Directional => "directional",
-            LightKind::Point => "point",
-            LightKind::Spot => "spot",
-        };
-        let need = |v: Option<[f32; 3]>, key: &str| {
-            v.map(Vec3::from)
-                .ok_or_else(|| self.invalid(&span, format!("a {kind} light needs `{key}`")))
-        };
-        let forbid = |present: bool, key: &str| {
-            if present {
-                Err(self.invalid(&span, format!("a {kind} light has no `{key}`")))
-            } else {
-                Ok(())
-            }
-        };
-        let color = def.color.map_or(Vec3::ONE, Vec3::from);
-        let intensity = def.intensity.unwrap_or(1.0);
-        if !color.is_finite()
-            || color.min_element() < 0.0
-            || !(intensity.is_finite() && intensity >= 0.0)
-        {
-            return Err(
-                self.invalid(&span, format!("{kind} light: `color` and `intensity` must be >= 0"))
-            );
+        let check = LightCheck { parser: self, def, span: &span, kind: light_kind_name(def.kind) };
+        let common = check.common()?;
+        match def.kind {
+            LightKind::Directional => check.directional(common),
+            LightKind::Point => check.point(common),
+            LightKind::Spot => check.spot(common),
         }
-        let range = def.range.unwrap_or(100.0);
-        if def.kind != LightKind::Directional && !(range.is_finite() && range > 0.0) {
-            return Err(self.invalid(&span, format!("{kind} light: `range` must be > 0")));
-        }
-        let nonzero = |v: Vec3, key: &str| {
-            if v.is_finite() && v.length_squared() > 0.0 {
-                Ok(v)
-            } else {
-                Err(self.invalid(&span, format!("{kind} light: `{key}` must be a non-zero vector")))
-            }
-        };
-        Ok(match def.kind {
-            LightKind::Directional => {
-                forbid(def.position.is_some(), "position")?;
-                forbid(def.range.is_some(), "range")?;
-                forbid(def.inner_cone_deg.is_some() || def.outer_cone_deg.is_some(), "cone")?;
-                let direction = nonzero(need(def.direction, "direction")?, "direction")?;
-                Light::Directional { direction, color, intensity }
-            }
-            LightKind::Point => {
-                forbid(def.direction.is_some(), "direction")?;
-                forbid(def.inner_cone_deg.is_some() || def.outer_cone_deg.is_some(), "cone")?;
-                let position = need(def.position, "position")?;
-                if !position.is_finite() {
-                    return Err(
-                        self.invalid(&span, "point light: `position` must be finite".into())
-                    );
-                }
-                Light::Point { position, color, intensity, range }
-            }
-            LightKind::Spot => {
-                let position = need(def.position, "position")?;
-                let direction = nonzero(need(def.direction, "direction")?, "direction")?;
-                let inner = def.inner_cone_deg.unwrap_or(20.0);
-                let outer = def.outer_cone_deg.unwrap_or(30.0);
-                if !(0.0 <= inner && inner <= outer && outer < 90.0 && position.is_finite()) {
-                    return Err(self.invalid(
-                        &span,
-                        "spot light: need 0 <= inner_cone_deg <= outer_cone_deg < 90".into(),
-                    ));
-                }
-                Light::Spot {
-                    position,
-                    direction,
-                    color,
-                    intensity,
-                    range,
-                    inner_cone_deg: inner,
-                    outer_cone_deg: outer,
-                }
-            }
-        })
     }
 
     fn camera(&self, def: CameraDef, span: Range<usize>) -> Result<Camera, SceneError> {
@@ -580,6 +510,122 @@ impl Ctx<'_> {
             return Err(self.invalid(&span, format!("camera {name:?}: need 0 < near < far")));
         }
         Ok(Camera { name, position, target, up, fov_y_deg: fov, near: def.near, far: def.far })
+    }
+}
+
+/// The name of a light kind, as the scene file writes it.
+fn light_kind_name(kind: LightKind) -> &'static str {
+    match kind {
+        LightKind::Directional => "directional",
+        LightKind::Point => "point",
+        LightKind::Spot => "spot",
+    }
+}
+
+/// What every light has, checked: colour, intensity and range.
+struct LightCommon {
+    color: Vec3,
+    intensity: f32,
+    range: f32,
+}
+
+/// One `[[light]]` table being checked, with where its errors point.
+struct LightCheck<'a, 'c> {
+    parser: &'a Ctx<'c>,
+    def: &'a LightDef,
+    span: &'a Range<usize>,
+    kind: &'static str,
+}
+
+impl LightCheck<'_, '_> {
+    fn invalid(&self, message: String) -> SceneError {
+        self.parser.invalid(self.span, message)
+    }
+
+    /// The key's vector, which this kind needs.
+    fn need(&self, v: Option<[f32; 3]>, key: &str) -> Result<Vec3, SceneError> {
+        v.map(Vec3::from)
+            .ok_or_else(|| self.invalid(format!("a {} light needs `{key}`", self.kind)))
+    }
+
+    /// An error where a key this kind does not have is present.
+    fn forbid(&self, present: bool, key: &str) -> Result<(), SceneError> {
+        if present {
+            Err(self.invalid(format!("a {} light has no `{key}`", self.kind)))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// `v`, which must be finite and not zero.
+    fn nonzero(&self, v: Vec3, key: &str) -> Result<Vec3, SceneError> {
+        if v.is_finite() && v.length_squared() > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(format!("{} light: `{key}` must be a non-zero vector", self.kind)))
+        }
+    }
+
+    /// Colour and intensity (at least 0) and, but for a directional light, range (above 0).
+    fn common(&self) -> Result<LightCommon, SceneError> {
+        let def = self.def;
+        let color = def.color.map_or(Vec3::ONE, Vec3::from);
+        let intensity = def.intensity.unwrap_or(1.0);
+        if !color.is_finite()
+            || color.min_element() < 0.0
+            || !(intensity.is_finite() && intensity >= 0.0)
+        {
+            return Err(
+                self.invalid(format!("{} light: `color` and `intensity` must be >= 0", self.kind))
+            );
+        }
+        let range = def.range.unwrap_or(100.0);
+        if def.kind != LightKind::Directional && !(range.is_finite() && range > 0.0) {
+            return Err(self.invalid(format!("{} light: `range` must be > 0", self.kind)));
+        }
+        Ok(LightCommon { color, intensity, range })
+    }
+
+    fn directional(&self, c: LightCommon) -> Result<Light, SceneError> {
+        let def = self.def;
+        self.forbid(def.position.is_some(), "position")?;
+        self.forbid(def.range.is_some(), "range")?;
+        self.forbid(def.inner_cone_deg.is_some() || def.outer_cone_deg.is_some(), "cone")?;
+        let direction = self.nonzero(self.need(def.direction, "direction")?, "direction")?;
+        Ok(Light::Directional { direction, color: c.color, intensity: c.intensity })
+    }
+
+    fn point(&self, c: LightCommon) -> Result<Light, SceneError> {
+        let def = self.def;
+        self.forbid(def.direction.is_some(), "direction")?;
+        self.forbid(def.inner_cone_deg.is_some() || def.outer_cone_deg.is_some(), "cone")?;
+        let position = self.need(def.position, "position")?;
+        if !position.is_finite() {
+            return Err(self.invalid("point light: `position` must be finite".into()));
+        }
+        Ok(Light::Point { position, color: c.color, intensity: c.intensity, range: c.range })
+    }
+
+    fn spot(&self, c: LightCommon) -> Result<Light, SceneError> {
+        let def = self.def;
+        let position = self.need(def.position, "position")?;
+        let direction = self.nonzero(self.need(def.direction, "direction")?, "direction")?;
+        let inner = def.inner_cone_deg.unwrap_or(20.0);
+        let outer = def.outer_cone_deg.unwrap_or(30.0);
+        if !(0.0 <= inner && inner <= outer && outer < 90.0 && position.is_finite()) {
+            return Err(
+                self.invalid("spot light: need 0 <= inner_cone_deg <= outer_cone_deg < 90".into())
+            );
+        }
+        Ok(Light::Spot {
+            position,
+            direction,
+            color: c.color,
+            intensity: c.intensity,
+            range: c.range,
+            inner_cone_deg: inner,
+            outer_cone_deg: outer,
+        })
     }
 }
 

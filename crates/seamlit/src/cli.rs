@@ -54,8 +54,8 @@ pub struct DemoArgs {
     pub size: (u32, u32),
     /// Quads per patch side when tessellating the 32 Bezier patches. The demo's default is 8,
     /// where the other commands default to 16: at 8 the seams it shows are larger (up to 43.7
-    /// degrees, against 22.1 at 16) and its renders take a second instead of six on a CPU
-    /// renderer (lavapipe).
+    /// degrees, against 22.1 at 16) and its renders are several times faster on a CPU
+    /// renderer (lavapipe; figures in BENCHMARKS.md).
     #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub tessellation: u32,
 }
@@ -68,7 +68,9 @@ pub struct FixArgs {
     pub input: PathBuf,
     /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
     /// missing) that receives one file per model, in the same subfolders as the input's, with
-    /// each model's textures beside it (.gltf, .obj) or inside it (.glb).
+    /// each model's textures beside it (.gltf, .obj) or inside it (.glb). glTF geometry that
+    /// came meshopt- or Draco-compressed is written uncompressed (a line says so); quantised
+    /// attributes (KHR_mesh_quantization) stay quantised.
     #[arg(long, short, value_name = "OUTPUT")]
     pub output: PathBuf,
     /// For a folder INPUT: only the models directly in it, not those in its subfolders.
@@ -255,7 +257,9 @@ pub struct ViewFlags {
     /// Multiplies the environment's light [default: the scene's, else 1].
     #[arg(long, value_name = "F", value_parser = parse_non_negative)]
     pub environment_intensity: Option<f32>,
-    /// Turns the environment about +Y, degrees [default: the scene's, else 0].
+    /// Turns the environment about +Y, degrees, counter-clockwise seen from above; at 0 the
+    /// middle of an .hdr panorama is at +Z, as in the Khronos glTF Sample Viewer at its
+    /// default (its environmentRotation V is 90 - V here) [default: the scene's, else 0].
     #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
     pub environment_rotation: Option<f32>,
     /// Background colour, sRGB 0..1, e.g. 1,1,1 [default: the scene's `background`, else the

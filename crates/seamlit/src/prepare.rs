@@ -7,9 +7,7 @@ use std::path::Path;
 use seamlit_io::{Asset, LoadOptions};
 use seamlit_mesh::{FixOptions, Mode};
 use seamlit_render::{Light, LightingModel};
-use seamlit_scene::{
-    Bounds, Camera, Scene, SceneModel, apply_overrides, ensure_material, merge, place,
-};
+use seamlit_scene::{Bounds, Camera, Scene, SceneModel};
 
 use crate::cli::{FixFlags, SceneArgs};
 use crate::failure::{Classify, Failure};
@@ -80,12 +78,10 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, Failure> {
     let scene = Scene::open(path).bad_input()?;
     let mut parts = Vec::with_capacity(scene.models.len());
     for model in &scene.models {
-        let mut asset = seamlit_io::load(&model.path, options).bad_input()?;
+        let asset = model.load_asset(options).bad_input()?;
         for warning in &asset.warnings {
             eprintln!("warning: {warning}");
         }
-        apply_overrides(&mut asset, &model.materials, &model.path).bad_input()?;
-        ensure_material(&mut asset);
         parts.push((model.clone(), asset));
     }
     Ok(Loaded { scene, parts })
@@ -103,11 +99,9 @@ impl Loaded {
             let options = fix.apply(model.fix, asset);
             let fixed = seamlit_mesh::fix(&asset.model, &options)
                 .map_err(|e| Failure::input(format!("{}: {e}", model.path.display())))?;
-            let mut out = Asset { model: fixed, ..asset.clone() };
-            place(&mut out, model.transform);
-            assets.push(out);
+            assets.push(Asset { model: fixed, ..asset.clone() });
         }
-        Ok(merge(assets))
+        Ok(self.scene.assemble(assets))
     }
 
     /// The lighting model the scene asks for (`[render] lighting`), else PBR when every model

@@ -1,23 +1,68 @@
 //! seamlit's PBR against the Khronos glTF Sample Viewer: each model in assets/sample-viewer
 //! rendered by `seamlit render` through the file's camera, with its one punctual light, no
-//! ambient light, no environment, no shadows (the Sample Viewer draws none) and PBR Neutral
-//! tone mapping, must stay within a mean FLIP error of 0.05 of
-//! the Sample Viewer's picture of it (made once by bench/sample-viewer/compare.sh; how, in
-//! assets/sample-viewer/README.md). On failure the picture and the side by side (Sample
-//! Viewer | seamlit | FLIP error) are left in the test's temporary folder, named in the message.
+//! ambient light, no shadows (the Sample Viewer draws none) and PBR Neutral tone mapping,
+//! must stay within the aim of the Sample Viewer's picture of it (made once by
+//! bench/sample-viewer/compare.sh; how, in assets/sample-viewer/README.md): a mean FLIP error
+//! under 0.05 without an environment (`NAME.viewer.png`), under 0.1 with sky.hdr as the
+//! environment in both (`NAME.environment.viewer.png`). On failure the picture and the side
+//! by side (Sample Viewer | seamlit | FLIP error) are left in the test's temporary folder,
+//! named in the message.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The aim for punctual lights only.
-const MEAN_FLIP_AIM: f32 = 0.05;
+/// How the model is lit besides its punctual light, with the aim for it.
+#[derive(Clone, Copy)]
+enum Lighting {
+    /// No environment: mean FLIP under 0.05.
+    PunctualOnly,
+    /// sky.hdr at intensity 1, rotation 0 (the Sample Viewer's default 90): under 0.1.
+    Environment,
+}
+
+impl Lighting {
+    fn aim(self) -> f32 {
+        match self {
+            Self::PunctualOnly => 0.05,
+            Self::Environment => 0.1,
+        }
+    }
+
+    /// The reference picture's file name.
+    fn reference(self, name: &str) -> String {
+        match self {
+            Self::PunctualOnly => format!("{name}.viewer.png"),
+            Self::Environment => format!("{name}.environment.viewer.png"),
+        }
+    }
+
+    /// `seamlit render`'s flags for it, as compare.sh passes them.
+    fn flags(self) -> Vec<String> {
+        let sky = data().join("sky.hdr").display().to_string();
+        let flags: &[&str] = match self {
+            Self::PunctualOnly => &["--environment", "none"],
+            // The Sample Viewer's clear colour, seamlit's default background (39, 39, 44).
+            Self::Environment => &[
+                "--environment",
+                &sky,
+                "--environment-intensity",
+                "1",
+                "--environment-rotation",
+                "0",
+                "--background",
+                "0.1529,0.1529,0.1725",
+            ],
+        };
+        flags.iter().map(|s| (*s).to_owned()).collect()
+    }
+}
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/sample-viewer")
 }
 
 /// `seamlit render NAME.toml` at the reference's size, as compare.sh runs it.
-fn render(name: &str, size: (u32, u32), out: &Path) -> image::RgbImage {
+fn render(name: &str, lighting: Lighting, size: (u32, u32), out: &Path) -> image::RgbImage {
     let output = Command::new(env!("CARGO_BIN_EXE_seamlit"))
         .arg("render")
         .arg(data().join(format!("{name}.toml")))
@@ -26,7 +71,8 @@ fn render(name: &str, size: (u32, u32), out: &Path) -> image::RgbImage {
         .args(["--size", &format!("{}x{}", size.0, size.1), "--camera", "compare"])
         .args(["--lighting", "pbr", "--tone-mapping", "neutral"])
         .args(["--exposure", "1", "--ambient", "0"])
-        .args(["--environment", "none", "--shadows", "off"])
+        .args(["--shadows", "off"])
+        .args(lighting.flags())
         .output()
         .expect("the binary runs");
     assert!(output.status.success(), "{name}: {}", String::from_utf8_lossy(&output.stderr));
@@ -46,16 +92,21 @@ fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, image::Rgb
     (mean, image::RgbImage::from_raw(w, h, map).expect("w x h RGB"))
 }
 
-fn within_aim_of_the_sample_viewer(name: &str) {
-    let reference = image::open(data().join(format!("{name}.viewer.png")))
+fn within_aim_of_the_sample_viewer(model: &str, lighting: Lighting) {
+    let reference = image::open(data().join(lighting.reference(model)))
         .expect("the Sample Viewer's picture")
         .to_rgb8();
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
     std::fs::create_dir_all(&dir).unwrap();
-    let ours = render(name, reference.dimensions(), &dir.join(format!("{name}.png")));
+    let name = match lighting {
+        Lighting::PunctualOnly => model.to_owned(),
+        Lighting::Environment => format!("{model}.environment"),
+    };
+    let ours = render(model, lighting, reference.dimensions(), &dir.join(format!("{name}.png")));
     assert_eq!(ours.dimensions(), reference.dimensions(), "{name}: picture size");
     let (mean, map) = flip(&reference, &ours);
-    if mean >= MEAN_FLIP_AIM {
+    let aim = lighting.aim();
+    if mean >= aim {
         let (w, h) = reference.dimensions();
         let mut sheet = image::RgbImage::new(w * 3, h);
         for (i, picture) in [&reference, &ours, &map].into_iter().enumerate() {
@@ -64,7 +115,7 @@ fn within_aim_of_the_sample_viewer(name: &str) {
         let path = dir.join(format!("{name}.side-by-side.png"));
         sheet.save(&path).unwrap();
         panic!(
-            "{name}: mean FLIP {mean:.4} against the Sample Viewer, aim < {MEAN_FLIP_AIM}; see {}",
+            "{name}: mean FLIP {mean:.4} against the Sample Viewer, aim < {aim}; see {}",
             path.display()
         );
     }
@@ -72,15 +123,30 @@ fn within_aim_of_the_sample_viewer(name: &str) {
 
 #[test]
 fn metallic_roughness_spheres_match_the_sample_viewer() {
-    within_aim_of_the_sample_viewer("spheres");
+    within_aim_of_the_sample_viewer("spheres", Lighting::PunctualOnly);
 }
 
 #[test]
 fn emissive_textured_occluded_and_alpha_materials_match_the_sample_viewer() {
-    within_aim_of_the_sample_viewer("materials");
+    within_aim_of_the_sample_viewer("materials", Lighting::PunctualOnly);
 }
 
 #[test]
 fn the_khronos_fox_matches_the_sample_viewer() {
-    within_aim_of_the_sample_viewer("Fox");
+    within_aim_of_the_sample_viewer("Fox", Lighting::PunctualOnly);
+}
+
+#[test]
+fn metallic_roughness_spheres_in_an_environment_match_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("spheres", Lighting::Environment);
+}
+
+#[test]
+fn materials_in_an_environment_match_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("materials", Lighting::Environment);
+}
+
+#[test]
+fn the_khronos_fox_in_an_environment_matches_the_sample_viewer() {
+    within_aim_of_the_sample_viewer("Fox", Lighting::Environment);
 }

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 use image::RgbaImage;
 use seamlit_io::{Asset, Material, Texture, TextureRef, TextureSource};
 use seamlit_mesh::{Model, Object};
-use seamlit_render::{FrameDescriptor, GpuContext, RenderError, Renderer};
+use seamlit_render::{FrameDescriptor, FrameSettings, GpuContext, GpuScene, RenderError, Renderer};
 
 /// The headless context (lavapipe on CI).
 pub fn ctx() -> GpuContext {
@@ -25,6 +25,31 @@ pub fn render_image(
     frame: &FrameDescriptor<'_>,
 ) -> Result<RgbaImage, RenderError> {
     Renderer::for_images(ctx)?.render_to_image(ctx, frame)
+}
+
+/// A square orthographic view: [`ortho_camera`]`(half)` onto `size` x `size` pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct Ortho {
+    /// World units shown above, below and to each side of the centre.
+    pub half: f32,
+    /// Pixels per side.
+    pub size: u32,
+}
+
+/// One frame of `scene` seen through `view`, rendered by a fresh [`Renderer::for_images`].
+pub fn render_ortho(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    settings: &FrameSettings,
+    view: Ortho,
+) -> RgbaImage {
+    let frame = FrameDescriptor {
+        scene,
+        camera: &ortho_camera(view.half),
+        settings,
+        size: (view.size, view.size),
+    };
+    render_image(ctx, &frame).expect("render")
 }
 
 /// A square in the plane z = 0, from -half to +half, facing +Z, with normal +Z, tangent +X
@@ -72,6 +97,17 @@ pub fn asset(mut object: Object, material: Material, textures: Vec<Texture>) -> 
     }
 }
 
+/// `v` scaled to unit length.
+pub fn normalize(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / l, v[1] / l, v[2] / l]
+}
+
+/// The dot product.
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 /// Linear to sRGB, as a byte value (not rounded).
 pub fn srgb(linear: f64) -> f64 {
     let l = linear.clamp(0.0, 1.0);
@@ -93,15 +129,15 @@ pub fn pixel_world(x: u32, y: u32, size: u32, half: f32) -> [f64; 3] {
 
 /// An orthographic camera on the +Z axis looking at the origin, showing +-`half`.
 pub fn ortho_camera(half: f32) -> seamlit_render::CameraView {
-    seamlit_render::CameraView::orthographic(
-        Vec3::new(0.0, 0.0, 5.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        half,
-        1.0,
-        0.1,
-        10.0,
-    )
+    seamlit_render::CameraView::look_at(&seamlit_render::CameraDescriptor {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: seamlit_render::Projection::Orthographic { half_height: half },
+        aspect: 1.0,
+        near: 0.1,
+        far: 10.0,
+    })
 }
 
 /// Where tests write images: target/tmp/seamlit-render/NAME.png. Returns the path.

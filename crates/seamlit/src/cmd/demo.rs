@@ -27,6 +27,19 @@ const TEAPOT_NAME: &str = "teapot (embedded Newell patches)";
 pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let asset = demo::teapot_asset(args.tessellation).processing()?;
+    print_seam_report(&asset)?;
+    crate::output::prepare_folder(&args.out)?;
+    let (mut written, adapter) = write_pictures(args, demo_scene(asset.clone()))?;
+    written.push(write_fixed_model(asset, &args.out)?);
+    for path in &written {
+        println!("wrote {}", path.display());
+    }
+    println!("({} on {adapter}, {:.1} s)", format_size(args.size), start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Prints the model's size and the seam report before (`object` mode) and after (`model`).
+fn print_seam_report(asset: &Asset) -> Result<(), Failure> {
     println!(
         "The Newell teapot: {} Bezier patches tessellated into {} objects, {} triangles, with a brick normal map made in code.\n",
         asset.model.objects.len(),
@@ -47,9 +60,12 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
         fmt(object.cross_object.max_normal_angle_deg),
         fmt(model.cross_object.max_normal_angle_deg)
     );
+    Ok(())
+}
 
-    crate::output::prepare_folder(&args.out)?;
-    let loaded = demo_scene(asset.clone());
+/// Renders the three modes and writes them, then the grid of all three, into `args.out`.
+/// Returns the files written and the adapter that drew them.
+fn write_pictures(args: &DemoArgs, loaded: Loaded) -> Result<(Vec<PathBuf>, String), Failure> {
     let view = ViewFlags {
         size: args.size,
         camera: None,
@@ -76,24 +92,17 @@ pub fn run(args: &DemoArgs) -> Result<(), Failure> {
     let compare = args.out.join("compare.png");
     save_png(&grid(images), &compare).processing()?;
     written.push(compare);
+    Ok((written, gpu.ctx.describe()))
+}
 
+/// Fixes the teapot in `model` mode and writes it as `teapot-fixed.glb` into `out`.
+fn write_fixed_model(asset: Asset, out: &Path) -> Result<PathBuf, Failure> {
     let fixed = seamlit_mesh::fix(&asset.model, &FixOptions::DEFAULT.with_mode(Mode::Model))
         .map_err(|e| Failure::processing(format!("{TEAPOT_NAME}: {e}")))?;
-    let glb = args.out.join("teapot-fixed.glb");
+    let glb = out.join("teapot-fixed.glb");
     seamlit_io::save(&Asset { model: fixed, ..asset }, &glb, &SaveOptions::default())
         .processing()?;
-    written.push(glb);
-
-    for path in &written {
-        println!("wrote {}", path.display());
-    }
-    println!(
-        "({} on {}, {:.1} s)",
-        format_size(args.size),
-        gpu.ctx.describe(),
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
+    Ok(glb)
 }
 
 fn format_size((w, h): (u32, u32)) -> String {

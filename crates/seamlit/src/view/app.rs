@@ -8,7 +8,7 @@ use glam::Vec2;
 use image::RgbaImage;
 use seamlit_io::Asset;
 use seamlit_render::{
-    Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene,
+    CameraView, Environment, FrameDescriptor, FrameSettings, GpuContext, GpuEnvironment, GpuScene,
     IMAGE_FORMAT, Renderer,
 };
 use seamlit_scene::{Bounds, Camera, FpsController, OrbitController};
@@ -57,6 +57,162 @@ struct Gfx {
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
     can_copy: bool,
+}
+
+/// What the panel gave this frame.
+struct PanelOutput {
+    /// The settings as the panel left them.
+    settings: Settings,
+    actions: Actions,
+    /// The pointer is over the picture, not the panel: it moves the camera.
+    pointer_free: bool,
+    overlay: Overlay,
+}
+
+/// The panel as drawn over the scene.
+struct Overlay {
+    /// The panel's triangles.
+    paint: Vec<egui::ClippedPrimitive>,
+    pixels_per_point: f32,
+    /// The panel's right edge, in physical pixels.
+    panel_px: f32,
+}
+
+/// One frame of the window: the scene as `camera` sees it, the panel over it.
+struct WindowFrame<'a> {
+    camera: &'a CameraView,
+    settings: &'a FrameSettings,
+    overlay: &'a Overlay,
+    /// Copy the frame for a screenshot.
+    copy: bool,
+}
+
+impl Gfx {
+    /// The window's next surface texture; `None` when there is none this frame (the surface
+    /// is configured again when it was outdated or lost).
+    fn acquire(&self) -> Option<wgpu::SurfaceTexture> {
+        match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(self.ctx.device(), &self.config);
+                None
+            }
+            _ => None,
+        }
+    }
+
+    /// Draws the scene and the panel over it into `surface` and presents it, applying the
+    /// panel's `textures` changes; returns the copy of the frame when `frame.copy` asks for
+    /// one and the surface can be copied from.
+    fn draw(
+        &mut self,
+        surface: wgpu::SurfaceTexture,
+        frame: &WindowFrame<'_>,
+        mut textures: egui::TexturesDelta,
+    ) -> Result<Option<super::capture::Pending>, Failure> {
+        // Drained now: egui asserts that no delta is dropped unapplied, even on an error.
+        let texture_sets: Vec<_> = textures.set.drain().collect();
+        let texture_frees: Vec<_> = textures.free.drain().collect();
+        let (width, height) = (self.config.width, self.config.height);
+        let target = surface.texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let mut encoder =
+            self.ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("seamlit view"),
+            });
+        self.renderer
+            .encode(
+                &self.ctx,
+                &mut encoder,
+                &FrameDescriptor {
+                    scene: &self.scene,
+                    camera: frame.camera,
+                    settings: frame.settings,
+                    size: (width, height),
+                },
+                &target,
+            )
+            .processing()?;
+        let extra = self.encode_panel(&mut encoder, &target, frame.overlay, &texture_sets);
+        let readback = (frame.copy && self.can_copy).then(|| {
+            super::capture::copy_to_buffer(
+                self.ctx.device(),
+                &mut encoder,
+                &surface.texture,
+                width,
+                height,
+            )
+        });
+        self.ctx.queue().submit(extra.into_iter().chain([encoder.finish()]));
+        self.ctx.queue().present(surface);
+        for id in &texture_frees {
+            self.egui_renderer.free_texture(id);
+        }
+        Ok(readback)
+    }
+
+    /// Records the panel over `target`: the texture updates in `textures`, its buffers and
+    /// its pass. Returns the command buffers egui-wgpu needs submitted before `encoder`.
+    fn encode_panel(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        overlay: &Overlay,
+        textures: &[(egui::TextureId, impl AsRef<[egui::epaint::ImageDelta]>)],
+    ) -> Vec<wgpu::CommandBuffer> {
+        let (device, queue) = (self.ctx.device(), self.ctx.queue());
+        for (id, deltas) in textures {
+            let deltas = deltas.as_ref();
+            for delta in deltas {
+                self.egui_renderer.update_texture(device, queue, *id, delta);
+            }
+        }
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [self.config.width, self.config.height],
+            pixels_per_point: overlay.pixels_per_point,
+        };
+        let extra =
+            self.egui_renderer.update_buffers(device, queue, encoder, &overlay.paint, &screen);
+        let mut pass = encoder
+            .begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                ..Default::default()
+            })
+            .forget_lifetime();
+        self.egui_renderer.render(&mut pass, &overlay.paint, &screen);
+        extra
+    }
+
+    /// The screenshot: the frame copied into `readback`, or, when the surface could not be
+    /// copied from, the scene (without the panel) rendered offscreen.
+    fn screenshot(
+        &self,
+        readback: Option<super::capture::Pending>,
+        frame: &WindowFrame<'_>,
+    ) -> Result<RgbaImage, Failure> {
+        if let Some(buffer) = readback {
+            return super::capture::read(&self.ctx, buffer, self.config.format);
+        }
+        let mut offscreen = Renderer::new(&self.ctx, IMAGE_FORMAT, 1).processing()?;
+        offscreen.set_environment(self.environment.clone());
+        offscreen
+            .render_to_image(
+                &self.ctx,
+                &FrameDescriptor {
+                    scene: &self.scene,
+                    camera: frame.camera,
+                    settings: frame.settings,
+                    size: (self.config.width, self.config.height),
+                },
+            )
+            .processing()
+    }
 }
 
 /// The viewer.
@@ -147,26 +303,8 @@ impl Viewer {
         let instance = GpuContext::new_instance();
         let surface = instance.create_surface(window.clone()).processing()?;
         let ctx = GpuContext::for_surface(instance, &surface).processing()?;
-        let caps = surface.get_capabilities(ctx.adapter());
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(wgpu::TextureFormat::is_srgb)
-            .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| Failure::processing("the window surface offers no pixel format"))?;
-        let can_copy = caps.usages.contains(wgpu::TextureUsages::COPY_SRC);
-        let size = window.inner_size();
-        let mut config = surface
-            .get_default_config(ctx.adapter(), size.width.max(1), size.height.max(1))
-            .ok_or_else(|| {
-                Failure::processing("the window surface is not supported by the adapter")
-            })?;
-        config.format = format;
-        config.usage = wgpu::TextureUsages::RENDER_ATTACHMENT
-            | if can_copy { wgpu::TextureUsages::COPY_SRC } else { wgpu::TextureUsages::empty() };
-        config.present_mode = wgpu::PresentMode::AutoVsync;
-        surface.configure(ctx.device(), &config);
+        let (config, can_copy) = configure_surface(&surface, &ctx, window.inner_size())?;
+        let format = config.format;
         let samples = if ctx.supported_sample_counts(format).contains(&4) { 4 } else { 1 };
         let mut renderer = Renderer::new(&ctx, format, samples).processing()?;
         let environment = self
@@ -178,16 +316,7 @@ impl Viewer {
             .processing()?;
         renderer.set_environment(environment.clone());
         let scene = GpuScene::upload(&ctx, &self.asset).processing()?;
-        let egui_ctx = egui::Context::default();
-        let max_texture = usize::try_from(ctx.device().limits().max_texture_dimension_2d).ok();
-        let egui_state = egui_winit::State::new(
-            egui_ctx,
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            None,
-            max_texture,
-        );
+        let egui_state = egui_state(&ctx, &window);
         let egui_renderer =
             egui_wgpu::Renderer::new(ctx.device(), format, egui_wgpu::RendererOptions::default());
         Ok(Gfx {
@@ -295,14 +424,55 @@ impl Viewer {
 
     /// Draws one frame; returns a screenshot when one was taken.
     fn redraw(&mut self) -> Result<Option<RgbaImage>, Failure> {
+        let dt = self.tick();
+        let Some(PanelOutput { settings: edited, actions, pointer_free, overlay }) =
+            self.run_panel()
+        else {
+            return Ok(None);
+        };
+        self.apply_panel(edited, actions);
+        self.refix_if_needed();
+        self.update_camera(dt, pointer_free);
+        let Some(size) = self.gfx.as_ref().map(|g| (g.config.width, g.config.height)) else {
+            return Ok(None);
+        };
+        let camera = self.camera_view(size, overlay.panel_px);
+        let settings = self.frame_settings();
+        let copy = self.screenshot_due();
+        let Some(gfx) = self.gfx.as_mut() else { return Ok(None) };
+        let Some(surface) = gfx.acquire() else { return Ok(None) };
+        let frame = WindowFrame { camera: &camera, settings: &settings, overlay: &overlay, copy };
+        let readback = gfx.draw(surface, &frame, std::mem::take(&mut self.pending_textures))?;
+        self.frames += 1;
+        if !copy {
+            return Ok(None);
+        }
+        self.screenshot_requested = false;
+        gfx.screenshot(readback, &frame).map(Some)
+    }
+
+    /// Whether this frame is kept as a screenshot: F12 or the panel's button was pressed, or
+    /// it is the last frame of a run with `--screenshot` and `--exit-after-frames`.
+    fn screenshot_due(&self) -> bool {
+        self.screenshot_requested
+            || (self.options.screenshot.is_some()
+                && self.options.exit_after_frames == Some(self.frames + 1))
+    }
+
+    /// Advances the clock: returns the seconds since the last frame (at most a quarter) and
+    /// updates the smoothed frame time.
+    fn tick(&mut self) -> f32 {
         let now = Instant::now();
         let dt = (now - self.last_frame).as_secs_f32().min(0.25);
         self.last_frame = now;
         let ms = dt * 1e3;
         self.frame_ms = if self.frame_ms == 0.0 { ms } else { self.frame_ms * 0.9 + ms * 0.1 };
+        dt
+    }
 
-        let Some(gfx) = self.gfx.as_mut() else { return Ok(None) };
-        // The panel.
+    /// Runs the panel on this frame's input; `None` before the window exists.
+    fn run_panel(&mut self) -> Option<PanelOutput> {
+        let gfx = self.gfx.as_mut()?;
         let raw = gfx.egui_state.take_egui_input(&gfx.window);
         let egui_ctx = gfx.egui_state.egui_ctx().clone();
         let mut settings = self.settings.clone();
@@ -329,13 +499,23 @@ impl Viewer {
         });
         gfx.egui_state.handle_platform_output(&gfx.window, output.platform_output);
         let pointer_free = !egui_ctx.egui_wants_pointer_input() && !egui_ctx.is_pointer_over_egui();
-        let paint = egui_ctx.tessellate(output.shapes, output.pixels_per_point);
-        // Kept until a frame is drawn: a frame skipped below must not lose the font atlas.
-        let mut textures = output.textures_delta;
-        self.pending_textures.append(std::mem::take(&mut textures));
-        let panel_px = panel_right * output.pixels_per_point;
-        let ppp = output.pixels_per_point;
+        // Kept until a frame is drawn: a frame skipped later must not lose the font atlas.
+        self.pending_textures.append(output.textures_delta);
+        Some(PanelOutput {
+            settings,
+            actions,
+            pointer_free,
+            overlay: Overlay {
+                paint: egui_ctx.tessellate(output.shapes, output.pixels_per_point),
+                pixels_per_point: output.pixels_per_point,
+                panel_px: panel_right * output.pixels_per_point,
+            },
+        })
+    }
 
+    /// Takes the settings as the panel left them, switching camera or controller where they
+    /// changed, and records the buttons pressed.
+    fn apply_panel(&mut self, mut settings: Settings, actions: Actions) {
         if settings.camera != self.settings.camera {
             self.select_camera(settings.camera);
             settings.camera = self.settings.camera;
@@ -348,13 +528,11 @@ impl Viewer {
             self.select_camera(self.settings.camera);
         }
         self.screenshot_requested |= actions.screenshot;
-        self.refix_if_needed();
-        self.update_camera(dt, pointer_free);
+    }
 
-        let frame_settings = self.frame_settings();
-        let Some(gfx) = self.gfx.as_mut() else { return Ok(None) };
-        let (width, height) = (gfx.config.width, gfx.config.height);
-        // The panel covers the left of the window: centre the picture in what is left of it.
+    /// The camera's view for a window of `width` x `height` pixels whose left `panel_px`
+    /// pixels the panel covers: the picture is centred in what is left of it.
+    fn camera_view(&self, (width, height): (u32, u32), panel_px: f32) -> CameraView {
         let visible = (width as f32 - panel_px).max(1.0);
         let mut view = self.current.view(visible / height as f32, Some(self.bounds));
         view.projection = glam::Mat4::from_scale(glam::Vec3::new(visible / width as f32, 1.0, 1.0))
@@ -362,99 +540,46 @@ impl Viewer {
         view.projection =
             glam::Mat4::from_translation(glam::Vec3::new(panel_px / width as f32, 0.0, 0.0))
                 * view.projection;
+        view
+    }
 
-        let frame = match gfx.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                gfx.surface.configure(gfx.ctx.device(), &gfx.config);
-                return Ok(None);
+    /// Esc quits, F12 takes a screenshot, Tab switches controller, 1 to 9 pick a camera.
+    fn key_pressed(&mut self, event_loop: &ActiveEventLoop, key: PhysicalKey) {
+        match key {
+            PhysicalKey::Code(KeyCode::Escape) => event_loop.exit(),
+            PhysicalKey::Code(KeyCode::F12) => self.screenshot_requested = true,
+            PhysicalKey::Code(KeyCode::Tab) => {
+                let to = match self.settings.controller {
+                    Controller::Orbit => Controller::Fps,
+                    Controller::Fps => Controller::Orbit,
+                };
+                self.switch_controller(to);
             }
-            _ => return Ok(None),
-        };
-        let texture_sets: Vec<_> = self.pending_textures.set.drain().collect();
-        let texture_frees: Vec<_> = self.pending_textures.free.drain().collect();
-        let target = frame.texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let device = gfx.ctx.device();
-        let queue = gfx.ctx.queue();
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("seamlit view"),
-        });
-        gfx.renderer
-            .encode(
-                &gfx.ctx,
-                &mut encoder,
-                &FrameDescriptor {
-                    scene: &gfx.scene,
-                    camera: &view,
-                    settings: &frame_settings,
-                    size: (width, height),
-                },
-                &target,
-            )
-            .processing()?;
-        for (id, deltas) in &texture_sets {
-            for delta in deltas {
-                gfx.egui_renderer.update_texture(device, queue, *id, delta);
+            PhysicalKey::Code(code) => {
+                if let Some(i) = digit(code) {
+                    self.select_camera(i);
+                }
             }
+            PhysicalKey::Unidentified(_) => {}
         }
-        let screen =
-            egui_wgpu::ScreenDescriptor { size_in_pixels: [width, height], pixels_per_point: ppp };
-        let extra = gfx.egui_renderer.update_buffers(device, queue, &mut encoder, &paint, &screen);
-        {
-            let mut pass = encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("egui"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &target,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    ..Default::default()
-                })
-                .forget_lifetime();
-            gfx.egui_renderer.render(&mut pass, &paint, &screen);
-        }
-        let take_shot = self.screenshot_requested
-            || (self.options.screenshot.is_some()
-                && self.options.exit_after_frames == Some(self.frames + 1));
-        let readback = (take_shot && gfx.can_copy).then(|| {
-            super::capture::copy_to_buffer(device, &mut encoder, &frame.texture, width, height)
-        });
-        queue.submit(extra.into_iter().chain([encoder.finish()]));
-        queue.present(frame);
-        for id in &texture_frees {
-            gfx.egui_renderer.free_texture(id);
-        }
-        self.frames += 1;
-        if !take_shot {
-            return Ok(None);
-        }
-        self.screenshot_requested = false;
-        let image = match readback {
-            Some(buffer) => super::capture::read(&gfx.ctx, buffer, gfx.config.format)?,
-            // The surface cannot be copied from: render the scene (without the panel) offscreen.
-            None => {
-                let mut offscreen = Renderer::new(&gfx.ctx, IMAGE_FORMAT, 1).processing()?;
-                offscreen.set_environment(gfx.environment.clone());
-                offscreen
-                    .render_to_image(
-                        &gfx.ctx,
-                        &FrameDescriptor {
-                            scene: &gfx.scene,
-                            camera: &view,
-                            settings: &frame_settings,
-                            size: (width, height),
-                        },
-                    )
-                    .processing()?
+    }
+
+    /// Draws a frame, saves the screenshot taken, and stops after a failure or the frames
+    /// asked for.
+    fn redraw_requested(&mut self, event_loop: &ActiveEventLoop) {
+        match self.redraw() {
+            Ok(shot) => {
+                if let Some(image) = shot {
+                    self.save_screenshot(&image);
+                }
+                if self.failure.is_some()
+                    || self.options.exit_after_frames.is_some_and(|n| self.frames >= n)
+                {
+                    event_loop.exit();
+                }
             }
-        };
-        Ok(Some(image))
+            Err(f) => self.fail(event_loop, f),
+        }
     }
 
     fn save_screenshot(&mut self, image: &RgbaImage) {
@@ -479,6 +604,47 @@ impl Viewer {
             }
         }
     }
+}
+
+/// Configures `surface` for a window of `size`: an sRGB format where there is one, vsync,
+/// copyable where the surface allows it. Returns the configuration and whether frames can be
+/// copied (for screenshots).
+fn configure_surface(
+    surface: &wgpu::Surface<'_>,
+    ctx: &GpuContext,
+    size: PhysicalSize<u32>,
+) -> Result<(wgpu::SurfaceConfiguration, bool), Failure> {
+    let caps = surface.get_capabilities(ctx.adapter());
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(wgpu::TextureFormat::is_srgb)
+        .or_else(|| caps.formats.first().copied())
+        .ok_or_else(|| Failure::processing("the window surface offers no pixel format"))?;
+    let can_copy = caps.usages.contains(wgpu::TextureUsages::COPY_SRC);
+    let mut config = surface
+        .get_default_config(ctx.adapter(), size.width.max(1), size.height.max(1))
+        .ok_or_else(|| Failure::processing("the window surface is not supported by the adapter"))?;
+    config.format = format;
+    config.usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | if can_copy { wgpu::TextureUsages::COPY_SRC } else { wgpu::TextureUsages::empty() };
+    config.present_mode = wgpu::PresentMode::AutoVsync;
+    surface.configure(ctx.device(), &config);
+    Ok((config, can_copy))
+}
+
+/// egui's state for `window`, its textures limited to what the device allows.
+fn egui_state(ctx: &GpuContext, window: &Window) -> egui_winit::State {
+    let max_texture = usize::try_from(ctx.device().limits().max_texture_dimension_2d).ok();
+    egui_winit::State::new(
+        egui::Context::default(),
+        egui::ViewportId::ROOT,
+        window,
+        Some(window.scale_factor() as f32),
+        None,
+        max_texture,
+    )
 }
 
 fn fix_override(base: &FixOverride, s: &Settings) -> FixOverride {
@@ -529,23 +695,7 @@ impl ApplicationHandler for Viewer {
                 }
                 self.held.key(key.physical_key, key.state);
                 if key.state == ElementState::Pressed && !key.repeat {
-                    match key.physical_key {
-                        PhysicalKey::Code(KeyCode::Escape) => event_loop.exit(),
-                        PhysicalKey::Code(KeyCode::F12) => self.screenshot_requested = true,
-                        PhysicalKey::Code(KeyCode::Tab) => {
-                            let to = match self.settings.controller {
-                                Controller::Orbit => Controller::Fps,
-                                Controller::Fps => Controller::Orbit,
-                            };
-                            self.switch_controller(to);
-                        }
-                        PhysicalKey::Code(code) => {
-                            if let Some(i) = digit(code) {
-                                self.select_camera(i);
-                            }
-                        }
-                        PhysicalKey::Unidentified(_) => {}
-                    }
+                    self.key_pressed(event_loop, key.physical_key);
                 }
             }
             WindowEvent::MouseInput { state, button, .. }
@@ -562,19 +712,7 @@ impl ApplicationHandler for Viewer {
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
                 };
             }
-            WindowEvent::RedrawRequested => match self.redraw() {
-                Ok(shot) => {
-                    if let Some(image) = shot {
-                        self.save_screenshot(&image);
-                    }
-                    if self.failure.is_some()
-                        || self.options.exit_after_frames.is_some_and(|n| self.frames >= n)
-                    {
-                        event_loop.exit();
-                    }
-                }
-                Err(f) => self.fail(event_loop, f),
-            },
+            WindowEvent::RedrawRequested => self.redraw_requested(event_loop),
             _ => {}
         }
     }

@@ -84,6 +84,27 @@ pub struct Actions {
 /// Draws the panel into `ui`, editing `s`.
 pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     let mut actions = Actions::default();
+    readout(ui, r);
+    ui.separator();
+    processing(ui, s);
+    ui.separator();
+    shading(ui, s);
+    ui.separator();
+    actions.reset_camera = camera(ui, s, r.cameras);
+    ui.separator();
+    lights(ui, &mut s.lights);
+    ui.separator();
+    if ui.button("screenshot (F12)").clicked() {
+        actions.screenshot = true;
+    }
+    if !r.status.is_empty() {
+        ui.label(r.status);
+    }
+    actions
+}
+
+/// The heading, the model's size, the frame and fix times, the adapter.
+fn readout(ui: &mut Ui, r: &Readout<'_>) {
     ui.heading("seamlit");
     ui.label(format!(
         "{}, {}",
@@ -97,8 +118,10 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
         r.fix_ms
     ));
     ui.small(r.adapter);
-    ui.separator();
+}
 
+/// Mode, crease angle and weighting: what re-runs the fix.
+fn processing(ui: &mut Ui, s: &mut Settings) {
     ui.strong("Processing");
     ComboBox::from_label("mode").selected_text(mode_name(s.mode)).show_ui(ui, |ui| {
         for m in [Mode::Flat, Mode::Object, Mode::Model] {
@@ -114,8 +137,10 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
             }
         },
     );
-    ui.separator();
+}
 
+/// Lighting model, normal mapping, debug view and TBN lines.
+fn shading(ui: &mut Ui, s: &mut Settings) {
     ui.strong("Shading");
     ComboBox::from_label("lighting").selected_text(format!("{:?}", s.lighting)).show_ui(ui, |ui| {
         for l in [
@@ -146,22 +171,24 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
         }
     });
     ui.checkbox(&mut s.show_tbn, "TBN lines");
-    ui.separator();
+}
 
+/// The camera among `cameras`, the controller and its keys; returns whether "reset" was
+/// clicked.
+fn camera(ui: &mut Ui, s: &mut Settings, cameras: &[String]) -> bool {
     ui.strong("Camera");
     ComboBox::from_label("camera")
-        .selected_text(r.cameras.get(s.camera).map_or("-", String::as_str))
+        .selected_text(cameras.get(s.camera).map_or("-", String::as_str))
         .show_ui(ui, |ui| {
-            for (i, name) in r.cameras.iter().enumerate() {
+            for (i, name) in cameras.iter().enumerate() {
                 ui.selectable_value(&mut s.camera, i, name);
             }
         });
+    let mut reset = false;
     ui.horizontal(|ui| {
         ui.radio_value(&mut s.controller, Controller::Orbit, "orbit");
         ui.radio_value(&mut s.controller, Controller::Fps, "FPS");
-        if ui.button("reset").clicked() {
-            actions.reset_camera = true;
-        }
+        reset = ui.button("reset").clicked();
     });
     ui.small(match s.controller {
         Controller::Orbit => "drag: orbit · scroll: zoom · middle-drag: pan · Tab: FPS",
@@ -169,11 +196,14 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
             "WASD: move · E/Q: up/down · right-drag: look · Shift: fast · Tab: orbit"
         }
     });
-    ui.separator();
+    reset
+}
 
+/// Each light with its editor and a remove button, then buttons that add one.
+fn lights(ui: &mut Ui, lights: &mut Vec<Light>) {
     ui.strong("Lights");
     let mut remove = None;
-    for (i, light) in s.lights.iter_mut().enumerate() {
+    for (i, light) in lights.iter_mut().enumerate() {
         ui.push_id(i, |ui| {
             ui.horizontal(|ui| {
                 ui.label(format!("{} {}", i + 1, light_kind(light)));
@@ -185,18 +215,18 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
         });
     }
     if let Some(i) = remove {
-        s.lights.remove(i);
+        lights.remove(i);
     }
     ui.horizontal(|ui| {
         if ui.button("+ directional").clicked() {
-            s.lights.push(Light::Directional {
+            lights.push(Light::Directional {
                 direction: Vec3::new(0.0, -1.0, -1.0),
                 color: Vec3::ONE,
                 intensity: 0.5,
             });
         }
         if ui.button("+ point").clicked() {
-            s.lights.push(Light::Point {
+            lights.push(Light::Point {
                 position: Vec3::new(0.0, 3.0, 3.0),
                 color: Vec3::ONE,
                 intensity: 0.8,
@@ -204,14 +234,6 @@ pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
             });
         }
     });
-    ui.separator();
-    if ui.button("screenshot (F12)").clicked() {
-        actions.screenshot = true;
-    }
-    if !r.status.is_empty() {
-        ui.label(r.status);
-    }
-    actions
 }
 
 fn mode_name(m: Mode) -> &'static str {
