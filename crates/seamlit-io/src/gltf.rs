@@ -1175,22 +1175,27 @@ impl Reader<'_> {
 
 /// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]);
 /// `None` for a texture whose image only an extension names (no `source`: KTX2 through
-/// KHR_texture_basisu, WebP), which seamlit does not decode.
+/// KHR_texture_basisu, WebP), which seamlit does not decode. The coordinate set is the texture
+/// info's `texCoord` unless its KHR_texture_transform gives its own, which then overrides it
+/// (the extension's specification).
 fn texture_ref(
     texture: &gltf::Texture<'_>,
     tex_coord: u32,
-    transform: Option<UvTransform>,
+    transform: Option<(UvTransform, Option<u32>)>,
 ) -> Option<TextureRef> {
+    let tex_coord = transform.and_then(|(_, own)| own).unwrap_or(tex_coord);
+    let transform = transform.map(|(t, _)| t);
     Some(TextureRef { texture: texture.source()?.index(), tex_coord, transform })
 }
 
-fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> UvTransform {
-    UvTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale() }
+/// KHR_texture_transform as the gltf crate types it, with its `texCoord` override.
+fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> (UvTransform, Option<u32>) {
+    (UvTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale() }, t.tex_coord())
 }
 
 /// KHR_texture_transform from raw extension JSON (the gltf crate does not type it on
-/// normal textures).
-fn uv_transform_json(value: &serde_json::Value) -> UvTransform {
+/// normal and occlusion textures), with its `texCoord` override.
+fn uv_transform_json(value: &serde_json::Value) -> (UvTransform, Option<u32>) {
     let pair = |key: &str, default: [f32; 2]| -> [f32; 2] {
         value
             .get(key)
@@ -1198,11 +1203,16 @@ fn uv_transform_json(value: &serde_json::Value) -> UvTransform {
             .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
             .unwrap_or(default)
     };
-    UvTransform {
+    let transform = UvTransform {
         offset: pair("offset", [0.0, 0.0]),
         rotation: value.get("rotation").and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32,
         scale: pair("scale", [1.0, 1.0]),
-    }
+    };
+    let tex_coord = value
+        .get("texCoord")
+        .and_then(serde_json::Value::as_u64)
+        .and_then(|set| u32::try_from(set).ok());
+    (transform, tex_coord)
 }
 
 fn material(m: &gltf::Material<'_>) -> Material {

@@ -87,6 +87,36 @@ fn every_metallic_roughness_input_is_read() {
 }
 
 #[test]
+fn a_texture_transform_texcoord_overrides_the_slots() {
+    // KHR_texture_transform: "texCoord: overrides the textureInfo texCoord value if
+    // supplied". Base colour and normal map name set 0 and their transform set 1; occlusion
+    // names set 1 and has a transform without texCoord, so it keeps 1; emissive has none.
+    let dir = tempfile::tempdir().unwrap();
+    let transform = |set: Option<u32>| match set {
+        Some(set) => json!({ "KHR_texture_transform": { "offset": [0.5, 0.0], "texCoord": set } }),
+        None => json!({ "KHR_texture_transform": { "offset": [0.5, 0.0] } }),
+    };
+    let material = json!({
+        "pbrMetallicRoughness": {
+            "baseColorTexture": { "index": 0, "texCoord": 0, "extensions": transform(Some(1)) }
+        },
+        "normalTexture": { "index": 1, "extensions": transform(Some(1)) },
+        "occlusionTexture": { "index": 2, "texCoord": 1, "extensions": transform(None) },
+        "emissiveTexture": { "index": 0, "texCoord": 1 }
+    });
+    let asset = load(dir.path(), "sets.gltf", &document(&material, 3, &json!({})));
+    let m = &asset.materials[0];
+    let slot = |r: Option<&seamlit_io::TextureRef>| {
+        let r = r.unwrap();
+        (r.tex_coord, r.transform.map(|t| t.offset))
+    };
+    assert_eq!(slot(m.base_color_texture.as_ref()), (1, Some([0.5, 0.0])));
+    assert_eq!(slot(m.normal_texture.as_ref()), (1, Some([0.5, 0.0])));
+    assert_eq!(slot(m.occlusion_texture.as_ref()), (1, Some([0.5, 0.0])));
+    assert_eq!(slot(m.emissive_texture.as_ref()), (1, None));
+}
+
+#[test]
 fn the_specification_defaults_apply_when_the_file_is_silent() {
     let dir = tempfile::tempdir().unwrap();
     let asset =
