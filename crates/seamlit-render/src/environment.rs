@@ -94,7 +94,7 @@ impl GpuEnvironment {
         }
         ctx.scoped("prefiltering the environment", || {
             let targets = Targets::new(ctx);
-            let module = ctx.device().create_shader_module(wgpu::include_wgsl!("ibl.wgsl"));
+            let module = crate::shaders::IBL.module(ctx.device());
             let mut encoder =
                 ctx.device().create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("seamlit environment"),
@@ -216,12 +216,12 @@ fn source_texture(ctx: &GpuContext, environment: &Environment) -> wgpu::Texture 
 /// `Params` in `ibl.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct ParamsRaw {
-    size: u32,
-    kind: u32,
-    roughness: f32,
-    base_size: f32,
-    color: [f32; 4],
+pub(crate) struct ParamsRaw {
+    pub size: u32,
+    pub kind: u32,
+    pub roughness: f32,
+    pub base_size: f32,
+    pub color: [f32; 4],
 }
 
 fn step(ctx: &GpuContext, module: &wgpu::ShaderModule, entry: &str) -> Step {

@@ -81,6 +81,7 @@ mod readback;
 mod renderer;
 mod scene;
 mod settings;
+mod shaders;
 mod shadow;
 mod texture;
 

@@ -77,14 +77,7 @@ struct Material {
     pad2: u32,
 }
 
-struct Object {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    det_sign: f32,
-    object_id: u32,
-    flip_v: u32,
-    has_tangents: u32,
-}
+// `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
 
 // Light kinds (LightRaw::DIRECTIONAL, POINT, SPOT).
 const LIGHT_DIRECTIONAL: u32 = 0u;

@@ -23,7 +23,7 @@ impl Pipelines {
         let device = ctx.device();
         let shared = Shared {
             device,
-            module: &device.create_shader_module(wgpu::include_wgsl!("mesh.wgsl")),
+            module: &crate::shaders::MESH.module(device),
             layout: &mesh_layout(ctx),
             format,
             multisample: wgpu::MultisampleState {

@@ -233,7 +233,7 @@ fn pass_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 
 fn pipeline(ctx: &GpuContext, pass_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
     let device = ctx.device();
-    let module = device.create_shader_module(wgpu::include_wgsl!("shadow.wgsl"));
+    let module = crate::shaders::SHADOW.module(device);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("seamlit shadow"),
         bind_group_layouts: &[Some(pass_layout), Some(&ctx.layouts.object)],

@@ -3,14 +3,8 @@
 // one the width of their outer cone). mesh.wgsl compares against these depths, 3 x 3 taps of
 // a comparison sampler (percentage-closer filtering, W. Reeves et al. 1987).
 
-struct Object {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    det_sign: f32,
-    object_id: u32,
-    flip_v: u32,
-    has_tangents: u32,
-}
+// `Object` (the per-object uniforms, as mesh.wgsl reads them) is in object.wgsl, put in
+// front of this file.
 
 @group(0) @binding(0) var<uniform> light_view_proj: mat4x4<f32>;
 @group(1) @binding(0) var<uniform> object: Object;
