@@ -127,6 +127,8 @@ mod tests {
 
     #[test]
     fn gpu_structs_have_the_layout_of_their_rust_structs() {
+        let object =
+            rust_layout!(ObjectRaw { model, normal, det_sign, object_id, flip_v, has_tangents });
         let pairs = [
             (
                 MESH,
@@ -186,30 +188,8 @@ mod tests {
                     flags,
                 }),
             ),
-            (
-                MESH,
-                "Object",
-                rust_layout!(ObjectRaw {
-                    model,
-                    normal,
-                    det_sign,
-                    object_id,
-                    flip_v,
-                    has_tangents
-                }),
-            ),
-            (
-                SHADOW,
-                "Object",
-                rust_layout!(ObjectRaw {
-                    model,
-                    normal,
-                    det_sign,
-                    object_id,
-                    flip_v,
-                    has_tangents
-                }),
-            ),
+            (MESH, "Object", object.clone()),
+            (SHADOW, "Object", object),
             (IBL, "Params", rust_layout!(ParamsRaw { size, kind, roughness, base_size, color })),
         ];
         for (source, name, rust) in pairs {
