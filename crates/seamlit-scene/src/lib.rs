@@ -53,7 +53,7 @@ mod schema;
 
 pub use camera::{Bounds, Camera};
 pub use controller::{FpsController, FpsInput, OrbitController};
-pub use error::SceneError;
+pub use error::{Invalid, SceneError};
 pub use scene::{
     EnvironmentChoice, MaterialOverride, NormalTexture, RenderOptions, Scene, SceneModel,
     is_scene_path,
