@@ -215,7 +215,7 @@ pub enum IoError {
 
     /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme
     /// other than a relative file or a `data:` URI.
-    #[error("{}: {what} URI {uri:?} is refused: {reason}", path.display())]
+    #[error("{}: {what} URI {uri:?} is refused: {kind}", path.display())]
     BadUri {
         /// The file.
         path: PathBuf,
@@ -224,7 +224,7 @@ pub enum IoError {
         /// The URI as written.
         uri: String,
         /// Why it is refused.
-        reason: &'static str,
+        kind: BadUri,
     },
 
     /// An OBJ `mtllib` or MTL texture path that leaves the model's folder (`../`, an absolute
@@ -1123,6 +1123,30 @@ pub enum InvalidAsset {
         /// Triangles loaded.
         loaded: usize,
     },
+}
+
+/// Why a glTF URI is refused (see [`IoError::BadUri`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BadUri {
+    /// A `data:` URI without the comma before its payload.
+    #[error("a data: URI needs a comma before its payload")]
+    DataWithoutComma,
+    /// A `data:` URI whose base64 payload does not decode.
+    #[error("the base64 payload is malformed")]
+    MalformedBase64,
+    /// A URI with a scheme (`https:`, `file:`): remote resources are never fetched.
+    #[error("only relative file paths and data: URIs are read")]
+    NotRelative,
+    /// An absolute path (`/etc/passwd`, `C:/...`).
+    #[error("an absolute path leaves the model's folder")]
+    Absolute,
+    /// A relative path whose `..` parts leave the model's folder.
+    #[error("it leaves the model's folder")]
+    LeavesFolder,
+    /// A path with no file name in it (`./`).
+    #[error("it names no file")]
+    NoFile,
 }
 
 /// Why a line of a text file is not text (see [`IoError::NotText`]).

@@ -33,7 +33,7 @@ use gltf::json::validation::Error as Problem;
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
-use crate::error::{BadAccessor, Glb, GltfKind};
+use crate::error::{BadAccessor, BadUri, Glb, GltfKind};
 use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 
@@ -656,12 +656,12 @@ impl Finite for Vec4 {
 }
 
 impl Reader<'_> {
-    fn bad_uri(&self, what: &str, uri: &str, reason: &'static str) -> IoError {
+    fn bad_uri(&self, what: &str, uri: &str, kind: BadUri) -> IoError {
         IoError::BadUri {
             path: self.path.to_path_buf(),
             what: what.to_owned(),
             uri: uri.to_owned(),
-            reason,
+            kind,
         }
     }
 
@@ -671,33 +671,25 @@ impl Reader<'_> {
     fn resolve(&self, uri: &str, what: &str) -> Result<Resolved, IoError> {
         if let Some(data) = uri.strip_prefix("data:") {
             let Some((header, payload)) = data.split_once(',') else {
-                return Err(self.bad_uri(
-                    what,
-                    uri,
-                    "a data: URI needs a comma before its payload",
-                ));
+                return Err(self.bad_uri(what, uri, BadUri::DataWithoutComma));
             };
             // RFC 2397: base64, or the bytes themselves, percent-encoded where needed.
             let (mime, bytes) = match header.strip_suffix(";base64") {
                 Some(mime) => (
                     mime,
                     base64::decode(payload)
-                        .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?,
+                        .map_err(|_| self.bad_uri(what, uri, BadUri::MalformedBase64))?,
                 ),
                 None => (header, percent_encoding::percent_decode_str(payload).collect()),
             };
             return Ok(Resolved::Data(bytes, mime.to_owned()));
         }
         if uri.contains("://") || uri.split_once(':').is_some_and(|(s, _)| s.len() > 1) {
-            return Err(self.bad_uri(
-                what,
-                uri,
-                "only relative file paths and data: URIs are read",
-            ));
+            return Err(self.bad_uri(what, uri, BadUri::NotRelative));
         }
         let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
         if decoded.starts_with('/') || decoded.starts_with('\\') || decoded.contains(':') {
-            return Err(self.bad_uri(what, uri, "an absolute path leaves the model's folder"));
+            return Err(self.bad_uri(what, uri, BadUri::Absolute));
         }
         let mut parts: Vec<&str> = Vec::new();
         for part in decoded.split(['/', '\\']) {
@@ -705,14 +697,14 @@ impl Reader<'_> {
                 "" | "." => {}
                 ".." => {
                     if parts.pop().is_none() {
-                        return Err(self.bad_uri(what, uri, "it leaves the model's folder"));
+                        return Err(self.bad_uri(what, uri, BadUri::LeavesFolder));
                     }
                 }
                 part => parts.push(part),
             }
         }
         if parts.is_empty() {
-            return Err(self.bad_uri(what, uri, "it names no file"));
+            return Err(self.bad_uri(what, uri, BadUri::NoFile));
         }
         let file = parts.iter().fold(self.folder.to_path_buf(), |p, part| p.join(part));
         // Inside by name; a symbolic link on the way must not lead out either.

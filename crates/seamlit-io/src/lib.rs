@@ -77,7 +77,7 @@ pub use asset::{
     TextureRef, TextureSource, UvTransform,
 };
 pub use error::{
-    BadAccessor, Draco, Glb, GltfKind, InvalidAsset, IoError, Meshopt, NotText, Syntax,
+    BadAccessor, BadUri, Draco, Glb, GltfKind, InvalidAsset, IoError, Meshopt, NotText, Syntax,
 };
 pub use options::{LoadOptions, SaveOptions};
 
