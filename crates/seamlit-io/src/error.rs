@@ -127,15 +127,19 @@ pub enum IoError {
         line: Option<usize>,
     },
 
-    /// The glTF container or JSON could not be parsed, or failed the gltf crate's validation.
-    #[error("{}: glTF {place}: {reason}", path.display())]
+    /// The glTF container or JSON could not be parsed, failed the gltf crate's validation or
+    /// seamlit's own checks, or holds compressed data that does not decode.
+    #[error("{}: glTF {place}: {kind}", path.display())]
     Gltf {
         /// The file.
         path: PathBuf,
-        /// Where: `GLB header`, `JSON`, or the JSON path of the invalid field.
+        /// Where: `GLB container`, `JSON line L column C`, or the JSON path of the invalid
+        /// member (`meshes[0].primitives[0].indices`).
         place: String,
-        /// What is wrong.
-        reason: String,
+        /// What is wrong; its source is the foreign error (serde_json's, gltf-json's,
+        /// meshoptimizer's, the Draco decoder's) where there is one.
+        #[source]
+        kind: GltfKind,
     },
 
     /// A glTF buffer is shorter than its declared `byteLength`.
@@ -211,7 +215,7 @@ pub enum IoError {
 
     /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme
     /// other than a relative file or a `data:` URI.
-    #[error("{}: {what} URI {uri:?} is refused: {reason}", path.display())]
+    #[error("{}: {what} URI {uri:?} is refused: {kind}", path.display())]
     BadUri {
         /// The file.
         path: PathBuf,
@@ -220,7 +224,7 @@ pub enum IoError {
         /// The URI as written.
         uri: String,
         /// Why it is refused.
-        reason: &'static str,
+        kind: BadUri,
     },
 
     /// An OBJ `mtllib` or MTL texture path that leaves the model's folder (`../`, an absolute
@@ -279,26 +283,27 @@ pub enum IoError {
     },
 
     /// The asset cannot be written as it is (inconsistent attribute lengths, an index out of
-    /// range, a texture without image data).
-    #[error("{}: cannot write object {object:?}: {reason}", path.display())]
+    /// range, a source text that does not give the loaded faces).
+    #[error("{}: cannot write object {object:?}: {kind}", path.display())]
     InvalidAsset {
         /// The output path.
         path: PathBuf,
-        /// The object's name (or the material or texture concerned).
+        /// The object's name (empty when the problem is the whole file's).
         object: String,
-        /// What is wrong.
-        reason: String,
+        /// What is wrong, with the numbers.
+        #[source]
+        kind: InvalidAsset,
     },
 
     /// Encoding an image for output failed.
-    #[error("{}: cannot encode texture {texture:?}: {reason}", path.display())]
+    #[error("{}: cannot encode texture {texture:?}: {source}", path.display())]
     Image {
         /// The output path.
         path: PathBuf,
         /// The texture's name.
         texture: String,
         /// What the image crate said.
-        reason: String,
+        source: image::ImageError,
     },
 }
 
@@ -603,6 +608,545 @@ pub enum BadAccessor {
         /// The value written, as JSON.
         found: String,
     },
+}
+
+/// What is wrong with a glTF file (see [`IoError::Gltf`]): a kind, with the numbers, and the
+/// foreign error as its source where one exists.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum GltfKind {
+    /// The JSON does not parse, or a member has a type gltf-json does not take (`place` is
+    /// `JSON line L column C`).
+    #[error("{source}")]
+    Json {
+        /// serde_json's error.
+        source: serde_json::Error,
+    },
+    /// The GLB container (header and chunks) is malformed (`place` is `GLB container`).
+    #[error(transparent)]
+    Glb(Glb),
+    /// gltf-json's validation refused the document: the first problem, at `place`.
+    #[error("{problem}{}", more_problems(*more))]
+    Validation {
+        /// gltf-json's kind of problem.
+        #[source]
+        problem: gltf::json::validation::Error,
+        /// How many more problems it found elsewhere.
+        more: usize,
+    },
+    /// A primitive's `POSITION` names an accessor that does not exist.
+    #[error("accessor {accessor} does not exist (the file has {count})")]
+    NoSuchAccessor {
+        /// The accessor index written.
+        accessor: usize,
+        /// How many accessors the file has.
+        count: usize,
+    },
+    /// An image in a buffer view without a `mimeType`.
+    #[error("an image in a bufferView needs a mimeType")]
+    ImageWithoutMimeType,
+    /// An image with neither a `uri` nor a `bufferView`.
+    #[error("an image needs a uri or a bufferView")]
+    ImageWithoutSource,
+    /// A required extension that changes how geometry is stored and that this build does
+    /// not decode.
+    #[error("{extension} is required, and seamlit does not read it yet")]
+    UnsupportedExtension {
+        /// The extension's name.
+        extension: String,
+    },
+    /// A node reached twice from the scene's roots (`place` is the node).
+    #[error("the node is reached twice: the node graph has a cycle or a node with two parents")]
+    NodeReachedTwice,
+    /// A buffer view reaches past the end of its buffer.
+    #[error("reaches byte {end} of buffer {buffer}, which has {available}")]
+    ViewOutsideBuffer {
+        /// One past the view's last byte.
+        end: u64,
+        /// The buffer index.
+        buffer: usize,
+        /// The buffer's length.
+        available: u64,
+    },
+    /// A vertex's joint index is past its skin's `joints` (`place` is the skin's joints).
+    #[error("JOINTS_{set} of vertex {vertex} names joint {joint}, the skin has {joints}")]
+    JointOutOfRange {
+        /// The `JOINTS_n` set.
+        set: usize,
+        /// The vertex.
+        vertex: usize,
+        /// The joint index written.
+        joint: u32,
+        /// How many joints the skin has.
+        joints: usize,
+    },
+    /// Draco-compressed geometry in a build without the `draco` feature.
+    #[error(
+        "the geometry is Draco-compressed, and this build of seamlit has no Draco decoder (the `draco` feature); decompress the file first, e.g. `npx @gltf-transform/cli copy {0} uncompressed.glb` (glTF-Transform's copy removes Draco)",
+        file.display()
+    )]
+    NoDracoDecoder {
+        /// The file, as the command that decompresses it names it.
+        file: PathBuf,
+    },
+    /// Draco-decoded data has no buffer 0 with data to go to (`place` is `buffers[0]`).
+    #[error("the decoded KHR_draco_mesh_compression data goes to buffer 0, which has no data")]
+    NoDracoHost,
+    /// A buffer view's EXT_/KHR_meshopt_compression is malformed or its data does not decode.
+    #[error(transparent)]
+    Meshopt(Meshopt),
+    /// A primitive's KHR_draco_mesh_compression is malformed or its stream does not decode
+    /// (boxed: its largest kind would double the size of every [`IoError`]).
+    #[error(transparent)]
+    Draco(Box<Draco>),
+}
+
+/// ` (and N more problems)` when there are more.
+fn more_problems(more: usize) -> String {
+    if more > 0 { format!(" (and {more} more problems)") } else { String::new() }
+}
+
+/// What is wrong with a GLB container (see [`GltfKind::Glb`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Glb {
+    /// Fewer than the header's 12 bytes.
+    #[error("truncated: {bytes} bytes, the header alone needs 12")]
+    ShortHeader {
+        /// The file's length.
+        bytes: usize,
+    },
+    /// A version other than 2.
+    #[error("version {version}, expected 2")]
+    Version {
+        /// The version written.
+        version: u32,
+    },
+    /// The header declares more bytes than the file has.
+    #[error("truncated: the header declares {declared} bytes, the file has {bytes}")]
+    Truncated {
+        /// The length the header declares.
+        declared: usize,
+        /// The file's length.
+        bytes: usize,
+    },
+    /// A chunk header cut off by the declared length.
+    #[error("truncated: chunk {chunk} header at byte {at} is incomplete")]
+    ShortChunkHeader {
+        /// The chunk's number, from 0.
+        chunk: usize,
+        /// Where its header starts.
+        at: usize,
+    },
+    /// A chunk longer than the declared length leaves it.
+    #[error(
+        "truncated: chunk {chunk} ({chunk_type}) declares {length} bytes from byte {start}, but the file ends at {declared}"
+    )]
+    ShortChunk {
+        /// The chunk's number, from 0.
+        chunk: usize,
+        /// Its type, as text.
+        chunk_type: String,
+        /// The length it declares.
+        length: u32,
+        /// Where its data starts.
+        start: usize,
+        /// The length the header declares.
+        declared: usize,
+    },
+    /// A first chunk that is not JSON.
+    #[error("the first chunk is {chunk_type}, not JSON")]
+    FirstChunkNotJson {
+        /// Its type, as text.
+        chunk_type: String,
+    },
+    /// No chunk at all.
+    #[error("no JSON chunk")]
+    NoJsonChunk,
+}
+
+/// What is wrong with a buffer view's EXT_/KHR_meshopt_compression (see
+/// [`GltfKind::Meshopt`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Meshopt {
+    /// A member the extension needs is missing.
+    #[error("{member} is missing")]
+    Missing {
+        /// The member (`buffer`, `byteLength`, `byteStride`, `count`).
+        member: &'static str,
+    },
+    /// A `mode` the extension does not define (or none).
+    #[error("unknown mode {found:?}")]
+    UnknownMode {
+        /// The mode written, if it is a string.
+        found: Option<String>,
+    },
+    /// A `filter` the extension does not define.
+    #[error("unknown filter {found:?}")]
+    UnknownFilter {
+        /// The filter written, if it is a string.
+        found: Option<String>,
+    },
+    /// A `byteStride` the mode and filter do not allow.
+    #[error("byteStride {stride} is not allowed for mode {mode} with filter {filter}")]
+    StrideNotAllowed {
+        /// The stride.
+        stride: usize,
+        /// The mode, as the extension names it (`ATTRIBUTES`).
+        mode: String,
+        /// The filter, as the extension names it (`NONE`).
+        filter: String,
+    },
+    /// A `byteStride` that is no vertex size meshoptimizer decodes.
+    #[error("byteStride {stride} is not a vertex size")]
+    NotAVertexSize {
+        /// The stride.
+        stride: usize,
+    },
+    /// Mode TRIANGLES with a count that is not a multiple of 3.
+    #[error("mode TRIANGLES needs a multiple of 3 indices, found {count}")]
+    NotTriangles {
+        /// The count.
+        count: usize,
+    },
+    /// The compressed bytes lie outside their buffer.
+    #[error("the compressed bytes {start}..{end} lie outside buffer {buffer}")]
+    CompressedOutside {
+        /// Their first byte.
+        start: usize,
+        /// One past their last byte.
+        end: usize,
+        /// The buffer.
+        buffer: usize,
+    },
+    /// `count` elements of `byteStride` bytes are not the view's `byteLength`.
+    #[error("{count} elements of {stride} bytes do not make the view's byteLength {length}")]
+    LengthMismatch {
+        /// The extension's count.
+        count: usize,
+        /// The extension's byteStride.
+        stride: usize,
+        /// The view's byteLength.
+        length: usize,
+    },
+    /// The view's own bytes lie outside its buffer.
+    #[error("the view's bytes {start}..{end} lie outside buffer {buffer} ({available} bytes)")]
+    ViewOutside {
+        /// The view's first byte.
+        start: usize,
+        /// One past its last byte.
+        end: usize,
+        /// Its buffer.
+        buffer: usize,
+        /// The buffer's length.
+        available: usize,
+    },
+    /// meshoptimizer refused the compressed data.
+    #[error("meshoptimizer cannot decode it: {source}")]
+    Refused {
+        /// meshoptimizer's error.
+        source: meshopt::Error,
+    },
+    /// The data decoded to a length other than the view's.
+    #[error("decodes to {decoded} bytes, not {length}")]
+    DecodedLength {
+        /// Bytes decoded.
+        decoded: usize,
+        /// The view's byteLength.
+        length: usize,
+    },
+}
+
+/// What is wrong with a primitive's KHR_draco_mesh_compression (see [`GltfKind::Draco`]):
+/// its members, the accessors it fills, or a stream that does not hold what they declare.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Draco {
+    /// A member the extension needs is missing.
+    #[error("{member} is missing")]
+    Missing {
+        /// `bufferView` or `attributes`.
+        member: &'static str,
+    },
+    /// The stream's buffer view does not exist.
+    #[error("buffer view {view} does not exist")]
+    NoSuchView {
+        /// The view index.
+        view: usize,
+    },
+    /// The stream's buffer view lies outside its buffer.
+    #[error("buffer view {view} lies outside buffer {buffer}")]
+    ViewOutside {
+        /// The view index.
+        view: usize,
+        /// The buffer it names (`usize::MAX` when none).
+        buffer: usize,
+    },
+    /// An `attributes` member that is not an attribute id.
+    #[error("attributes.{name} is not an attribute id")]
+    NotAnId {
+        /// The attribute's name.
+        name: String,
+    },
+    /// An `attributes` member that the primitive's own `attributes` lack.
+    #[error("attributes.{name} names no attribute of the primitive")]
+    NotAnAttribute {
+        /// The attribute's name.
+        name: String,
+    },
+    /// A Draco primitive without `indices`.
+    #[error("the primitive has no indices")]
+    NoIndices,
+    /// An accessor the stream fills does not exist.
+    #[error("{name}: accessor {accessor} does not exist")]
+    NoSuchAccessor {
+        /// The attribute's name (or `indices`).
+        name: String,
+        /// The accessor index.
+        accessor: usize,
+    },
+    /// An accessor the stream fills has data of its own.
+    #[error(
+        "{name}: accessor {accessor} has data of its own (uncompressed fallback data, or it is shared with another primitive); seamlit reads Draco primitives whose accessors have none, as glTF-Transform and gltfpack write them"
+    )]
+    AccessorHasData {
+        /// The attribute's name (or `indices`).
+        name: String,
+        /// The accessor index.
+        accessor: usize,
+    },
+    /// An accessor that declares more elements than the limit.
+    #[error("{name}: accessor {accessor} declares {count} elements, more than {limit}")]
+    TooManyElements {
+        /// The attribute's name (or `indices`).
+        name: String,
+        /// The accessor index.
+        accessor: usize,
+        /// Its count.
+        count: usize,
+        /// [`crate::LoadOptions::max_elements`].
+        limit: usize,
+    },
+    /// An accessor whose `type` glTF does not define.
+    #[error("{name}: accessor {accessor} has type {found:?}")]
+    AccessorType {
+        /// The attribute's name (or `indices`).
+        name: String,
+        /// The accessor index.
+        accessor: usize,
+        /// The type written, if it is a string.
+        found: Option<String>,
+    },
+    /// The decoder refused the stream.
+    #[error("the Draco stream is malformed: {source}")]
+    Malformed {
+        /// The decoder's error (draco-oxide-decoder's, boxed: the crate is a pinned alpha).
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+    /// The decoder panicked on the stream (the panic is caught).
+    #[error(
+        "the Draco decoder failed on this stream (it panicked): the stream is malformed or uses what draco-oxide-decoder does not support"
+    )]
+    DecoderPanicked,
+    /// Decoded attributes that cover different numbers of points.
+    #[error(
+        "the decoded attribute {attribute} covers {points} points, attribute {first} covers {first_points}"
+    )]
+    PointCounts {
+        /// The attribute id.
+        attribute: usize,
+        /// Its points.
+        points: usize,
+        /// The first attribute's id.
+        first: usize,
+        /// The first attribute's points.
+        first_points: usize,
+    },
+    /// A point that names a value its attribute lacks.
+    #[error("point {point} names a value attribute {attribute} lacks")]
+    NoValue {
+        /// The point.
+        point: usize,
+        /// The attribute id.
+        attribute: usize,
+    },
+    /// An attribute id the stream does not hold.
+    #[error("{name}: the stream has no attribute {id}")]
+    NoSuchId {
+        /// The attribute's name.
+        name: String,
+        /// The id.
+        id: usize,
+    },
+    /// A decoded attribute whose count, components or type differ from its accessor's.
+    #[error(
+        "{name}: the stream holds {count} values of {components} x {component}, accessor {accessor} declares {declared} of {declared_components} x componentType {component_type}"
+    )]
+    AttributeMismatch {
+        /// The attribute's name.
+        name: String,
+        /// Values decoded.
+        count: usize,
+        /// Components per decoded value.
+        components: usize,
+        /// The decoded component type, as the decoder names it.
+        component: String,
+        /// The accessor index.
+        accessor: usize,
+        /// The accessor's count.
+        declared: usize,
+        /// The accessor's components per element.
+        declared_components: usize,
+        /// The accessor's componentType.
+        component_type: u64,
+    },
+    /// A decoded triangle that names a point the stream lacks.
+    #[error("a triangle names point {point}, the stream has {points}")]
+    NoSuchPoint {
+        /// The point.
+        point: usize,
+        /// The stream's points.
+        points: usize,
+    },
+    /// Decoded triangle corners other than the indices accessor's count.
+    #[error(
+        "the stream holds {corners} triangle corners, indices accessor {accessor} declares {declared}"
+    )]
+    CornerCount {
+        /// Corners decoded.
+        corners: usize,
+        /// The indices accessor.
+        accessor: usize,
+        /// Its count.
+        declared: usize,
+    },
+    /// An indices accessor whose componentType is not an unsigned integer.
+    #[error("indices accessor {accessor} has componentType {component_type}")]
+    IndexType {
+        /// The indices accessor.
+        accessor: usize,
+        /// Its componentType.
+        component_type: u64,
+    },
+    /// More decoded vertices than the indices' component type can name.
+    #[error("{vertices} vertices do not fit the indices' componentType {component_type}")]
+    IndicesTooNarrow {
+        /// Vertices decoded.
+        vertices: usize,
+        /// The indices accessor's componentType.
+        component_type: u64,
+    },
+}
+
+/// Why an asset cannot be written (see [`IoError::InvalidAsset`]), with the numbers.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum InvalidAsset {
+    /// An attribute array whose length is not the object's vertex count.
+    #[error("{count} {attribute} for {positions} positions")]
+    AttributeLength {
+        /// `uvs`, `normals`, `tangents` or `colors`.
+        attribute: &'static str,
+        /// The array's length.
+        count: usize,
+        /// The vertex count.
+        positions: usize,
+    },
+    /// Smoothing groups whose count is not the triangle count.
+    #[error("{groups} smoothing groups for {triangles} triangles")]
+    SmoothingGroups {
+        /// The groups' count.
+        groups: usize,
+        /// The triangle count.
+        triangles: usize,
+    },
+    /// More vertices than 32-bit indices address.
+    #[error("{vertices} vertices do not fit 32-bit indices")]
+    TooManyVertices {
+        /// The vertex count.
+        vertices: usize,
+    },
+    /// A triangle that names a vertex past the object's.
+    #[error("triangle {triangle:?} refers past the {vertices} vertices")]
+    IndexOutOfRange {
+        /// The triangle's indices.
+        triangle: [u32; 3],
+        /// The vertex count.
+        vertices: usize,
+    },
+    /// A position that is NaN or infinite.
+    #[error("a position is not finite")]
+    NotFinite,
+    /// A GLB over the format's 4 GiB.
+    #[error("a GLB holds at most 4 GiB; this one would take {bytes} bytes")]
+    GlbTooLarge {
+        /// The bytes it would take.
+        bytes: usize,
+    },
+    /// The document could not be serialised.
+    #[error("JSON serialisation failed: {source}")]
+    Json {
+        /// serde_json's error.
+        source: serde_json::Error,
+    },
+    /// The input's buffer 0 has no `uri` and no data, and the output is a GLB, whose buffer 0
+    /// without `uri` is its BIN chunk.
+    #[error(
+        "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere), and a GLB's buffer 0 without uri is its BIN chunk: write it as .gltf"
+    )]
+    HostInGlb,
+    /// The input's buffer 0 has no `uri` and no data, and new data would be appended to it.
+    #[error(
+        "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere): the new normals and tangents cannot be appended to it"
+    )]
+    HostCannotGrow,
+    /// An OBJ face of the source text that is not among the loaded triangles.
+    #[error("line {line}: the face is not among the loaded triangles")]
+    FaceNotLoaded {
+        /// The face's line, from 1.
+        line: usize,
+    },
+    /// A corner of an OBJ face of the source text that is not in the face's triangles.
+    #[error("line {line}: corner {corner} is not in its triangles")]
+    CornerNotLoaded {
+        /// The face's line, from 1.
+        line: usize,
+        /// The corner, from 1.
+        corner: usize,
+    },
+    /// The OBJ source text's faces give another number of triangles than were loaded.
+    #[error("the file's faces give {faces} triangles, {loaded} were loaded")]
+    TriangleCount {
+        /// Triangles the faces give.
+        faces: usize,
+        /// Triangles loaded.
+        loaded: usize,
+    },
+}
+
+/// Why a glTF URI is refused (see [`IoError::BadUri`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BadUri {
+    /// A `data:` URI without the comma before its payload.
+    #[error("a data: URI needs a comma before its payload")]
+    DataWithoutComma,
+    /// A `data:` URI whose base64 payload does not decode.
+    #[error("the base64 payload is malformed")]
+    MalformedBase64,
+    /// A URI with a scheme (`https:`, `file:`): remote resources are never fetched.
+    #[error("only relative file paths and data: URIs are read")]
+    NotRelative,
+    /// An absolute path (`/etc/passwd`, `C:/...`).
+    #[error("an absolute path leaves the model's folder")]
+    Absolute,
+    /// A relative path whose `..` parts leave the model's folder.
+    #[error("it leaves the model's folder")]
+    LeavesFolder,
+    /// A path with no file name in it (`./`).
+    #[error("it names no file")]
+    NoFile,
 }
 
 /// Why a line of a text file is not text (see [`IoError::NotText`]).

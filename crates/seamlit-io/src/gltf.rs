@@ -29,10 +29,11 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
+use gltf::json::validation::Error as Problem;
 use gltf::mesh::Mode;
 use seamlit_mesh::{Object, VAxis};
 
-use crate::error::BadAccessor;
+use crate::error::{BadAccessor, BadUri, Glb, GltfKind};
 use crate::gltf_decode::{read_directions, read_floats};
 use crate::gltf_pass::Instance;
 
@@ -94,14 +95,13 @@ fn document(
         (bytes, None)
     };
     // Parsed as plain JSON (what the pass-through writer writes back), then as typed glTF.
-    let value: serde_json::Value =
-        serde_json::from_slice(json).map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    let value: serde_json::Value = serde_json::from_slice(json).map_err(|e| json_error(e, path))?;
     // A document gltf-json refuses is read again as the specification allows (see
     // `lenient`); if that fails too, the first error (with its line) is reported.
     let root = gltf::json::Root::from_slice(json).or_else(|error| {
         lenient(&value).and_then(|patched| serde_json::from_value(patched).ok()).ok_or(error)
     });
-    let root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    let root = root.map_err(|e| json_error(e, path))?;
     #[cfg(not(feature = "draco"))]
     crate::gltf_draco::refuse(&value, path)?;
     let document = validated(root, path)?;
@@ -117,7 +117,7 @@ fn validated(mut root: gltf::json::Root, path: &Path) -> Result<gltf::Document, 
     // The gltf crate refuses every required extension it does not implement; seamlit passes
     // through the ones that do not change how geometry is read (checked above).
     root.extensions_required.clear();
-    crate::gltf_spec::validate(&root).map_err(|e| gltf_error(e, path))?;
+    crate::gltf_spec::validate(&root).map_err(|problems| validation_error(&problems, path))?;
     Ok(gltf::Document::from_json_without_validation(root))
 }
 
@@ -136,7 +136,7 @@ fn decode_draco(
     }
     let root = serde_json::from_value(json.clone())
         .or_else(|error| lenient(json).and_then(|p| serde_json::from_value(p).ok()).ok_or(error));
-    let root = root.map_err(|e| gltf_error(gltf::Error::Deserialize(e), path))?;
+    let root = root.map_err(|e| json_error(e, path))?;
     validated(root, path).map(Some)
 }
 
@@ -199,7 +199,7 @@ fn check_required_extensions(root: &gltf::json::Root, path: &Path) -> Result<(),
         Some((i, extension)) => Err(IoError::Gltf {
             path: path.to_path_buf(),
             place: format!("extensionsRequired[{i}]"),
-            reason: format!("{extension} is required, and seamlit does not read it yet"),
+            kind: GltfKind::UnsupportedExtension { extension: extension.clone() },
         }),
         None => Ok(()),
     }
@@ -326,7 +326,7 @@ impl<'r> Placing<'r> {
                 return Err(IoError::Gltf {
                     path: path.to_path_buf(),
                     place: format!("nodes[{}]", node.index()),
-                    reason: "the node is reached twice: the node graph has a cycle or a node with two parents".to_owned(),
+                    kind: GltfKind::NodeReachedTwice,
                 });
             }
             let local = Mat4::from_cols_array_2d(&node.transform().matrix());
@@ -459,11 +459,10 @@ fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), Io
                 return Err(IoError::Gltf {
                     path: path.to_path_buf(),
                     place: format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
-                    reason: format!(
-                        "accessor {} does not exist (the file has {})",
-                        index.value(),
-                        root.accessors.len()
-                    ),
+                    kind: GltfKind::NoSuchAccessor {
+                        accessor: index.value(),
+                        count: root.accessors.len(),
+                    },
                 });
             }
         }
@@ -476,15 +475,15 @@ fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), Io
 /// fuzz target: regression input `tests/regressions/gltf_image_without_uri.gltf`).
 fn check_image_sources(root: &gltf::json::Root, path: &Path) -> Result<(), IoError> {
     for (i, image) in root.images.iter().enumerate() {
-        let reason = match (&image.uri, &image.buffer_view, &image.mime_type) {
-            (_, Some(_), None) => "an image in a bufferView needs a mimeType",
-            (None, None, _) => "an image needs a uri or a bufferView",
+        let kind = match (&image.uri, &image.buffer_view, &image.mime_type) {
+            (_, Some(_), None) => GltfKind::ImageWithoutMimeType,
+            (None, None, _) => GltfKind::ImageWithoutSource,
             _ => continue,
         };
         return Err(IoError::Gltf {
             path: path.to_path_buf(),
             place: format!("images[{i}]"),
-            reason: reason.to_owned(),
+            kind,
         });
     }
     Ok(())
@@ -496,41 +495,40 @@ fn check_image_sources(root: &gltf::json::Root, path: &Path) -> Result<(), IoErr
 /// specification allows, bytes after the declared length and chunks of other types after
 /// the first two are ignored.
 fn glb_chunks(bytes: &[u8], path: &Path) -> Result<(Range<usize>, Option<Range<usize>>), IoError> {
-    let err = |reason: String| IoError::Gltf {
+    let err = |kind: Glb| IoError::Gltf {
         path: path.to_path_buf(),
         place: "GLB container".to_owned(),
-        reason,
+        kind: GltfKind::Glb(kind),
     };
     let word = |at: usize| -> Option<u32> {
         bytes.get(at..at + 4).and_then(|b| b.try_into().ok()).map(u32::from_le_bytes)
     };
     let (Some(version), Some(declared)) = (word(4), word(8)) else {
-        return Err(err(format!("truncated: {} bytes, the header alone needs 12", bytes.len())));
+        return Err(err(Glb::ShortHeader { bytes: bytes.len() }));
     };
     if version != 2 {
-        return Err(err(format!("version {version}, expected 2")));
+        return Err(err(Glb::Version { version }));
     }
     let declared = declared as usize;
     if declared > bytes.len() {
-        return Err(err(format!(
-            "truncated: the header declares {declared} bytes, the file has {}",
-            bytes.len()
-        )));
+        return Err(err(Glb::Truncated { declared, bytes: bytes.len() }));
     }
     let mut at = 12;
     let mut chunk = 0;
     let mut chunks = Vec::new();
     while at < declared {
         let (Some(length), Some(kind)) = (word(at), word(at + 4)) else {
-            return Err(err(format!("truncated: chunk {chunk} header at byte {at} is incomplete")));
+            return Err(err(Glb::ShortChunkHeader { chunk, at }));
         };
         let end = at as u64 + 8 + u64::from(length);
         if end > declared as u64 {
-            return Err(err(format!(
-                "truncated: chunk {chunk} ({}) declares {length} bytes from byte {}, but the file ends at {declared}",
-                String::from_utf8_lossy(&kind.to_le_bytes()),
-                at + 8
-            )));
+            return Err(err(Glb::ShortChunk {
+                chunk,
+                chunk_type: String::from_utf8_lossy(&kind.to_le_bytes()).into_owned(),
+                length,
+                start: at + 8,
+                declared,
+            }));
         }
         chunks.push((kind, at + 8..end as usize));
         at = end as usize;
@@ -541,11 +539,12 @@ fn glb_chunks(bytes: &[u8], path: &Path) -> Result<(Range<usize>, Option<Range<u
             json.clone(),
             rest.first().filter(|(kind, _)| *kind == BIN_CHUNK).map(|(_, bin)| bin.clone()),
         )),
-        [(kind, _), ..] => Err(err(format!(
-            "the first chunk is {}, not JSON",
-            String::from_utf8_lossy(&kind.to_le_bytes()).trim_end_matches('\0')
-        ))),
-        [] => Err(err("no JSON chunk".to_owned())),
+        [(kind, _), ..] => Err(err(Glb::FirstChunkNotJson {
+            chunk_type: String::from_utf8_lossy(&kind.to_le_bytes())
+                .trim_end_matches('\0')
+                .to_owned(),
+        })),
+        [] => Err(err(Glb::NoJsonChunk)),
     }
 }
 
@@ -557,25 +556,25 @@ const BIN_CHUNK: u32 = 0x004E_4942;
 /// file's buffers hold fewer: small all-zero accessors need no buffer at all.
 const ZEROS_FLOOR: u64 = 1 << 20;
 
-fn gltf_error(error: gltf::Error, path: &Path) -> IoError {
-    let (place, reason) = match error {
-        gltf::Error::Validation(errors) => {
-            let (place, reason) = errors.first().map_or_else(
-                || ("document".to_owned(), "invalid".to_owned()),
-                |(p, e)| (p.to_string(), e.to_string()),
-            );
-            let more = errors.len().saturating_sub(1);
-            let reason =
-                if more > 0 { format!("{reason} (and {more} more problems)") } else { reason };
-            (place, reason)
-        }
-        gltf::Error::Deserialize(e) => {
-            (format!("JSON line {} column {}", e.line(), e.column()), e.to_string())
-        }
-        gltf::Error::Binary(e) => ("GLB container".to_owned(), e.to_string()),
-        other => ("document".to_owned(), other.to_string()),
-    };
-    IoError::Gltf { path: path.to_path_buf(), place, reason }
+/// An [`IoError::Gltf`] for JSON that does not parse as a glTF document.
+fn json_error(error: serde_json::Error, path: &Path) -> IoError {
+    IoError::Gltf {
+        path: path.to_path_buf(),
+        place: format!("JSON line {} column {}", error.line(), error.column()),
+        kind: GltfKind::Json { source: error },
+    }
+}
+
+/// An [`IoError::Gltf`] for gltf-json's validation problems: the first, at its JSON path.
+fn validation_error(problems: &[(gltf::json::Path, Problem)], path: &Path) -> IoError {
+    let (place, problem) = problems
+        .first()
+        .map_or(("document".to_owned(), Problem::Invalid), |(p, e)| (p.to_string(), *e));
+    IoError::Gltf {
+        path: path.to_path_buf(),
+        place,
+        kind: GltfKind::Validation { problem, more: problems.len().saturating_sub(1) },
+    }
 }
 
 /// For the pass-through writer: the file that a URI of the model at `path` names, checked
@@ -657,12 +656,12 @@ impl Finite for Vec4 {
 }
 
 impl Reader<'_> {
-    fn bad_uri(&self, what: &str, uri: &str, reason: &'static str) -> IoError {
+    fn bad_uri(&self, what: &str, uri: &str, kind: BadUri) -> IoError {
         IoError::BadUri {
             path: self.path.to_path_buf(),
             what: what.to_owned(),
             uri: uri.to_owned(),
-            reason,
+            kind,
         }
     }
 
@@ -672,33 +671,25 @@ impl Reader<'_> {
     fn resolve(&self, uri: &str, what: &str) -> Result<Resolved, IoError> {
         if let Some(data) = uri.strip_prefix("data:") {
             let Some((header, payload)) = data.split_once(',') else {
-                return Err(self.bad_uri(
-                    what,
-                    uri,
-                    "a data: URI needs a comma before its payload",
-                ));
+                return Err(self.bad_uri(what, uri, BadUri::DataWithoutComma));
             };
             // RFC 2397: base64, or the bytes themselves, percent-encoded where needed.
             let (mime, bytes) = match header.strip_suffix(";base64") {
                 Some(mime) => (
                     mime,
                     base64::decode(payload)
-                        .map_err(|_| self.bad_uri(what, uri, "the base64 payload is malformed"))?,
+                        .map_err(|_| self.bad_uri(what, uri, BadUri::MalformedBase64))?,
                 ),
                 None => (header, percent_encoding::percent_decode_str(payload).collect()),
             };
             return Ok(Resolved::Data(bytes, mime.to_owned()));
         }
         if uri.contains("://") || uri.split_once(':').is_some_and(|(s, _)| s.len() > 1) {
-            return Err(self.bad_uri(
-                what,
-                uri,
-                "only relative file paths and data: URIs are read",
-            ));
+            return Err(self.bad_uri(what, uri, BadUri::NotRelative));
         }
         let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
         if decoded.starts_with('/') || decoded.starts_with('\\') || decoded.contains(':') {
-            return Err(self.bad_uri(what, uri, "an absolute path leaves the model's folder"));
+            return Err(self.bad_uri(what, uri, BadUri::Absolute));
         }
         let mut parts: Vec<&str> = Vec::new();
         for part in decoded.split(['/', '\\']) {
@@ -706,14 +697,14 @@ impl Reader<'_> {
                 "" | "." => {}
                 ".." => {
                     if parts.pop().is_none() {
-                        return Err(self.bad_uri(what, uri, "it leaves the model's folder"));
+                        return Err(self.bad_uri(what, uri, BadUri::LeavesFolder));
                     }
                 }
                 part => parts.push(part),
             }
         }
         if parts.is_empty() {
-            return Err(self.bad_uri(what, uri, "it names no file"));
+            return Err(self.bad_uri(what, uri, BadUri::NoFile));
         }
         let file = parts.iter().fold(self.folder.to_path_buf(), |p, part| p.join(part));
         // Inside by name; a symbolic link on the way must not lead out either.
@@ -806,10 +797,11 @@ impl Reader<'_> {
                 return Err(IoError::Gltf {
                     path: self.path.to_path_buf(),
                     place: format!("bufferViews[{}]", view.index()),
-                    reason: format!(
-                        "reaches byte {end} of buffer {}, which has {available}",
-                        view.buffer().index()
-                    ),
+                    kind: GltfKind::ViewOutsideBuffer {
+                        end,
+                        buffer: view.buffer().index(),
+                        available,
+                    },
                 });
             }
         }

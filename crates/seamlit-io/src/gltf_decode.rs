@@ -20,8 +20,8 @@ use std::path::Path;
 use gltf::accessor::{DataType, Item, Iter};
 use serde_json::{Value, json};
 
-use crate::IoError;
 use crate::gltf_pass::uint;
+use crate::{GltfKind, IoError, Meshopt};
 
 /// The extension's names: the vendor one and its Khronos successor, which adds the COLOR
 /// filter and version 1 of the vertex codec (meshoptimizer decodes both).
@@ -183,10 +183,10 @@ pub(crate) fn decode_meshopt(
     let views = document["bufferViews"].as_array().map_or(&[][..], Vec::as_slice);
     for (index, view) in views.iter().enumerate() {
         let Some((name, extension)) = meshopt(view) else { continue };
-        let error = |reason: String| IoError::Gltf {
+        let error = |kind: Meshopt| IoError::Gltf {
             path: path.to_path_buf(),
             place: format!("bufferViews[{index}].extensions.{name}"),
-            reason,
+            kind: GltfKind::Meshopt(kind),
         };
         let compressed = compressed(extension).map_err(error)?;
         let bytes = buffers
@@ -195,38 +195,45 @@ pub(crate) fn decode_meshopt(
                 b.get(compressed.offset..compressed.offset.checked_add(compressed.length)?)
             })
             .ok_or_else(|| {
-                error(format!(
-                    "the compressed bytes {}..{} lie outside buffer {}",
-                    compressed.offset,
-                    compressed.offset.saturating_add(compressed.length),
-                    compressed.buffer
-                ))
+                error(Meshopt::CompressedOutside {
+                    start: compressed.offset,
+                    end: compressed.offset.saturating_add(compressed.length),
+                    buffer: compressed.buffer,
+                })
             })?;
         // Sizes are checked before decoding: the decoder allocates `count` elements.
         let target = uint(view, "buffer").unwrap_or(usize::MAX);
         let offset = uint(view, "byteOffset").unwrap_or(0);
         let length = uint(view, "byteLength").unwrap_or(0);
         if compressed.count.checked_mul(compressed.stride) != Some(length) {
-            return Err(error(format!(
-                "{} elements of {} bytes do not make the view's byteLength {length}",
-                compressed.count, compressed.stride
-            )));
+            return Err(error(Meshopt::LengthMismatch {
+                count: compressed.count,
+                stride: compressed.stride,
+                length,
+            }));
         }
         let end = offset.checked_add(length);
         let available = buffers.get(target).map_or(0, Vec::len);
         if end.is_none_or(|end| end > available) {
-            return Err(error(format!(
-                "the view's bytes {offset}..{} lie outside buffer {target} ({available} bytes)",
-                offset.saturating_add(length)
-            )));
+            return Err(error(Meshopt::ViewOutside {
+                start: offset,
+                end: offset.saturating_add(length),
+                buffer: target,
+                available,
+            }));
         }
         let plain = decode(bytes, &compressed).map_err(error)?;
         let Some(place) = buffers.get_mut(target).and_then(|b| b.get_mut(offset..offset + length))
         else {
-            return Err(error(format!("the view's bytes lie outside buffer {target}")));
+            return Err(error(Meshopt::ViewOutside {
+                start: offset,
+                end: offset.saturating_add(length),
+                buffer: target,
+                available,
+            }));
         };
         if plain.len() != length {
-            return Err(error(format!("decodes to {} bytes, not {length}", plain.len())));
+            return Err(error(Meshopt::DecodedLength { decoded: plain.len(), length }));
         }
         place.copy_from_slice(&plain);
     }
@@ -234,13 +241,13 @@ pub(crate) fn decode_meshopt(
 }
 
 /// Reads a view's extension object.
-fn compressed(extension: &Value) -> Result<Compressed, String> {
-    let need = |key: &str| uint(extension, key).ok_or_else(|| format!("{key} is missing"));
+fn compressed(extension: &Value) -> Result<Compressed, Meshopt> {
+    let need = |member: &'static str| uint(extension, member).ok_or(Meshopt::Missing { member });
     let mode = match extension["mode"].as_str() {
         Some("ATTRIBUTES") => Mode::Attributes,
         Some("TRIANGLES") => Mode::Triangles,
         Some("INDICES") => Mode::Indices,
-        other => return Err(format!("unknown mode {other:?}")),
+        other => return Err(Meshopt::UnknownMode { found: other.map(str::to_owned) }),
     };
     let filter = match extension.get("filter").map(Value::as_str) {
         None | Some(Some("NONE")) => Filter::None,
@@ -248,7 +255,7 @@ fn compressed(extension: &Value) -> Result<Compressed, String> {
         Some(Some("QUATERNION")) => Filter::Quaternion,
         Some(Some("EXPONENTIAL")) => Filter::Exponential,
         Some(Some("COLOR")) => Filter::Color,
-        Some(other) => return Err(format!("unknown filter {other:?}")),
+        Some(other) => return Err(Meshopt::UnknownFilter { found: other.map(str::to_owned) }),
     };
     let compressed = Compressed {
         buffer: need("buffer")?,
@@ -271,22 +278,21 @@ fn compressed(extension: &Value) -> Result<Compressed, String> {
         (Mode::Triangles | Mode::Indices, _) => false,
     };
     if !allowed {
-        return Err(format!(
-            "byteStride {stride} is not allowed for mode {mode:?} with filter {filter:?}"
-        ));
+        return Err(Meshopt::StrideNotAllowed {
+            stride,
+            mode: format!("{mode:?}").to_uppercase(),
+            filter: format!("{filter:?}").to_uppercase(),
+        });
     }
     if mode == Mode::Triangles && !compressed.count.is_multiple_of(3) {
-        return Err(format!(
-            "mode TRIANGLES needs a multiple of 3 indices, found {}",
-            compressed.count
-        ));
+        return Err(Meshopt::NotTriangles { count: compressed.count });
     }
     Ok(compressed)
 }
 
 /// Decodes one view's compressed bytes: `count * stride` plain bytes, filter applied.
-fn decode(bytes: &[u8], view: &Compressed) -> Result<Vec<u8>, String> {
-    let refused = |e: meshopt::Error| format!("meshoptimizer cannot decode it: {e}");
+fn decode(bytes: &[u8], view: &Compressed) -> Result<Vec<u8>, Meshopt> {
+    let refused = |source: meshopt::Error| Meshopt::Refused { source };
     match (view.mode, view.stride) {
         (Mode::Triangles, 2) => Ok(le_bytes(
             meshopt::decode_index_buffer::<u16>(bytes, view.count).map_err(refused)?,
@@ -306,7 +312,7 @@ fn decode(bytes: &[u8], view: &Compressed) -> Result<Vec<u8>, String> {
         )),
         (Mode::Attributes, stride) => {
             let mut plain = vertices(bytes, view.count, stride)
-                .ok_or_else(|| format!("byteStride {stride} is not a vertex size"))?
+                .ok_or(Meshopt::NotAVertexSize { stride })?
                 .map_err(refused)?;
             filter(&mut plain, view.filter, stride);
             Ok(plain)

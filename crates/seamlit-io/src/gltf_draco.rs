@@ -61,10 +61,7 @@ pub(crate) fn refuse(document: &Value, path: &Path) -> Result<(), IoError> {
         Some(&(m, p)) => Err(IoError::Gltf {
             path: path.to_path_buf(),
             place: place(m, p),
-            reason: format!(
-                "the geometry is Draco-compressed, and this build of seamlit has no Draco decoder (the `draco` feature); decompress the file first, e.g. `npx @gltf-transform/cli copy {0} uncompressed.glb` (glTF-Transform's copy removes Draco)",
-                path.display()
-            ),
+            kind: crate::GltfKind::NoDracoDecoder { file: path.to_path_buf() },
         }),
         None => Ok(()),
     }
@@ -117,8 +114,8 @@ mod decoder {
     use serde_json::{Value, json};
 
     use super::{DRACO, draco_primitives, place};
-    use crate::IoError;
     use crate::gltf_pass::uint;
+    use crate::{Draco, GltfKind, IoError};
 
     /// One accessor the stream fills: the attribute's name (`indices` for the indices), its
     /// Draco unique id (`None` for the indices) and what the accessor declares.
@@ -171,15 +168,15 @@ mod decoder {
             return Err(IoError::Gltf {
                 path: path.to_path_buf(),
                 place: "buffers[0]".to_owned(),
-                reason: format!("the decoded {DRACO} data goes to buffer 0, which has no data"),
+                kind: GltfKind::NoDracoHost,
             });
         };
         let mut host = host[..host_length].to_vec();
         for &(m, p) in &places {
-            let error = |reason: String| IoError::Gltf {
+            let error = |kind: Draco| IoError::Gltf {
                 path: path.to_path_buf(),
                 place: place(m, p),
-                reason,
+                kind: GltfKind::Draco(Box::new(kind)),
             };
             let plain = decode_primitive(json, (m, p), buffers, max_elements).map_err(error)?;
             let mut stream_view = stream_view_alone(json, (m, p));
@@ -198,7 +195,7 @@ mod decoder {
         (m, p): (usize, usize),
         buffers: &[Vec<u8>],
         max_elements: usize,
-    ) -> Result<Vec<Plain>, String> {
+    ) -> Result<Vec<Plain>, Draco> {
         let primitive = &json["meshes"][m]["primitives"][p];
         let extension = &primitive["extensions"][DRACO];
         let stream = stream(json, extension, buffers)?;
@@ -219,18 +216,18 @@ mod decoder {
         json: &Value,
         extension: &Value,
         buffers: &'b [Vec<u8>],
-    ) -> Result<&'b [u8], String> {
-        let view_index = uint(extension, "bufferView").ok_or("bufferView is missing")?;
-        let view = json["bufferViews"]
-            .get(view_index)
-            .ok_or_else(|| format!("buffer view {view_index} does not exist"))?;
+    ) -> Result<&'b [u8], Draco> {
+        let view_index =
+            uint(extension, "bufferView").ok_or(Draco::Missing { member: "bufferView" })?;
+        let view =
+            json["bufferViews"].get(view_index).ok_or(Draco::NoSuchView { view: view_index })?;
         let buffer = uint(view, "buffer").unwrap_or(usize::MAX);
         let offset = uint(view, "byteOffset").unwrap_or(0);
         let length = uint(view, "byteLength").unwrap_or(0);
         buffers
             .get(buffer)
             .and_then(|b| b.get(offset..offset.checked_add(length)?))
-            .ok_or_else(|| format!("buffer view {view_index} lies outside buffer {buffer}"))
+            .ok_or(Draco::ViewOutside { view: view_index, buffer })
     }
 
     /// The accessors the stream fills: one per entry of the extension's `attributes` (the
@@ -241,20 +238,21 @@ mod decoder {
         primitive: &Value,
         extension: &Value,
         max_elements: usize,
-    ) -> Result<Vec<Target>, String> {
-        let ids = extension["attributes"].as_object().ok_or("attributes is missing")?;
+    ) -> Result<Vec<Target>, Draco> {
+        let ids =
+            extension["attributes"].as_object().ok_or(Draco::Missing { member: "attributes" })?;
         let mut named: Vec<(String, Option<usize>, Option<usize>)> = Vec::new();
         for (name, id) in ids {
-            let id = crate::gltf_pass::index(id)
-                .ok_or_else(|| format!("attributes.{name} is not an attribute id"))?;
+            let id =
+                crate::gltf_pass::index(id).ok_or_else(|| Draco::NotAnId { name: name.clone() })?;
             let accessor = uint(&primitive["attributes"], name)
-                .ok_or_else(|| format!("attributes.{name} names no attribute of the primitive"))?;
+                .ok_or_else(|| Draco::NotAnAttribute { name: name.clone() })?;
             named.push((name.clone(), Some(accessor), Some(id)));
         }
         named.push(("indices".to_owned(), uint(primitive, "indices"), None));
         let mut targets = Vec::with_capacity(named.len());
         for (name, accessor, id) in named {
-            let accessor = accessor.ok_or("the primitive has no indices")?;
+            let accessor = accessor.ok_or(Draco::NoIndices)?;
             targets.push(target(json, name, accessor, id, max_elements)?);
         }
         Ok(targets)
@@ -267,38 +265,42 @@ mod decoder {
         index: usize,
         id: Option<usize>,
         max_elements: usize,
-    ) -> Result<Target, String> {
-        let accessor = json["accessors"]
-            .get(index)
-            .ok_or_else(|| format!("{name}: accessor {index} does not exist"))?;
+    ) -> Result<Target, Draco> {
+        let Some(accessor) = json["accessors"].get(index) else {
+            return Err(Draco::NoSuchAccessor { name, accessor: index });
+        };
         if accessor.get("bufferView").is_some() || accessor.get("sparse").is_some() {
-            return Err(format!(
-                "{name}: accessor {index} has data of its own (uncompressed fallback data, or it is shared with another primitive); seamlit reads Draco primitives whose accessors have none, as glTF-Transform and gltfpack write them"
-            ));
+            return Err(Draco::AccessorHasData { name, accessor: index });
         }
         let count = uint(accessor, "count").unwrap_or(0);
         if count > max_elements {
-            return Err(format!(
-                "{name}: accessor {index} declares {count} elements, more than {max_elements}"
-            ));
+            return Err(Draco::TooManyElements {
+                name,
+                accessor: index,
+                count,
+                limit: max_elements,
+            });
         }
         let components = match accessor["type"].as_str() {
             Some("SCALAR") => 1,
             Some("VEC2") => 2,
             Some("VEC3") => 3,
             Some("VEC4") => 4,
-            other => return Err(format!("{name}: accessor {index} has type {other:?}")),
+            other => {
+                let found = other.map(str::to_owned);
+                return Err(Draco::AccessorType { name, accessor: index, found });
+            }
         };
         let component_type = uint(accessor, "componentType").unwrap_or(0) as u64;
         Ok(Target { name, accessor: index, id, count, components, component_type })
     }
 
     /// Runs the decoder; its error or its panic becomes the reason.
-    fn run_decoder(stream: &[u8]) -> Result<Mesh, String> {
+    fn run_decoder(stream: &[u8]) -> Result<Mesh, Draco> {
         match std::panic::catch_unwind(|| draco_oxide_decoder::decode_mesh(stream)) {
             Ok(Ok(mesh)) => Ok(mesh),
-            Ok(Err(e)) => Err(format!("the Draco stream is malformed: {e}")),
-            Err(_) => Err("the Draco decoder failed on this stream (it panicked): the stream is malformed or uses what draco-oxide-decoder does not support".to_owned()),
+            Ok(Err(e)) => Err(Draco::Malformed { source: Box::new(e) }),
+            Err(_) => Err(Draco::DecoderPanicked),
         }
     }
 
@@ -319,16 +321,16 @@ mod decoder {
         ///
         /// When the attributes cover different numbers of points, or a point names a value
         /// its attribute lacks.
-        fn of(mesh: &Mesh) -> Result<Self, String> {
+        fn of(mesh: &Mesh) -> Result<Self, Draco> {
             let attributes = mesh.get_attributes();
             let points = attributes.first().map_or(0, |a| a.len());
             if let Some(a) = attributes.iter().find(|a| a.len() != points) {
-                return Err(format!(
-                    "the decoded attribute {} covers {} points, attribute {} covers {points}",
-                    a.get_id().as_usize(),
-                    a.len(),
-                    attributes[0].get_id().as_usize()
-                ));
+                return Err(Draco::PointCounts {
+                    attribute: a.get_id().as_usize(),
+                    points: a.len(),
+                    first: attributes[0].get_id().as_usize(),
+                    first_points: points,
+                });
             }
             let mut seen = std::collections::HashMap::with_capacity(points);
             let (mut first, mut vertex) = (Vec::new(), Vec::with_capacity(points));
@@ -358,19 +360,14 @@ mod decoder {
     }
 
     /// The bytes of `point`'s value in a decoded attribute.
-    fn value(attribute: &Attribute, point: usize) -> Result<&[u8], String> {
+    fn value(attribute: &Attribute, point: usize) -> Result<&[u8], Draco> {
         let size = attribute.get_num_components() * attribute.get_component_type().size();
         value_index(attribute, point)
             .and_then(|v| {
                 let start = v.checked_mul(size)?;
                 attribute.get_data_as_bytes().get(start..start.checked_add(size)?)
             })
-            .ok_or_else(|| {
-                format!(
-                    "point {point} names a value attribute {} lacks",
-                    attribute.get_id().as_usize()
-                )
-            })
+            .ok_or_else(|| Draco::NoValue { point, attribute: attribute.get_id().as_usize() })
     }
 
     /// glTF's component type of a decoded component type, where glTF has one.
@@ -393,27 +390,29 @@ mod decoder {
         target: &Target,
         id: usize,
         points: &Points,
-    ) -> Result<Plain, String> {
+    ) -> Result<Plain, Draco> {
         let name = &target.name;
         let attribute = mesh
             .get_attributes()
             .iter()
             .find(|a| a.get_id().as_usize() == id)
-            .ok_or_else(|| format!("{name}: the stream has no attribute {id}"))?;
+            .ok_or_else(|| Draco::NoSuchId { name: name.clone(), id })?;
         let decoded_type = attribute.get_component_type();
         let count = points.first.len();
         if count != target.count
             || attribute.get_num_components() != target.components
             || gltf_component_type(decoded_type) != Some(target.component_type)
         {
-            return Err(format!(
-                "{name}: the stream holds {count} values of {} x {decoded_type:?}, accessor {} declares {} of {} x componentType {}",
-                attribute.get_num_components(),
-                target.accessor,
-                target.count,
-                target.components,
-                target.component_type
-            ));
+            return Err(Draco::AttributeMismatch {
+                name: name.clone(),
+                count,
+                components: attribute.get_num_components(),
+                component: format!("{decoded_type:?}"),
+                accessor: target.accessor,
+                declared: target.count,
+                declared_components: target.components,
+                component_type: target.component_type,
+            });
         }
         let size = target.components * decoded_type.size();
         let stride = size.next_multiple_of(4);
@@ -428,40 +427,36 @@ mod decoder {
 
     /// The decoded faces as the indices accessor's elements: three per face, each naming a
     /// vertex, within the accessor's component type.
-    fn index_data(mesh: &Mesh, target: &Target, points: &Points) -> Result<Plain, String> {
+    fn index_data(mesh: &Mesh, target: &Target, points: &Points) -> Result<Plain, Draco> {
         let mut corners = Vec::with_capacity(mesh.get_faces().len() * 3);
         for &point in mesh.get_faces().iter().flatten() {
             let point = usize::from(point);
-            let vertex = points.vertex.get(point).ok_or_else(|| {
-                format!("a triangle names point {point}, the stream has {}", points.vertex.len())
-            })?;
+            let vertex = points
+                .vertex
+                .get(point)
+                .ok_or(Draco::NoSuchPoint { point, points: points.vertex.len() })?;
             corners.push(*vertex);
         }
         if corners.len() != target.count || target.components != 1 {
-            return Err(format!(
-                "the stream holds {} triangle corners, indices accessor {} declares {}",
-                corners.len(),
-                target.accessor,
-                target.count
-            ));
+            return Err(Draco::CornerCount {
+                corners: corners.len(),
+                accessor: target.accessor,
+                declared: target.count,
+            });
         }
         let limit = match target.component_type {
             5121 => usize::from(u8::MAX),
             5123 => usize::from(u16::MAX),
             5125 => u32::MAX as usize,
             other => {
-                return Err(format!(
-                    "indices accessor {} has componentType {other}",
-                    target.accessor
-                ));
+                return Err(Draco::IndexType { accessor: target.accessor, component_type: other });
             }
         };
         if points.first.len() > limit {
-            return Err(format!(
-                "{} vertices do not fit the indices' componentType {}",
-                points.first.len(),
-                target.component_type
-            ));
+            return Err(Draco::IndicesTooNarrow {
+                vertices: points.first.len(),
+                component_type: target.component_type,
+            });
         }
         #[expect(clippy::cast_possible_truncation, reason = "every corner fits, checked above")]
         let bytes: Vec<u8> = match target.component_type {
@@ -562,6 +557,7 @@ mod tests {
     use serde_json::json;
 
     use super::*;
+    use crate::GltfKind;
 
     #[test]
     fn the_refusal_names_the_first_draco_primitive_and_a_way_out() {
@@ -573,13 +569,17 @@ mod tests {
             ] },
         ] });
         let path = Path::new("model.glb");
-        let Err(IoError::Gltf { path: named, place, reason }) = refuse(&document, path) else {
-            panic!("not refused");
+        let Err(error) = refuse(&document, path) else { panic!("not refused") };
+        let IoError::Gltf { path: named, place, kind: GltfKind::NoDracoDecoder { file } } = &error
+        else {
+            panic!("{error:?}");
         };
-        assert_eq!(named, path);
+        assert_eq!((named.as_path(), file.as_path()), (path, path));
         assert_eq!(place, "meshes[1].primitives[1].extensions.KHR_draco_mesh_compression");
-        assert!(reason.contains("`draco` feature"), "{reason}");
-        assert!(reason.contains("gltf-transform/cli copy model.glb"), "{reason}");
+        // What the user reads: the way out, with the file's name.
+        let message = error.to_string();
+        assert!(message.contains("`draco` feature"), "{message}");
+        assert!(message.contains("gltf-transform/cli copy model.glb"), "{message}");
         refuse(&json!({ "meshes": [{ "primitives": [{ "attributes": {} }] }] }), path).unwrap();
     }
 }

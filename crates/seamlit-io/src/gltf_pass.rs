@@ -731,7 +731,7 @@ impl<'a> Output<'a> {
             bytes.map_err(|e| IoError::InvalidAsset {
                 path: self.path.to_path_buf(),
                 object: String::new(),
-                reason: format!("JSON serialisation failed: {e}"),
+                kind: crate::InvalidAsset::Json { source: e },
             })
         };
         if !self.binary {
@@ -994,17 +994,13 @@ impl Output<'_> {
     /// hold it (there, buffer 0 without `uri` is the BIN chunk), and nothing can be appended
     /// to it.
     fn keep_host_without_data(&self) -> Result<(), IoError> {
-        let reason = if self.binary {
-            "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere), and a GLB's buffer 0 without uri is its BIN chunk: write it as .gltf"
+        let kind = if self.binary {
+            crate::InvalidAsset::HostInGlb
         } else if self.appended > 0 {
-            "buffer 0 of the input has no uri and no data (it comes from an extension or elsewhere): the new normals and tangents cannot be appended to it"
+            crate::InvalidAsset::HostCannotGrow
         } else {
             return Ok(());
         };
-        Err(IoError::InvalidAsset {
-            path: self.path.to_path_buf(),
-            object: String::new(),
-            reason: reason.to_owned(),
-        })
+        Err(IoError::InvalidAsset { path: self.path.to_path_buf(), object: String::new(), kind })
     }
 }

@@ -36,8 +36,8 @@ use gltf::json::validation::{Checked, Error as Problem, Validate};
 ///
 /// # Errors
 ///
-/// [`gltf::Error::Validation`] with the remaining problems, in gltf-json's order.
-pub(crate) fn validate(root: &gltf::json::Root) -> Result<(), gltf::Error> {
+/// The remaining problems, each at its JSON path, in gltf-json's order.
+pub(crate) fn validate(root: &gltf::json::Root) -> Result<(), Vec<(gltf::json::Path, Problem)>> {
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| {
         let path = path();
@@ -45,7 +45,7 @@ pub(crate) fn validate(root: &gltf::json::Root) -> Result<(), gltf::Error> {
             errors.push((path, error));
         }
     });
-    if errors.is_empty() { Ok(()) } else { Err(gltf::Error::Validation(errors)) }
+    if errors.is_empty() { Ok(()) } else { Err(errors) }
 }
 
 /// Whether the specification allows what gltf-json reports as `error` at `path`.

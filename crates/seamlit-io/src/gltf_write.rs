@@ -22,7 +22,7 @@ use gltf_json as json;
 use json::validation::{Checked, USize64};
 use seamlit_mesh::{Object, VAxis};
 
-use crate::{Asset, IoError, Material, TextureRef, TextureSource, UvTransform};
+use crate::{Asset, InvalidAsset, IoError, Material, TextureRef, TextureSource, UvTransform};
 
 /// Writes `asset` as `.glb` (`binary`) or `.gltf` (+ `.bin` and images beside it).
 ///
@@ -78,7 +78,7 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         serde_json::to_vec_pretty(&writer.root).map_err(|e| IoError::InvalidAsset {
             path: path.to_path_buf(),
             object: String::new(),
-            reason: format!("JSON serialisation failed: {e}"),
+            kind: InvalidAsset::Json { source: e },
         })?;
     let folder = path.parent().unwrap_or(Path::new(""));
     for (name, bytes) in &writer.side_files {
@@ -117,7 +117,7 @@ pub(crate) fn write_glb(
         u32::try_from(n).map_err(|_| IoError::InvalidAsset {
             path: path.to_path_buf(),
             object: String::new(),
-            reason: format!("a GLB holds at most 4 GiB; this one would take {length} bytes"),
+            kind: InvalidAsset::GlbTooLarge { bytes: length },
         })
     };
     let (length, json_length) = (word(length)?, word(json.len())?);
@@ -153,10 +153,10 @@ pub(crate) fn safe_name(name: &str) -> String {
 /// Attribute arrays must match the vertex count and indices must be in range.
 pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> {
     let n = object.positions.len();
-    let invalid = |reason: String| IoError::InvalidAsset {
+    let invalid = |kind: InvalidAsset| IoError::InvalidAsset {
         path: path.to_path_buf(),
         object: object.name.clone(),
-        reason,
+        kind,
     };
     let lengths = [
         ("uvs", object.uvs.as_ref().map(Vec::len)),
@@ -164,25 +164,25 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
         ("tangents", object.tangents.as_ref().map(Vec::len)),
         ("colors", object.colors.as_ref().map(Vec::len)),
     ];
-    for (what, len) in lengths {
-        if let Some(len) = len.filter(|&len| len != n) {
-            return Err(invalid(format!("{len} {what} for {n} positions")));
+    for (attribute, len) in lengths {
+        if let Some(count) = len.filter(|&len| len != n) {
+            return Err(invalid(InvalidAsset::AttributeLength { attribute, count, positions: n }));
         }
     }
     if let Some(groups) = object.smoothing_groups.as_ref().map(Vec::len) {
         let triangles = object.triangles.len();
         if groups != triangles {
-            return Err(invalid(format!("{groups} smoothing groups for {triangles} triangles")));
+            return Err(invalid(InvalidAsset::SmoothingGroups { groups, triangles }));
         }
     }
     if n >= u32::MAX as usize {
-        return Err(invalid(format!("{n} vertices do not fit 32-bit indices")));
+        return Err(invalid(InvalidAsset::TooManyVertices { vertices: n }));
     }
     if let Some(t) = object.triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
-        return Err(invalid(format!("triangle {t:?} refers past the {n} vertices")));
+        return Err(invalid(InvalidAsset::IndexOutOfRange { triangle: *t, vertices: n }));
     }
     if !object.positions.iter().all(|p| p.is_finite()) {
-        return Err(invalid("a position is not finite".to_owned()));
+        return Err(invalid(InvalidAsset::NotFinite));
     }
     Ok(())
 }
@@ -686,13 +686,9 @@ pub(crate) fn encoded(
     }
     let Some(image) = &texture.image else { return Ok(None) };
     let mut png = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| {
-        IoError::Image {
-            path: path.to_path_buf(),
-            texture: texture.name.clone(),
-            reason: e.to_string(),
-        }
-    })?;
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(
+        |source| IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source },
+    )?;
     Ok(Some((png, "image/png")))
 }
 

@@ -76,7 +76,9 @@ pub use asset::{
     AlphaMode, Asset, GltfSource, Material, Node, ObjSource, PunctualKind, PunctualLight, Texture,
     TextureRef, TextureSource, UvTransform,
 };
-pub use error::{BadAccessor, IoError, NotText, Syntax};
+pub use error::{
+    BadAccessor, BadUri, Draco, Glb, GltfKind, InvalidAsset, IoError, Meshopt, NotText, Syntax,
+};
 pub use options::{LoadOptions, SaveOptions};
 
 /// A model file format this crate reads.

@@ -27,8 +27,8 @@ use std::sync::Arc;
 use glam::Mat4;
 use seamlit_mesh::{Model, Object};
 
-use crate::IoError;
 use crate::paths::NotInside;
+use crate::{InvalidAsset, IoError};
 
 /// The UTF-8 byte-order mark, copied through (the parser skips it).
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
@@ -177,10 +177,10 @@ pub(crate) fn save(
     for object in &asset.model.objects {
         crate::gltf_write::check_object(object, path)?;
     }
-    let text = rewrite(&asset.model, &source.0).map_err(|reason| IoError::InvalidAsset {
+    let text = rewrite(&asset.model, &source.0).map_err(|kind| IoError::InvalidAsset {
         path: path.to_path_buf(),
         object: String::new(),
-        reason,
+        kind,
     })?;
     let mut side = SideFiles::new(&source.0.path, path);
     for (name, line) in &source.0.libraries {
@@ -208,7 +208,7 @@ type Written = HashMap<[u32; 3], usize>;
 
 /// The input text with the `vn` lines replaced by the model's and the faces' normal
 /// references pointing at them; `Err` says where the text and the model disagree.
-fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, String> {
+fn rewrite(model: &Model, source: &Source) -> Result<Vec<u8>, InvalidAsset> {
     let (bom, body) = match source.text.strip_prefix(UTF8_BOM) {
         Some(body) => (UTF8_BOM, body),
         None => (&[][..], &source.text[..]),
@@ -254,7 +254,7 @@ impl<'a> Rewriter<'a> {
     }
 
     /// Leaves out a `vn` line, rewrites an `f` line, copies any other.
-    fn line(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
+    fn line(&mut self, number: usize, line: &[u8]) -> Result<(), InvalidAsset> {
         words(line, &mut self.words);
         match self.words.first().map(|&(start, end)| &line[start..end]) {
             Some(b"vn") => {}
@@ -271,11 +271,10 @@ impl<'a> Rewriter<'a> {
 
     /// A face of three corners or more: where its triangles are, its object's normals (before
     /// the object's first face), and each corner's normal reference.
-    fn face(&mut self, number: usize, line: &[u8]) -> Result<(), String> {
+    fn face(&mut self, number: usize, line: &[u8]) -> Result<(), InvalidAsset> {
         let corners = self.words.len() - 1;
-        let (o, first) = self
-            .place(corners - 2)
-            .ok_or_else(|| format!("line {number}: the face is not among the loaded triangles"))?;
+        let (o, first) =
+            self.place(corners - 2).ok_or(InvalidAsset::FaceNotLoaded { line: number })?;
         let object = &self.model.objects[o];
         let normals = match &mut self.normal_index[o] {
             Some(normals) => normals,
@@ -284,9 +283,7 @@ impl<'a> Rewriter<'a> {
         let mut references = Vec::with_capacity(corners);
         for c in 0..corners {
             let (t, k) = corner_place(object, &self.source.objects[o], first, corners, c)
-                .ok_or_else(|| {
-                    format!("line {number}: corner {} is not in its triangles", c + 1)
-                })?;
+                .ok_or(InvalidAsset::CornerNotLoaded { line: number, corner: c + 1 })?;
             let vertex = object.triangles[t][k] as usize;
             references.push(object.normals.as_ref().map(|_| normals[vertex]));
         }
@@ -309,13 +306,10 @@ impl<'a> Rewriter<'a> {
     }
 
     /// The output, once every loaded triangle has had its face.
-    fn finish(self) -> Result<Vec<u8>, String> {
+    fn finish(self) -> Result<Vec<u8>, InvalidAsset> {
         let loaded: usize = self.runs.iter().map(|r| r.len).sum();
         if self.triangle != loaded {
-            return Err(format!(
-                "the file's faces give {} triangles, {loaded} were loaded",
-                self.triangle
-            ));
+            return Err(InvalidAsset::TriangleCount { faces: self.triangle, loaded });
         }
         Ok(self.out)
     }

@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 
 use common::{assert_valid, fix_and_save};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
-use seamlit_io::{IoError, LoadOptions};
+#[cfg(feature = "draco")]
+use seamlit_io::Draco;
+use seamlit_io::{GltfKind, IoError, LoadOptions, Meshopt};
 use serde_json::Value;
 
 fn model(name: &str) -> PathBuf {
@@ -464,33 +466,53 @@ fn view_1(json: &mut Value) -> &mut Value {
     &mut json["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]
 }
 
+/// Whether an error's kind is the one a case expects.
+type Expected<Kind> = fn(&Kind) -> bool;
+
 #[test]
 fn malformed_meshopt_views_are_refused_naming_the_view() {
     let dir = tempfile::tempdir().unwrap();
-    let refused = |what: &str, path: PathBuf| match seamlit_io::load(&path, &LoadOptions::GEOMETRY)
-    {
-        Err(IoError::Gltf { path: p, place, reason }) => {
-            let expected = "bufferViews[1].extensions.EXT_meshopt_compression";
-            assert_eq!((p, place.as_str()), (path, expected), "{what}: {reason}");
+    let refused = |what: &str, path: PathBuf, expected: Expected<Meshopt>| match seamlit_io::load(
+        &path,
+        &LoadOptions::GEOMETRY,
+    ) {
+        Err(IoError::Gltf { path: p, place, kind: GltfKind::Meshopt(kind) }) => {
+            let at = "bufferViews[1].extensions.EXT_meshopt_compression";
+            assert_eq!((p, place.as_str()), (path, at), "{what}: {kind}");
+            assert!(expected(&kind), "{what}: {kind:?}");
         }
         other => panic!("{what}: {other:?}"),
     };
-    let edits: [(&str, &str, Value); 4] = [
-        ("an unknown mode", "mode", "FAN".into()),
-        ("a stride ATTRIBUTES does not allow", "byteStride", 6.into()),
-        ("bytes outside the buffer", "byteLength", 1_000_000.into()),
+    let edits: [(&str, &str, Value, Expected<Meshopt>); 4] = [
+        (
+            "an unknown mode",
+            "mode",
+            "FAN".into(),
+            |kind| matches!(kind, Meshopt::UnknownMode { found: Some(mode) } if mode == "FAN"),
+        ),
+        (
+            "a stride ATTRIBUTES does not allow",
+            "byteStride",
+            6.into(),
+            |kind| matches!(kind, Meshopt::StrideNotAllowed { stride: 6, mode, .. } if mode == "ATTRIBUTES"),
+        ),
+        ("bytes outside the buffer", "byteLength", 1_000_000.into(), |kind| {
+            matches!(kind, Meshopt::CompressedOutside { buffer: 0, .. })
+        }),
         // Refused before the decoder allocates a trillion elements.
-        ("more elements than the view holds", "count", 1_000_000_000_000_u64.into()),
+        ("more elements than the view holds", "count", 1_000_000_000_000_u64.into(), |kind| {
+            matches!(kind, Meshopt::LengthMismatch { count: 1_000_000_000_000, .. })
+        }),
     ];
-    for (what, key, value) in edits {
-        refused(what, edited_meshopt(dir.path(), |json, _| view_1(json)[key] = value));
+    for (what, key, value, expected) in edits {
+        refused(what, edited_meshopt(dir.path(), |json, _| view_1(json)[key] = value), expected);
     }
     // The vertex codec's header byte (0xa0 | version) made unknown.
     let garbage = edited_meshopt(dir.path(), |json, bin| {
         let at = view_1(json)["byteOffset"].as_u64().unwrap();
         bin[at as usize] = 0x00;
     });
-    refused("a corrupt header", garbage);
+    refused("a corrupt header", garbage, |kind| matches!(kind, Meshopt::Refused { .. }));
 }
 
 #[cfg(not(feature = "draco"))]
@@ -499,10 +521,12 @@ fn without_the_draco_feature_draco_geometry_is_refused_naming_the_primitive_and_
     let path = model("teapot_draco.glb");
     let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
     assert_eq!(error.to_string().lines().count(), 1, "{error}");
-    let IoError::Gltf { path: p, place, reason } = &error else { panic!("{error:?}") };
-    assert_eq!(p, &path);
+    let IoError::Gltf { path: p, place, kind: GltfKind::NoDracoDecoder { file } } = &error else {
+        panic!("{error:?}")
+    };
+    assert_eq!((p, file), (&path, &path));
     assert_eq!(place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
-    assert!(reason.contains("gltf-transform/cli copy"), "{reason}");
+    assert!(error.to_string().contains("gltf-transform/cli copy"), "{error}");
 }
 
 /// The Draco teapot's tolerances, from what glTF-Transform's `draco` command quantises by
@@ -635,8 +659,10 @@ fn corrupt_draco_streams_fail_with_an_error_naming_the_primitive_never_a_panic()
     let (mut loaded, mut refused) = (0, 0);
     let mut outcome = |path: PathBuf| match seamlit_io::load(&path, &LoadOptions::GEOMETRY) {
         Ok(_) => loaded += 1,
-        Err(IoError::Gltf { place: p, reason, .. }) if p == place => {
-            assert_eq!(reason.lines().count(), 1, "{reason}");
+        Err(error @ IoError::Gltf { kind: GltfKind::Draco(_), .. }) => {
+            let IoError::Gltf { place: p, .. } = &error else { unreachable!() };
+            assert_eq!(p, place, "{error}");
+            assert_eq!(error.to_string().lines().count(), 1, "{error}");
             refused += 1;
         }
         Err(other) => panic!("{other}"),
@@ -670,38 +696,47 @@ fn draco_of_0(json: &mut Value) -> &mut Value {
 fn a_draco_stream_that_does_not_hold_what_its_accessors_declare_is_refused() {
     let dir = tempfile::tempdir().unwrap();
 
-    let edits: [(&str, Edit, &str); 5] = [
-        ("more points", Box::new(|json| json["accessors"][1]["count"] = 31.into()), "30 values"),
-        (
-            "another type",
-            Box::new(|json| json["accessors"][4]["type"] = "VEC3".into()),
-            "TEXCOORD_0",
-        ),
+    let edits: [(&str, Edit, Expected<Draco>); 5] = [
+        ("more points", Box::new(|json| json["accessors"][1]["count"] = 31.into()), |kind| {
+            matches!(kind, Draco::AttributeMismatch { count: 30, accessor: 1, declared: 31, .. })
+        }),
+        ("another type", Box::new(|json| json["accessors"][4]["type"] = "VEC3".into()), |kind| {
+            matches!(
+                kind,
+                Draco::AttributeMismatch { name, components: 2, declared_components: 3, .. }
+                    if name == "TEXCOORD_0"
+            )
+        }),
         (
             "integers",
             Box::new(|json| json["accessors"][2]["componentType"] = 5122.into()),
-            "NORMAL",
+            |kind| {
+                matches!(
+                    kind,
+                    Draco::AttributeMismatch { name, component_type: 5122, .. } if name == "NORMAL"
+                )
+            },
         ),
-        (
-            "more corners",
-            Box::new(|json| json["accessors"][0]["count"] = 99.into()),
-            "96 triangle corners",
-        ),
+        ("more corners", Box::new(|json| json["accessors"][0]["count"] = 99.into()), |kind| {
+            matches!(kind, Draco::CornerCount { corners: 96, accessor: 0, declared: 99 })
+        }),
         (
             "an unknown id",
             Box::new(|json| draco_of_0(json)["attributes"]["NORMAL"] = 9.into()),
-            "no attribute 9",
+            |kind| matches!(kind, Draco::NoSuchId { name, id: 9 } if name == "NORMAL"),
         ),
     ];
     for (what, edit, expected) in edits {
         let path = edited_draco(dir.path(), "edited.glb", |json, _| edit(json));
         let error = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
-        let IoError::Gltf { place, reason, .. } = &error else { panic!("{what}: {error:?}") };
+        let IoError::Gltf { place, kind: GltfKind::Draco(kind), .. } = &error else {
+            panic!("{what}: {error:?}")
+        };
         assert_eq!(
             place, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression",
             "{what}"
         );
-        assert!(reason.contains(expected), "{what}: {reason}");
+        assert!(expected(kind), "{what}: {kind:?}");
     }
 }
 

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use seamlit_io::{IoError, LoadOptions, SaveOptions};
+use seamlit_io::{InvalidAsset, IoError, LoadOptions, SaveOptions};
 
 fn write(path: &Path, text: &str) -> PathBuf {
     if let Some(parent) = path.parent() {
@@ -128,7 +128,17 @@ fn a_failed_save_leaves_the_existing_output_untouched() {
         vec![[0, 1, 7]],
     ));
     let err = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap_err();
-    assert!(matches!(err, IoError::InvalidAsset { .. }), "{err}");
+    assert!(
+        matches!(
+            &err,
+            IoError::InvalidAsset {
+                kind: InvalidAsset::IndexOutOfRange { triangle: [0, 1, 7], vertices: 3 },
+                object,
+                ..
+            } if object == "broken"
+        ),
+        "{err}"
+    );
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old contents");
 }
 

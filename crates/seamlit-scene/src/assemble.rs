@@ -163,7 +163,7 @@ fn load_normal_texture(t: &NormalTexture) -> Result<Texture, SceneError> {
         NormalTexture::Bricks => Ok(bricks_texture()),
         NormalTexture::File(path) => {
             let image = image::open(path)
-                .map_err(|e| SceneError::Texture { path: path.clone(), message: e.to_string() })?;
+                .map_err(|source| SceneError::Texture { path: path.clone(), source })?;
             Ok(Texture {
                 name: path
                     .file_name()
@@ -297,8 +297,17 @@ mod tests {
             normal_texture: Some(NormalTexture::File("/nonexistent/n.png".into())),
             ..MaterialOverride::default()
         };
-        let e = apply_overrides(&mut a, &[o], Path::new("a.obj")).unwrap_err().to_string();
-        assert!(e.starts_with("/nonexistent/n.png: cannot load the texture"), "{e}");
+        let e = apply_overrides(&mut a, &[o], Path::new("a.obj")).unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                SceneError::Texture { path, source: image::ImageError::IoError(io) }
+                    if path == Path::new("/nonexistent/n.png")
+                        && io.kind() == std::io::ErrorKind::NotFound
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().starts_with("/nonexistent/n.png: cannot load the texture"), "{e}");
     }
 
     #[test]

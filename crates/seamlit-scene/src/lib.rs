@@ -12,7 +12,7 @@
 //!
 //! ```
 //! use std::path::Path;
-//! use seamlit_scene::Scene;
+//! use seamlit_scene::{Invalid, Scene, SceneError};
 //!
 //! let text = r#"
 //! [[model]]
@@ -30,10 +30,18 @@
 //!
 //! // An unknown key is an error naming the file, the line and the key.
 //! let bad = Scene::parse("[[model]]\npath = \"a.obj\"\nsclae = 2\n", Path::new(""), Path::new("s.toml"));
+//! let error = bad.unwrap_err();
+//! assert!(matches!(&error, SceneError::Parse { line: 3, key: Some(key), .. } if key == "sclae"));
 //! assert_eq!(
-//!     bad.unwrap_err().to_string().lines().next().unwrap().split(", expected").next().unwrap(),
+//!     error.to_string().split(", expected").next().unwrap(),
 //!     "s.toml: line 3, column 1: unknown field `sclae`"
 //! );
+//! // A value that makes no sense is a typed kind, with the line of its table.
+//! let bad = Scene::parse("[[model]]\npath = \"a.obj\"\nscale = [1, 0, 1]\n", Path::new(""), Path::new("s.toml"));
+//! assert!(matches!(
+//!     bad.unwrap_err(),
+//!     SceneError::Invalid { line: 1, kind: Invalid::ZeroScale { .. }, .. }
+//! ));
 //! # Ok::<(), seamlit_scene::SceneError>(())
 //! ```
 #![deny(missing_docs)]
@@ -53,7 +61,7 @@ mod schema;
 
 pub use camera::{Bounds, Camera};
 pub use controller::{FpsController, FpsInput, OrbitController};
-pub use error::SceneError;
+pub use error::{Invalid, SceneError};
 pub use scene::{
     EnvironmentChoice, MaterialOverride, NormalTexture, RenderOptions, Scene, SceneModel,
     is_scene_path,

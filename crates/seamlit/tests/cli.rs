@@ -226,6 +226,21 @@ fn inspect_names_a_missing_or_malformed_file() {
     assert_bad_input(&seamlit(&["inspect", &patches]), &["broken.bpt", "patches"]);
 }
 
+/// A library error whose kind keeps a foreign error as its source (serde_json's here) prints
+/// on one line with that error's text once: neither lost nor repeated by the chain.
+#[test]
+fn a_library_error_prints_its_source_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let broken = write(
+        dir.path(),
+        "broken.gltf",
+        "{\n  \"asset\": {\"version\": \"2.0\"},\n  \"nodes\": [,]\n}",
+    );
+    let o = seamlit(&["inspect", &broken]);
+    assert_bad_input(&o, &[&format!("{broken}: glTF JSON line 3 column 13: expected value")]);
+    assert_eq!(errors(&o)[0].matches("expected value").count(), 1, "{:?}", errors(&o));
+}
+
 // --- fix ---------------------------------------------------------------------------------
 
 #[test]

@@ -137,10 +137,12 @@ pub(super) fn joint_nodes(
                     return Err(IoError::Gltf {
                         path: path.to_path_buf(),
                         place: format!("skins[{}].joints", skin.index()),
-                        reason: format!(
-                            "JOINTS_{set} of vertex {v} names joint {j}, the skin has {}",
-                            nodes.len()
-                        ),
+                        kind: crate::GltfKind::JointOutOfRange {
+                            set,
+                            vertex: v,
+                            joint: *j,
+                            joints: nodes.len(),
+                        },
                     });
                 };
                 *j = node;
