@@ -278,6 +278,17 @@ pub enum IoError {
         path: PathBuf,
     },
 
+    /// [`crate::SaveOptions::keep_compression`] is set and the compression cannot be kept: the
+    /// input is Draco-compressed (seamlit has no Draco encoder), or the output is OBJ. Nothing
+    /// was written.
+    #[error("{}: cannot keep the compression: {reason}", path.display())]
+    CannotKeepCompression {
+        /// The input (Draco) or the output (OBJ).
+        path: PathBuf,
+        /// Why, and what to do instead.
+        reason: String,
+    },
+
     /// The asset cannot be written as it is (inconsistent attribute lengths, an index out of
     /// range, a texture without image data).
     #[error("{}: cannot write object {object:?}: {reason}", path.display())]
