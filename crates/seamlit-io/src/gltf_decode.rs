@@ -13,7 +13,8 @@
 //!   made for it first: [`fallback_length`]), with the `meshopt` crate (meshoptimizer's own
 //!   decoder and filters). From then on the loader and the pass-through writer read plain
 //!   data; the writer moves the decoded views into buffer 0 and removes the extension
-//!   ([`uncompress_views`]), so the output needs no meshopt decoder.
+//!   ([`uncompress_views`]), so the output needs no meshopt decoder, unless the save keeps
+//!   the compression (`crate::gltf_encode`).
 
 use std::path::Path;
 

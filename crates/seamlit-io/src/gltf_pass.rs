@@ -15,6 +15,9 @@
 //! - new data is appended to buffer 0 (the GLB `BIN` chunk, or `NAME.bin` beside a `.gltf`);
 //!   for a GLB, images read from files are embedded; for a `.gltf`, the other files the
 //!   document names are copied beside the output.
+//! - meshopt-compressed views are written decoded, or, with
+//!   [`crate::SaveOptions::keep_compression`], kept as they were while the new views are
+//!   encoded ([`crate::gltf_encode`]).
 //!
 //! Everything else is the input JSON, kept as a [`serde_json::Value`]: unknown extensions,
 //! extras, skins, animations, cameras, materials, node transforms as written. Accessors,
