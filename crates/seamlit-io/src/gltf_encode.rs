@@ -5,15 +5,17 @@
 //! written: its compressed bytes (which stay where they were, in buffer 0 or another
 //! buffer: the pass never packs a document that uses meshopt, see `gltf_prune`), mode,
 //! filter and fallback buffer, so a lossy filter (OCTAHEDRAL, QUATERNION, EXPONENTIAL,
-//! COLOR) is never applied twice. The views the pass writes anew (NORMAL, TANGENT, their
-//! morph deltas, split vertex streams, indices) are encoded here with meshoptimizer's
-//! lossless codecs, filter NONE: ATTRIBUTES for vertex data; TRIANGLES for the triangle-list
-//! index buffers seamlit writes where that codec gives the same index order back, else
-//! INDICES (TRIANGLES may rotate a triangle's corners). The compressed bytes go to buffer 0; the view itself names
-//! a fallback buffer, the input's first one (or a new one at the end of `buffers`), whose
-//! `byteLength` grows to hold the new views' decoded bytes (EXT_meshopt_compression,
-//! "Fallback buffers"). Index views of 8-bit indices, which the extension cannot hold, stay
-//! plain data.
+//! COLOR) is never applied twice. The data the pass writes anew (NORMAL, TANGENT, their
+//! morph deltas, split vertex streams, indices) is gathered into one new view per layout
+//! (vertex stride, or index size; each accessor at its offset in it, as gltfpack packs its
+//! streams) and encoded here with meshoptimizer's lossless codecs, filter NONE: ATTRIBUTES
+//! for vertex data; TRIANGLES for the triangle-list indices seamlit writes where that codec
+//! gives the same index order back, else INDICES (TRIANGLES may rotate a triangle's
+//! corners). The compressed bytes go to buffer 0; the view itself names a fallback buffer,
+//! the input's first one (or a new one at the end of `buffers`), whose `byteLength` grows to
+//! hold the new views' decoded bytes (EXT_meshopt_compression, "Fallback buffers"). 8-bit
+//! indices, which the extension cannot hold, get plain views of their own, as without the
+//! option; a gathered view the codec does not make smaller is written plain.
 //!
 //! The vertex codec version follows the extension: version 0 for EXT_meshopt_compression
 //! (the only one it allows), version 1 for KHR_meshopt_compression.
@@ -51,8 +53,21 @@ pub(crate) struct Keep {
     kept: usize,
     /// New views encoded.
     encoded: usize,
-    /// New views left plain (8-bit indices, data the codec does not make smaller).
+    /// New views left plain (data the codec does not make smaller).
     plain: usize,
+    /// The new data gathered so far, one view per layout.
+    pending: Vec<Gathered>,
+}
+
+/// New data of one layout, gathered into one buffer view until the save ends.
+struct Gathered {
+    /// The view's index (an empty entry until [`Keep::finish`]).
+    view: usize,
+    /// The layout, with `element` equal to `stride` for vertices (streams of several element
+    /// sizes share a view of their stride).
+    layout: Layout,
+    /// The data, each stream's at the offset its accessor names.
+    bytes: Vec<u8>,
 }
 
 impl Keep {
@@ -92,68 +107,120 @@ impl Keep {
                 (buffers.len() - 1, 0)
             }
         };
-        Ok(Some(Self { name, fallback, fallback_length, kept, encoded: 0, plain: 0 }))
+        Ok(Some(Self {
+            name,
+            fallback,
+            fallback_length,
+            kept,
+            encoded: 0,
+            plain: 0,
+            pending: Vec::new(),
+        }))
     }
 
-    /// Encodes the new view `bytes` laid out as `layout`: the compressed bytes go to buffer
-    /// 0 through `append` (which returns their offset there); returns the buffer view, in
-    /// the fallback buffer with its extension object. `None` when it stays plain (image
-    /// bytes, 8-bit indices, a stride the codec does not take, data that would not come out
-    /// smaller): nothing was appended.
-    pub(crate) fn encode(
+    /// Gathers the new data `bytes`, laid out as `layout`, into the one new view of its layout
+    /// (an empty entry pushed to `views` the first time, filled in by [`Keep::finish`]);
+    /// returns that view and the offset of `bytes` in it. `None` for data that is never
+    /// compressed (image bytes, 8-bit indices, a stride the codec does not take).
+    pub(crate) fn gather(
         &mut self,
         bytes: &[u8],
         layout: Layout,
-        append: impl FnOnce(Vec<u8>) -> usize,
-    ) -> Option<Value> {
-        let (compressed, stride, count, mode) = match layout {
-            Layout::Bytes => return None,
+        views: &mut Vec<Value>,
+    ) -> Option<(usize, usize)> {
+        let key = match layout {
+            Layout::Vertices { stride, .. }
+                if stride.is_multiple_of(4) && (4..=256).contains(&stride) =>
+            {
+                Layout::Vertices { element: stride, stride }
+            }
+            Layout::Triangles { size: 2 | 4 } => layout,
+            _ => return None,
+        };
+        let group = match self.pending.iter().position(|g| g.layout == key) {
+            Some(group) => group,
+            None => {
+                views.push(json!({}));
+                self.pending.push(Gathered {
+                    view: views.len() - 1,
+                    layout: key,
+                    bytes: Vec::new(),
+                });
+                self.pending.len() - 1
+            }
+        };
+        let group = &mut self.pending[group];
+        let offset = group.bytes.len();
+        group.bytes.extend_from_slice(bytes);
+        Some((group.view, offset))
+    }
+
+    /// Writes one gathered view: compressed (its bytes to buffer 0 through `append`, the
+    /// view in the fallback buffer with its extension object), or plain where the codec
+    /// does not make it smaller.
+    fn write(&mut self, gathered: &Gathered, append: &mut impl FnMut(Vec<u8>) -> usize) -> Value {
+        let bytes = &gathered.bytes;
+        let (stride, count, mode, compressed) = match gathered.layout {
             Layout::Vertices { stride, .. } => {
                 let version = if self.name == MESHOPT[0] { 0 } else { 1 };
-                let compressed = vertices(bytes, stride, version);
-                (compressed, stride, bytes.len() / stride, "ATTRIBUTES")
+                (stride, bytes.len() / stride, "ATTRIBUTES", vertices(bytes, stride, version))
             }
-            Layout::Triangles { size } => match indices(bytes, size) {
-                Some((compressed, mode)) => (Some(compressed), size, bytes.len() / size, mode),
-                None => (None, size, 0, ""),
-            },
+            Layout::Triangles { size } => {
+                let (mode, compressed) =
+                    indices(bytes, size).map_or(("", None), |(c, m)| (m, Some(c)));
+                (size, bytes.len() / size, mode, compressed)
+            }
+            Layout::Bytes => (1, bytes.len(), "", None),
         };
-        // A stream of a few vertices can come out larger than it went in: it stays plain.
-        let Some(compressed) = compressed.filter(|c| c.len() < bytes.len()) else {
-            self.plain += 1;
-            return None;
+        let mut view = match compressed.filter(|c| c.len() < bytes.len()) {
+            Some(compressed) => {
+                self.encoded += 1;
+                let offset = self.fallback_length.next_multiple_of(4);
+                self.fallback_length = offset + bytes.len();
+                let length = compressed.len();
+                let at = append(compressed);
+                json!({
+                    "buffer": self.fallback,
+                    "byteOffset": offset,
+                    "byteLength": bytes.len(),
+                    "extensions": { self.name: {
+                        "buffer": 0,
+                        "byteOffset": at,
+                        "byteLength": length,
+                        "byteStride": stride,
+                        "mode": mode,
+                        "count": count,
+                    } },
+                })
+            }
+            None => {
+                self.plain += 1;
+                let at = append(bytes.clone());
+                json!({ "buffer": 0, "byteOffset": at, "byteLength": bytes.len() })
+            }
         };
-        let offset = self.fallback_length.next_multiple_of(4);
-        self.fallback_length = offset + bytes.len();
-        self.encoded += 1;
-        let length = compressed.len();
-        let at = append(compressed);
-        let mut view = json!({
-            "buffer": self.fallback,
-            "byteOffset": offset,
-            "byteLength": bytes.len(),
-            "extensions": { self.name: {
-                "buffer": 0,
-                "byteOffset": at,
-                "byteLength": length,
-                "byteStride": stride,
-                "mode": mode,
-                "count": count,
-            } },
-        });
-        if let Layout::Vertices { .. } = layout {
+        if let Layout::Vertices { .. } = gathered.layout {
             view["byteStride"] = json!(stride);
             view["target"] = json!(crate::gltf_pass::ARRAY_BUFFER);
         } else {
             view["target"] = json!(crate::gltf_pass::ELEMENT_ARRAY_BUFFER);
         }
-        Some(view)
+        view
     }
 
-    /// Ends the save: the fallback buffer's `byteLength`, the extension in `extensionsUsed`
-    /// and `extensionsRequired` (the new views have no uncompressed data). Returns the
-    /// report's sentence.
-    pub(crate) fn finish(self, json: &mut Value, source: &Path) -> String {
+    /// Ends the save: writes the gathered views (compressed bytes, or plain ones, to buffer
+    /// 0 through `append`, which returns their offset there), the fallback buffer's
+    /// `byteLength`, the extension in `extensionsUsed` and `extensionsRequired` (the new
+    /// views have no uncompressed data). Returns the report's sentence.
+    pub(crate) fn finish(
+        mut self,
+        json: &mut Value,
+        source: &Path,
+        mut append: impl FnMut(Vec<u8>) -> usize,
+    ) -> String {
+        for gathered in std::mem::take(&mut self.pending) {
+            json["bufferViews"][gathered.view] = self.write(&gathered, &mut append);
+        }
         json["buffers"][self.fallback]["byteLength"] = json!(self.fallback_length);
         for list in ["extensionsUsed", "extensionsRequired"] {
             let names = array(json, list);
@@ -163,12 +230,10 @@ impl Keep {
         }
         let plain = match self.plain {
             0 => String::new(),
-            n => format!(
-                "; {n} new views stay plain (8-bit indices, which the extension cannot hold, or data the codec does not make smaller)"
-            ),
+            n => format!("; {n} stay plain (the codec does not make them smaller)"),
         };
         format!(
-            "{}: {} buffer views compressed with {} are kept compressed as written (bytes, mode and filter); {} new views (normals, tangents, split vertices, indices) are compressed losslessly (filter NONE){plain}",
+            "{}: {} buffer views compressed with {} are kept compressed as written (bytes, mode and filter); the new data (normals, tangents, split vertices, indices) is gathered by layout into new views, {} of them compressed losslessly (filter NONE){plain}",
             source.display(),
             self.kept,
             self.name,

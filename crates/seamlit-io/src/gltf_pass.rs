@@ -392,23 +392,37 @@ impl<'a> Output<'a> {
         Ok(())
     }
 
-    /// Ends a save that keeps the compression (the fallback buffer's length, the extension
-    /// declared) and adds its report line.
+    /// Ends a save that keeps the compression (the gathered views written, the fallback
+    /// buffer's length, the extension declared) and adds its report line.
     fn finish_compression(&mut self) {
-        if let Some(keep) = self.keep.take() {
-            let note = keep.finish(&mut self.json, &self.source.path);
-            self.warnings.push(note);
-        }
+        let Some(keep) = self.keep.take() else { return };
+        let mut json = std::mem::take(&mut self.json);
+        let note = keep.finish(&mut json, &self.source.path, |bytes| self.append(bytes));
+        self.json = json;
+        self.warnings.push(note);
     }
 
-    /// Adds the new buffer view `bytes`, laid out as `layout`: appended to buffer 0, or,
-    /// while the compression is kept, encoded (compressed bytes in buffer 0, the view in
-    /// the fallback buffer). Returns its index.
-    fn view(&mut self, bytes: Vec<u8>, layout: Layout) -> usize {
+    /// Adds `accessor` (its JSON, less `bufferView`) over the new data `bytes`, laid out as
+    /// `layout`; returns its index. The data gets a buffer view of its own in buffer 0, or,
+    /// while the compression is kept, joins the new view of its layout
+    /// ([`Keep::gather`]), at the offset the accessor then names.
+    fn accessor_over(&mut self, bytes: Vec<u8>, layout: Layout, mut accessor: Value) -> usize {
         let mut keep = self.keep.take();
-        let encoded = keep.as_mut().and_then(|k| k.encode(&bytes, layout, |c| self.append(c)));
+        let gathered =
+            keep.as_mut().and_then(|k| k.gather(&bytes, layout, self.array("bufferViews")));
         self.keep = keep;
-        let view = encoded.unwrap_or_else(|| self.plain_view(bytes, layout));
+        let (view, offset) = gathered.unwrap_or_else(|| (self.view(bytes, layout), 0));
+        accessor["bufferView"] = json!(view);
+        if offset > 0 {
+            accessor["byteOffset"] = json!(offset);
+        }
+        self.accessor(accessor)
+    }
+
+    /// Appends `bytes` to buffer 0 as a new buffer view laid out as `layout`; returns its
+    /// index.
+    fn view(&mut self, bytes: Vec<u8>, layout: Layout) -> usize {
+        let view = self.plain_view(bytes, layout);
         let views = self.array("bufferViews");
         views.push(view);
         views.len() - 1
@@ -502,10 +516,12 @@ impl<'a> Output<'a> {
                 .flat_map(|&n| unit_normal(n).to_array())
                 .flat_map(f32::to_le_bytes)
                 .collect();
-            let view = self.view(bytes, Layout::Vertices { element: 12, stride: 12 });
-            let accessor = self.accessor(json!({
-                "bufferView": view, "componentType": 5126, "count": count, "type": "VEC3",
-            }));
+            let layout = Layout::Vertices { element: 12, stride: 12 };
+            let accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": 5126, "count": count, "type": "VEC3" }),
+            );
             attributes.insert("NORMAL".to_owned(), json!(accessor));
             if let Some(tangents) = &object.tangents {
                 let bytes: Vec<u8> = tangents
@@ -513,10 +529,12 @@ impl<'a> Output<'a> {
                     .flat_map(|&t| unit_tangent(t).to_array())
                     .flat_map(f32::to_le_bytes)
                     .collect();
-                let view = self.view(bytes, Layout::Vertices { element: 16, stride: 16 });
-                let accessor = self.accessor(json!({
-                    "bufferView": view, "componentType": 5126, "count": count, "type": "VEC4",
-                }));
+                let layout = Layout::Vertices { element: 16, stride: 16 };
+                let accessor = self.accessor_over(
+                    bytes,
+                    layout,
+                    json!({ "componentType": 5126, "count": count, "type": "VEC4" }),
+                );
                 attributes.insert("TANGENT".to_owned(), json!(accessor));
             }
         }
@@ -574,10 +592,12 @@ impl<'a> Output<'a> {
             let Some(deltas) = deltas.as_ref().filter(|_| has_base) else { continue };
             let bytes: Vec<u8> =
                 deltas.iter().flat_map(|d| d.to_array()).flat_map(f32::to_le_bytes).collect();
-            let view = self.view(bytes, Layout::Vertices { element: 12, stride: 12 });
-            let accessor = self.accessor(json!({
-                "bufferView": view, "componentType": 5126, "count": deltas.len(), "type": "VEC3",
-            }));
+            let layout = Layout::Vertices { element: 12, stride: 12 };
+            let accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": 5126, "count": deltas.len(), "type": "VEC3" }),
+            );
             out.push((name, accessor));
         }
         out
@@ -619,7 +639,6 @@ impl<'a> Output<'a> {
             UNSIGNED_SHORT => 2,
             _ => 4,
         };
-        let view = self.view(bytes, Layout::Triangles { size });
         let mut accessor = match template {
             Some(Value::Object(mut a)) => {
                 for key in ["byteOffset", "sparse", "min", "max", "normalized"] {
@@ -629,11 +648,10 @@ impl<'a> Output<'a> {
             }
             _ => Map::new(),
         };
-        accessor.insert("bufferView".to_owned(), json!(view));
         accessor.insert("componentType".to_owned(), json!(component));
         accessor.insert("count".to_owned(), json!(corners.len()));
         accessor.insert("type".to_owned(), json!("SCALAR"));
-        Some(self.accessor(Value::Object(accessor)))
+        Some(self.accessor_over(bytes, Layout::Triangles { size }, Value::Object(accessor)))
     }
 
     /// A new accessor holding the input accessor `index`'s elements for the object's
@@ -657,13 +675,12 @@ impl<'a> Output<'a> {
             bytes.extend_from_slice(&elements.bytes[from..from + size]);
             bytes.resize(bytes.len() + stride - size, 0);
         }
-        let view = self.view(bytes, Layout::Vertices { element: size, stride });
         let mut accessor = source.json["accessors"][index].as_object().cloned().unwrap_or_default();
         accessor.remove("byteOffset");
         accessor.remove("sparse");
-        accessor.insert("bufferView".to_owned(), json!(view));
         accessor.insert("count".to_owned(), json!(object.vertex_count()));
-        Ok(self.accessor(Value::Object(accessor)))
+        let layout = Layout::Vertices { element: size, stride };
+        Ok(self.accessor_over(bytes, layout, Value::Object(accessor)))
     }
 
     /// Buffer 0 holds the input's bytes and the appended ones: the GLB `BIN` chunk, or a new
