@@ -282,6 +282,17 @@ pub enum IoError {
         path: PathBuf,
     },
 
+    /// [`crate::SaveOptions::keep_compression`] is set and the compression cannot be kept: the
+    /// input is Draco-compressed (seamlit has no Draco encoder), or the output is OBJ. Nothing
+    /// was written.
+    #[error("{}: cannot keep the compression: {kind}", path.display())]
+    CannotKeepCompression {
+        /// The input (Draco) or the output (OBJ).
+        path: PathBuf,
+        /// Why, and what to do instead.
+        kind: KeepCompression,
+    },
+
     /// The asset cannot be written as it is (inconsistent attribute lengths, an index out of
     /// range, a source text that does not give the loaded faces).
     #[error("{}: cannot write object {object:?}: {kind}", path.display())]
@@ -1123,6 +1134,25 @@ pub enum InvalidAsset {
         /// Triangles loaded.
         loaded: usize,
     },
+}
+
+/// Why the compression cannot be kept (see [`IoError::CannotKeepCompression`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum KeepCompression {
+    /// A primitive of the input is Draco-compressed: seamlit has no Draco encoder.
+    #[error(
+        "{primitive} is Draco-compressed and seamlit has no Draco encoder; write it uncompressed (without --keep-compression, or keep_compression: false), then compress the output, e.g. `npx @gltf-transform/cli draco OUT.glb OUT.glb`"
+    )]
+    Draco {
+        /// The primitive, as a JSON place (`meshes[0].primitives[1]` with the extension).
+        primitive: String,
+    },
+    /// The output is OBJ, which holds no compressed geometry.
+    #[error(
+        "an OBJ file holds no compressed geometry; write .glb or .gltf, or save without keep_compression"
+    )]
+    ObjOutput,
 }
 
 /// Why a glTF URI is refused (see [`IoError::BadUri`]).

@@ -13,7 +13,8 @@
 //!   made for it first: [`fallback_length`]), with the `meshopt` crate (meshoptimizer's own
 //!   decoder and filters). From then on the loader and the pass-through writer read plain
 //!   data; the writer moves the decoded views into buffer 0 and removes the extension
-//!   ([`uncompress_views`]), so the output needs no meshopt decoder.
+//!   ([`uncompress_views`]), so the output needs no meshopt decoder, unless the save keeps
+//!   the compression (`crate::gltf_encode`).
 
 use std::path::Path;
 
@@ -25,15 +26,15 @@ use crate::{GltfKind, IoError, Meshopt};
 
 /// The extension's names: the vendor one and its Khronos successor, which adds the COLOR
 /// filter and version 1 of the vertex codec (meshoptimizer decodes both).
-const MESHOPT: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
+pub(crate) const MESHOPT: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
 
 /// The meshopt extension object of a buffer or buffer view, with the name it is under.
-fn meshopt(item: &Value) -> Option<(&'static str, &Value)> {
+pub(crate) fn meshopt(item: &Value) -> Option<(&'static str, &Value)> {
     MESHOPT.into_iter().find_map(|name| Some((name, item["extensions"].get(name)?)))
 }
 
 /// Whether a buffer is a meshopt fallback buffer.
-fn is_fallback(buffer: &Value) -> bool {
+pub(crate) fn is_fallback(buffer: &Value) -> bool {
     meshopt(buffer).is_some_and(|(_, e)| e["fallback"].as_bool() == Some(true))
 }
 
@@ -325,9 +326,32 @@ fn le_bytes<T: Copy, const N: usize>(values: Vec<T>, f: fn(T) -> [u8; N]) -> Vec
     values.into_iter().flat_map(f).collect()
 }
 
-/// One decoded vertex of `N` bytes: meshoptimizer decodes into elements of the vertex size.
+/// One vertex of `N` bytes: meshoptimizer decodes into (and encodes from) elements of the
+/// vertex size.
 #[derive(Clone, Copy)]
-struct Vertex<const N: usize>([u8; N]);
+pub(crate) struct Vertex<const N: usize>(pub(crate) [u8; N]);
+
+/// `Some($call)` with the const `$n` set to `$stride` when it is a vertex size meshoptimizer's
+/// codec takes in glTF (a multiple of 4, 4 to 256 bytes), else `None`: the codec's element
+/// type is `Vertex<N>`, one monomorphisation per size.
+macro_rules! by_stride {
+    ($stride:expr, |$n:ident| $call:expr) => {
+        by_stride!(@ $stride, $n, $call, 4 8 12 16 20 24 28 32 36 40 44 48 52 56 60 64 68 72 76
+            80 84 88 92 96 100 104 108 112 116 120 124 128 132 136 140 144 148 152 156 160 164
+            168 172 176 180 184 188 192 196 200 204 208 212 216 220 224 228 232 236 240 244 248
+            252 256)
+    };
+    (@ $stride:expr, $n:ident, $call:expr, $($size:literal)*) => {
+        match $stride {
+            $($size => {
+                const $n: usize = $size;
+                Some($call)
+            })*
+            _ => None,
+        }
+    };
+}
+pub(crate) use by_stride;
 
 impl<const N: usize> Default for Vertex<N> {
     fn default() -> Self {
@@ -342,17 +366,7 @@ fn vertices(bytes: &[u8], count: usize, stride: usize) -> Option<Result<Vec<u8>,
         let vertices = meshopt::decode_vertex_buffer::<Vertex<N>>(bytes, count)?;
         Ok(vertices.into_iter().flat_map(|v| v.0).collect())
     }
-    macro_rules! by_stride {
-        ($($n:literal)*) => {
-            match stride {
-                $($n => Some(decode::<$n>(bytes, count)),)*
-                _ => None,
-            }
-        };
-    }
-    by_stride!(4 8 12 16 20 24 28 32 36 40 44 48 52 56 60 64 68 72 76 80 84 88 92 96 100 104
-        108 112 116 120 124 128 132 136 140 144 148 152 156 160 164 168 172 176 180 184 188 192
-        196 200 204 208 212 216 220 224 228 232 236 240 244 248 252 256)
+    by_stride!(stride, |N| decode::<N>(bytes, count))
 }
 
 /// Applies a view's filter to its decoded vertices, in place. Every filter works on each

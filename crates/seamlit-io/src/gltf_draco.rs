@@ -27,12 +27,12 @@ use crate::IoError;
 const DRACO: &str = "KHR_draco_mesh_compression";
 
 /// The JSON place of primitive `(m, p)`'s extension object, for errors.
-fn place(m: usize, p: usize) -> String {
+pub(crate) fn place(m: usize, p: usize) -> String {
     format!("meshes[{m}].primitives[{p}].extensions.{DRACO}")
 }
 
 /// Every `(mesh, primitive)` that carries the extension, in document order.
-fn draco_primitives(document: &Value) -> Vec<(usize, usize)> {
+pub(crate) fn draco_primitives(document: &Value) -> Vec<(usize, usize)> {
     let meshes = document["meshes"].as_array().map_or(&[][..], Vec::as_slice);
     let mut found = Vec::new();
     for (m, mesh) in meshes.iter().enumerate() {

@@ -15,6 +15,9 @@
 //! - new data is appended to buffer 0 (the GLB `BIN` chunk, or `NAME.bin` beside a `.gltf`);
 //!   for a GLB, images read from files are embedded; for a `.gltf`, the other files the
 //!   document names are copied beside the output.
+//! - meshopt-compressed views are written decoded, or, with
+//!   [`crate::SaveOptions::keep_compression`], kept as they were while the new views are
+//!   encoded ([`crate::gltf_encode`]).
 //!
 //! Everything else is the input JSON, kept as a [`serde_json::Value`]: unknown extensions,
 //! extras, skins, animations, cameras, materials, node transforms as written. Accessors,
@@ -33,6 +36,7 @@ use serde_json::{Map, Value, json};
 
 use crate::IoError;
 use crate::error::BadAccessor;
+use crate::gltf_encode::{Keep, Layout};
 use crate::gltf_prune::Kept;
 use crate::gltf_write::{check_object, unit_normal, unit_tangent};
 
@@ -153,26 +157,32 @@ fn integer(value: &Value) -> Option<u64> {
 }
 
 /// `ARRAY_BUFFER` and `ELEMENT_ARRAY_BUFFER`, buffer view targets.
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+pub(crate) const ARRAY_BUFFER: u32 = 34962;
+pub(crate) const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 /// Component types of indices.
 const UNSIGNED_BYTE: u64 = 5121;
 const UNSIGNED_SHORT: u64 = 5123;
 const UNSIGNED_INT: u64 = 5125;
 
 /// Writes `asset` (whose model [`GltfSource::lines_up`] with `source`) as `.glb` (`binary`)
-/// or `.gltf`; returns the warnings.
+/// or `.gltf`, keeping meshopt compression when `keep_compression` is set
+/// ([`crate::gltf_encode`]); returns the warnings.
 pub(crate) fn save(
     asset: &crate::Asset,
     source: &GltfSource,
     path: &Path,
     binary: bool,
+    keep_compression: bool,
 ) -> Result<Vec<String>, IoError> {
     for object in &asset.model.objects {
         check_object(object, path)?;
     }
     let mut out = Output::new(&source.0, path, binary);
-    out.uncompress_views();
+    if keep_compression {
+        out.keep_compression()?;
+    } else {
+        out.uncompress_views();
+    }
     for group in instance_groups(&asset.model, &source.0.instances) {
         out.mesh(&asset.model, &group)?;
     }
@@ -180,6 +190,7 @@ pub(crate) fn save(
     let note = crate::gltf_draco::strip(&mut out.json, &source.0.path);
     out.warnings.extend(note);
     out.prune();
+    out.finish_compression();
     out.place_buffers_and_images()?;
     out.write()?;
     Ok(out.warnings)
@@ -310,6 +321,8 @@ struct Output<'a> {
     path: &'a Path,
     binary: bool,
     warnings: Vec<String>,
+    /// Set while a save keeps meshopt compression: new views are encoded.
+    keep: Option<Keep>,
 }
 
 impl<'a> Output<'a> {
@@ -326,6 +339,7 @@ impl<'a> Output<'a> {
             path,
             binary,
             warnings: Vec::new(),
+            keep: None,
         }
     }
 
@@ -363,20 +377,73 @@ impl<'a> Output<'a> {
         self.warnings.extend(note);
     }
 
-    /// Appends `bytes` to buffer 0 as a new buffer view; returns its index.
-    fn view(&mut self, bytes: Vec<u8>, stride: Option<usize>, target: Option<u32>) -> usize {
-        let length = bytes.len();
-        let offset = self.append(bytes);
-        let mut view = json!({ "buffer": 0, "byteOffset": offset, "byteLength": length });
-        if let Some(stride) = stride {
-            view["byteStride"] = json!(stride);
+    /// Keeps the input's meshopt compression ([`crate::gltf_encode`]): compressed views stay
+    /// as written, and new views are encoded. The report says what was kept, or that the
+    /// input had nothing to keep.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::CannotKeepCompression`] for a Draco-compressed input.
+    fn keep_compression(&mut self) -> Result<(), IoError> {
+        self.keep = Keep::start(&mut self.json, &self.source.path)?;
+        if self.keep.is_none() {
+            self.warnings.push(crate::gltf_encode::nothing_to_keep(&self.source.path));
         }
-        if let Some(target) = target {
-            view["target"] = json!(target);
+        Ok(())
+    }
+
+    /// Ends a save that keeps the compression (the gathered views written, the fallback
+    /// buffer's length, the extension declared) and adds its report line.
+    fn finish_compression(&mut self) {
+        let Some(keep) = self.keep.take() else { return };
+        let mut json = std::mem::take(&mut self.json);
+        let note = keep.finish(&mut json, &self.source.path, |bytes| self.append(bytes));
+        self.json = json;
+        self.warnings.push(note);
+    }
+
+    /// Adds `accessor` (its JSON, less `bufferView`) over the new data `bytes`, laid out as
+    /// `layout`; returns its index. The data gets a buffer view of its own in buffer 0, or,
+    /// while the compression is kept, joins the new view of its layout
+    /// ([`Keep::gather`]), at the offset the accessor then names.
+    fn accessor_over(&mut self, bytes: Vec<u8>, layout: Layout, mut accessor: Value) -> usize {
+        let mut keep = self.keep.take();
+        let gathered =
+            keep.as_mut().and_then(|k| k.gather(&bytes, layout, self.array("bufferViews")));
+        self.keep = keep;
+        let (view, offset) = gathered.unwrap_or_else(|| (self.view(bytes, layout), 0));
+        accessor["bufferView"] = json!(view);
+        if offset > 0 {
+            accessor["byteOffset"] = json!(offset);
         }
+        self.accessor(accessor)
+    }
+
+    /// Appends `bytes` to buffer 0 as a new buffer view laid out as `layout`; returns its
+    /// index.
+    fn view(&mut self, bytes: Vec<u8>, layout: Layout) -> usize {
+        let view = self.plain_view(bytes, layout);
         let views = self.array("bufferViews");
         views.push(view);
         views.len() - 1
+    }
+
+    /// Appends `bytes` to buffer 0; returns their buffer view.
+    fn plain_view(&mut self, bytes: Vec<u8>, layout: Layout) -> Value {
+        let length = bytes.len();
+        let offset = self.append(bytes);
+        let mut view = json!({ "buffer": 0, "byteOffset": offset, "byteLength": length });
+        match layout {
+            Layout::Vertices { element, stride } => {
+                if stride != element {
+                    view["byteStride"] = json!(stride);
+                }
+                view["target"] = json!(ARRAY_BUFFER);
+            }
+            Layout::Triangles { .. } => view["target"] = json!(ELEMENT_ARRAY_BUFFER),
+            Layout::Bytes => {}
+        }
+        view
     }
 
     /// Appends an accessor; returns its index.
@@ -387,8 +454,13 @@ impl<'a> Output<'a> {
     }
 
     /// Drops what only the input's replaced data used ([`crate::gltf_prune`]) and packs
-    /// buffer 0's remaining input bytes.
+    /// buffer 0's remaining input bytes. Never while the compression is kept: packing would
+    /// move compressed bytes that views name by offset (today no meshopt document is
+    /// pruned anyway, its extension is not among `gltf_prune`'s known ones).
     fn prune(&mut self) {
+        if self.keep.is_some() {
+            return;
+        }
         if let Some(kept) = crate::gltf_prune::prune(&self.source.json, &mut self.json, self.base) {
             self.base = kept.length;
             self.kept = Some(kept);
@@ -444,10 +516,12 @@ impl<'a> Output<'a> {
                 .flat_map(|&n| unit_normal(n).to_array())
                 .flat_map(f32::to_le_bytes)
                 .collect();
-            let view = self.view(bytes, None, Some(ARRAY_BUFFER));
-            let accessor = self.accessor(json!({
-                "bufferView": view, "componentType": 5126, "count": count, "type": "VEC3",
-            }));
+            let layout = Layout::Vertices { element: 12, stride: 12 };
+            let accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": 5126, "count": count, "type": "VEC3" }),
+            );
             attributes.insert("NORMAL".to_owned(), json!(accessor));
             if let Some(tangents) = &object.tangents {
                 let bytes: Vec<u8> = tangents
@@ -455,10 +529,12 @@ impl<'a> Output<'a> {
                     .flat_map(|&t| unit_tangent(t).to_array())
                     .flat_map(f32::to_le_bytes)
                     .collect();
-                let view = self.view(bytes, None, Some(ARRAY_BUFFER));
-                let accessor = self.accessor(json!({
-                    "bufferView": view, "componentType": 5126, "count": count, "type": "VEC4",
-                }));
+                let layout = Layout::Vertices { element: 16, stride: 16 };
+                let accessor = self.accessor_over(
+                    bytes,
+                    layout,
+                    json!({ "componentType": 5126, "count": count, "type": "VEC4" }),
+                );
                 attributes.insert("TANGENT".to_owned(), json!(accessor));
             }
         }
@@ -516,10 +592,12 @@ impl<'a> Output<'a> {
             let Some(deltas) = deltas.as_ref().filter(|_| has_base) else { continue };
             let bytes: Vec<u8> =
                 deltas.iter().flat_map(|d| d.to_array()).flat_map(f32::to_le_bytes).collect();
-            let view = self.view(bytes, None, Some(ARRAY_BUFFER));
-            let accessor = self.accessor(json!({
-                "bufferView": view, "componentType": 5126, "count": deltas.len(), "type": "VEC3",
-            }));
+            let layout = Layout::Vertices { element: 12, stride: 12 };
+            let accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": 5126, "count": deltas.len(), "type": "VEC3" }),
+            );
             out.push((name, accessor));
         }
         out
@@ -556,7 +634,11 @@ impl<'a> Output<'a> {
             UNSIGNED_SHORT => corners.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),
             _ => corners.iter().flat_map(|&i| i.to_le_bytes()).collect(),
         };
-        let view = self.view(bytes, None, Some(ELEMENT_ARRAY_BUFFER));
+        let size = match component {
+            UNSIGNED_BYTE => 1,
+            UNSIGNED_SHORT => 2,
+            _ => 4,
+        };
         let mut accessor = match template {
             Some(Value::Object(mut a)) => {
                 for key in ["byteOffset", "sparse", "min", "max", "normalized"] {
@@ -566,11 +648,10 @@ impl<'a> Output<'a> {
             }
             _ => Map::new(),
         };
-        accessor.insert("bufferView".to_owned(), json!(view));
         accessor.insert("componentType".to_owned(), json!(component));
         accessor.insert("count".to_owned(), json!(corners.len()));
         accessor.insert("type".to_owned(), json!("SCALAR"));
-        Some(self.accessor(Value::Object(accessor)))
+        Some(self.accessor_over(bytes, Layout::Triangles { size }, Value::Object(accessor)))
     }
 
     /// A new accessor holding the input accessor `index`'s elements for the object's
@@ -594,13 +675,12 @@ impl<'a> Output<'a> {
             bytes.extend_from_slice(&elements.bytes[from..from + size]);
             bytes.resize(bytes.len() + stride - size, 0);
         }
-        let view = self.view(bytes, (stride != size).then_some(stride), Some(ARRAY_BUFFER));
         let mut accessor = source.json["accessors"][index].as_object().cloned().unwrap_or_default();
         accessor.remove("byteOffset");
         accessor.remove("sparse");
-        accessor.insert("bufferView".to_owned(), json!(view));
         accessor.insert("count".to_owned(), json!(object.vertex_count()));
-        Ok(self.accessor(Value::Object(accessor)))
+        let layout = Layout::Vertices { element: size, stride };
+        Ok(self.accessor_over(bytes, layout, Value::Object(accessor)))
     }
 
     /// Buffer 0 holds the input's bytes and the appended ones: the GLB `BIN` chunk, or a new
@@ -702,7 +782,7 @@ impl<'a> Output<'a> {
         let Some(mime) = declared.or_else(|| sniff(&bytes).map(str::to_owned)) else {
             return Ok(false);
         };
-        let view = self.view(bytes, None, None);
+        let view = self.view(bytes, Layout::Bytes);
         if let Some(image) = self.json["images"][i].as_object_mut() {
             image.remove("uri");
             image.insert("bufferView".to_owned(), json!(view));

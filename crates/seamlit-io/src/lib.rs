@@ -56,6 +56,7 @@ mod error;
 pub mod gltf;
 mod gltf_decode;
 mod gltf_draco;
+mod gltf_encode;
 mod gltf_pass;
 mod gltf_prune;
 mod gltf_spec;
@@ -77,7 +78,8 @@ pub use asset::{
     TextureRef, TextureSource, UvTransform,
 };
 pub use error::{
-    BadAccessor, BadUri, Draco, Glb, GltfKind, InvalidAsset, IoError, Meshopt, NotText, Syntax,
+    BadAccessor, BadUri, Draco, Glb, GltfKind, InvalidAsset, IoError, KeepCompression, Meshopt,
+    NotText, Syntax,
 };
 pub use options::{LoadOptions, SaveOptions};
 
@@ -159,12 +161,17 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// source (objects added or removed; a warning says so), go through the generic writers.
 /// OBJ holds no tangents: an OBJ output of a model with tangents gets a warning.
 ///
+/// With `options.keep_compression`, a glTF or GLB asset whose source used meshopt
+/// compression is written with it ([`SaveOptions::keep_compression`]).
+///
 /// Each file is written to a temporary name in the destination folder, then renamed.
 ///
 /// # Errors
 ///
 /// [`IoError::WouldOverwriteInput`] when `path` is the asset's own source and
-/// `options.overwrite_input` is not set; [`IoError::UnknownFormat`] for another extension;
+/// `options.overwrite_input` is not set; [`IoError::CannotKeepCompression`] with
+/// `options.keep_compression` for a Draco-compressed source or an `.obj` path;
+/// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::AccessorOutOfRange`] or [`IoError::BadAccessor`] for a source
 /// accessor the pass-through cannot copy; [`IoError::Io`] when writing fails.
@@ -182,7 +189,8 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             if let Some(source) = &asset.gltf_source {
                 match source.lines_up(&asset.model) {
                     Ok(()) => {
-                        report.warnings = gltf_pass::save(asset, source, path, binary)?;
+                        let keep = options.keep_compression;
+                        report.warnings = gltf_pass::save(asset, source, path, binary, keep)?;
                         return Ok(report);
                     }
                     Err(reason) => report.warnings.push(format!(
@@ -192,6 +200,12 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
                 }
             }
             gltf_write::save(asset, path, binary)?;
+        }
+        Some("obj") if options.keep_compression => {
+            return Err(IoError::CannotKeepCompression {
+                path: path.to_path_buf(),
+                kind: KeepCompression::ObjOutput,
+            });
         }
         Some("obj") => {
             report.warnings.extend(obj_pass::tangents_not_written(&asset.model, path));
@@ -223,7 +237,9 @@ pub struct SaveReport {
     /// output, a glTF or OBJ source the model no longer matches, a material library or texture
     /// of an OBJ that is missing, tangents that an OBJ output cannot hold, buffer views (EXT_
     /// or KHR_meshopt_compression) and primitives (KHR_draco_mesh_compression) the input
-    /// stored compressed that the output stores uncompressed.
+    /// stored compressed that the output stores uncompressed; with
+    /// [`SaveOptions::keep_compression`], which views were kept compressed and how many new
+    /// ones were encoded, or that the input had no compression to keep.
     pub warnings: Vec<String>,
 }
 

@@ -76,4 +76,13 @@ impl Default for LoadOptions {
 pub struct SaveOptions {
     /// Allow writing over the file the asset was loaded from ([`crate::Asset::source`]).
     pub overwrite_input: bool,
+    /// For a glTF or GLB input that used EXT_meshopt_compression or
+    /// KHR_meshopt_compression, saved as glTF or GLB: write the output with the same
+    /// extension. The input's compressed buffer views keep their compressed bytes, mode and
+    /// filter as written; the views the save writes anew (normals, tangents, split vertex
+    /// streams, indices) are compressed with meshoptimizer's lossless codecs (filter NONE).
+    /// When unset (the default) the output is uncompressed. An input without compression is
+    /// written as without the option (the report says so); a Draco-compressed input, and an
+    /// OBJ output, are refused with [`crate::IoError::CannotKeepCompression`].
+    pub keep_compression: bool,
 }

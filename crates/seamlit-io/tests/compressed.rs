@@ -18,7 +18,8 @@ use common::{assert_valid, fix_and_save};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 #[cfg(feature = "draco")]
 use seamlit_io::Draco;
-use seamlit_io::{GltfKind, IoError, LoadOptions, Meshopt};
+use seamlit_io::{GltfKind, IoError, KeepCompression, LoadOptions, Meshopt};
+use seamlit_mesh::FixOptions;
 use serde_json::Value;
 
 fn model(name: &str) -> PathBuf {
@@ -788,4 +789,298 @@ fn corrupt_meshopt_data_loads_or_fails_cleanly() {
         }
         assert!(loaded + refused > 250, "{name}: {loaded} + {refused}");
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Keeping meshopt compression (`SaveOptions::keep_compression`).
+
+/// Loads `input`, fixes it with the default options, saves it as `output` keeping the
+/// compression; returns the save's warnings.
+fn fix_and_keep(input: &Path, output: &Path) -> Result<Vec<String>, IoError> {
+    fix_with(input, output, &FixOptions::default(), true)
+}
+
+/// Loads `input`, fixes it with `options`, saves it as `output`, keeping the compression
+/// or not; returns the save's warnings.
+fn fix_with(
+    input: &Path,
+    output: &Path,
+    options: &FixOptions,
+    keep_compression: bool,
+) -> Result<Vec<String>, IoError> {
+    let mut asset = seamlit_io::load(input, &LoadOptions::GEOMETRY).unwrap();
+    seamlit_mesh::fix_in_place(&mut asset.model, options).unwrap();
+    let save = seamlit_io::SaveOptions { keep_compression, ..Default::default() };
+    seamlit_io::save(&asset, output, &save).map(|report| report.warnings)
+}
+
+/// The default fix, and one that splits vertices (flat normals computed anew: 2097 of the
+/// teapot's vertices are split), so that every attribute gets a new view.
+fn fixes() -> [(&'static str, FixOptions); 2] {
+    let split = FixOptions {
+        normals: seamlit_mesh::NormalPolicy::Recompute,
+        ..FixOptions::default().with_mode(seamlit_mesh::Mode::Flat)
+    };
+    [("default", FixOptions::default()), ("flat", split)]
+}
+
+/// The meshopt extension object of a buffer or buffer view, with its name.
+fn meshopt_of(item: &Value) -> Option<(&str, &Value)> {
+    item["extensions"]
+        .as_object()?
+        .iter()
+        .find(|(name, _)| name.ends_with("_meshopt_compression"))
+        .map(|(name, e)| (name.as_str(), e))
+}
+
+/// `file` with every meshopt-compressed view decoded into the bytes the view names (filters
+/// applied) and its extension removed, so that [`elements`] reads it: this test's own
+/// decoder, on the `meshopt` crate, apart from the loader's.
+fn decoded(mut file: File) -> File {
+    let views = file.json["bufferViews"].as_array().unwrap().clone();
+    for (index, view) in views.iter().enumerate() {
+        let Some((_, e)) = meshopt_of(view) else { continue };
+        let field = |key: &str| e[key].as_u64().unwrap() as usize;
+        let start = e["byteOffset"].as_u64().unwrap_or(0) as usize;
+        let data = &file.buffers[field("buffer")][start..start + field("byteLength")];
+        let (count, stride) = (field("count"), field("byteStride"));
+        let plain = decode_view(data, count, stride, e["mode"].as_str().unwrap(), &e["filter"]);
+        assert_eq!(plain.len(), view["byteLength"].as_u64().unwrap() as usize, "view {index}");
+        let target = &mut file.buffers[view["buffer"].as_u64().unwrap() as usize];
+        let at = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+        if target.len() < at + plain.len() {
+            target.resize(at + plain.len(), 0);
+        }
+        target[at..at + plain.len()].copy_from_slice(&plain);
+        file.json["bufferViews"][index].as_object_mut().unwrap().remove("extensions");
+    }
+    file
+}
+
+/// One compressed view's plain bytes (the modes and filters the test files use).
+fn decode_view(data: &[u8], count: usize, stride: usize, mode: &str, filter: &Value) -> Vec<u8> {
+    let words = |v: Vec<u32>, size: usize| -> Vec<u8> {
+        v.into_iter().flat_map(|i| i.to_le_bytes().into_iter().take(size)).collect()
+    };
+    match mode {
+        "TRIANGLES" => words(meshopt::decode_index_buffer::<u32>(data, count).unwrap(), stride),
+        "INDICES" => words(meshopt::decode_index_sequence::<u32>(data, count).unwrap(), stride),
+        _ => {
+            let mut plain = decode_vertices(data, count, stride);
+            match filter.as_str().unwrap_or("NONE") {
+                "NONE" => {}
+                "OCTAHEDRAL" if stride == 4 => {
+                    let mut v: Vec<[i8; 4]> = bytemuck::pod_collect_to_vec(&plain);
+                    meshopt::decode_filter_oct(&mut v);
+                    plain = bytemuck::cast_slice(&v).to_vec();
+                }
+                "OCTAHEDRAL" => {
+                    let mut v: Vec<[i16; 4]> = bytemuck::pod_collect_to_vec(&plain);
+                    meshopt::decode_filter_oct(&mut v);
+                    plain = bytemuck::cast_slice(&v).to_vec();
+                }
+                "EXPONENTIAL" => {
+                    let mut v: Vec<[u32; 1]> = bytemuck::pod_collect_to_vec(&plain);
+                    meshopt::decode_filter_exp(&mut v);
+                    plain = bytemuck::cast_slice(&v).to_vec();
+                }
+                other => panic!("filter {other} (no test file has it)"),
+            }
+            plain
+        }
+    }
+}
+
+/// `count` vertices of `stride` bytes (the strides the test files and seamlit's new views
+/// have) through meshoptimizer's vertex decoder.
+fn decode_vertices(data: &[u8], count: usize, stride: usize) -> Vec<u8> {
+    fn with<const N: usize>(data: &[u8], count: usize) -> Vec<u8>
+    where
+        [u8; N]: Default,
+    {
+        meshopt::decode_vertex_buffer::<[u8; N]>(data, count).unwrap().concat()
+    }
+    match stride {
+        4 => with::<4>(data, count),
+        8 => with::<8>(data, count),
+        12 => with::<12>(data, count),
+        16 => with::<16>(data, count),
+        other => panic!("byteStride {other} (no test file has it)"),
+    }
+}
+
+/// The inputs that keep their compression, with the extension each uses.
+const MESHOPT_INPUTS: [(&str, &str); 3] = [
+    ("teapot_mo.glb", "EXT_meshopt_compression"),
+    ("teapot_mo_khr.glb", "KHR_meshopt_compression"),
+    ("teapot_mo_filters.glb", "EXT_meshopt_compression"),
+];
+
+#[test]
+fn kept_compression_decodes_to_the_uncompressed_output_bit_for_bit_and_is_smaller() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = MESHOPT_INPUTS.iter().flat_map(|i| ["glb", "gltf"].map(|o| (i, o)));
+    for (((input, extension), output), (fix, options)) in
+        cases.flat_map(|c| fixes().map(|f| (c, f)))
+    {
+        let plain = dir.path().join(format!("plain.{output}"));
+        let kept = dir.path().join(format!("kept.{output}"));
+        fix_with(&model(input), &plain, &options, false).unwrap();
+        let warnings = fix_with(&model(input), &kept, &options, true).unwrap();
+        let what = format!("{input} -> {output}, {fix} fix");
+        assert!(
+            warnings.len() == 1
+                && warnings[0].contains(input)
+                && warnings[0].contains(&format!("5 buffer views compressed with {extension}"))
+                && warnings[0].contains("kept compressed")
+                && warnings[0].contains("new views"),
+            "{what}: {warnings:?}"
+        );
+        assert_valid(&kept);
+        // (a) Every accessor, decoded by this file's own reader, holds the bits of the
+        // uncompressed output's.
+        let (plain_file, kept_file) = (read(&plain), decoded(read(&kept)));
+        let count = plain_file.json["accessors"].as_array().unwrap().len();
+        assert_eq!(kept_file.json["accessors"].as_array().unwrap().len(), count, "{what}");
+        for a in 0..count as u64 {
+            let bits = |f: &File| -> Vec<Vec<u32>> {
+                elements(f, a).into_iter().map(|e| e.into_iter().map(|c| c.0).collect()).collect()
+            };
+            assert_eq!(bits(&kept_file), bits(&plain_file), "{what}: accessor {a}");
+        }
+        // And seamlit's own loader reads the same model from both.
+        let load = |p: &Path| seamlit_io::load(p, &LoadOptions::GEOMETRY).unwrap().model;
+        assert!(load(&kept) == load(&plain), "{what}: the loaded models differ");
+        // (b) Smaller than the uncompressed output (JSON, buffer and .bin together).
+        let size = |p: &Path| {
+            let bin = p.with_extension("bin");
+            std::fs::metadata(p).unwrap().len() + std::fs::metadata(bin).map_or(0, |m| m.len())
+        };
+        assert!(size(&kept) < size(&plain), "{what}: {} >= {}", size(&kept), size(&plain));
+    }
+}
+
+#[test]
+fn kept_compression_keeps_the_untouched_views_bytes_and_filters() {
+    // (c) teapot_mo_filters.glb: positions and UVs through EXPONENTIAL, normals and tangents
+    // through OCTAHEDRAL. The views the fix did not replace (positions, UVs) are still used
+    // and hold the input's compressed bytes, mode and filter, verbatim.
+    let dir = tempfile::tempdir().unwrap();
+    let input = model("teapot_mo_filters.glb");
+    let out = dir.path().join("kept.glb");
+    fix_and_keep(&input, &out).unwrap();
+    let (before, after) = (read(&input), read(&out));
+    let compressed_bytes = |file: &File, e: &Value| -> Vec<u8> {
+        let start = e["byteOffset"].as_u64().unwrap_or(0) as usize;
+        let buffer = &file.buffers[e["buffer"].as_u64().unwrap() as usize];
+        buffer[start..start + e["byteLength"].as_u64().unwrap() as usize].to_vec()
+    };
+    let used: Vec<u64> = after.json["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|m| m["primitives"].as_array().unwrap())
+        .flat_map(|p| p["attributes"].as_object().unwrap().values())
+        .filter_map(|a| {
+            after.json["accessors"][a.as_u64().unwrap() as usize]["bufferView"].as_u64()
+        })
+        .collect();
+    let mut filtered = Vec::new();
+    for (index, view) in before.json["bufferViews"].as_array().unwrap().iter().enumerate() {
+        let Some((name, e)) = meshopt_of(view) else { continue };
+        if !used.contains(&(index as u64)) {
+            continue;
+        }
+        let (_, kept) = meshopt_of(&after.json["bufferViews"][index])
+            .unwrap_or_else(|| panic!("view {index} lost {name}"));
+        for key in ["mode", "filter", "byteStride", "count", "byteLength"] {
+            assert_eq!(kept[key], e[key], "view {index}: {key}");
+        }
+        assert_eq!(compressed_bytes(&after, kept), compressed_bytes(&before, e), "view {index}");
+        filtered.extend(e["filter"].as_str().map(str::to_owned));
+    }
+    filtered.sort();
+    assert_eq!(filtered, ["EXPONENTIAL", "EXPONENTIAL"], "positions and UVs, still used");
+}
+
+#[test]
+fn kept_compression_has_the_fallback_buffer_and_requires_the_extension() {
+    // (d) Every compressed view names a fallback buffer (no uri, `fallback: true`) long
+    // enough for it; its compressed bytes lie in a buffer with data; the extension is
+    // used and required.
+    let dir = tempfile::tempdir().unwrap();
+    for (input, extension) in MESHOPT_INPUTS {
+        let out = dir.path().join("kept.gltf");
+        fix_and_keep(&model(input), &out).unwrap();
+        let file = read(&out);
+        let buffers = file.json["buffers"].as_array().unwrap();
+        let mut new_views = 0;
+        for (index, view) in file.json["bufferViews"].as_array().unwrap().iter().enumerate() {
+            let Some((name, e)) = meshopt_of(view) else { continue };
+            assert_eq!(name, extension, "view {index}");
+            let fallback = &buffers[view["buffer"].as_u64().unwrap() as usize];
+            assert!(fallback.get("uri").is_none(), "view {index}: {fallback}");
+            assert_eq!(fallback["extensions"][extension]["fallback"], true, "view {index}");
+            let end =
+                view["byteOffset"].as_u64().unwrap_or(0) + view["byteLength"].as_u64().unwrap();
+            assert!(end <= fallback["byteLength"].as_u64().unwrap(), "view {index}");
+            let data = &buffers[e["buffer"].as_u64().unwrap() as usize];
+            assert!(data["uri"].is_string(), "view {index}: its data buffer {data}");
+            new_views += usize::from(e.get("filter").is_none() && index >= 6);
+        }
+        // One per layout: normals (12-byte stride), tangents (16), 16-bit indices.
+        assert_eq!(new_views, 3, "{input}: new compressed views");
+        for list in ["extensionsUsed", "extensionsRequired"] {
+            assert!(
+                file.json[list].as_array().unwrap().iter().any(|n| n == extension),
+                "{input}: {list}"
+            );
+        }
+    }
+}
+
+#[test]
+fn keeping_the_compression_of_an_uncompressed_input_changes_nothing_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let (plain, kept) = (dir.path().join("plain.glb"), dir.path().join("kept.glb"));
+    fix_and_save(&model("teapot_q.glb"), &plain);
+    let warnings = fix_and_keep(&model("teapot_q.glb"), &kept).unwrap();
+    assert!(
+        warnings.len() == 1
+            && warnings[0].contains("teapot_q.glb")
+            && warnings[0].contains("changes nothing"),
+        "{warnings:?}"
+    );
+    assert_eq!(std::fs::read(&kept).unwrap(), std::fs::read(&plain).unwrap());
+}
+
+#[cfg(feature = "draco")]
+#[test]
+fn keeping_draco_compression_is_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.glb");
+    match fix_and_keep(&model("teapot_draco.glb"), &out) {
+        Err(IoError::CannotKeepCompression {
+            path,
+            kind: KeepCompression::Draco { primitive },
+        }) => {
+            assert!(path.ends_with("teapot_draco.glb"), "{}", path.display());
+            assert_eq!(primitive, "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing written");
+}
+
+#[test]
+fn keeping_the_compression_in_an_obj_output_is_refused_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("out.obj");
+    match fix_and_keep(&model("teapot_mo.glb"), &obj) {
+        Err(IoError::CannotKeepCompression { path, kind: KeepCompression::ObjOutput }) => {
+            assert_eq!(path, obj);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing written");
 }

@@ -143,7 +143,12 @@ fn saving_refuses_to_overwrite_the_input_unless_asked() {
         std::fs::read_to_string(&path).unwrap(),
         "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n"
     );
-    seamlit_io::save(&asset, &path, &SaveOptions { overwrite_input: true }).unwrap();
+    seamlit_io::save(
+        &asset,
+        &path,
+        &SaveOptions { overwrite_input: true, ..SaveOptions::default() },
+    )
+    .unwrap();
     // The OBJ pass-through: the input with the fixed normals (distinct values; fix's
     // normalisation leaves one a bit below 1) added.
     assert_eq!(

@@ -55,6 +55,9 @@ struct Settings {
     tessellation: u32,
     #[serde(default)]
     overwrite_input: bool,
+    /// `--keep-compression` ([`SaveOptions::keep_compression`]).
+    #[serde(default)]
+    keep_compression: bool,
 }
 
 /// `--tessellation`'s default.
@@ -96,7 +99,10 @@ fn json(value: &serde_json::Value) -> PyResult<String> {
 fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
     let load_options = LoadOptions { tessellation: settings.tessellation, ..LoadOptions::DEFAULT };
-    let save = SaveOptions { overwrite_input: settings.overwrite_input };
+    let save = SaveOptions {
+        overwrite_input: settings.overwrite_input,
+        keep_compression: settings.keep_compression,
+    };
     let run = || -> PyResult<serde_json::Value> {
         let mut asset = load(&input, &load_options)?;
         let options = asset.fix_options(settings.fix, settings.tangents_asked);

@@ -69,8 +69,9 @@ pub struct FixArgs {
     /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
     /// missing) that receives one file per model, in the same subfolders as the input's, with
     /// each model's textures beside it (.gltf, .obj) or inside it (.glb). glTF geometry that
-    /// came meshopt- or Draco-compressed is written uncompressed (a line says so); quantised
-    /// attributes (KHR_mesh_quantization) stay quantised.
+    /// came meshopt- or Draco-compressed is written uncompressed (a line says so) unless
+    /// --keep-compression is given; quantised attributes (KHR_mesh_quantization) stay
+    /// quantised.
     #[arg(long, short, value_name = "OUTPUT")]
     pub output: PathBuf,
     /// For a folder INPUT: only the models directly in it, not those in its subfolders.
@@ -85,6 +86,13 @@ pub struct FixArgs {
     /// Replace an existing OUTPUT file that is the INPUT itself.
     #[arg(long)]
     pub overwrite_input: bool,
+    /// Write meshopt-compressed glTF (EXT_ or KHR_meshopt_compression) compressed again:
+    /// compressed buffer views the fix did not touch keep their bytes, mode and filter; new
+    /// normals, tangents, split vertices and indices are compressed losslessly. An input
+    /// without compression is written as usual (a line says so); a Draco input or an .obj
+    /// OUTPUT is refused.
+    #[arg(long)]
+    pub keep_compression: bool,
     #[command(flatten)]
     pub fix: FixFlags,
     #[command(flatten)]

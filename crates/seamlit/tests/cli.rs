@@ -1095,3 +1095,38 @@ fn render_and_compare_refuse_a_missing_or_malformed_environment_and_write_nothin
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("1,2,3"));
 }
+
+#[test]
+fn fix_keep_compression_keeps_meshopt_and_refuses_draco_and_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let compressed = models().join("compressed");
+    let input = compressed.join("teapot_mo.glb").display().to_string();
+    let out = dir.path().join("out.glb");
+    let o = seamlit(&["fix", &input, "-o", &out.display().to_string(), "--keep-compression"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.lines().any(|l| l.starts_with("warning: ")
+            && l.contains("teapot_mo.glb")
+            && l.contains("kept compressed")
+            && l.contains("EXT_meshopt_compression")),
+        "{stderr}"
+    );
+    let written = String::from_utf8_lossy(&std::fs::read(&out).unwrap()).into_owned();
+    assert!(written.contains(
+        "\"extensionsRequired\":[\"KHR_mesh_quantization\",\"EXT_meshopt_compression\"]"
+    ));
+
+    // Draco: no encoder; refused, one line, exit 2, nothing written.
+    let draco = compressed.join("teapot_draco.glb").display().to_string();
+    let out = dir.path().join("draco.glb").display().to_string();
+    let o = seamlit(&["fix", &draco, "-o", &out, "--keep-compression"]);
+    assert_bad_input(&o, &["teapot_draco.glb", "no Draco encoder", "gltf-transform"]);
+    assert!(!Path::new(&out).exists());
+
+    // OBJ output: nothing to keep the compression in.
+    let out = dir.path().join("out.obj").display().to_string();
+    let o = seamlit(&["fix", &input, "-o", &out, "--keep-compression"]);
+    assert_bad_input(&o, &["out.obj", "--keep-compression", "glTF or GLB"]);
+    assert!(!Path::new(&out).exists());
+}

@@ -92,12 +92,15 @@ def fix_file(
     normals: Optional[str] = None,
     tessellation: int = 16,
     overwrite_input: bool = False,
+    keep_compression: bool = False,
 ) -> Dict[str, Any]:
     """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does.
 
     The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``). A
     glTF or GLB input written as glTF or GLB is the input document with only normals,
-    tangents, split vertices and indices changed.
+    tangents, split vertices and indices changed. Meshopt-compressed geometry is written
+    uncompressed unless ``keep_compression`` is set (``--keep-compression``); a Draco input
+    or an OBJ output with ``keep_compression`` raises ``SeamlitError``.
 
     Returns a dict: ``input``, ``output``, ``options`` (as used), ``report`` (the seam
     report after the fix), ``changes`` (per object: normals kept or computed, vertices
@@ -112,6 +115,7 @@ def fix_file(
         normals,
         tessellation=int(tessellation),
         overwrite_input=bool(overwrite_input),
+        keep_compression=bool(keep_compression),
     )
     text = _seamlit.fix_file(os.fspath(input), os.fspath(output), settings)
     return json.loads(text)

@@ -32,6 +32,7 @@ def fix_file(
     normals: Optional[Normals] = None,
     tessellation: int = 16,
     overwrite_input: bool = False,
+    keep_compression: bool = False,
 ) -> Dict[str, Any]: ...
 def inspect(
     path: PathLike,

@@ -36,11 +36,17 @@ use crate::table::{changes_line, count};
 pub fn run(args: &FixArgs) -> Result<(), Failure> {
     let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
     let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::DEFAULT };
-    let save = SaveOptions { overwrite_input: args.overwrite_input };
+    let save = SaveOptions {
+        overwrite_input: args.overwrite_input,
+        keep_compression: args.keep_compression,
+    };
     if args.input.is_dir() {
+        check_keep_compression(args.keep_compression, &args.output, args.format.extension())?;
         return run_folder(args, &options, &load, &save);
     }
     check_output_extension(&args.output)?;
+    let extension = args.output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    check_keep_compression(args.keep_compression, &args.output, &extension.unwrap_or_default())?;
     let _quiet = QuietPanics::install();
     let asked = args.fix.tangents.is_some();
     let line = guarded(&args.input, || {
@@ -59,6 +65,18 @@ fn check_output_extension(output: &Path) -> Result<(), Failure> {
             output.display()
         ))),
     }
+}
+
+/// `--keep-compression` with OBJ output (a file, or `--format obj` for a folder) is refused
+/// before anything is read or written: OBJ holds no compressed geometry.
+fn check_keep_compression(keep: bool, output: &Path, extension: &str) -> Result<(), Failure> {
+    if keep && extension == "obj" {
+        return Err(Failure::input(format!(
+            "{}: --keep-compression needs glTF or GLB output (an OBJ file holds no compressed geometry); write .glb or .gltf, or leave the flag out",
+            output.display()
+        )));
+    }
+    Ok(())
 }
 
 /// Runs `work` on `input` (a model file), with a panic turned into a processing failure
@@ -211,7 +229,9 @@ fn classify_save(e: IoError) -> Failure {
             "{}: refusing to overwrite the model's own source file (pass --overwrite-input to allow it)",
             path.display()
         )),
-        IoError::UnknownFormat { .. } => Failure::BadInput(e.into()),
+        IoError::UnknownFormat { .. } | IoError::CannotKeepCompression { .. } => {
+            Failure::BadInput(e.into())
+        }
         other => Failure::Processing(other.into()),
     }
 }
