@@ -194,8 +194,9 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
                         return Ok(report);
                     }
                     Err(reason) => report.warnings.push(format!(
-                        "{}: written by the generic glTF writer (materials, skins, animations and extensions of the source are not kept): {reason}",
-                        path.display()
+                        "{}: written by the generic glTF writer (materials, skins, animations{} and extensions of the source are not kept): {reason}",
+                        path.display(),
+                        if options.keep_compression { ", compression" } else { "" }
                     )),
                 }
             }
