@@ -154,6 +154,7 @@ fn view_sites(document: &Value) -> Vec<String> {
 
 /// How many places of `document` name buffer view `view` (in a document whose every
 /// reference [`unknown_extensions`] vouches for).
+#[cfg(feature = "draco")]
 pub(crate) fn view_uses(document: &Value, view: usize) -> usize {
     view_sites(document)
         .iter()
