@@ -1074,10 +1074,10 @@ impl Output<'_> {
     /// hold it (there, buffer 0 without `uri` is the BIN chunk), and nothing can be appended
     /// to it.
     fn keep_host_without_data(&self) -> Result<(), IoError> {
-        let kind = if self.binary {
-            crate::InvalidAsset::HostInGlb
-        } else if self.appended > 0 {
+        let kind = if self.appended > 0 {
             crate::InvalidAsset::HostCannotGrow
+        } else if self.binary {
+            crate::InvalidAsset::HostInGlb
         } else {
             return Ok(());
         };

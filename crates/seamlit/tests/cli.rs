@@ -1130,3 +1130,39 @@ fn fix_keep_compression_keeps_meshopt_and_refuses_draco_and_obj() {
     assert_bad_input(&o, &["out.obj", "--keep-compression", "glTF or GLB"]);
     assert!(!Path::new(&out).exists());
 }
+
+/// A .gltf whose buffer 0 has no data of its own (valid glTF: "MAY be provided by other
+/// means") and whose triangle lies in buffer 1: the new normals cannot be appended to buffer
+/// 0, in a GLB or a .gltf. The user's file, not the machine: exit 2, one line naming buffer 0,
+/// nothing written.
+#[test]
+fn new_normals_cannot_be_appended_to_a_buffer_without_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Vec::new();
+    for v in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.path().join("triangle.bin"), &bin).unwrap();
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": 4}, {"byteLength": 36, "uri": "triangle.bin"}],
+        "bufferViews": [{"buffer": 1, "byteLength": 36}],
+        "accessors": [{
+            "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+            "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]
+        }],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}]
+    });
+    let input = dir.path().join("no_data.gltf");
+    std::fs::write(&input, gltf.to_string()).unwrap();
+    for name in ["out.glb", "out.gltf"] {
+        let out = dir.path().join(name);
+        let o = seamlit(&["fix", &input.display().to_string(), "-o", &out.display().to_string()]);
+        assert_bad_input(&o, &[name, "buffer 0", "cannot be appended"]);
+        assert!(!out.exists());
+    }
+}

@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use seamlit_io::{Format, IoError, LoadOptions, SaveOptions};
+use seamlit_io::{Format, InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, ReportOptions};
 
 use crate::cli::FixArgs;
@@ -220,7 +220,8 @@ fn skin_seams_line(seams: &seamlit_mesh::SkinSeams) -> String {
     )
 }
 
-/// Writing fails through bad input (an output that is the input, an unknown extension) or
+/// Writing fails through bad input (an output that is the input, an unknown extension, a
+/// buffer 0 without data written as GLB) or
 /// through the machine (a full disk).
 fn classify_save(e: IoError) -> Failure {
     match e {
@@ -229,9 +230,14 @@ fn classify_save(e: IoError) -> Failure {
             "{}: refusing to overwrite the model's own source file (pass --overwrite-input to allow it)",
             path.display()
         )),
-        IoError::UnknownFormat { .. } | IoError::CannotKeepCompression { .. } => {
-            Failure::BadInput(e.into())
-        }
+        // A buffer 0 without data of its own cannot become a GLB's BIN chunk or grow: the
+        // input's shape, and the line says to write .gltf.
+        IoError::UnknownFormat { .. }
+        | IoError::CannotKeepCompression { .. }
+        | IoError::InvalidAsset {
+            kind: InvalidAsset::HostInGlb | InvalidAsset::HostCannotGrow,
+            ..
+        } => Failure::BadInput(e.into()),
         other => Failure::Processing(other.into()),
     }
 }
