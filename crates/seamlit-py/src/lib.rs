@@ -15,6 +15,7 @@
 //! Results and reports go back as JSON text (the Python side parses it) or NumPy arrays.
 //! Errors are [`SeamlitError`] with the command line's one-line message, or
 //! `FileNotFoundError` for a missing input.
+#![warn(clippy::cast_possible_truncation)]
 
 use std::path::{Path, PathBuf};
 
@@ -246,8 +247,16 @@ fn fix<'py>(
         .objects
         .into_iter()
         .map(|object| {
-            let n = object.vertex_count();
-            let remap: Vec<u32> = (0..n as u32).map(|v| object.source_vertex(v)).collect();
+            // Below u32::MAX: fix refuses models whose vertices plus corners exceed
+            // seamlit_mesh::MAX_ELEMENTS, and it adds at most one vertex per corner.
+            let n = u32::try_from(object.vertex_count()).map_err(|_| {
+                error(format!(
+                    "object {:?}: {} vertices after the fix, past 32-bit indices",
+                    object.name,
+                    object.vertex_count()
+                ))
+            })?;
+            let remap: Vec<u32> = (0..n).map(|v| object.source_vertex(v)).collect();
             // Normals and triangles are handed over without a copy; tangents (16-byte
             // aligned `Vec4`s) are copied into plain floats.
             let normals = object.normals.unwrap_or_default();
