@@ -13,7 +13,6 @@
 //!   error map (bench/sample-viewer/compare.sh).
 //! - `assjson IN.assjson OUT.glb` converts Assimp's JSON dump, which keeps the tangents that
 //!   Assimp's glTF 2 exporter drops.
-#![warn(clippy::cast_possible_truncation)]
 
 mod assjson;
 mod flip;

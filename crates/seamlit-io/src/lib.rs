@@ -49,7 +49,6 @@
 //! are copied beside the output as written. OBJ has no tangents: [`SaveReport::warnings`] says
 //! when computed ones are not written. The design: `docs/obj-pass-through.md`.
 #![deny(missing_docs)]
-#![warn(clippy::cast_possible_truncation)]
 
 mod asset;
 mod atomic;

@@ -36,7 +36,6 @@
 //! # Ok::<(), seamlit_mesh::MeshError>(())
 //! ```
 #![deny(missing_docs)]
-#![warn(clippy::cast_possible_truncation)]
 
 mod changes;
 mod error;

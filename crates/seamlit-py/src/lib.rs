@@ -15,7 +15,6 @@
 //! Results and reports go back as JSON text (the Python side parses it) or NumPy arrays.
 //! Errors are [`SeamlitError`] with the command line's one-line message, or
 //! `FileNotFoundError` for a missing input.
-#![warn(clippy::cast_possible_truncation)]
 
 use std::path::{Path, PathBuf};
 

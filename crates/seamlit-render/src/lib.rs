@@ -71,7 +71,6 @@
 //! [`Renderer::render`] (or [`Renderer::encode`] to share a command encoder with egui) with
 //! the surface texture's view every frame.
 #![deny(missing_docs)]
-#![warn(clippy::cast_possible_truncation)]
 
 mod context;
 mod environment;

@@ -1,7 +1,6 @@
 //! `seamlit`: fix, inspect, render, compare and view multi-object models with seam-free
 //! per-pixel lighting. `seamlit --help` lists the subcommands; docs/design.md section 8 is the
 //! design. Exit status: 0 success, 1 processing failure, 2 bad input or usage.
-#![warn(clippy::cast_possible_truncation)]
 
 mod cli;
 mod cmd;
