@@ -109,6 +109,8 @@ fn matrix(value: &Value) -> Mat4 {
     }
 }
 
+/// The numbers of a JSON array (f64 in JSON), rounded to the model's f32.
+#[expect(clippy::cast_possible_truncation, reason = "rounding to the model's f32 is the point")]
 fn floats(value: &Value) -> Vec<f32> {
     value.as_array().into_iter().flatten().filter_map(Value::as_f64).map(|f| f as f32).collect()
 }

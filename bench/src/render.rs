@@ -57,14 +57,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, samples)?;
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
-    let columns = assets.len() as u32;
-    let rows = views.len() as u32;
+    let columns = u32::try_from(assets.len()).context("too many files for one picture")?;
+    let rows = u32::try_from(views.len()).context("too many views for one picture")?;
     let mut grid = RgbaImage::from_pixel(
         columns * w + (columns - 1) * GAP,
         rows * h + (rows - 1) * GAP,
         Rgba([255, 255, 255, 255]),
     );
-    for (col, asset) in assets.iter().enumerate() {
+    for (col, asset) in (0u32..).zip(&assets) {
         let bounds = asset.model.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
         let camera = match (args.eye, args.target) {
             (Some(eye), Some(target)) => {
@@ -77,7 +77,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         };
         let view = camera.view(aspect, Some(bounds));
         let scene = GpuScene::upload(&ctx, asset)?;
-        for (row, debug_view) in views.iter().enumerate() {
+        for (row, debug_view) in (0u32..).zip(&views) {
             let (debug_view, normal_mapping) = *debug_view;
             let settings = FrameSettings {
                 lights: if args.demo { demo::lights() } else { three_point_rig() },
@@ -94,8 +94,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                     size: (w, h),
                 },
             )?;
-            let x = col as u32 * (w + GAP);
-            let y = row as u32 * (h + GAP);
+            let x = col * (w + GAP);
+            let y = row * (h + GAP);
             imageops::replace(&mut grid, &image, i64::from(x), i64::from(y));
         }
     }

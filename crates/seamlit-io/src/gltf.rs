@@ -530,8 +530,10 @@ fn glb_chunks(bytes: &[u8], path: &Path) -> Result<(Range<usize>, Option<Range<u
                 declared,
             }));
         }
-        chunks.push((kind, at + 8..end as usize));
-        at = end as usize;
+        #[expect(clippy::cast_possible_truncation, reason = "at most `declared`, checked above")]
+        let end = end as usize;
+        chunks.push((kind, at + 8..end));
+        at = end;
         chunk += 1;
     }
     match chunks.as_slice() {
@@ -1087,9 +1089,15 @@ impl Reader<'_> {
             reader.read_indices().map(|read| read.into_u32().collect::<Vec<u32>>()),
         );
         let (Some(accessor), Some(read)) = (index_accessor, indices) else {
-            return Ok((0..vertex_count as u32 / 3)
-                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
-                .collect());
+            let Ok(count) = u32::try_from(vertex_count) else {
+                return Err(IoError::TooManyElements {
+                    path: self.path.to_path_buf(),
+                    what: format!("mesh {} primitive {}", mesh.index(), primitive.index()),
+                    limit: u32::MAX as usize,
+                    actual: vertex_count,
+                });
+            };
+            return Ok((0..count / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect());
         };
         let mut read = read.into_iter();
         let mut triangles = Vec::with_capacity(accessor.count() / 3);
@@ -1185,6 +1193,13 @@ fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> (UvTransform, Option
     (UvTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale() }, t.tex_coord())
 }
 
+/// A JSON number as the `f32` that glTF's float properties are: rounded to nearest (a
+/// magnitude past f32's range becomes infinite); `None` for anything else.
+#[expect(clippy::cast_possible_truncation, reason = "glTF's floats are f32: rounding is the point")]
+fn json_f32(value: &serde_json::Value) -> Option<f32> {
+    value.as_f64().map(|x| x as f32)
+}
+
 /// KHR_texture_transform from raw extension JSON (the gltf crate does not type it on
 /// normal and occlusion textures), with its `texCoord` override.
 fn uv_transform_json(value: &serde_json::Value) -> (UvTransform, Option<u32>) {
@@ -1192,12 +1207,12 @@ fn uv_transform_json(value: &serde_json::Value) -> (UvTransform, Option<u32>) {
         value
             .get(key)
             .and_then(|v| v.as_array())
-            .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
+            .and_then(|a| Some([json_f32(a.first()?)?, json_f32(a.get(1)?)?]))
             .unwrap_or(default)
     };
     let transform = UvTransform {
         offset: pair("offset", [0.0, 0.0]),
-        rotation: value.get("rotation").and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32,
+        rotation: value.get("rotation").and_then(json_f32).unwrap_or(0.0),
         scale: pair("scale", [1.0, 1.0]),
     };
     let tex_coord = value
@@ -1267,8 +1282,8 @@ fn info_ref(info: &gltf::texture::Info<'_>) -> Option<TextureRef> {
 fn emissive_strength(m: &gltf::Material<'_>) -> f32 {
     m.extension_value("KHR_materials_emissive_strength")
         .and_then(|e| e.get("emissiveStrength"))
-        .and_then(serde_json::Value::as_f64)
-        .map_or(1.0, |v| v as f32)
+        .and_then(json_f32)
+        .unwrap_or(1.0)
 }
 
 /// KHR_lights_punctual: the lights that the nodes of `scene` carry, placed by the nodes'
@@ -1316,9 +1331,7 @@ fn punctual_lights(
 /// (white, intensity 1, unlimited range, spot cones 0 and pi/4); `Err` with the type when it
 /// is not directional, point or spot.
 fn punctual_light(def: &serde_json::Value, global: Mat4) -> Result<crate::PunctualLight, String> {
-    let number = |v: &serde_json::Value, key: &str| {
-        v.get(key).and_then(serde_json::Value::as_f64).map(|x| x as f32)
-    };
+    let number = |v: &serde_json::Value, key: &str| v.get(key).and_then(json_f32);
     let spot = def.get("spot").unwrap_or(&serde_json::Value::Null);
     let kind = match def.get("type").and_then(serde_json::Value::as_str).unwrap_or_default() {
         "directional" => crate::PunctualKind::Directional,
@@ -1332,13 +1345,7 @@ fn punctual_light(def: &serde_json::Value, global: Mat4) -> Result<crate::Punctu
     let color = def
         .get("color")
         .and_then(serde_json::Value::as_array)
-        .and_then(|c| {
-            Some([
-                c.first()?.as_f64()? as f32,
-                c.get(1)?.as_f64()? as f32,
-                c.get(2)?.as_f64()? as f32,
-            ])
-        })
+        .and_then(|c| Some([json_f32(c.first()?)?, json_f32(c.get(1)?)?, json_f32(c.get(2)?)?]))
         .unwrap_or([1.0; 3]);
     Ok(crate::PunctualLight {
         name: def.get("name").and_then(serde_json::Value::as_str).unwrap_or_default().to_owned(),

@@ -148,6 +148,7 @@ pub(crate) fn uint(value: &Value, key: &str) -> Option<usize> {
 }
 
 /// A non-negative integer, also when written as a float (`3.0`, which glTF allows).
+#[expect(clippy::cast_possible_truncation, reason = "a whole number in u64's range, checked")]
 fn integer(value: &Value) -> Option<u64> {
     value.as_u64().or_else(|| {
         let x = value.as_f64()?;
@@ -629,6 +630,7 @@ impl<'a> Output<'a> {
             None => UNSIGNED_INT,
         };
         // Every index fits the component type, checked by `fits`.
+        #[expect(clippy::cast_possible_truncation, reason = "each index fits, checked by `fits`")]
         let bytes: Vec<u8> = match component {
             UNSIGNED_BYTE => corners.iter().map(|&i| i as u8).collect(),
             UNSIGNED_SHORT => corners.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),
@@ -670,7 +672,8 @@ impl<'a> Output<'a> {
         let size = elements.size;
         let stride = size.next_multiple_of(4);
         let mut bytes = Vec::with_capacity(stride * object.vertex_count());
-        for v in 0..object.vertex_count() as u32 {
+        // Below u32::MAX: check_object, which `save` runs first.
+        for v in (0..u32::MAX).take(object.vertex_count()) {
             let from = object.source_vertex(v) as usize * size;
             bytes.extend_from_slice(&elements.bytes[from..from + size]);
             bytes.resize(bytes.len() + stride - size, 0);

@@ -33,6 +33,16 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
     for object in &asset.model.objects {
         check_object(object, path)?;
     }
+    // glTF's indices are 32-bit: the nodes written (the asset's, or one per object) too.
+    let nodes = asset.nodes.len() + asset.model.objects.len();
+    if nodes >= u32::MAX as usize {
+        return Err(IoError::TooManyElements {
+            path: path.to_path_buf(),
+            what: "the asset's nodes and objects".to_owned(),
+            limit: u32::MAX as usize - 1,
+            actual: nodes,
+        });
+    }
     let stem =
         path.file_stem().map_or_else(|| "model".to_owned(), |s| safe_name(&s.to_string_lossy()));
     let mut writer = Writer {
@@ -257,6 +267,7 @@ impl Piece<'_> {
             }
             Self::Indices16(triangles) => triangles.iter().try_for_each(|t| {
                 // Every index is below 65535, checked by the caller.
+                #[expect(clippy::cast_possible_truncation, reason = "below 65535, checked")]
                 let [[a0, a1], [b0, b1], [c0, c1]] = t.map(|i| (i as u16).to_le_bytes());
                 out.write_all(&[a0, a1, b0, b1, c0, c1])
             }),
@@ -435,7 +446,8 @@ impl<'a> Writer<'a> {
             material: object
                 .material
                 .filter(|&m| m < material_count)
-                .map(|m| json::Index::new(m as u32)),
+                .and_then(|m| u32::try_from(m).ok())
+                .map(json::Index::new),
             mode: Checked::Valid(json::mesh::Mode::Triangles),
             targets: None,
         };
@@ -466,6 +478,10 @@ impl<'a> Writer<'a> {
             let mut children: Vec<Vec<json::Index<json::Node>>> =
                 vec![Vec::new(); asset.nodes.len()];
             for (i, node) in asset.nodes.iter().enumerate() {
+                #[expect(
+                    clippy::cast_possible_truncation,
+                    reason = "fewer nodes than u32::MAX, checked in `save`"
+                )]
                 let index = json::Index::new((base + i) as u32);
                 match node.parent {
                     Some(parent) => children[parent].push(index),

@@ -233,6 +233,16 @@ fn build_objects(
     by_name: &HashMap<String, usize>,
     options: &LoadOptions,
 ) -> Result<(Vec<Object>, Vec<Origin>), IoError> {
+    // Each corner may become a vertex, numbered with 32 bits below u32::MAX (obj_parse::dedup).
+    let corners = parsed.corner_count();
+    if corners >= u32::MAX as usize {
+        return Err(IoError::TooManyElements {
+            path: path.to_path_buf(),
+            what: "the file's triangle corners".to_owned(),
+            limit: u32::MAX as usize - 1,
+            actual: corners,
+        });
+    }
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     for parsed in parsed.into_objects(|name| by_name.get(name).copied()) {

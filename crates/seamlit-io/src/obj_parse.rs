@@ -438,7 +438,9 @@ fn first_out_of_range(
                     relative.next_if(|&&(a, s, _)| (a, s) == (at, slot))
                 {
                     let global = base[slot] as i64 + local;
-                    (u32::try_from(global).is_err() || global as usize >= totals[slot])
+                    u32::try_from(global)
+                        .ok()
+                        .is_none_or(|global| global as usize >= totals[slot])
                         .then_some(Written::Relative(local))
                 } else if let Some(&(_, _, index)) =
                     invalid.next_if(|&&(a, s, _)| (a, s) == (at, slot))
@@ -496,6 +498,11 @@ impl Chunk {
 }
 
 impl Parsed {
+    /// The triangle corners of the whole file: a bound on the vertices of any one object.
+    pub(crate) fn corner_count(&self) -> usize {
+        self.chunks.iter().map(|chunk| chunk.triangles.len() * 3).sum()
+    }
+
     /// Builds the objects' vertex arrays (in parallel), resolving `usemtl` names with
     /// `material` (a name unknown to it gives no material; equal results do not split).
     pub(crate) fn into_objects(

@@ -14,7 +14,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_valid, fix_and_save};
+use common::{assert_valid, f32_of, fix_and_save, usize_of};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 #[cfg(feature = "draco")]
 use seamlit_io::Draco;
@@ -104,9 +104,9 @@ fn component(bytes: &[u8], component_type: u64, normalized: bool) -> (u32, f32) 
 /// reader does not implement (sparse storage, compressed views), so that a test never
 /// compares zeros.
 fn elements(file: &File, index: u64) -> Elements {
-    let accessor = &file.json["accessors"][index as usize];
+    let accessor = &file.json["accessors"][usize_of(index)];
     assert!(accessor.get("sparse").is_none(), "accessor {index} is sparse");
-    let view = &file.json["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
+    let view = &file.json["bufferViews"][accessor["bufferView"].as_u64().map(usize_of).unwrap()];
     assert!(view.get("extensions").is_none(), "accessor {index}: its view has extensions");
     let component_type = accessor["componentType"].as_u64().unwrap();
     let size = match component_type {
@@ -122,11 +122,11 @@ fn elements(file: &File, index: u64) -> Elements {
         other => panic!("type {other}"),
     };
     let normalized = accessor["normalized"].as_bool().unwrap_or(false);
-    let stride = view["byteStride"].as_u64().map_or(n * size, |s| s as usize);
-    let buffer = &file.buffers[view["buffer"].as_u64().unwrap() as usize];
-    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
-        + accessor["byteOffset"].as_u64().unwrap_or(0) as usize;
-    (0..accessor["count"].as_u64().unwrap() as usize)
+    let stride = view["byteStride"].as_u64().map_or(n * size, usize_of);
+    let buffer = &file.buffers[view["buffer"].as_u64().map(usize_of).unwrap()];
+    let start = view["byteOffset"].as_u64().map_or(0, usize_of)
+        + accessor["byteOffset"].as_u64().map_or(0, usize_of);
+    (0..accessor["count"].as_u64().map(usize_of).unwrap())
         .map(|k| {
             (0..n)
                 .map(|c| {
@@ -144,7 +144,7 @@ type Elements = Vec<Vec<(u32, f32)>>;
 /// A node's local matrix (TRS or matrix).
 fn local(node: &Value) -> Mat4 {
     let floats = |key: &str| -> Option<Vec<f32>> {
-        Some(node.get(key)?.as_array()?.iter().map(|v| v.as_f64().unwrap() as f32).collect())
+        Some(node.get(key)?.as_array()?.iter().map(|v| f32_of(v.as_f64().unwrap())).collect())
     };
     if let Some(m) = floats("matrix") {
         return Mat4::from_cols_slice(&m);
@@ -182,7 +182,7 @@ impl Corner {
 fn corners(file: &File) -> Vec<Corner> {
     let json = &file.json;
     let mut out = Vec::new();
-    let scene = &json["scenes"][json["scene"].as_u64().unwrap_or(0) as usize];
+    let scene = &json["scenes"][json["scene"].as_u64().map_or(0, usize_of)];
     let mut stack: Vec<(u64, Mat4)> = scene["nodes"]
         .as_array()
         .unwrap()
@@ -191,10 +191,10 @@ fn corners(file: &File) -> Vec<Corner> {
         .map(|n| (n.as_u64().unwrap(), Mat4::IDENTITY))
         .collect();
     while let Some((index, parent)) = stack.pop() {
-        let node = &json["nodes"][index as usize];
+        let node = &json["nodes"][usize_of(index)];
         let global = parent * local(node);
         if let Some(mesh) = node["mesh"].as_u64() {
-            for primitive in json["meshes"][mesh as usize]["primitives"].as_array().unwrap() {
+            for primitive in json["meshes"][usize_of(mesh)]["primitives"].as_array().unwrap() {
                 let attributes: Vec<(String, Elements)> = primitive["attributes"]
                     .as_object()
                     .unwrap()
@@ -228,7 +228,7 @@ fn uv_transform(file: &File) -> (Vec2, Vec2) {
     let t = &file.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"];
     let pair = |key: &str, default: f32| {
         t.get(key).map_or(Vec2::splat(default), |v| {
-            Vec2::new(v[0].as_f64().unwrap() as f32, v[1].as_f64().unwrap() as f32)
+            Vec2::new(f32_of(v[0].as_f64().unwrap()), f32_of(v[1].as_f64().unwrap()))
         })
     };
     (pair("offset", 0.0), pair("scale", 1.0))
@@ -237,7 +237,7 @@ fn uv_transform(file: &File) -> (Vec2, Vec2) {
 /// The quantisation step of the positions of `teapot_q.glb`: the scale gltfpack puts on
 /// every mesh node (one integer unit in model space).
 fn position_step(file: &File) -> f32 {
-    let step = file.json["nodes"][0]["scale"][0].as_f64().unwrap() as f32;
+    let step = f32_of(file.json["nodes"][0]["scale"][0].as_f64().unwrap());
     assert!(step > 0.0 && step < 1e-3, "step {step}");
     step
 }
@@ -389,7 +389,8 @@ fn a_fixed_quantised_file_keeps_its_integers_and_gets_float_frames() {
         // New frames are floats (KHR_mesh_quantization allows both).
         let primitive = &written.json["meshes"][0]["primitives"][0]["attributes"];
         for name in ["NORMAL", "TANGENT"] {
-            let accessor = &written.json["accessors"][primitive[name].as_u64().unwrap() as usize];
+            let accessor =
+                &written.json["accessors"][primitive[name].as_u64().map(usize_of).unwrap()];
             assert_eq!(accessor["componentType"], 5126, "{output} {name}");
         }
     }
@@ -451,11 +452,11 @@ fn edited_glb(source: &Path, path: &Path, edit: impl FnOnce(&mut Value, &mut Vec
     let total = 12 + 8 + text.len() + 8 + bin.len();
     glb.extend_from_slice(b"glTF");
     glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&(total as u32).to_le_bytes());
-    glb.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    glb.extend_from_slice(&u32::try_from(total).unwrap().to_le_bytes());
+    glb.extend_from_slice(&u32::try_from(text.len()).unwrap().to_le_bytes());
     glb.extend_from_slice(b"JSON");
     glb.extend_from_slice(&text);
-    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(&u32::try_from(bin.len()).unwrap().to_le_bytes());
     glb.extend_from_slice(b"BIN\0");
     glb.extend_from_slice(&bin);
     std::fs::write(path, glb).unwrap();
@@ -511,7 +512,7 @@ fn malformed_meshopt_views_are_refused_naming_the_view() {
     // The vertex codec's header byte (0xa0 | version) made unknown.
     let garbage = edited_meshopt(dir.path(), |json, bin| {
         let at = view_1(json)["byteOffset"].as_u64().unwrap();
-        bin[at as usize] = 0x00;
+        bin[usize_of(at)] = 0x00;
     });
     refused("a corrupt header", garbage, |kind| matches!(kind, Meshopt::Refused { .. }));
 }
@@ -542,7 +543,7 @@ fn draco_steps(original: &[Point]) -> (f32, f32) {
     for accessor in draco.json["accessors"].as_array().unwrap() {
         if let (Some(min), Some(max)) = (accessor["min"].as_array(), accessor["max"].as_array()) {
             for (a, b) in min.iter().zip(max) {
-                extent = extent.max((b.as_f64().unwrap() - a.as_f64().unwrap()) as f32);
+                extent = extent.max(f32_of(b.as_f64().unwrap() - a.as_f64().unwrap()));
             }
         }
     }
@@ -654,9 +655,10 @@ fn corrupt_draco_streams_fail_with_an_error_naming_the_primitive_never_a_panic()
     let view =
         json["meshes"][3]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"]
             .as_u64()
-            .unwrap() as usize;
-    let start = json["bufferViews"][view]["byteOffset"].as_u64().unwrap() as usize;
-    let length = json["bufferViews"][view]["byteLength"].as_u64().unwrap() as usize;
+            .map(usize_of)
+            .unwrap();
+    let start = json["bufferViews"][view]["byteOffset"].as_u64().map(usize_of).unwrap();
+    let length = json["bufferViews"][view]["byteLength"].as_u64().map(usize_of).unwrap();
     let (mut loaded, mut refused) = (0, 0);
     let mut outcome = |path: PathBuf| match seamlit_io::load(&path, &LoadOptions::GEOMETRY) {
         Ok(_) => loaded += 1,
@@ -774,8 +776,8 @@ fn corrupt_meshopt_data_loads_or_fails_cleanly() {
         let (mut loaded, mut refused) = (0, 0);
         for extension in views.iter().filter_map(|v| v["extensions"].get("EXT_meshopt_compression"))
         {
-            let start = 20 + length + 8 + extension["byteOffset"].as_u64().unwrap() as usize;
-            let end = start + extension["byteLength"].as_u64().unwrap() as usize;
+            let start = 20 + length + 8 + extension["byteOffset"].as_u64().map(usize_of).unwrap();
+            let end = start + extension["byteLength"].as_u64().map(usize_of).unwrap();
             for at in (start..end).step_by(31) {
                 let mut corrupt = bytes.clone();
                 corrupt[at] = 0xff;

@@ -8,7 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use common::validate;
+use common::{usize_of, validate};
 use serde_json::Value;
 
 use seamlit_io::{LoadOptions, SaveOptions};
@@ -36,7 +36,7 @@ impl Glb {
     /// Accessor `index`'s elements as stored, one byte string per element (no sparse: Fox
     /// has none).
     fn elements(&self, index: &Value) -> Vec<Vec<u8>> {
-        let a = &self.json["accessors"][index.as_u64().unwrap() as usize];
+        let a = &self.json["accessors"][index.as_u64().map(usize_of).unwrap()];
         let components = match a["type"].as_str().unwrap() {
             "SCALAR" => 1,
             "VEC2" => 2,
@@ -52,14 +52,14 @@ impl Glb {
             _ => 4,
         };
         let size = components * component;
-        let view = &self.json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+        let view = &self.json["bufferViews"][a["bufferView"].as_u64().map(usize_of).unwrap()];
         assert_eq!(view["buffer"], 0);
         let start =
             view["byteOffset"].as_u64().unwrap_or(0) + a["byteOffset"].as_u64().unwrap_or(0);
-        let stride = view["byteStride"].as_u64().map_or(size, |s| s as usize);
-        (0..a["count"].as_u64().unwrap() as usize)
+        let stride = view["byteStride"].as_u64().map_or(size, usize_of);
+        (0..a["count"].as_u64().map(usize_of).unwrap())
             .map(|i| {
-                let at = start as usize + i * stride;
+                let at = usize_of(start) + i * stride;
                 self.bin[at..at + size].to_vec()
             })
             .collect()

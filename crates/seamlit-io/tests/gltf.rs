@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{model, validate};
+use common::{model, usize_of, validate};
 use seamlit_io::{LoadOptions, SaveOptions, TextureSource};
 
 /// The JSON chunk of a GLB, read with plain byte handling (independent of the loader).
@@ -26,11 +26,12 @@ fn normal_tangent_test_glb() {
     assert_eq!(asset.model.objects.len(), 1);
     let json = glb_json(&model("NormalTangentTest.glb"));
     let primitive = &json["meshes"][0]["primitives"][0];
-    let index_count = json["accessors"][primitive["indices"].as_u64().unwrap() as usize]["count"]
-        .as_u64()
-        .unwrap();
+    let index_count =
+        json["accessors"][primitive["indices"].as_u64().map(usize_of).unwrap()]["count"]
+            .as_u64()
+            .unwrap();
     let vertex_count = json["accessors"]
-        [primitive["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
+        [primitive["attributes"]["POSITION"].as_u64().map(usize_of).unwrap()]["count"]
         .as_u64()
         .unwrap();
     assert_eq!(asset.model.triangle_count() as u64, index_count / 3);
@@ -99,7 +100,7 @@ fn vertex_colours_pass_the_validator() {
     }
     let json = glb_json(&dir.path().join("tile.glb"));
     let attributes = &json["meshes"][0]["primitives"][0]["attributes"];
-    let color = &json["accessors"][attributes["COLOR_0"].as_u64().unwrap() as usize];
+    let color = &json["accessors"][attributes["COLOR_0"].as_u64().map(usize_of).unwrap()];
     assert_eq!(
         (color["type"].as_str(), color["componentType"].as_u64()),
         (Some("VEC4"), Some(5126))

@@ -30,12 +30,13 @@ impl Random {
         self.below(100) < percent
     }
     fn pick<'a>(&mut self, options: &[&'a str]) -> &'a str {
-        options[self.below(options.len() as u64) as usize]
+        options[usize::try_from(self.below(options.len() as u64)).unwrap()]
     }
 }
 
 /// A number written the way exporters do: shortest round-trip, fixed digits, exponents,
 /// integers, signs, leading or trailing points, more digits than an f32 holds.
+#[expect(clippy::cast_possible_truncation, reason = "the f32 roundings are the point")]
 fn number(r: &mut Random) -> String {
     let x = (r.below(2_000_001) as f64 - 1_000_000.0) / 100_000.0;
     match r.below(10) {
@@ -106,7 +107,7 @@ fn generate(seed: u64, lines: usize) -> String {
             let keyword = r.pick(&["o", "g"]);
             let name = r.pick(&["", "part", "part two", "Leg_1", "leg_2", "café"]);
             write!(text, "{keyword} {name}").unwrap();
-            form = r.below(4) as usize;
+            form = usize::try_from(r.below(4)).unwrap();
         } else if roll < 98 {
             write!(text, "usemtl {}", r.pick(&["red", "green", "blue"])).unwrap();
         } else {

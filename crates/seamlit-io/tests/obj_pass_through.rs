@@ -202,8 +202,9 @@ fn corner_values(object: &Object, starts: Option<&[usize]>) -> Vec<[Option<[u32;
     (0..object.triangle_count())
         .flat_map(|t| (0..3).map(move |k| (t, k)))
         .map(|(t, k)| {
-            let i = object.triangles[t][k] as usize;
-            let n = in_face(t, i as u32) as usize;
+            let v = object.triangles[t][k];
+            let i = v as usize;
+            let n = in_face(t, v) as usize;
             [
                 Some(bits3(object.positions[i])),
                 object.uvs.as_ref().map(|uv| [uv[i].x.to_bits(), uv[i].y.to_bits(), 0, 0]),

@@ -11,7 +11,7 @@ mod common;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use common::{assert_valid, fix_and_save};
+use common::{assert_valid, fix_and_save, usize_of};
 use serde_json::{Value, json};
 
 use seamlit_io::{LoadOptions, SaveOptions};
@@ -148,11 +148,13 @@ impl Builder {
         let mut out = Vec::new();
         out.extend_from_slice(b"glTF");
         out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&((12 + 8 + text.len() + 8 + self.bin.len()) as u32).to_le_bytes());
-        out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+        out.extend_from_slice(
+            &u32::try_from(12 + 8 + text.len() + 8 + self.bin.len()).unwrap().to_le_bytes(),
+        );
+        out.extend_from_slice(&u32::try_from(text.len()).unwrap().to_le_bytes());
         out.extend_from_slice(b"JSON");
         out.extend_from_slice(&text);
-        out.extend_from_slice(&(self.bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&u32::try_from(self.bin.len()).unwrap().to_le_bytes());
         out.extend_from_slice(b"BIN\0");
         out.extend_from_slice(&self.bin);
         std::fs::write(path, out).unwrap();
@@ -451,7 +453,7 @@ fn read(path: &Path) -> File {
                         None => bin.take().expect("a BIN chunk for the buffer without uri"),
                         Some(uri) => std::fs::read(folder.join(uri)).unwrap(),
                     };
-                    assert!(data.len() >= b["byteLength"].as_u64().unwrap() as usize);
+                    assert!(data.len() >= b["byteLength"].as_u64().map(usize_of).unwrap());
                     data
                 })
                 .collect()
@@ -464,9 +466,9 @@ impl File {
     /// A buffer view's bytes.
     fn view(&self, index: usize) -> &[u8] {
         let view = &self.json["bufferViews"][index];
-        let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
-        let length = view["byteLength"].as_u64().unwrap() as usize;
-        &self.buffers[view["buffer"].as_u64().unwrap() as usize][offset..offset + length]
+        let offset = view["byteOffset"].as_u64().map_or(0, usize_of);
+        let length = view["byteLength"].as_u64().map(usize_of).unwrap();
+        &self.buffers[view["buffer"].as_u64().map(usize_of).unwrap()][offset..offset + length]
     }
 
     /// An accessor's elements, each as its bytes (sparse substitution applied).
@@ -486,27 +488,27 @@ impl File {
                 "MAT4" => 16,
                 other => panic!("type {other}"),
             };
-        let count = a["count"].as_u64().unwrap() as usize;
+        let count = a["count"].as_u64().map(usize_of).unwrap();
         let mut out = vec![vec![0u8; size]; count];
-        if let Some(view) = a["bufferView"].as_u64() {
-            let stride = self.json["bufferViews"][view as usize]["byteStride"]
-                .as_u64()
-                .map_or(size, |s| s as usize);
-            let offset = a["byteOffset"].as_u64().unwrap_or(0) as usize;
-            let data = self.view(view as usize);
+        if let Some(view) = a["bufferView"].as_u64().map(usize_of) {
+            let stride =
+                self.json["bufferViews"][view]["byteStride"].as_u64().map_or(size, usize_of);
+            let offset = a["byteOffset"].as_u64().map_or(0, usize_of);
+            let data = self.view(view);
             for (k, e) in out.iter_mut().enumerate() {
                 e.copy_from_slice(&data[offset + k * stride..offset + k * stride + size]);
             }
         }
         if let Some(sparse) = a.get("sparse") {
-            let n = sparse["count"].as_u64().unwrap() as usize;
+            let n = sparse["count"].as_u64().map(usize_of).unwrap();
             let index_size = match sparse["indices"]["componentType"].as_u64().unwrap() {
                 5121 => 1,
                 5123 => 2,
                 _ => 4,
             };
-            let indices = self.view(sparse["indices"]["bufferView"].as_u64().unwrap() as usize);
-            let values = self.view(sparse["values"]["bufferView"].as_u64().unwrap() as usize);
+            let indices =
+                self.view(sparse["indices"]["bufferView"].as_u64().map(usize_of).unwrap());
+            let values = self.view(sparse["values"]["bufferView"].as_u64().map(usize_of).unwrap());
             for k in 0..n {
                 let mut word = [0u8; 4];
                 word[..index_size].copy_from_slice(&indices[k * index_size..(k + 1) * index_size]);
@@ -520,7 +522,7 @@ impl File {
     fn corners(&self, primitive: &Value) -> Vec<usize> {
         match primitive["indices"].as_u64() {
             Some(a) => self
-                .elements(a as usize)
+                .elements(usize_of(a))
                 .iter()
                 .map(|e| {
                     let mut word = [0u8; 4];
@@ -529,8 +531,9 @@ impl File {
                 })
                 .collect(),
             None => {
-                let position = primitive["attributes"]["POSITION"].as_u64().unwrap() as usize;
-                (0..self.json["accessors"][position]["count"].as_u64().unwrap() as usize).collect()
+                let position = primitive["attributes"]["POSITION"].as_u64().map(usize_of).unwrap();
+                (0..self.json["accessors"][position]["count"].as_u64().map(usize_of).unwrap())
+                    .collect()
             }
         }
     }
@@ -539,7 +542,7 @@ impl File {
     fn image(&self, i: usize) -> Vec<u8> {
         let image = &self.json["images"][i];
         match image["bufferView"].as_u64() {
-            Some(view) => self.view(view as usize).to_vec(),
+            Some(view) => self.view(usize_of(view)).to_vec(),
             None => std::fs::read(self.folder.join(image["uri"].as_str().unwrap())).unwrap(),
         }
     }
@@ -579,7 +582,7 @@ fn compare(input: &File, output: &File, what: &str, pruning: Pruning) -> usize {
                 assert!(b.len() >= a.len(), "{what}: {key} lost entries");
                 assert_eq!(&b[..a.len()], &a[..], "{what}: existing {key}");
             }
-            let kept = a[0]["byteLength"].as_u64().unwrap() as usize;
+            let kept = a[0]["byteLength"].as_u64().map(usize_of).unwrap();
             assert_eq!(
                 &output.buffers[0][..kept],
                 &input.buffers[0][..kept],
@@ -676,15 +679,16 @@ fn compare(input: &File, output: &File, what: &str, pruning: Pruning) -> usize {
             let (ci, co) = (input.corners(primitive), output.corners(out_primitive));
             assert_eq!(ci.len(), co.len(), "{place}: corners");
             let count = |f: &File, p: &Value| {
-                f.json["accessors"][p["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
+                f.json["accessors"][p["attributes"]["POSITION"].as_u64().map(usize_of).unwrap()]["count"]
                     .as_u64()
-                    .unwrap() as usize
+                    .map(usize_of)
+                    .unwrap()
             };
             added += count(output, out_primitive) - count(input, primitive);
             let same_per_corner = |a: &Value, b: &Value, name: &str| {
                 let (x, y) = (
-                    input.elements(a.as_u64().unwrap() as usize),
-                    output.elements(b.as_u64().unwrap() as usize),
+                    input.elements(a.as_u64().map(usize_of).unwrap()),
+                    output.elements(b.as_u64().map(usize_of).unwrap()),
                 );
                 assert_eq!(y.len(), count(output, out_primitive), "{place}: {name} count");
                 let used = co.iter().max().map_or(0, |&o| o + 1);
@@ -745,25 +749,25 @@ impl References {
                 .into_iter()
                 .flatten()
                 .filter_map(|(_, i)| i.as_u64())
-                .map(|i| i as usize)
+                .map(usize_of)
                 .collect::<Vec<_>>()
         };
         for mesh in json["meshes"].as_array().into_iter().flatten() {
             for p in mesh["primitives"].as_array().into_iter().flatten() {
                 r.meshes.extend(ids(&p["attributes"]));
-                r.meshes.extend(p["indices"].as_u64().map(|i| i as usize));
+                r.meshes.extend(p["indices"].as_u64().map(usize_of));
                 for t in p["targets"].as_array().into_iter().flatten() {
                     r.meshes.extend(ids(t));
                 }
             }
         }
         for skin in json["skins"].as_array().into_iter().flatten() {
-            r.outside_meshes.extend(skin["inverseBindMatrices"].as_u64().map(|i| i as usize));
+            r.outside_meshes.extend(skin["inverseBindMatrices"].as_u64().map(usize_of));
         }
         for animation in json["animations"].as_array().into_iter().flatten() {
             for sampler in animation["samplers"].as_array().into_iter().flatten() {
                 for key in ["input", "output"] {
-                    r.outside_meshes.extend(sampler[key].as_u64().map(|i| i as usize));
+                    r.outside_meshes.extend(sampler[key].as_u64().map(usize_of));
                 }
             }
         }
@@ -775,7 +779,7 @@ impl References {
             r.accessor_views.extend(Self::views_of(accessor));
         }
         for image in json["images"].as_array().into_iter().flatten() {
-            r.images.extend(image["bufferView"].as_u64().map(|i| i as usize));
+            r.images.extend(image["bufferView"].as_u64().map(usize_of));
         }
         r
     }
@@ -789,7 +793,7 @@ impl References {
         ]
         .into_iter()
         .filter_map(Value::as_u64)
-        .map(|i| i as usize)
+        .map(usize_of)
         .collect()
     }
 
@@ -940,8 +944,10 @@ fn instances_that_got_different_normals_become_a_clone_and_the_save_says_so() {
     // otherwise untouched.
     let normals = |mesh: usize| {
         b.elements(
-            b.json["meshes"][mesh]["primitives"][0]["attributes"]["NORMAL"].as_u64().unwrap()
-                as usize,
+            b.json["meshes"][mesh]["primitives"][0]["attributes"]["NORMAL"]
+                .as_u64()
+                .map(usize_of)
+                .unwrap(),
         )
     };
     assert_ne!(normals(0), normals(2));
@@ -1062,7 +1068,8 @@ fn indices_keep_their_type_where_the_split_vertices_fit_and_widen_to_u32_where_n
         let out = dir.path().join(format!("out{component}.glb"));
         fix_and_save(&source, &out);
         let (a, b) = (read(&source), read(&out));
-        let indices = b.json["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+        let indices =
+            b.json["meshes"][0]["primitives"][0]["indices"].as_u64().map(usize_of).unwrap();
         assert_eq!(b.json["accessors"][indices]["componentType"], expected, "{component}");
         assert_eq!(compare(&a, &b, &format!("u{component}"), Pruning::On), 85);
         assert_valid(&out);

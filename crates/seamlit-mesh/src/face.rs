@@ -216,14 +216,15 @@ mod angle_tests {
             let got = face([Vec3::ZERO, a, b], None, VAxis::Up).angles;
             // The true angles of the f32 triangle, in f64.
             let angle = |u: glam::DVec3, w: glam::DVec3| {
-                (u.dot(w) / (u.length() * w.length())).clamp(-1.0, 1.0).acos() as f32
+                (u.dot(w) / (u.length() * w.length())).clamp(-1.0, 1.0).acos()
             };
             let exact0 = angle(a.as_dvec3(), b.as_dvec3());
             let exact1 = angle(-a.as_dvec3(), (b - a).as_dvec3());
             // Near 0 and pi, acos of an f32 dot product is limited by the dot's rounding.
             let tolerance = if !(0.05..=3.09).contains(&t) { 1e-4 } else { 2e-6 };
-            assert!((got[0] - exact0).abs() < tolerance, "{t}: {got:?} vs {exact0}");
-            assert!((got[1] - exact1).abs() < 1e-4, "{t}: {got:?} vs {exact1}");
+            let error = |k: usize, exact: f64| (f64::from(got[k]) - exact).abs();
+            assert!(error(0, exact0) < tolerance, "{t}: {got:?} vs {exact0}");
+            assert!(error(1, exact1) < 1e-4, "{t}: {got:?} vs {exact1}");
             let sum = got.iter().sum::<f32>();
             assert!((sum - std::f32::consts::PI).abs() < 1e-5, "{t}: {got:?}");
         }

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
+use crate::index::{index, low_half};
 use crate::morph;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
@@ -42,7 +43,7 @@ use crate::{
 ///
 /// A [`MeshError`] naming the object and element for: attribute arrays of the wrong length,
 /// indices out of range, a non-finite or singular transform, non-finite positions (after the
-/// transform) or UVs, or more than [`crate::MAX_ELEMENTS`] vertices or corners.
+/// transform) or UVs, or more than [`crate::MAX_ELEMENTS`] vertices, corners, or both together.
 pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
@@ -214,7 +215,7 @@ fn compute(
             .as_flattened()
             .par_iter()
             .enumerate()
-            .map(|(c, &v)| smooth.corner_frame(c as u32, v as usize).normal)
+            .map(|(c, &v)| smooth.corner_frame(index(c), v as usize).normal)
             .collect();
         let uvs = flat.uvs(model);
         let tangents =
@@ -421,7 +422,7 @@ impl<'a> Out<'a> {
         let mut at = vi;
         loop {
             if bits(self.normals[at], self.tangents[at]) == key {
-                return at as u32;
+                return index(at);
             }
             if self.next[at] == u32::MAX {
                 let new = self.positions.len();
@@ -445,8 +446,10 @@ impl<'a> Out<'a> {
                 self.tangents.push(tangent);
                 self.is_set.push(true);
                 self.next.push(u32::MAX);
-                self.next[at] = new as u32;
-                return new as u32;
+                // At most one new vertex per corner: see crate::index.
+                let new = index(new);
+                self.next[at] = new;
+                return new;
             }
             at = self.next[at] as usize;
         }
@@ -536,7 +539,7 @@ fn write_smooth(
     for &e in complex {
         let c = (e >> 32) as usize - first as usize * 3;
         let corner = &mut triangles[c / 3][c % 3];
-        *corner = out.put(*corner, smooth.frames[e as u32 as usize]);
+        *corner = out.put(*corner, smooth.frames[low_half(e) as usize]);
     }
     let changed = out.changed;
     out.finish(&mut normals, &mut out_tangents);

@@ -20,6 +20,7 @@ use glam::{Vec3, Vec4};
 
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face};
 use crate::frame::finish;
+use crate::index::index;
 use crate::weld::union;
 use crate::{FixOptions, Model, Object, Weighting};
 
@@ -187,10 +188,10 @@ impl Position<'_> {
         match self.rules.crease_cos {
             None if !grouped => np.resize(k, 0),
             cos => {
-                np.extend(0..k as u32);
+                np.extend(0..index(k));
                 for a in 1..k {
                     if self.face_of(a) == self.face_of(a - 1) {
-                        union(np, a as u32 - 1, a as u32);
+                        union(np, index(a - 1), index(a));
                     }
                 }
                 for a in 0..k {
@@ -202,7 +203,7 @@ impl Position<'_> {
                         let fb = &self.faces[b];
                         let within = cos.is_none_or(|cos| fa.normal.dot(fb.normal) >= cos);
                         if !fb.is(DEGENERATE) && within && same_group(a, b) {
-                            union(np, a as u32, b as u32);
+                            union(np, index(a), index(b));
                         }
                     }
                 }
@@ -229,7 +230,7 @@ impl Position<'_> {
                 s.fallback[g] = f.normal;
             }
             if s.first_usable[g] == u32::MAX && self.usable(a) {
-                s.first_usable[g] = a as u32;
+                s.first_usable[g] = index(a);
             }
         }
     }
@@ -247,19 +248,19 @@ impl Position<'_> {
             tp.extend_from_slice(&s.normal_parent);
             return;
         }
-        tp.extend(0..k as u32);
+        tp.extend(0..index(k));
         s.first_unusable.clear();
         s.first_unusable.resize(k, u32::MAX);
         for a in 0..k {
             let g = s.normal_parent[a] as usize;
             if self.usable(a) {
                 if self.rules.tangents_unconditional() {
-                    union(tp, a as u32, s.first_usable[g]);
+                    union(tp, index(a), s.first_usable[g]);
                 }
             } else if s.first_unusable[g] == u32::MAX {
-                s.first_unusable[g] = a as u32;
+                s.first_unusable[g] = index(a);
             } else {
-                union(tp, a as u32, s.first_unusable[g]);
+                union(tp, index(a), s.first_unusable[g]);
             }
         }
         if !self.rules.tangents_unconditional() {
@@ -274,7 +275,7 @@ impl Position<'_> {
         let k = self.len();
         for a in 1..k {
             if self.face_of(a) == self.face_of(a - 1) && self.usable(a) {
-                union(tp, a as u32 - 1, a as u32);
+                union(tp, index(a - 1), index(a));
             }
         }
         for a in 0..k {
@@ -290,7 +291,7 @@ impl Position<'_> {
                 let join = (!self.rules.split_mirrored || ta.sign() == tb.sign())
                     && self.rules.tangent_cos.is_none_or(|c| ta.tangent.dot(tb.tangent) >= c);
                 if join {
-                    union(tp, a as u32, b as u32);
+                    union(tp, index(a), index(b));
                 }
             }
         }
@@ -362,7 +363,7 @@ impl Position<'_> {
             if self.incoherent(s, root) {
                 let f = &self.faces[a];
                 let (normal, tangent) = finish(s.n_sum[g], s.fallback[g], f.tangent, f.bitangent);
-                s.local_group.push(frames.len() as u32);
+                s.local_group.push(index(frames.len()));
                 frames.push(Frame { normal, tangent });
                 continue;
             }
@@ -375,7 +376,7 @@ impl Position<'_> {
                     (t_sum, b_sum) = position_tb;
                 }
                 let (normal, tangent) = finish(n_sum, s.fallback[g], t_sum, b_sum);
-                s.frame_of_root[root] = frames.len() as u32;
+                s.frame_of_root[root] = index(frames.len());
                 frames.push(Frame { normal, tangent });
             }
             s.local_group.push(s.frame_of_root[root]);

@@ -43,6 +43,7 @@ mod face;
 mod fix;
 mod frame;
 mod group;
+mod index;
 mod mikk;
 mod model;
 mod morph;
@@ -64,6 +65,6 @@ pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, Weld
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
 pub use skin::{SkinSeamExample, SkinSeams};
 
-/// The largest number of vertices (and of triangle corners) a model may have: indices are
-/// 32-bit.
+/// The largest number of vertices (and of triangle corners, and of the two together: `fix`
+/// may give an object a new vertex per corner) a model may have: indices are 32-bit.
 pub const MAX_ELEMENTS: usize = u32::MAX as usize - 1;

@@ -36,6 +36,7 @@ use crate::face::{DEGENERATE, DEGENERATE_UV, face};
 use crate::fix::{diagonal, roots_for_mode};
 use crate::frame::{Linear, orthogonal_tangent};
 use crate::group::weight;
+use crate::index::{index, low_half};
 use crate::validate::{self, Flat};
 use crate::{FixOptions, Influences, MeshError, Mode, Model, MorphTarget};
 
@@ -117,7 +118,7 @@ impl Groups {
     /// `weld`: the base fix's roots (see [`roots_after_splits`]), welded again where `None`.
     fn of(model: &Model, flat: &Flat, options: &FixOptions, weld: Option<Vec<u32>>) -> Self {
         let roots: Vec<u32> = if options.mode == Mode::Flat {
-            (0..flat.positions.len() as u32).collect()
+            (0..index(flat.positions.len())).collect()
         } else if let Some(roots) = weld {
             roots
         } else {
@@ -129,30 +130,30 @@ impl Groups {
         let mut order: Vec<u64> =
             roots.iter().enumerate().map(|(v, &r)| (u64::from(r) << 32) | v as u64).collect();
         order.par_sort_unstable();
-        let mut normal: Vec<u32> = (0..roots.len() as u32).collect();
+        let mut normal: Vec<u32> = (0..index(roots.len())).collect();
         let mut tangent = normal.clone();
         for run in order.chunk_by(|a, b| a >> 32 == b >> 32) {
             for (i, &a) in run.iter().enumerate() {
-                let a = a as u32 as usize;
+                let a = low_half(a) as usize;
                 let (na, ta) = frames[a];
                 // The first earlier vertex with the same normal (and tangent), if any.
                 for &b in &run[..i] {
-                    let b = b as u32 as usize;
+                    let b = low_half(b) as usize;
                     let nb = frames[b].0;
                     if normal[b] as usize == b && na.dot(nb) >= SAME_NORMAL {
-                        normal[a] = b as u32;
+                        normal[a] = index(b);
                         break;
                     }
                 }
                 for &b in &run[..i] {
-                    let b = b as u32 as usize;
+                    let b = low_half(b) as usize;
                     let tb = frames[b].1;
                     if tangent[b] as usize == b
                         && normal[a] == normal[b]
                         && ta.w == tb.w
                         && ta.xyz().dot(tb.xyz()) >= SAME_NORMAL
                     {
-                        tangent[a] = b as u32;
+                        tangent[a] = index(b);
                         break;
                     }
                 }
@@ -178,7 +179,7 @@ pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model)
     old_start.push(a);
     let renumber = |r: u32| {
         let o = old_start.partition_point(|&s| s <= r as usize) - 1;
-        (new_start[o] + r as usize - old_start[o]) as u32
+        index(new_start[o] + r as usize - old_start[o])
     };
     model
         .objects
@@ -186,7 +187,7 @@ pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model)
         .enumerate()
         .flat_map(|(o, object)| {
             let (old_start, renumber) = (old_start[o], &renumber);
-            (0..object.vertex_count() as u32).map(move |v| {
+            (0..index(object.vertex_count())).map(move |v| {
                 // A copy of a copy points at the first input vertex: the same position.
                 let source = object.source_vertex(v) as usize;
                 renumber(roots[old_start + source])
@@ -461,7 +462,7 @@ mod tests {
                         "{o} v{v}"
                     );
                     computed += 1;
-                    let source = object.source_vertex(v as u32) as usize;
+                    let source = object.source_vertex(index(v)) as usize;
                     if object.morph_targets[0].position_deltas[source] == Vec3::ZERO {
                         unmoved += 1;
                     }

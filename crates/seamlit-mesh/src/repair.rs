@@ -31,6 +31,7 @@ use crate::face::face;
 use crate::fix::Out;
 use crate::frame::{Linear, orthogonalise};
 use crate::group::{Frame, Rules, weight};
+use crate::index::{index, low_half};
 use crate::smooth::{self, face_frame};
 use crate::validate::Flat;
 use crate::weld::union;
@@ -84,7 +85,7 @@ fn usable_tangents(tangents: Option<&[Vec4]>) -> bool {
 
 /// A vertex at a shared position whose normal the repair sets.
 struct Update {
-    object: u32,
+    object: usize,
     vertex: u32,
     /// The group's normal, in model space, unit length.
     normal: Vec3,
@@ -119,7 +120,7 @@ pub(crate) fn repair_seams(
 
 /// A vertex at one position, as the repair sees it.
 struct SeamVertex {
-    object: u32,
+    object: usize,
     vertex: u32,
     /// Its normal in model space, as stored (before normalising): equal bits mean agreement.
     stored: Vec3,
@@ -142,18 +143,18 @@ fn repair_position(
     let mut vertices: Vec<SeamVertex> = Vec::new();
     let mut corners: Vec<(usize, f32)> = Vec::with_capacity(run.len());
     for &e in run {
-        let c = e as u32 as usize;
+        let c = low_half(e) as usize;
         let t = c / 3;
         let o = flat.object_of_triangle(t);
         let local = t - flat.triangle_start[o] as usize;
         let object = &model.objects[o];
         let v = object.triangles[local][c % 3];
-        let at = vertices.iter().position(|x| x.object == o as u32 && x.vertex == v);
+        let at = vertices.iter().position(|x| x.object == o && x.vertex == v);
         let index = at.unwrap_or_else(|| {
             let n = object.normals.as_ref().map_or(Vec3::Z, |ns| ns[v as usize]);
             let stored = linear[o].as_ref().map_or(n, |l| l.normal_to_model(n));
             let unit = stored.try_normalize().unwrap_or(Vec3::Z);
-            vertices.push(SeamVertex { object: o as u32, vertex: v, stored, unit });
+            vertices.push(SeamVertex { object: o, vertex: v, stored, unit });
             vertices.len() - 1
         });
         let positions = flat.corners(model, o, local).positions;
@@ -162,11 +163,11 @@ fn repair_position(
 
     // Groups: vertices whose normals lie within the crease angle, joined transitively.
     let k = vertices.len();
-    let mut parent: Vec<u32> = (0..k as u32).collect();
+    let mut parent: Vec<u32> = (0..index(k)).collect();
     for a in 0..k {
         for b in a + 1..k {
             if crease_cos.is_none_or(|cos| vertices[a].unit.dot(vertices[b].unit) >= cos) {
-                union(&mut parent, a as u32, b as u32);
+                union(&mut parent, index(a), index(b));
             }
         }
     }
@@ -211,7 +212,7 @@ fn repair_position(
 fn apply(model: &mut Model, linear: &[Option<Linear>], updates: &[Update]) -> Vec<usize> {
     let mut changed = vec![0; model.objects.len()];
     for u in updates {
-        let (o, v) = (u.object as usize, u.vertex as usize);
+        let (o, v) = (u.object, u.vertex as usize);
         let object = &mut model.objects[o];
         let Some(normals) = object.normals.as_mut() else { continue };
         let n = linear[o].as_ref().map_or(u.normal, |l| l.normal_to_local(u.normal));
@@ -304,7 +305,7 @@ fn corner_frames(
                 .as_flattened()
                 .par_iter()
                 .enumerate()
-                .map(|(c, &v)| smooth.corner_frame(c as u32, v as usize))
+                .map(|(c, &v)| smooth.corner_frame(index(c), v as usize))
                 .collect()
         }
     }

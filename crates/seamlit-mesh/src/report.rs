@@ -171,7 +171,7 @@ fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
 
 /// A corner at a shared position, with what the comparisons need.
 struct SharedCorner {
-    object: u32,
+    object: usize,
     /// The roots of its triangle's three positions.
     roots: [u32; 3],
     face: Face,
@@ -247,7 +247,7 @@ impl Corners<'_> {
         let i = model.objects[o].triangles[local][c % 3] as usize;
         let (normal, tangent) = model_space_frame(&model.objects[o], i, self.linear[o].as_ref());
         SharedCorner {
-            object: o as u32,
+            object: o,
             roots: cs.vertices.map(|v| self.roots[v as usize]),
             face: face(cs.positions, cs.uvs, model.v_axis),
             normal,
@@ -287,6 +287,10 @@ impl Running {
     fn max(&self) -> Option<f32> {
         (self.count > 0).then_some(self.max)
     }
+    #[expect(
+        clippy::cast_possible_truncation,
+        reason = "the mean of f32 values, summed in f64 for accuracy, lies within f32's range"
+    )]
     fn mean(&self) -> Option<f32> {
         (self.count > 0).then(|| (self.sum / self.count as f64) as f32)
     }

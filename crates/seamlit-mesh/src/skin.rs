@@ -11,6 +11,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::index::low_half;
 use crate::validate::Flat;
 use crate::{Model, Object};
 
@@ -57,7 +58,7 @@ pub(crate) fn skin_seams(model: &Model, flat: &Flat, roots: &[u32], shared: &[bo
             let vertices: Vec<(usize, Vec<(u32, f32)>)> = run
                 .iter()
                 .map(|&e| {
-                    let v = e as u32 as usize;
+                    let v = low_half(e) as usize;
                     let o = object_of(v);
                     (o, influences(&model.objects[o], v - flat.vertex_start[o] as usize))
                 })

@@ -41,6 +41,7 @@ use crate::Model;
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
 use crate::frame::finish;
 use crate::group::{self, Frame, Rules, Scratch, weight};
+use crate::index::low_half;
 use crate::validate::Flat;
 
 /// A triangle uses this vertex (per vertex, not merged into the root).
@@ -126,7 +127,7 @@ impl Smooth {
     pub fn corner_frame(&self, c: u32, v: usize) -> Frame {
         self.simple_frame(v).unwrap_or_else(|| {
             let i = self.complex.partition_point(|&e| (e >> 32) < u64::from(c));
-            self.frames[self.complex[i] as u32 as usize]
+            self.frames[low_half(self.complex[i]) as usize]
         })
     }
 
@@ -412,7 +413,7 @@ fn group_complex(
                 let mut frames = Vec::new();
                 for run in entries[range].chunk_by(|a, b| a >> 32 == b >> 32) {
                     corners.clear();
-                    corners.extend(run.iter().map(|&e| e as u32));
+                    corners.extend(run.iter().map(|&e| low_half(e)));
                     faces.clear();
                     keys.clear();
                     for &c in corners.iter() {

@@ -8,6 +8,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
+use crate::index::index;
 use crate::{MAX_ELEMENTS, MeshError, Model, Object};
 
 /// The model's positions in model space, concatenated, and where each object starts.
@@ -243,6 +244,14 @@ pub(crate) fn flatten(model: &Model) -> Result<Flat, MeshError> {
             max: MAX_ELEMENTS,
         });
     }
+    // `fix` adds at most one vertex per corner, and those vertices need 32-bit indices too.
+    if vertices + corners > MAX_ELEMENTS {
+        return Err(MeshError::TooLarge {
+            what: "vertices plus triangle corners",
+            count: vertices + corners,
+            max: MAX_ELEMENTS,
+        });
+    }
     let transforms = model
         .objects
         .par_iter()
@@ -256,8 +265,8 @@ pub(crate) fn flatten(model: &Model) -> Result<Flat, MeshError> {
     for o in &model.objects {
         vertex_start.push(v);
         triangle_start.push(t);
-        v += o.positions.len() as u32;
-        t += o.triangles.len() as u32;
+        v += index(o.positions.len());
+        t += index(o.triangles.len());
     }
     vertex_start.push(v);
     triangle_start.push(t);

@@ -35,6 +35,8 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::index::{index, low_half};
+
 /// The result of [`weld`]: a shared id per input position. The pipeline works with
 /// [`roots`]; this compact form is for the tests.
 #[cfg(test)]
@@ -154,7 +156,7 @@ fn join_runs(
             // a run of k copies of one point costs O(k), not O(k^2).
             let mut distinct: Vec<u32> = Vec::new();
             for &e in run {
-                let i = e as u32;
+                let i = low_half(e);
                 let mut copy = false;
                 for &j in &distinct {
                     match relate(j, i) {
@@ -174,7 +176,7 @@ fn join_runs(
             out
         })
         .collect();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut parent: Vec<u32> = (0..index(n)).collect();
     for (a, b) in pairs {
         union(&mut parent, a, b);
     }
@@ -241,6 +243,10 @@ fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
         .flat_map_iter(|(i, &p)| {
             // Non-negative (the origin is a cell below the minimum): `as` truncates = floor.
             let f = (p - origin) * inv_cell;
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "in 0..AXIS_CELLS: `cell` is at least extent / (AXIS_CELLS - 2), above"
+            )]
             let c = [f.x as u32, f.y as u32, f.z as u32];
             let local = f - Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
             let side = |l: f32| -> i32 {

@@ -130,7 +130,7 @@ fn cube(one_object: bool) -> Model {
     let mut all = Object::new("cube", Vec::new(), Vec::new());
     let mut uvs = Vec::new();
     for q in quads {
-        let base = all.positions.len() as u32;
+        let base = u32::try_from(all.positions.len()).unwrap();
         all.positions.extend(&q.positions);
         uvs.extend(q.uvs.unwrap());
         all.triangles.extend(q.triangles.iter().map(|t| t.map(|i| i + base)));
@@ -431,7 +431,7 @@ fn split_vertices_record_the_input_vertex_they_copy() {
     assert_eq!(o.input_vertex_count(), 8);
     assert_eq!(o.vertex_count(), 24, "each corner split into one vertex per face");
     assert_eq!(o.split_from.len(), 16);
-    for v in 0..o.vertex_count() as u32 {
+    for v in 0..u32::try_from(o.vertex_count()).unwrap() {
         let source = o.source_vertex(v);
         assert!(source < 8);
         assert_eq!(o.positions[v as usize], positions[source as usize], "vertex {v}");

@@ -151,7 +151,7 @@ fn split_vertices_copy_their_influences_and_deltas() {
     let fixed = fix(&Model::new(vec![object.clone()]), &FixOptions::default()).unwrap();
     let o = &fixed.objects[0];
     assert!(o.vertex_count() > 6, "the crease splits vertices");
-    for v in 0..o.vertex_count() as u32 {
+    for v in 0..u32::try_from(o.vertex_count()).unwrap() {
         let s = o.source_vertex(v) as usize;
         let v = v as usize;
         assert_eq!(o.skin[0].joints[v], object.skin[0].joints[s]);
@@ -176,7 +176,7 @@ fn split_vertices_get_the_deltas_of_their_side_of_the_crease() {
     wall.triangles = vec![[0, 2, 1], [0, 3, 2]];
     // One object holds both sides, so that the crease splits its vertices.
     let mut both = flat_side.clone();
-    let offset = both.vertex_count() as u32;
+    let offset = u32::try_from(both.vertex_count()).unwrap();
     both.positions.extend(&wall.positions[2..]);
     both.morph_targets[0].position_deltas.extend(&wall.morph_targets[0].position_deltas[2..]);
     let remap = |i: u32| if i < 2 { i } else { i - 2 + offset };

@@ -352,7 +352,7 @@ fn tangents_computed_for_kept_normals_split_a_mirror_line_and_record_it() {
         assert_eq!(split_from, [1, 4], "{method:?}");
         assert_eq!(changes.objects[0].vertices_split, 2);
         assert_eq!(changes.objects[0].normals_changed, 0);
-        for v in 0..o.vertex_count() as u32 {
+        for v in 0..u32::try_from(o.vertex_count()).unwrap() {
             let source = o.source_vertex(v) as usize;
             assert_eq!(bits3(normals(o)[v as usize]), bits3(authored), "{method:?} {v}");
             assert_eq!(
@@ -420,7 +420,7 @@ fn cut_strip(cuts: &[bool], seed: u64) -> Model {
             .clone()
             .flat_map(|i| [0.0, 1.0].map(|y| Vec3::new(i as f32, y, height(i))))
             .collect();
-        let triangles = (0..(end - start) as u32)
+        let triangles = (0..u32::try_from(end - start).unwrap())
             .flat_map(|q| {
                 let (a, b, c, d) = (2 * q, 2 * q + 2, 2 * q + 3, 2 * q + 1);
                 [[a, b, c], [a, c, d]]

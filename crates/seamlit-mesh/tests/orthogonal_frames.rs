@@ -32,7 +32,7 @@ fn sheet(rows: u32, cols: u32, relief: f32, turn: f32, seed: u64) -> Object {
         for c in 0..=cols {
             let height = (next() % 2) as f32 * relief;
             positions.push(rotation * Vec3::new(c as f32, r as f32, height));
-            uvs.push(UV_CHOICES[(next() % UV_CHOICES.len() as u64) as usize]);
+            uvs.push(UV_CHOICES[usize::try_from(next() % UV_CHOICES.len() as u64).unwrap()]);
         }
     }
     Object::new("sheet", positions, common::grid_triangles(rows, cols)).with_uvs(uvs)

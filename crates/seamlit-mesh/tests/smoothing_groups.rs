@@ -193,7 +193,8 @@ fn one_thread_and_many_give_the_same_bits_with_groups() {
     let (mut m, _) = common::split(&common::torus(120, 160), &[0, 1, 2, 3, 1, 2], || Vec3::ZERO);
     for (i, o) in m.objects.iter_mut().enumerate() {
         // Bands of groups 0 to 3, different in each object.
-        let groups = (0..o.triangles.len()).map(|t| ((t / 97 + i) % 4) as u32).collect();
+        let groups =
+            (0..o.triangles.len()).map(|t| u32::try_from((t / 97 + i) % 4).unwrap()).collect();
         o.smoothing_groups = Some(groups);
     }
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();

@@ -252,8 +252,16 @@ fn fix<'py>(
         .objects
         .into_iter()
         .map(|object| {
-            let n = object.vertex_count();
-            let remap: Vec<u32> = (0..n as u32).map(|v| object.source_vertex(v)).collect();
+            // Below u32::MAX: fix refuses models whose vertices plus corners exceed
+            // seamlit_mesh::MAX_ELEMENTS, and it adds at most one vertex per corner.
+            let n = u32::try_from(object.vertex_count()).map_err(|_| {
+                error(format!(
+                    "object {:?}: {} vertices after the fix, past 32-bit indices",
+                    object.name,
+                    object.vertex_count()
+                ))
+            })?;
+            let remap: Vec<u32> = (0..n).map(|v| object.source_vertex(v)).collect();
             // Normals and triangles are handed over without a copy; tangents (16-byte
             // aligned `Vec4`s) are copied into plain floats.
             let normals = object.normals.unwrap_or_default();

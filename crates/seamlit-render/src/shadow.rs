@@ -8,8 +8,9 @@ use crate::pipeline::DEPTH_FORMAT;
 use crate::scene::VertexRaw;
 use crate::{GpuContext, GpuScene, Light};
 
-/// The most lights that cast shadows in one frame (the first directional and spot lights).
-pub(crate) const MAX_SHADOW_MAPS: usize = 4;
+/// The most lights that cast shadows in one frame (the first directional and spot lights):
+/// the layers of the shadow maps' depth texture.
+pub(crate) const MAX_SHADOW_MAPS: u32 = 4;
 /// Texels per side of each shadow map.
 pub(crate) const SHADOW_SIZE: u32 = 1024;
 
@@ -61,7 +62,7 @@ impl Shadows {
             layers,
             pass_buffers,
             pass_bind_groups,
-            matrices: uniform(device, "seamlit shadow matrices", 64 * MAX_SHADOW_MAPS as u64),
+            matrices: uniform(device, "seamlit shadow matrices", 64 * u64::from(MAX_SHADOW_MAPS)),
             sampler,
             pipeline: pipeline(ctx, &pass_layout),
         }
@@ -81,7 +82,7 @@ impl Shadows {
         let mut layers = Vec::with_capacity(lights.len());
         let mut matrices = Vec::new();
         for light in lights {
-            let matrix = (matrices.len() < count.min(MAX_SHADOW_MAPS))
+            let matrix = (matrices.len() < count.min(MAX_SHADOW_MAPS as usize))
                 .then(|| light_matrix(light, lo, hi))
                 .flatten();
             match matrix {
@@ -179,7 +180,7 @@ fn shadow_maps(device: &wgpu::Device) -> (wgpu::TextureView, Vec<wgpu::TextureVi
         size: wgpu::Extent3d {
             width: SHADOW_SIZE,
             height: SHADOW_SIZE,
-            depth_or_array_layers: MAX_SHADOW_MAPS as u32,
+            depth_or_array_layers: MAX_SHADOW_MAPS,
         },
         mip_level_count: 1,
         sample_count: 1,
@@ -192,7 +193,7 @@ fn shadow_maps(device: &wgpu::Device) -> (wgpu::TextureView, Vec<wgpu::TextureVi
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
-    let layers = (0..MAX_SHADOW_MAPS as u32)
+    let layers = (0..MAX_SHADOW_MAPS)
         .map(|layer| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),

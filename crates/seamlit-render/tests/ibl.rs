@@ -26,6 +26,10 @@ fn linear(b: u8) -> f64 {
 }
 
 /// The pixel of the image that shows world point (x, y) on the plane z = 0.
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "the tests ask for points of the plane in view, inside the image"
+)]
 fn pixel_of(x: f32, y: f32) -> (u32, u32) {
     let px = (x / HALF * 0.5 + 0.5) * SIZE as f32;
     let py = (0.5 - y / HALF * 0.5) * SIZE as f32;
@@ -104,14 +108,14 @@ fn assert_lit_to(image: &RgbaImage, expected: f64, relative: f64, what: &str) {
 
 #[test]
 fn a_white_furnace_returns_the_environment_times_the_albedo() {
-    let radiance = 0.5;
-    let environment = Environment::Uniform(Vec3::splat(radiance as f32));
-    for albedo in [1.0, 0.5] {
+    let radiance: f32 = 0.5;
+    let environment = Environment::Uniform(Vec3::splat(radiance));
+    for albedo in [1.0_f32, 0.5] {
         let name = format!("ibl_furnace_{albedo}");
-        let image = render(material(albedo as f32, 0.0, 1.0), Some(&environment), 0.0, &name);
+        let image = render(material(albedo, 0.0, 1.0), Some(&environment), 0.0, &name);
         // The specular lobe reflects a few percent of L on top of the diffuse part (all of it
         // for albedo 1, where diffuse takes exactly what it leaves).
-        assert_lit_to(&image, radiance * albedo, 0.05, &format!("albedo {albedo}"));
+        assert_lit_to(&image, f64::from(radiance * albedo), 0.05, &format!("albedo {albedo}"));
     }
 }
 
@@ -121,12 +125,12 @@ fn a_white_rough_metal_in_a_white_furnace_loses_no_energy() {
     // microfacets returns (Fdez-Aguera 2019, as the Khronos Sample Viewer has it) a uniform
     // environment lights it to the environment's radiance at any roughness; single
     // scattering alone loses a quarter of it at roughness 1.
-    let radiance = 0.5;
-    let environment = Environment::Uniform(Vec3::splat(radiance as f32));
+    let radiance: f32 = 0.5;
+    let environment = Environment::Uniform(Vec3::splat(radiance));
     for roughness in [0.5, 1.0] {
         let name = format!("ibl_furnace_metal_{roughness}");
         let image = render(material(1.0, 1.0, roughness), Some(&environment), 0.0, &name);
-        assert_lit_to(&image, radiance, 0.03, &format!("roughness {roughness}"));
+        assert_lit_to(&image, f64::from(radiance), 0.03, &format!("roughness {roughness}"));
     }
 }
 

@@ -70,14 +70,20 @@ fn expected(x: u32, y: u32, base: [f64; 3], metallic: f64, roughness: f64) -> [f
     std::array::from_fn(|c| srgb(f[c] * LIGHT_COLOR[c] * LIGHT_INTENSITY))
 }
 
+/// `x`, which the expected values use in f64, rounded to the f32 the renderer takes.
+#[expect(clippy::cast_possible_truncation, reason = "rounding to f32 is the point")]
+fn single(x: f64) -> f32 {
+    x as f32
+}
+
 /// One directional light travelling along `direction`, no ambient, PBR, no tone mapping, a
 /// black background.
 fn settings_with(direction: [f64; 3], intensity: f64) -> FrameSettings {
     FrameSettings {
         lights: vec![Light::Directional {
-            direction: Vec3::from_array(direction.map(|d| d as f32)),
-            color: Vec3::from_array(LIGHT_COLOR.map(|c| c as f32)),
-            intensity: intensity as f32,
+            direction: Vec3::from_array(direction.map(single)),
+            color: Vec3::from_array(LIGHT_COLOR.map(single)),
+            intensity: single(intensity),
         }],
         ambient: Vec3::ZERO,
         lighting_model: LightingModel::Pbr,
@@ -155,7 +161,7 @@ fn a_tilted_plane_lit_from_the_mirror_direction_matches_appendix_b() {
         ("metal", [0.95, 0.64, 0.54], 1.0, 0.6),
         ("rough", [0.3, 0.6, 0.9], 0.3, 0.9),
     ] {
-        let plane = plane(3.0).with_transform(glam::Mat4::from_rotation_x(-tilt as f32));
+        let plane = plane(3.0).with_transform(glam::Mat4::from_rotation_x(single(-tilt)));
         let asset = asset(plane, uniform(base, metallic, roughness), vec![]);
         let image = render_with(&asset, &settings, &format!("pbr_tilted_{name}"));
         for (x, y) in PIXELS {

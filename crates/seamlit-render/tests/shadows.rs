@@ -49,6 +49,10 @@ fn render(light: Light, shadow_maps: usize, name: &str) -> RgbaImage {
 }
 
 /// The luminance at world point (x, y) of the floor.
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "the tests ask for points of the floor in view, inside the image"
+)]
 fn at(image: &RgbaImage, x: f32, y: f32) -> f64 {
     let px = ((x / HALF * 0.5 + 0.5) * SIZE as f32) as u32;
     let py = ((0.5 - y / HALF * 0.5) * SIZE as f32) as u32;

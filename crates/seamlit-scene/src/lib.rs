@@ -45,9 +45,6 @@
 //! # Ok::<(), seamlit_scene::SceneError>(())
 //! ```
 #![deny(missing_docs)]
-// Not yet workspace-wide (Cargo.toml): seamlit-mesh and seamlit-io have about a hundred sites
-// to check first.
-#![warn(clippy::cast_possible_truncation)]
 
 mod assemble;
 mod bricks;

@@ -69,8 +69,11 @@ pub fn draw_text(image: &mut RgbaImage, text: &str, x: f32, y: f32, size: f32, c
         let Some(outline) = font.outline_glyph(positioned) else { continue };
         let b = outline.px_bounds();
         outline.draw(|gx, gy, coverage| {
-            let px = b.min.x as i64 + i64::from(gx);
-            let py = b.min.y as i64 + i64::from(gy);
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "whole pixels near the text (`as` saturates); off the image is dropped below"
+            )]
+            let (px, py) = (b.min.x as i64 + i64::from(gx), b.min.y as i64 + i64::from(gy));
             let (Ok(px), Ok(py)) = (u32::try_from(px), u32::try_from(py)) else { return };
             if px >= image.width() || py >= image.height() {
                 return;
@@ -78,7 +81,12 @@ pub fn draw_text(image: &mut RgbaImage, text: &str, x: f32, y: f32, size: f32, c
             let a = coverage.clamp(0.0, 1.0);
             let p = image.get_pixel_mut(px, py);
             for (channel, ink) in p.0.iter_mut().zip(color) {
-                *channel = (f32::from(*channel) * (1.0 - a) + f32::from(ink) * a).round() as u8;
+                #[expect(
+                    clippy::cast_possible_truncation,
+                    reason = "a blend of two bytes with `a` clamped to 0..=1 stays in 0..=255"
+                )]
+                let blended = (f32::from(*channel) * (1.0 - a) + f32::from(ink) * a).round() as u8;
+                *channel = blended;
             }
         });
     }
@@ -211,7 +219,9 @@ mod tests {
 
     #[test]
     fn the_most_different_window_is_found_and_zoomed_pixel_for_pixel() {
-        let a = RgbaImage::from_fn(40, 30, |x, y| Rgba([(x * 5) as u8, (y * 7) as u8, 0, 255]));
+        let a = RgbaImage::from_fn(40, 30, |x, y| {
+            Rgba([u8::try_from(x * 5).unwrap(), u8::try_from(y * 7).unwrap(), 0, 255])
+        });
         let mut b = a.clone();
         // A short vertical step (a seam) at x = 25, rows 10..20; one stray pixel elsewhere.
         for y in 10..20 {
@@ -248,7 +258,7 @@ mod tests {
             if p.0[0] > 0 {
                 inked += 1;
                 assert!(
-                    (9..=11 + w as u32).contains(&x) && (4..=30).contains(&y),
+                    x >= 9 && f64::from(x) <= 11.0 + f64::from(w) && (4..=30).contains(&y),
                     "ink at {x},{y}"
                 );
             }

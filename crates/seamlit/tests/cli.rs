@@ -935,11 +935,11 @@ fn skinned_glb(path: &Path) -> serde_json::Value {
     let mut bytes = Vec::new();
     bytes.extend_from_slice(b"glTF");
     bytes.extend_from_slice(&2u32.to_le_bytes());
-    bytes.extend_from_slice(&((28 + json.len() + bin.len()) as u32).to_le_bytes());
-    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&u32::try_from(28 + json.len() + bin.len()).unwrap().to_le_bytes());
+    bytes.extend_from_slice(&u32::try_from(json.len()).unwrap().to_le_bytes());
     bytes.extend_from_slice(b"JSON");
     bytes.extend_from_slice(&json);
-    bytes.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&u32::try_from(bin.len()).unwrap().to_le_bytes());
     bytes.extend_from_slice(b"BIN\0");
     bytes.extend_from_slice(&bin);
     std::fs::write(path, bytes).unwrap();
@@ -971,7 +971,7 @@ fn fix_keeps_the_skin_joints_weights_and_animation_of_a_glb() {
     }
     // The hard edge split its two vertices: every attribute has the new count.
     for name in ["POSITION", "JOINTS_0", "WEIGHTS_0"] {
-        let accessor = attributes[name].as_u64().unwrap() as usize;
+        let accessor = usize::try_from(attributes[name].as_u64().unwrap()).unwrap();
         assert_eq!(written["accessors"][accessor]["count"], 8, "{name}");
     }
 }

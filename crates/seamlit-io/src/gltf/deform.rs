@@ -128,7 +128,19 @@ pub(super) fn joint_nodes(
     let Some(skin) = node.skin() else {
         return Ok(Vec::new());
     };
-    let nodes: Vec<u32> = skin.joints().map(|j| j.index() as u32).collect();
+    let mut nodes = Vec::new();
+    for joint in skin.joints() {
+        // Influences name joints by 32-bit node indices.
+        let Ok(node) = u32::try_from(joint.index()) else {
+            return Err(IoError::TooManyElements {
+                path: path.to_path_buf(),
+                what: format!("the nodes that skins[{}].joints names", skin.index()),
+                limit: u32::MAX as usize,
+                actual: joint.index(),
+            });
+        };
+        nodes.push(node);
+    }
     let mut mapped = read.to_vec();
     for (set, influences) in mapped.iter_mut().enumerate() {
         for (v, joints) in influences.joints.iter_mut().enumerate() {

@@ -65,7 +65,7 @@ pub(super) fn dense_dedup<'a>(
                 }
             }
             if at == NONE {
-                at = keys.len() as u32;
+                at = vertex_index(keys.len());
                 keys.push(key);
                 if head[0] == NONE {
                     *head = [at, key[1], key[2]];
@@ -100,12 +100,25 @@ pub(super) fn hashed_dedup<'a>(
                     u128::from(key[0]) | u128::from(key[1]) << 32 | u128::from(key[2]) << 64;
                 *map.entry(packed).or_insert_with(|| {
                     keys.push(key);
-                    (keys.len() - 1) as u32
+                    vertex_index(keys.len() - 1)
                 })
             })
         })
         .collect();
     (keys, out)
+}
+
+/// `i`, a vertex of an object, as a `u32` below [`u32::MAX`] (the tables' "none"): an object
+/// has at most one vertex per triangle corner, and `obj::build_objects` refuses files of
+/// `u32::MAX` corners or more before deduplicating.
+#[inline]
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "below u32::MAX: checked by obj::build_objects"
+)]
+fn vertex_index(i: usize) -> u32 {
+    debug_assert!(i < u32::MAX as usize, "{i} vertices in one object");
+    i as u32
 }
 
 /// A hasher for packed `(v, vt, vn)` keys: two multiplications and shifts (splitmix64's
@@ -125,7 +138,7 @@ impl Hasher for KeyHasher {
     }
     fn write_u128(&mut self, key: u128) {
         // The key's two halves, each cut to 64 bits.
-        let mut h = (key as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        let mut h = ((key & 0xFFFF_FFFF_FFFF_FFFF) as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
             ^ ((key >> 64) as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
         h ^= h >> 29;
         h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);

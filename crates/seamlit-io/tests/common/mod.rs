@@ -9,6 +9,18 @@ use std::process::Command;
 
 use seamlit_mesh::Model;
 
+/// `i`, an index or count a test file holds (JSON numbers are `u64`), as a `usize`.
+pub fn usize_of(i: u64) -> usize {
+    usize::try_from(i).expect("an index that fits usize")
+}
+
+/// `x`, a float a test file holds (JSON numbers are `f64`), rounded to `f32` as the loader
+/// rounds it.
+#[expect(clippy::cast_possible_truncation, reason = "rounding to f32 is the point")]
+pub fn f32_of(x: f64) -> f32 {
+    x as f32
+}
+
 /// A file under assets/models (the small test models kept in the repository).
 pub fn model(relative: &str) -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/")).join(relative)
@@ -47,7 +59,7 @@ impl ObjCount {
                 for c in corners {
                     let i: i64 = c.split('/').next().unwrap().parse().unwrap();
                     let i = if i < 0 { positions.len() as i64 + i } else { i - 1 };
-                    entry.2.insert(positions[i as usize]);
+                    entry.2.insert(positions[usize::try_from(i).unwrap()]);
                 }
             }
         }

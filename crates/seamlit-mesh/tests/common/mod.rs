@@ -88,7 +88,7 @@ pub fn split(
             }
             let local = tri.map(|v| {
                 if map[v as usize] == u32::MAX {
-                    map[v as usize] = positions.len() as u32;
+                    map[v as usize] = u32::try_from(positions.len()).unwrap();
                     let offset = if copied[v as usize] { noise() } else { Vec3::ZERO };
                     copied[v as usize] = true;
                     positions.push(object.positions[v as usize] + offset);
@@ -118,12 +118,14 @@ pub fn teapot(n: u32) -> Model {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/models/newell_teaset/teapot");
     let text = std::fs::read_to_string(path).expect("assets/models/newell_teaset/teapot");
     let mut tokens = text.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty());
-    let mut next = || tokens.next().expect("token").parse::<f32>().expect("number");
-    let patches = next() as usize;
+    let mut next = || tokens.next().expect("token");
+    let count = |t: &str| t.parse::<usize>().expect("a count or an index");
+    let patches = count(next());
     let indices: Vec<[usize; 16]> =
-        (0..patches).map(|_| std::array::from_fn(|_| next() as usize - 1)).collect();
-    let points = next() as usize;
-    let cps: Vec<Vec3> = (0..points).map(|_| Vec3::new(next(), next(), next())).collect();
+        (0..patches).map(|_| std::array::from_fn(|_| count(next()) - 1)).collect();
+    let points = count(next());
+    let mut number = || next().parse::<f32>().expect("number");
+    let cps: Vec<Vec3> = (0..points).map(|_| Vec3::new(number(), number(), number())).collect();
     let bernstein = |t: f32| {
         let s = 1.0 - t;
         [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]

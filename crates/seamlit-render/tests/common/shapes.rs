@@ -48,7 +48,7 @@ pub fn brick_normal_map(size: u32) -> RgbaImage {
     let height = |x: f32, y: f32| {
         let rows = 4.0;
         let row = (y * rows).floor();
-        let offset = if row as i32 % 2 == 0 { 0.0 } else { 0.5 };
+        let offset = if row % 2.0 == 0.0 { 0.0 } else { 0.5 };
         let bx = (x * 2.0 + offset).fract();
         let by = (y * rows).fract();
         let edge = bx.min(1.0 - bx).min((by.min(1.0 - by)) * 0.5);
@@ -62,6 +62,10 @@ pub fn brick_normal_map(size: u32) -> RgbaImage {
         let dx = (height(x + e, y) - height(x - e, y)) / (2.0 * e);
         let dy = (height(x, y + e) - height(x, y - e)) / (2.0 * e);
         let n = Vec3::new(-dx * 0.01, -dy * 0.01, 1.0).normalize();
+        #[expect(
+            clippy::cast_possible_truncation,
+            reason = "a unit vector's component maps into 0..=255"
+        )]
         let b = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
         image::Rgba([b(n.x), b(n.y), b(n.z), 255])
     })

@@ -641,7 +641,7 @@ fn egui_state(ctx: &GpuContext, window: &Window) -> egui_winit::State {
         egui::Context::default(),
         egui::ViewportId::ROOT,
         window,
-        Some(window.scale_factor() as f32),
+        Some(single(window.scale_factor())),
         None,
         max_texture,
     )
@@ -704,12 +704,12 @@ impl ApplicationHandler for Viewer {
                 self.held.button(button, state);
             }
             WindowEvent::CursorMoved { position, .. } => {
-                self.held.cursor_moved(Vec2::new(position.x as f32, position.y as f32));
+                self.held.cursor_moved(Vec2::new(single(position.x), single(position.y)));
             }
             WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
                 self.held.scroll += match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
-                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                    MouseScrollDelta::PixelDelta(p) => single(p.y) / 40.0,
                 };
             }
             WindowEvent::RedrawRequested => self.redraw_requested(event_loop),
@@ -738,4 +738,14 @@ fn digit(code: KeyCode) -> Option<usize> {
         KeyCode::Digit9,
     ];
     keys.iter().position(|k| *k == code)
+}
+
+/// `x`, one of winit's f64 window coordinates or scale factors, as the f32 that egui and the
+/// camera controllers take.
+#[expect(
+    clippy::cast_possible_truncation,
+    reason = "window coordinates and scale factors are far inside f32's range"
+)]
+fn single(x: f64) -> f32 {
+    x as f32
 }
