@@ -842,14 +842,14 @@ fn decoded(mut file: File) -> File {
     let views = file.json["bufferViews"].as_array().unwrap().clone();
     for (index, view) in views.iter().enumerate() {
         let Some((_, e)) = meshopt_of(view) else { continue };
-        let field = |key: &str| e[key].as_u64().unwrap() as usize;
-        let start = e["byteOffset"].as_u64().unwrap_or(0) as usize;
+        let field = |key: &str| usize_of(e[key].as_u64().unwrap());
+        let start = usize_of(e["byteOffset"].as_u64().unwrap_or(0));
         let data = &file.buffers[field("buffer")][start..start + field("byteLength")];
         let (count, stride) = (field("count"), field("byteStride"));
         let plain = decode_view(data, count, stride, e["mode"].as_str().unwrap(), &e["filter"]);
-        assert_eq!(plain.len(), view["byteLength"].as_u64().unwrap() as usize, "view {index}");
-        let target = &mut file.buffers[view["buffer"].as_u64().unwrap() as usize];
-        let at = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+        assert_eq!(plain.len(), usize_of(view["byteLength"].as_u64().unwrap()), "view {index}");
+        let target = &mut file.buffers[usize_of(view["buffer"].as_u64().unwrap())];
+        let at = usize_of(view["byteOffset"].as_u64().unwrap_or(0));
         if target.len() < at + plain.len() {
             target.resize(at + plain.len(), 0);
         }
@@ -973,9 +973,9 @@ fn kept_compression_keeps_the_untouched_views_bytes_and_filters() {
     fix_and_keep(&input, &out).unwrap();
     let (before, after) = (read(&input), read(&out));
     let compressed_bytes = |file: &File, e: &Value| -> Vec<u8> {
-        let start = e["byteOffset"].as_u64().unwrap_or(0) as usize;
-        let buffer = &file.buffers[e["buffer"].as_u64().unwrap() as usize];
-        buffer[start..start + e["byteLength"].as_u64().unwrap() as usize].to_vec()
+        let start = usize_of(e["byteOffset"].as_u64().unwrap_or(0));
+        let buffer = &file.buffers[usize_of(e["buffer"].as_u64().unwrap())];
+        buffer[start..start + usize_of(e["byteLength"].as_u64().unwrap())].to_vec()
     };
     let used: Vec<u64> = after.json["meshes"]
         .as_array()
@@ -984,7 +984,7 @@ fn kept_compression_keeps_the_untouched_views_bytes_and_filters() {
         .flat_map(|m| m["primitives"].as_array().unwrap())
         .flat_map(|p| p["attributes"].as_object().unwrap().values())
         .filter_map(|a| {
-            after.json["accessors"][a.as_u64().unwrap() as usize]["bufferView"].as_u64()
+            after.json["accessors"][usize_of(a.as_u64().unwrap())]["bufferView"].as_u64()
         })
         .collect();
     let mut filtered = Vec::new();
@@ -1020,13 +1020,13 @@ fn kept_compression_has_the_fallback_buffer_and_requires_the_extension() {
         for (index, view) in file.json["bufferViews"].as_array().unwrap().iter().enumerate() {
             let Some((name, e)) = meshopt_of(view) else { continue };
             assert_eq!(name, extension, "view {index}");
-            let fallback = &buffers[view["buffer"].as_u64().unwrap() as usize];
+            let fallback = &buffers[usize_of(view["buffer"].as_u64().unwrap())];
             assert!(fallback.get("uri").is_none(), "view {index}: {fallback}");
             assert_eq!(fallback["extensions"][extension]["fallback"], true, "view {index}");
             let end =
                 view["byteOffset"].as_u64().unwrap_or(0) + view["byteLength"].as_u64().unwrap();
             assert!(end <= fallback["byteLength"].as_u64().unwrap(), "view {index}");
-            let data = &buffers[e["buffer"].as_u64().unwrap() as usize];
+            let data = &buffers[usize_of(e["buffer"].as_u64().unwrap())];
             assert!(data["uri"].is_string(), "view {index}: its data buffer {data}");
             new_views += usize::from(e.get("filter").is_none() && index >= 6);
         }

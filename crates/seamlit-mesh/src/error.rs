@@ -102,10 +102,12 @@ pub enum MeshError {
         /// The object's name.
         name: String,
     },
-    /// The model has more vertices or triangles than 32-bit indices can address.
+    /// The model has more vertices or triangles than 32-bit indices can address, or so many
+    /// that the vertices `fix` may add (at most one per triangle corner) would not fit them.
     #[error("the model has {count} {what}, more than {max}")]
     TooLarge {
-        /// What was counted (`"vertices"`, `"triangle corners"`).
+        /// What was counted (`"vertices"`, `"triangle corners"`, `"vertices plus triangle
+        /// corners"`).
         what: &'static str,
         /// How many there are.
         count: usize,
