@@ -208,6 +208,23 @@ def test_fix_file_writes_what_the_command_line_writes(tmp_path):
         assert result["report"]["objects"] == len(result["changes"]["objects"])
 
 
+def test_keep_compression_writes_what_the_command_line_writes(tmp_path):
+    compressed = MODELS / "compressed"
+    source = compressed / "teapot_mo.glb"
+    ours, theirs, plain = tmp_path / "py.glb", tmp_path / "cli.glb", tmp_path / "plain.glb"
+    seamlit.fix_file(source, ours, keep_compression=True)
+    run = cli("fix", source, "-o", theirs, "--keep-compression")
+    assert run.returncode == 0, run.stderr
+    assert ours.read_bytes() == theirs.read_bytes()
+    seamlit.fix_file(source, plain)
+    assert b'"EXT_meshopt_compression"' in ours.read_bytes()
+    assert b'"EXT_meshopt_compression"' not in plain.read_bytes()
+    assert len(ours.read_bytes()) < len(plain.read_bytes())
+    with pytest.raises(seamlit.SeamlitError, match="no Draco encoder"):
+        seamlit.fix_file(compressed / "teapot_draco.glb", tmp_path / "d.glb", keep_compression=True)
+    assert not (tmp_path / "d.glb").exists()
+
+
 def test_inspect_reports_the_seam_before_and_after_and_writes_nothing(tmp_path):
     source = MODELS / "newell_teaset" / "teapot"
     report = seamlit.inspect(source, tessellation=4, normals="recompute", mode="object")
