@@ -85,7 +85,9 @@ pub(crate) fn compute_deltas(
     }
     let flat = validate::flatten(model)?;
     let groups = Groups::of(model, &flat, options, weld);
+    // Targets are independent (each its own sums): computed side by side, the same bits.
     let deltas: Vec<Vec<Deltas>> = (0..targets)
+        .into_par_iter()
         .map(|k| {
             let reach = Reach::of(model, &flat, &groups, k, Scope::Moved);
             target_deltas(model, &flat, &groups, options, &reach, k)
