@@ -25,7 +25,7 @@ use std::path::Path;
 use serde_json::{Value, json};
 
 use crate::gltf_decode::{MESHOPT, Vertex, by_stride, is_fallback, meshopt};
-use crate::gltf_pass::uint;
+use crate::gltf_pass::{array_member, uint};
 use crate::{IoError, KeepCompression};
 
 /// What a new buffer view holds: how it is described and whether it can be compressed.
@@ -99,7 +99,7 @@ impl Keep {
             None => {
                 let fallback =
                     json!({ "byteLength": 0, "extensions": { name: { "fallback": true } } });
-                let buffers = array(json, "buffers");
+                let buffers = array_member(json, "buffers");
                 buffers.push(fallback);
                 (buffers.len() - 1, 0)
             }
@@ -196,11 +196,15 @@ impl Keep {
                 json!({ "buffer": 0, "byteOffset": at, "byteLength": bytes.len() })
             }
         };
-        if let Layout::Vertices { .. } = gathered.layout {
-            view["byteStride"] = json!(stride);
-            view["target"] = json!(crate::gltf_pass::ARRAY_BUFFER);
-        } else {
-            view["target"] = json!(crate::gltf_pass::ELEMENT_ARRAY_BUFFER);
+        match gathered.layout {
+            Layout::Vertices { .. } => {
+                view["byteStride"] = json!(stride);
+                view["target"] = json!(crate::gltf_pass::ARRAY_BUFFER);
+            }
+            Layout::Triangles { .. } => {
+                view["target"] = json!(crate::gltf_pass::ELEMENT_ARRAY_BUFFER);
+            }
+            Layout::Bytes => {}
         }
         view
     }
@@ -220,7 +224,7 @@ impl Keep {
         }
         json["buffers"][self.fallback]["byteLength"] = json!(self.fallback_length);
         for list in ["extensionsUsed", "extensionsRequired"] {
-            let names = array(json, list);
+            let names = array_member(json, list);
             if !names.iter().any(|n| n == self.name) {
                 names.push(json!(self.name));
             }
@@ -245,14 +249,6 @@ pub(crate) fn nothing_to_keep(source: &Path) -> String {
         "{}: keeping the compression changes nothing: the input has no meshopt-compressed buffer views",
         source.display()
     )
-}
-
-/// The array member `key` of the document, created when missing.
-fn array<'j>(json: &'j mut Value, key: &str) -> &'j mut Vec<Value> {
-    if !json[key].is_array() {
-        json[key] = json!([]);
-    }
-    json[key].as_array_mut().expect("made an array above")
 }
 
 /// Vertex data of `stride` bytes per vertex through meshoptimizer's vertex codec, the given

@@ -138,6 +138,15 @@ impl Source {
 }
 
 /// An index (a non-negative integer, also written as a float).
+/// The array member `key` of the document `json` (a JSON object), made an empty array when
+/// missing or not an array.
+pub(crate) fn array_member<'j>(json: &'j mut Value, key: &str) -> &'j mut Vec<Value> {
+    if !json[key].is_array() {
+        json[key] = Value::Array(Vec::new());
+    }
+    json[key].as_array_mut().expect("made an array above")
+}
+
 pub(crate) fn index(value: &Value) -> Option<usize> {
     integer(value).and_then(|n| usize::try_from(n).ok())
 }
@@ -346,12 +355,7 @@ impl<'a> Output<'a> {
 
     /// The array member `key` of the document, created when missing.
     fn array(&mut self, key: &str) -> &mut Vec<Value> {
-        let root = self.json.as_object_mut().expect("a glTF document is a JSON object");
-        let entry = root.entry(key).or_insert_with(|| Value::Array(Vec::new()));
-        if !entry.is_array() {
-            *entry = Value::Array(Vec::new());
-        }
-        entry.as_array_mut().expect("made an array above")
+        array_member(&mut self.json, key)
     }
 
     /// Appends `bytes` to buffer 0 at a multiple of 4; returns their offset in it.
