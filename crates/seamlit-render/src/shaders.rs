@@ -87,7 +87,7 @@ mod tests {
                 files += 1;
             }
         }
-        assert_eq!(files, 4, "object, mesh, shadow and ibl .wgsl");
+        assert!(files >= ALL.len(), "{files} .wgsl files for {} modules", ALL.len());
     }
 
     /// The struct `name` of `source`: its size and each member's offset by name.
