@@ -92,6 +92,24 @@ pub(crate) fn weight(weighting: Weighting, f: &Face, k: usize) -> f32 {
     }
 }
 
+/// A right-handed usable face (UV mapping not mirrored).
+const RIGHT: u8 = 1;
+/// A mirrored usable face.
+const LEFT: u8 = 2;
+
+/// `tangent` with the handedness of the faces it was summed from, where they agree (`hands`,
+/// `RIGHT | LEFT`; they always do where mirrored faces are split off), else the sign of the
+/// summed bitangent against the smoothed normal. Across a smoothed hard edge the summed
+/// bitangent can point against every face's own. The paper's rules (mirrored faces joined)
+/// keep the paper's sign.
+fn handed(tangent: Vec4, hands: u8) -> Vec4 {
+    match hands {
+        RIGHT => tangent.truncate().extend(1.0),
+        LEFT => tangent.truncate().extend(-1.0),
+        _ => tangent,
+    }
+}
+
 /// Scratch space of [`group_position`], reused from one position to the next.
 #[derive(Default)]
 pub(crate) struct Scratch {
@@ -104,6 +122,10 @@ pub(crate) struct Scratch {
     t_sum: Vec<Vec3>,
     b_sum: Vec<Vec3>,
     w_sum: Vec<f32>,
+    /// Per tangent group root (and per normal group root, `group_hands`): the UV
+    /// handednesses of its usable faces, `RIGHT | LEFT`.
+    hands: Vec<u8>,
+    group_hands: Vec<u8>,
     group_t: Vec<Vec3>,
     group_b: Vec<Vec3>,
     first_unusable: Vec<u32>,
@@ -308,6 +330,10 @@ impl Position<'_> {
         }
         s.w_sum.clear();
         s.w_sum.resize(k, 0.0);
+        for v in [&mut s.hands, &mut s.group_hands] {
+            v.clear();
+            v.resize(k, 0);
+        }
         let (mut position_t, mut position_b) = (Vec3::ZERO, Vec3::ZERO);
         if !self.rules.tangents {
             return (position_t, position_b);
@@ -324,6 +350,9 @@ impl Position<'_> {
                 s.t_sum[root] += f.tangent * w;
                 s.b_sum[root] += f.bitangent * w;
                 s.w_sum[root] += w;
+                let hand = if f.sign() < 0.0 { LEFT } else { RIGHT };
+                s.hands[root] |= hand;
+                s.group_hands[g] |= hand;
                 s.group_t[g] += f.tangent * w;
                 s.group_b[g] += f.bitangent * w;
                 position_t += f.tangent * w;
@@ -339,6 +368,7 @@ impl Position<'_> {
             {
                 s.t_sum[a] = s.group_t[g];
                 s.b_sum[a] = s.group_b[g];
+                s.hands[a] = s.group_hands[g];
             }
         }
         (position_t, position_b)
@@ -363,6 +393,11 @@ impl Position<'_> {
             if self.incoherent(s, root) {
                 let f = &self.faces[a];
                 let (normal, tangent) = finish(s.n_sum[g], s.fallback[g], f.tangent, f.bitangent);
+                let tangent = if self.rules.split_mirrored && self.usable(a) {
+                    tangent.truncate().extend(f.sign())
+                } else {
+                    tangent
+                };
                 s.local_group.push(index(frames.len()));
                 frames.push(Frame { normal, tangent });
                 continue;
@@ -376,6 +411,11 @@ impl Position<'_> {
                     (t_sum, b_sum) = position_tb;
                 }
                 let (normal, tangent) = finish(n_sum, s.fallback[g], t_sum, b_sum);
+                let tangent = if self.rules.split_mirrored {
+                    handed(tangent, s.hands[root])
+                } else {
+                    tangent
+                };
                 s.frame_of_root[root] = index(frames.len());
                 frames.push(Frame { normal, tangent });
             }

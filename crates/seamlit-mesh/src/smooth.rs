@@ -132,6 +132,11 @@ impl Smooth {
     }
 
     /// Each vertex's root: the weld the frames were smoothed over.
+    pub fn roots(&self) -> &[u32] {
+        &self.roots
+    }
+
+    /// [`Self::roots`], taken.
     pub fn into_roots(self) -> Vec<u32> {
         self.roots
     }
@@ -371,7 +376,15 @@ fn finish_positions(
             return;
         }
         let (normal, tangent) = finish(s.n, Vec3::ZERO, s.t, s.b);
-        *s = Slot { n: normal, t: tangent.truncate(), b: Vec3::new(tangent.w, 0.0, 0.0) };
+        // Where mirrored faces are split off, the handedness is the faces' own, not the sign
+        // of the summed bitangent against the smoothed normal: across a smoothed hard edge
+        // those can disagree. The paper's rules (no split) keep the paper's sign.
+        let w = match *f & usable {
+            HAS_RIGHT if rules.split_mirrored => 1.0,
+            HAS_MIRRORED if rules.split_mirrored => -1.0,
+            _ => tangent.w,
+        };
+        *s = Slot { n: normal, t: tangent.truncate(), b: Vec3::new(w, 0.0, 0.0) };
     });
 }
 
