@@ -10,6 +10,7 @@ use crate::face::face;
 use crate::frame::Linear;
 use crate::group::{Frame, Rules};
 use crate::index::{index, low_half};
+use crate::mikk;
 use crate::morph;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
@@ -211,16 +212,19 @@ fn compute(
 
     if options.tangents == TangentMethod::Mikktspace {
         let triangles = flat.triangles(model);
-        let normals: Vec<Vec3> = triangles
-            .as_flattened()
-            .par_iter()
-            .enumerate()
-            .map(|(c, &v)| smooth.corner_frame(index(c), v as usize).normal)
-            .collect();
         let uvs = flat.uvs(model);
-        let tangents =
-            crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
-        drop((triangles, uvs));
+        let smooth = &smooth;
+        let surface = mikk::Surface {
+            positions: &flat.positions,
+            roots: smooth.roots(),
+            uvs: &uvs,
+            triangles: &triangles,
+            normal: |c: usize, v: usize| smooth.corner_frame(index(c), v).normal,
+            v_axis: model.v_axis,
+        };
+        let tangents = mikk::tangents(&surface);
+        drop(uvs);
+        let (triangles, tangents) = (&triangles, &tangents);
         let changed = write_objects(
             model,
             skip,
@@ -230,14 +234,15 @@ fn compute(
                 let first = flat.triangle_start[o] as usize * 3;
                 write_corners(o, object, flat, tangents_wanted, input, |t, _, _| {
                     let c = first + t * 3;
-                    std::array::from_fn(|k| Frame {
-                        normal: normals[c + k],
-                        tangent: tangents[c + k],
+                    std::array::from_fn(|k| {
+                        let v = triangles[c / 3][k] as usize;
+                        let normal = smooth.corner_frame(index(c + k), v).normal;
+                        Frame { normal, tangent: tangents.get(c + k, normal) }
                     })
                 })
             },
         );
-        return (changed, Some(smooth.into_roots()));
+        return (changed, Some(smooth.roots().to_vec()));
     }
 
     let changed = {

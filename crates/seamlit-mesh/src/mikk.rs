@@ -1,92 +1,545 @@
-//! MikkTSpace tangents through `bevy_mikktspace`, for normal maps baked with MikkTSpace.
+//! MikkTSpace tangents over the whole welded model: in parallel, in time linear in the
+//! triangles, with a result that does not depend on the number of threads.
 //!
-//! MikkTSpace runs once over the whole model in model space, with the normals seamlit
-//! computed, so that vertices shared across objects (equal position, normal and UV) get equal
-//! tangents: the seam fix carries over. For glTF (V down) the V coordinate is flipped before
-//! MikkTSpace sees it, so that its bitangent points up the image as in the OBJ convention.
+//! The algorithm is Morten S. Mikkelsen's: "Simulation of wrinkled surfaces revisited"
+//! (master's thesis, University of Copenhagen, 2008), section 3.2 and appendix, as its
+//! reference implementation `mikktspace.c` computes it (the code Blender, Substance, xNormal
+//! and glTF's sample models use to bake and read normal maps; `bevy_mikktspace` is a line by
+//! line port, and this crate's tests check against it). Its steps, as named below:
+//!
+//! 1. [`face_tangents`]: per triangle, the first-order tangent `s` and bitangent `t` (the
+//!    thesis' equations 18 and 19), normalised, signed by the UV orientation; a triangle with
+//!    (near) zero UV area or zero `s` or `t` "groups with any" neighbour and adds nothing; a
+//!    triangle two of whose corners share a position is degenerate.
+//! 2. A *vertex*, in MikkTSpace's sense, is a (position, normal, UV) triple with exact
+//!    equality. The positions are the welded ones: every object's copy of a position is the
+//!    same position, so a seam corner of one object and its copy in the next are one vertex
+//!    when their normal and UV agree ([`Vertex`]).
+//! 3. Around each vertex, triangles that share an edge through it and agree in UV
+//!    orientation form a *group* (mikktspace.c's `Build4RuleGroups`); a group with-any
+//!    triangle takes the orientation of the group that reaches it first
+//!    ([`resolve_orientations`]).
+//! 4. A group's tangent is the sum, over its triangles, of `s` projected into the vertex's
+//!    tangent plane, normalised, weighted by the triangle's angle at the vertex measured in that
+//!    plane (`EvalTspace`); triangles whose projected `s` or `t` point exactly opposite are
+//!    split into sub-groups first (mikktspace.c's default angular threshold, 180 degrees).
+//! 5. A degenerate triangle's corner takes the tangent of the first healthy corner of its
+//!    vertex (`DegenEpilogue`).
+//!
+//! mikktspace.c finds the groups by sorting every edge of the model and walking each group
+//! recursively, triangle by triangle; `bevy_mikktspace` also searches every healthy triangle
+//! for each degenerate one, so both grow faster than the model (a 1M-triangle teapot with
+//! poles took 3.8 s). Here every position of the weld is handled on its own: its corners are
+//! gathered by a counting sort on the weld's roots, and a position's groups are found from its
+//! corners alone (two triangles share an edge through a vertex when the next vertex of one is
+//! the previous vertex of the other), with union-find. Positions are independent, so they run
+//! in parallel, and each corner's result is computed once, in corner order.
+//!
+//! Where this differs from mikktspace.c (both documented there as its own choices, and
+//! outside what a well-formed model hits): an edge shared by more than two triangles joins
+//! them all (mikktspace.c pairs them in sort order); and a group-with-any triangle takes the
+//! orientation of its first edge-neighbour in triangle order that has one, rather than of the
+//! first group its recursive walk reaches.
 
 use glam::{Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 
 use crate::VAxis;
+use crate::index::index;
+use crate::weld::union;
 
-struct Geometry<'a> {
-    positions: &'a [Vec3],
-    uvs: &'a [Vec2],
-    triangles: &'a [[u32; 3]],
-    corner_normals: &'a [Vec3],
-    v_sign: f32,
-    tangents: Vec<Vec4>,
+/// The model as MikkTSpace sees it, in model space.
+pub(crate) struct Surface<'a, N> {
+    /// Per vertex, snapped onto its weld root (equal positions, equal roots).
+    pub positions: &'a [Vec3],
+    /// Per vertex: its weld root.
+    pub roots: &'a [u32],
+    /// Per vertex (zero for objects without UVs).
+    pub uvs: &'a [Vec2],
+    /// Every triangle, indexing the vertices.
+    pub triangles: &'a [[u32; 3]],
+    /// `normal(corner, vertex)`: the unit normal of corner `triangle * 3 + k`.
+    pub normal: N,
+    /// For glTF (V down) the V coordinate is flipped before MikkTSpace sees it, so that its
+    /// bitangent points up the image, as with OBJ's V.
+    pub v_axis: VAxis,
 }
 
-impl bevy_mikktspace::Geometry for Geometry<'_> {
-    fn num_faces(&self) -> usize {
-        self.triangles.len()
+/// The triangle's UV mapping preserves orientation (`w = +1`).
+const ORIENTED: u8 = 1;
+/// The triangle has no usable first-order tangent: it takes any neighbour's group.
+const ANY: u8 = 2;
+/// Two of the triangle's corners share a position.
+const DEGENERATE: u8 = 4;
+
+/// Step 1's result for one triangle.
+#[derive(Clone, Copy, Debug, Default)]
+struct FaceTangent {
+    /// Unit tangent (towards +U), times the orientation's sign; zero for an `ANY` triangle.
+    s: Vec3,
+    /// Unit bitangent (towards +V), times the orientation's sign.
+    t: Vec3,
+    flags: u8,
+}
+
+impl FaceTangent {
+    fn is(&self, flag: u8) -> bool {
+        self.flags & flag != 0
+    }
+}
+
+/// A MikkTSpace vertex: position (as its weld root), UV and normal, compared bit for bit
+/// (with `-0.0 == 0.0`, as mikktspace.c's `==` compares them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Vertex {
+    root: u32,
+    uv: [u32; 2],
+    normal: [u32; 3],
+}
+
+/// The bits of `x`, with `-0.0` read as `0.0`.
+fn bits(x: f32) -> u32 {
+    (x + 0.0).to_bits()
+}
+
+/// A corner's result before it is finished: `w == 0` where MikkTSpace gives no tangent
+/// space (a corner no group reached).
+type Raw = Vec4;
+
+/// MikkTSpace's tangent of every corner of a [`Surface`]: see [`Tangents::get`].
+pub(crate) fn tangents<N>(surface: &Surface<'_, N>) -> Tangents
+where
+    N: Fn(usize, usize) -> Vec3 + Sync,
+{
+    let mut faces = face_tangents(surface);
+    let by_position = ByPosition::gather(surface);
+    resolve_orientations(surface, &by_position, &mut faces);
+    let raw = by_position.evaluate(surface, &faces);
+    Tangents { raw, place: by_position.place }
+}
+
+/// The result of [`tangents`]: per corner, in the order the positions were evaluated.
+pub(crate) struct Tangents {
+    raw: Vec<Raw>,
+    /// Per corner: its index into `raw`.
+    place: Vec<u32>,
+}
+
+impl Tangents {
+    /// The tangent of corner `c` (`triangle * 3 + k`) whose unit normal is `n`: MikkTSpace's,
+    /// made orthogonal to `n` (it is, up to rounding), `w` the handedness. A corner MikkTSpace
+    /// leaves without a tangent space (a degenerate triangle whose vertex has no healthy one)
+    /// gets a direction across its normal, `w = +1`.
+    pub fn get(&self, c: usize, n: Vec3) -> Vec4 {
+        let r = self.raw[self.place[c] as usize];
+        let w = if r.w < 0.0 { -1.0 } else { 1.0 };
+        crate::frame::orthogonal_tangent(n, r.truncate()).extend(w)
+    }
+}
+
+/// Step 1: every triangle's first-order tangent frame and flags.
+fn face_tangents<N>(surface: &Surface<'_, N>) -> Vec<FaceTangent> {
+    let v_sign = surface.v_axis.bitangent_sign();
+    surface
+        .triangles
+        .par_iter()
+        .map(|tri| {
+            let r = tri.map(|v| surface.roots[v as usize]);
+            if r[0] == r[1] || r[1] == r[2] || r[2] == r[0] {
+                return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+            }
+            let p = tri.map(|v| surface.positions[v as usize]);
+            let uv = tri.map(|v| {
+                let uv = surface.uvs[v as usize];
+                Vec2::new(uv.x, uv.y * v_sign)
+            });
+            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+            let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+            let area = d1.x * d2.y - d1.y * d2.x;
+            let s = e1 * d2.y - e2 * d1.y;
+            let t = e2 * d1.x - e1 * d2.x;
+            let oriented = area > 0.0;
+            let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
+            if not_zero(area) {
+                let sign = if oriented { 1.0 } else { -1.0 };
+                face.s = s.normalize_or_zero() * sign;
+                face.t = t.normalize_or_zero() * sign;
+                let magnitude = |v: Vec3| v.length() / area.abs();
+                if not_zero(magnitude(s)) && not_zero(magnitude(t)) {
+                    face.flags &= !ANY;
+                }
+            }
+            face
+        })
+        .collect()
+}
+
+/// mikktspace.c's test for a usable float.
+fn not_zero(x: f32) -> bool {
+    x.abs() > f32::MIN_POSITIVE
+}
+
+/// The corners of the model sorted by position (weld root), in corner order within each.
+struct ByPosition {
+    /// Per root vertex `r`: its corners are `corners[offsets[r]..offsets[r + 1]]`.
+    offsets: Vec<u32>,
+    corners: Vec<u32>,
+    /// Per corner: its place in `corners`.
+    place: Vec<u32>,
+}
+
+impl ByPosition {
+    /// A counting sort of the corners by their vertex's root.
+    fn gather<N>(surface: &Surface<'_, N>) -> Self {
+        let roots = surface.roots;
+        let corners = surface.triangles.as_flattened();
+        let mut offsets = vec![0u32; roots.len() + 1];
+        for &v in corners {
+            offsets[roots[v as usize] as usize + 1] += 1;
+        }
+        for r in 0..roots.len() {
+            offsets[r + 1] += offsets[r];
+        }
+        let mut next = offsets.clone();
+        let mut sorted = vec![0u32; corners.len()];
+        let mut place = vec![0u32; corners.len()];
+        for (c, &v) in corners.iter().enumerate() {
+            let at = &mut next[roots[v as usize] as usize];
+            sorted[*at as usize] = index(c);
+            place[c] = *at;
+            *at += 1;
+        }
+        Self { offsets, corners: sorted, place }
     }
 
-    fn num_vertices_of_face(&self, _face: usize) -> usize {
-        3
+    /// The corners at root `r`.
+    fn at(&self, r: usize) -> &[u32] {
+        &self.corners[self.offsets[r] as usize..self.offsets[r + 1] as usize]
     }
 
-    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.positions[self.triangles[face][vert] as usize].to_array()
+    /// Steps 3 to 5 for every position, in parallel: each corner's raw result, in the order
+    /// of `corners`.
+    fn evaluate<N>(&self, surface: &Surface<'_, N>, faces: &[FaceTangent]) -> Vec<Raw>
+    where
+        N: Fn(usize, usize) -> Vec3 + Sync,
+    {
+        let mut raw = vec![Vec4::ZERO; self.corners.len()];
+        // Blocks of positions, cut where a position ends, about this many corners each.
+        const BLOCK: usize = 1 << 14;
+        let roots = self.offsets.len() - 1;
+        let mut blocks = Vec::new();
+        let mut rest: &mut [Raw] = &mut raw;
+        let mut start = 0;
+        while start < roots {
+            let mut end = start + 1;
+            while end < roots && (self.offsets[end] - self.offsets[start]) as usize <= BLOCK {
+                end += 1;
+            }
+            let len = (self.offsets[end] - self.offsets[start]) as usize;
+            let (block, tail) = rest.split_at_mut(len);
+            blocks.push((start..end, block));
+            rest = tail;
+            start = end;
+        }
+        blocks.into_par_iter().for_each_init(Scratch::default, |scratch, (range, out)| {
+            let base = self.offsets[range.start] as usize;
+            for r in range {
+                let (lo, hi) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
+                if lo < hi {
+                    let at = Position { surface, faces, corners: &self.corners[lo..hi] };
+                    at.evaluate(scratch, &mut out[lo - base..hi - base]);
+                }
+            }
+        });
+        raw
+    }
+}
+
+/// Scratch space for one position, reused from one to the next.
+#[derive(Default)]
+struct Scratch {
+    /// Per local corner: its vertex, and the vertices after and before it in its triangle.
+    vertex: Vec<Vertex>,
+    next: Vec<Vertex>,
+    prev: Vec<Vertex>,
+    /// Local corners sorted by vertex (then corner).
+    order: Vec<u32>,
+    /// The healthy corners of one vertex (local indices), in corner order.
+    members: Vec<u32>,
+    /// Union-find over `members`.
+    parent: Vec<u32>,
+    /// `members` sorted by their previous vertex.
+    by_prev: Vec<u32>,
+    /// `members`' indices sorted by group.
+    by_group: Vec<u32>,
+    /// One group's local corners, in corner order.
+    group: Vec<u32>,
+    /// Per corner of `group`: its triangle seen from the vertex (`None`: a with-any one).
+    frames: Vec<Option<Projected>>,
+    /// Sub-groups of one group: their member lists and results.
+    sub_members: Vec<Vec<u32>>,
+    sub_result: Vec<Vec4>,
+}
+
+/// The corners at one position.
+struct Position<'a, 'b, N> {
+    surface: &'a Surface<'b, N>,
+    faces: &'a [FaceTangent],
+    /// Global corner indices, ascending.
+    corners: &'a [u32],
+}
+
+impl<N> Position<'_, '_, N>
+where
+    N: Fn(usize, usize) -> Vec3 + Sync,
+{
+    fn vertex_of(&self, c: usize) -> Vertex {
+        let v = self.surface.triangles[c / 3][c % 3] as usize;
+        let uv = self.surface.uvs[v];
+        let n = (self.surface.normal)(c, v);
+        Vertex {
+            root: self.surface.roots[v],
+            uv: [bits(uv.x), bits(uv.y)],
+            normal: [bits(n.x), bits(n.y), bits(n.z)],
+        }
     }
 
-    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.corner_normals[face * 3 + vert].to_array()
+    fn face(&self, a: usize) -> &FaceTangent {
+        &self.faces[self.corners[a] as usize / 3]
     }
 
-    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        let uv: Vec2 = self.uvs[self.triangles[face][vert] as usize];
-        [uv.x, uv.y * self.v_sign]
+    /// Writes the raw result of every corner at this position into `out` (aligned with
+    /// `self.corners`).
+    fn evaluate(&self, s: &mut Scratch, out: &mut [Raw]) {
+        let k = self.corners.len();
+        s.vertex.clear();
+        s.vertex.extend(self.corners.iter().map(|&c| self.vertex_of(c as usize)));
+        s.order.clear();
+        s.order.extend(0..index(k));
+        if k > 1 {
+            s.order.sort_unstable_by_key(|&a| (s.vertex[a as usize], a));
+        }
+        let mut i = 0;
+        while i < k {
+            let v = s.vertex[s.order[i] as usize];
+            let mut j = i + 1;
+            while j < k && s.vertex[s.order[j] as usize] == v {
+                j += 1;
+            }
+            self.one_vertex(s, i..j, out);
+            i = j;
+        }
     }
 
-    fn set_tangent(
-        &mut self,
-        tangent_space: Option<bevy_mikktspace::TangentSpace>,
-        face: usize,
-        vert: usize,
-    ) {
-        if let Some(ts) = tangent_space {
-            let t = Vec4::from_array(ts.tangent_encoded());
-            if t.is_finite() {
-                self.tangents[face * 3 + vert] = t;
+    /// Steps 3 to 5 for the corners `s.order[range]`, which share one vertex.
+    fn one_vertex(&self, s: &mut Scratch, range: std::ops::Range<usize>, out: &mut [Raw]) {
+        // Healthy corners only take part in the groups.
+        s.members.clear();
+        let order = &s.order[range.clone()];
+        s.members.extend(order.iter().copied().filter(|&a| !self.face(a as usize).is(DEGENERATE)));
+        let m = s.members.len();
+        if m > 0 {
+            self.groups(s);
+            self.group_tangents(s, out);
+        }
+        // Step 5: a degenerate triangle's corner copies the first healthy corner's result.
+        let first_healthy = s.members.first().map(|&a| out[a as usize]);
+        for &a in &s.order[range] {
+            if self.face(a as usize).is(DEGENERATE) {
+                out[a as usize] = first_healthy.unwrap_or(Vec4::ZERO);
             }
         }
     }
+
+    /// Step 3: union-find over `s.members` (into `s.parent`, every entry its root): two
+    /// triangles join where they share an edge through the vertex and agree in orientation.
+    fn groups(&self, s: &mut Scratch) {
+        let m = s.members.len();
+        s.parent.clear();
+        s.parent.extend(0..index(m));
+        if m == 1 {
+            return;
+        }
+        s.next.clear();
+        s.prev.clear();
+        for &a in &s.members {
+            let c = self.corners[a as usize] as usize;
+            let (t, k) = (c / 3 * 3, c % 3);
+            s.next.push(self.vertex_of(t + (k + 1) % 3));
+            s.prev.push(self.vertex_of(t + (k + 2) % 3));
+        }
+        s.by_prev.clear();
+        s.by_prev.extend(0..index(m));
+        s.by_prev.sort_unstable_by_key(|&b| (s.prev[b as usize], b));
+        for a in 0..m {
+            let next = s.next[a];
+            let from = s.by_prev.partition_point(|&b| s.prev[b as usize] < next);
+            for &b in s.by_prev[from..].iter().take_while(|&&b| s.prev[b as usize] == next) {
+                let (fa, fb) =
+                    (self.face(s.members[a] as usize), self.face(s.members[b as usize] as usize));
+                if (fa.flags ^ fb.flags) & ORIENTED == 0 {
+                    union(&mut s.parent, index(a), b);
+                }
+            }
+        }
+        for a in 0..m {
+            s.parent[a] = s.parent[s.parent[a] as usize];
+        }
+    }
+
+    /// Step 4: each group's tangent, written for its members; corners of groups made only of
+    /// with-any triangles get none.
+    fn group_tangents(&self, s: &mut Scratch, out: &mut [Raw]) {
+        let m = s.members.len();
+        // The members by group (root), in corner order within each.
+        s.by_group.clear();
+        s.by_group.extend(0..index(m));
+        if m > 1 {
+            s.by_group.sort_unstable_by_key(|&a| (s.parent[a as usize], a));
+        }
+        let mut i = 0;
+        while i < m {
+            let root = s.parent[s.by_group[i] as usize];
+            let mut j = i + 1;
+            while j < m && s.parent[s.by_group[j] as usize] == root {
+                j += 1;
+            }
+            s.group.clear();
+            s.group.extend(s.by_group[i..j].iter().map(|&a| s.members[a as usize]));
+            self.one_group(s, out);
+            i = j;
+        }
+    }
+
+    /// Step 4 for the local corners `s.group`, one group.
+    fn one_group(&self, s: &mut Scratch, out: &mut [Raw]) {
+        let Some(&seed) = s.group.iter().find(|&&a| !self.face(a as usize).is(ANY)) else {
+            return;
+        };
+        let seed = seed as usize;
+        let w = if self.face(seed).is(ORIENTED) { 1.0 } else { -1.0 };
+        let n = self.normal_of(seed);
+        s.frames.clear();
+        for &a in &s.group {
+            let a = a as usize;
+            s.frames.push(if self.face(a).is(ANY) { None } else { Some(self.frame(a, n)) });
+        }
+        if !splits(&s.frames) {
+            let sum: Vec3 = s.frames.iter().flatten().map(|f| f.s * f.angle).sum();
+            let tangent = sum.normalize_or_zero().extend(w);
+            for &a in &s.group {
+                out[a as usize] = tangent;
+            }
+            return;
+        }
+        // mikktspace.c's sub-groups: each member's set of similar members (with-any triangles
+        // are similar to all) names its sub-group; equal sets share one result.
+        s.sub_members.clear();
+        s.sub_result.clear();
+        for (i, &a) in s.group.iter().enumerate() {
+            let similar: Vec<u32> = (0..s.group.len())
+                .filter(|&j| similar(s.frames[i], s.frames[j]))
+                .map(index)
+                .collect();
+            let l = s.sub_members.iter().position(|g| *g == similar).unwrap_or_else(|| {
+                let sum: Vec3 = similar
+                    .iter()
+                    .filter_map(|&j| s.frames[j as usize])
+                    .map(|f| f.s * f.angle)
+                    .sum();
+                s.sub_members.push(similar);
+                s.sub_result.push(sum.normalize_or_zero().extend(w));
+                s.sub_members.len() - 1
+            });
+            out[a as usize] = s.sub_result[l];
+        }
+    }
+
+    /// The normal of local corner `a`.
+    fn normal_of(&self, a: usize) -> Vec3 {
+        let c = self.corners[a] as usize;
+        (self.surface.normal)(c, self.surface.triangles[c / 3][c % 3] as usize)
+    }
+
+    /// Local corner `a`'s triangle in the tangent plane of the vertex normal `n`: its `s` and
+    /// `t` projected and normalised, and its angle at the vertex between its edges projected.
+    fn frame(&self, a: usize, n: Vec3) -> Projected {
+        let f = self.face(a);
+        let across = |v: Vec3| (v - n * n.dot(v)).normalize_or_zero();
+        let c = self.corners[a] as usize;
+        let (t, k) = (c / 3, c % 3);
+        let tri = self.surface.triangles[t];
+        let p = |i: usize| self.surface.positions[tri[i] as usize];
+        let here = p(k);
+        let (e1, e2) = (across(p((k + 1) % 3) - here), across(p((k + 2) % 3) - here));
+        Projected { s: across(f.s), t: across(f.t), angle: e1.dot(e2).clamp(-1.0, 1.0).acos() }
+    }
 }
 
-/// Per-corner MikkTSpace tangents in model space. Corners MikkTSpace leaves unset (degenerate
-/// faces) get a vector orthogonal to their normal, w = +1.
-pub(crate) fn tangents(
-    positions: &[Vec3],
-    uvs: &[Vec2],
-    triangles: &[[u32; 3]],
-    corner_normals: &[Vec3],
-    v_axis: VAxis,
-) -> Vec<Vec4> {
-    let fallback: Vec<Vec4> =
-        corner_normals.iter().map(|n| n.any_orthonormal_vector().extend(1.0)).collect();
-    let mut geometry = Geometry {
-        positions,
-        uvs,
-        triangles,
-        corner_normals,
-        v_sign: match v_axis {
-            VAxis::Up => 1.0,
-            VAxis::Down => -1.0,
-        },
-        tangents: fallback,
-    };
-    // The error type has no variants: generation cannot fail.
-    if bevy_mikktspace::generate_tangents(&mut geometry).is_err() {
-        unreachable!("bevy_mikktspace's error type is uninhabited");
+/// One healthy triangle of a group, seen from the vertex: see [`Position::frame`].
+#[derive(Clone, Copy, Debug)]
+struct Projected {
+    s: Vec3,
+    t: Vec3,
+    angle: f32,
+}
+
+/// Whether members `a` and `b` of a group are similar at mikktspace.c's default threshold
+/// (180 degrees: a cosine above -1); with-any triangles (`None`) are similar to all.
+fn similar(a: Option<Projected>, b: Option<Projected>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => a.s.dot(b.s) > -1.0 && a.t.dot(b.t) > -1.0,
+        _ => true,
     }
-    let mut out = geometry.tangents;
-    for (t, n) in out.iter_mut().zip(corner_normals) {
-        // MikkTSpace's tangent is orthogonal to the normal it was given, up to rounding.
-        let xyz = Vec3::new(t.x, t.y, t.z);
-        let xyz = crate::frame::orthogonal_tangent(*n, xyz);
-        *t = xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 });
+}
+
+/// Whether a group needs sub-groups: two of its members are not similar.
+fn splits(frames: &[Option<Projected>]) -> bool {
+    frames.iter().enumerate().any(|(i, &a)| frames[i + 1..].iter().any(|&b| !similar(a, b)))
+}
+
+/// Step 3's one order dependency: a with-any triangle takes an orientation from a neighbour.
+/// In triangle order, each takes that of its first edge-neighbour (in corner order around
+/// each of its vertices) that is healthy or already resolved; one without keeps its own.
+fn resolve_orientations<N>(
+    surface: &Surface<'_, N>,
+    by_position: &ByPosition,
+    faces: &mut [FaceTangent],
+) where
+    N: Fn(usize, usize) -> Vec3 + Sync,
+{
+    let any: Vec<usize> =
+        (0..faces.len()).filter(|&f| faces[f].is(ANY) && !faces[f].is(DEGENERATE)).collect();
+    let mut resolved = vec![false; faces.len()];
+    for f in any {
+        let mut found = None;
+        'corners: for k in 0..3 {
+            let c = f * 3 + k;
+            let r = surface.roots[surface.triangles[f][k] as usize] as usize;
+            let at = Position { surface, faces, corners: by_position.at(r) };
+            let vertex = at.vertex_of(c);
+            let next = at.vertex_of(f * 3 + (k + 1) % 3);
+            let prev = at.vertex_of(f * 3 + (k + 2) % 3);
+            for &b in at.corners {
+                let (g, kb) = (b as usize / 3, b as usize % 3);
+                let fb = &faces[g];
+                if g == f || fb.is(DEGENERATE) || (fb.is(ANY) && !resolved[g]) {
+                    continue;
+                }
+                if at.vertex_of(b as usize) != vertex {
+                    continue;
+                }
+                let b_next = at.vertex_of(g * 3 + (kb + 1) % 3);
+                let b_prev = at.vertex_of(g * 3 + (kb + 2) % 3);
+                if b_prev == next || b_next == prev {
+                    found = Some(fb.flags & ORIENTED);
+                    break 'corners;
+                }
+            }
+        }
+        if let Some(oriented) = found {
+            faces[f].flags = (faces[f].flags & !ORIENTED) | oriented;
+        }
+        resolved[f] = true;
     }
-    out
 }

@@ -273,7 +273,7 @@ fn corner_frames(
                 [face_frame(&face(c.positions, c.uvs, model.v_axis)); 3]
             })
             .collect(),
-        (_, TangentMethod::Mikktspace, _) => {
+        (_, TangentMethod::Mikktspace, Some(roots)) => {
             let linear: Vec<Option<Linear>> =
                 flat.linear.iter().map(|m| m.map(Linear::new)).collect();
             let normals: Vec<Vec3> = triangles
@@ -291,12 +291,18 @@ fn corner_frames(
                 })
                 .collect();
             let uvs = flat.uvs(model);
-            let tangents =
-                crate::mikk::tangents(&flat.positions, &uvs, &triangles, &normals, model.v_axis);
-            normals
-                .into_iter()
-                .zip(tangents)
-                .map(|(normal, tangent)| Frame { normal, tangent })
+            let surface = crate::mikk::Surface {
+                positions: &flat.positions,
+                roots: &roots,
+                uvs: &uvs,
+                triangles: &triangles,
+                normal: |c: usize, _| normals[c],
+                v_axis: model.v_axis,
+            };
+            let tangents = crate::mikk::tangents(&surface);
+            (0..normals.len())
+                .into_par_iter()
+                .map(|c| Frame { normal: normals[c], tangent: tangents.get(c, normals[c]) })
                 .collect()
         }
         (_, _, Some(roots)) => {

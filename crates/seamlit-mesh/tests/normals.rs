@@ -531,15 +531,21 @@ fn fixtures() -> Vec<Model> {
 /// orthogonal-tangent fix of c66483c) gave for these fixtures and options, with this same
 /// digest (computed there, not by the code under test). Against 2b58f04, before that fix, the
 /// rows without tangents are equal and the others differ in tangent bits only.
+///
+/// The MikkTSpace rows of `Model` and `Object` mode are not compared: seamlit's own MikkTSpace
+/// (mikk.rs) replaced bevy_mikktspace's after dc3ef56, with other rounding; tests/mikktspace.rs
+/// checks it against bevy_mikktspace instead. Their digests at dc3ef56 stay in the table.
 #[test]
 fn recompute_equals_the_fix_before_policies_bit_for_bit() {
     let mut out = Vec::new();
+    let mut compared = Vec::new();
     for m in fixtures() {
         for mode in [Mode::Model, Mode::Object, Mode::Flat] {
             for tangents in [TangentMethod::Seamlit, TangentMethod::Mikktspace, TangentMethod::None]
             {
                 let fixed = fix(&m, &FixOptions { tangents, ..RECOMPUTE.with_mode(mode) }).unwrap();
                 out.push(digest(&fixed));
+                compared.push(tangents != TangentMethod::Mikktspace || mode == Mode::Flat);
             }
         }
     }
@@ -563,5 +569,8 @@ fn recompute_equals_the_fix_before_policies_bit_for_bit() {
         0xf27ab2e8e0ab8992,
         0xe6fd0db7200f8d42,
     ];
-    assert_eq!(out, before);
+    let keep = |digests: &[u64]| -> Vec<u64> {
+        digests.iter().zip(&compared).filter(|(_, c)| **c).map(|(d, _)| *d).collect()
+    };
+    assert_eq!(keep(&out), keep(&before));
 }
