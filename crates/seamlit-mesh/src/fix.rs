@@ -219,7 +219,8 @@ fn compute(
             roots: smooth.roots(),
             uvs: &uvs,
             triangles: &triangles,
-            normal: |c: usize, v: usize| smooth.corner_frame(index(c), v).normal,
+            normal: |c: usize, v: usize| smooth.corner_normal(index(c), v),
+            vertex_normals: None,
             v_axis: model.v_axis,
         };
         let tangents = mikk::tangents(&surface);
@@ -236,8 +237,8 @@ fn compute(
                     let c = first + t * 3;
                     std::array::from_fn(|k| {
                         let v = triangles[c / 3][k] as usize;
-                        let normal = smooth.corner_frame(index(c + k), v).normal;
-                        Frame { normal, tangent: tangents.get(c + k, normal) }
+                        let normal = smooth.corner_normal(index(c + k), v).0;
+                        Frame { normal, tangent: tangents.get(c + k) }
                     })
                 })
             },

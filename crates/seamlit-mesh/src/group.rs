@@ -379,6 +379,23 @@ impl Position<'_> {
     /// tangent and bitangent sums, for groups of degenerate faces only.
     fn emit_frames(&self, s: &mut Scratch, position_tb: (Vec3, Vec3), frames: &mut Vec<Frame>) {
         let k = self.len();
+        // Groups whose frames are equal bit for bit share one (a degenerate triangle's group
+        // takes the whole position's frame, often another group's): a position's frame
+        // indices then name its distinct frames, which MikkTSpace's vertices compare.
+        let start = frames.len();
+        let mut push = |frame: Frame| {
+            let bits = |f: &Frame| {
+                (f.normal.to_array().map(f32::to_bits), f.tangent.to_array().map(f32::to_bits))
+            };
+            let at = frames[start..].iter().position(|f| bits(f) == bits(&frame));
+            index(at.map_or_else(
+                || {
+                    frames.push(frame);
+                    frames.len() - 1
+                },
+                |i| start + i,
+            ))
+        };
         s.frame_of_root.clear();
         s.frame_of_root.resize(k, u32::MAX);
         s.local_group.clear();
@@ -398,8 +415,7 @@ impl Position<'_> {
                 } else {
                     tangent
                 };
-                s.local_group.push(index(frames.len()));
-                frames.push(Frame { normal, tangent });
+                s.local_group.push(push(Frame { normal, tangent }));
                 continue;
             }
             if s.frame_of_root[root] == u32::MAX {
@@ -416,8 +432,7 @@ impl Position<'_> {
                 } else {
                     tangent
                 };
-                s.frame_of_root[root] = index(frames.len());
-                frames.push(Frame { normal, tangent });
+                s.frame_of_root[root] = push(Frame { normal, tangent });
             }
             s.local_group.push(s.frame_of_root[root]);
         }

@@ -29,11 +29,19 @@
 //! mikktspace.c finds the groups by sorting every edge of the model and walking each group
 //! recursively, triangle by triangle; `bevy_mikktspace` also searches every healthy triangle
 //! for each degenerate one, so both grow faster than the model (a 1M-triangle teapot with
-//! poles took 3.8 s). Here every position of the weld is handled on its own: its corners are
-//! gathered by a counting sort on the weld's roots, and a position's groups are found from its
-//! corners alone (two triangles share an edge through a vertex when the next vertex of one is
-//! the previous vertex of the other), with union-find. Positions are independent, so they run
-//! in parallel, and each corner's result is computed once, in corner order.
+//! poles took 3.8 s). Here:
+//!
+//! - each corner's vertex becomes one 64-bit key ([`keys`]): the first vertex of its position
+//!   with the same UV (and, where normals are per vertex, the same normal), and a number that
+//!   tells the normals at one position apart; keys are computed in corner order, where memory
+//!   is read in sequence, so that the steps after compare integers;
+//! - the corners are gathered by position with a counting sort on the weld's roots, and each
+//!   position's groups are found from its corners alone (two triangles share an edge through
+//!   a vertex when the next vertex of one is the previous vertex of the other: keys of the
+//!   same triangle), with union-find.
+//!
+//! Positions are independent, so they run in parallel; every sum runs in corner order, so the
+//! result does not depend on the number of threads.
 //!
 //! Where this differs from mikktspace.c (both documented there as its own choices, and
 //! outside what a well-formed model hits): an edge shared by more than two triangles joins
@@ -58,8 +66,13 @@ pub(crate) struct Surface<'a, N> {
     pub uvs: &'a [Vec2],
     /// Every triangle, indexing the vertices.
     pub triangles: &'a [[u32; 3]],
-    /// `normal(corner, vertex)`: the unit normal of corner `triangle * 3 + k`.
+    /// `normal(corner, vertex)`: the unit normal of corner `triangle * 3 + k` and a key that,
+    /// together with `vertex_normals`, tells normals at one position apart: corners of one
+    /// position whose normals are bit for bit equal must have equal keys where
+    /// `vertex_normals` is `None`.
     pub normal: N,
+    /// Where normals are per vertex: those normals (the keys are then 0).
+    pub vertex_normals: Option<&'a [Vec3]>,
     /// For glTF (V down) the V coordinate is flipped before MikkTSpace sees it, so that its
     /// bitangent points up the image, as with OBJ's V.
     pub v_axis: VAxis,
@@ -88,52 +101,33 @@ impl FaceTangent {
     }
 }
 
-/// A MikkTSpace vertex: position (as its weld root), UV and normal, compared bit for bit
-/// (with `-0.0 == 0.0`, as mikktspace.c's `==` compares them).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct Vertex {
-    root: u32,
-    uv: [u32; 2],
-    normal: [u32; 3],
-}
-
-/// The bits of `x`, with `-0.0` read as `0.0`.
-fn bits(x: f32) -> u32 {
-    (x + 0.0).to_bits()
-}
-
-/// A corner's result before it is finished: `w == 0` where MikkTSpace gives no tangent
-/// space (a corner no group reached).
-type Raw = Vec4;
-
 /// MikkTSpace's tangent of every corner of a [`Surface`]: see [`Tangents::get`].
 pub(crate) fn tangents<N>(surface: &Surface<'_, N>) -> Tangents
 where
-    N: Fn(usize, usize) -> Vec3 + Sync,
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
     let mut faces = face_tangents(surface);
+    let keys = keys(surface);
     let by_position = ByPosition::gather(surface);
-    resolve_orientations(surface, &by_position, &mut faces);
-    let raw = by_position.evaluate(surface, &faces);
+    resolve_orientations(surface, &keys, &by_position, &mut faces);
+    let raw = by_position.evaluate(surface, &keys, &faces);
     Tangents { raw, place: by_position.place }
 }
 
 /// The result of [`tangents`]: per corner, in the order the positions were evaluated.
 pub(crate) struct Tangents {
-    raw: Vec<Raw>,
+    raw: Vec<Vec4>,
     /// Per corner: its index into `raw`.
     place: Vec<u32>,
 }
 
 impl Tangents {
-    /// The tangent of corner `c` (`triangle * 3 + k`) whose unit normal is `n`: MikkTSpace's,
-    /// made orthogonal to `n` (it is, up to rounding), `w` the handedness. A corner MikkTSpace
-    /// leaves without a tangent space (a degenerate triangle whose vertex has no healthy one)
-    /// gets a direction across its normal, `w = +1`.
-    pub fn get(&self, c: usize, n: Vec3) -> Vec4 {
-        let r = self.raw[self.place[c] as usize];
-        let w = if r.w < 0.0 { -1.0 } else { 1.0 };
-        crate::frame::orthogonal_tangent(n, r.truncate()).extend(w)
+    /// The tangent of corner `c` (`triangle * 3 + k`): MikkTSpace's, made orthogonal to the
+    /// corner's normal (it is, up to rounding), `w` the handedness. A corner MikkTSpace leaves
+    /// without a tangent space (a degenerate triangle whose vertex has no healthy one) gets a
+    /// direction across its normal, `w = +1`.
+    pub fn get(&self, c: usize) -> Vec4 {
+        self.raw[self.place[c] as usize]
     }
 }
 
@@ -179,6 +173,73 @@ fn not_zero(x: f32) -> bool {
     x.abs() > f32::MIN_POSITIVE
 }
 
+/// The bits of `x`, with `-0.0` read as `0.0` (mikktspace.c compares with `==`).
+fn bits(x: f32) -> u32 {
+    (x + 0.0).to_bits()
+}
+
+/// Step 2: per corner, its MikkTSpace vertex as a key: equal keys at one position are one
+/// vertex (equal position, UV and normal). The high half is the first vertex of the position
+/// with the vertex's UV (and normal, where normals are per vertex), the low half the normal's
+/// key.
+fn keys<N>(surface: &Surface<'_, N>) -> Vec<u64>
+where
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
+{
+    let first = first_equal_vertex(surface);
+    surface
+        .triangles
+        .as_flattened()
+        .par_iter()
+        .enumerate()
+        .map(|(c, &v)| {
+            (u64::from(first[v as usize]) << 32) | u64::from((surface.normal)(c, v as usize).1)
+        })
+        .collect()
+}
+
+/// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
+/// normals are per vertex). A counting sort of the vertices by root, then a comparison within
+/// each position.
+fn first_equal_vertex<N>(surface: &Surface<'_, N>) -> Vec<u32> {
+    let roots = surface.roots;
+    let n = roots.len();
+    let mut offsets = vec![0u32; n + 1];
+    for &r in roots {
+        offsets[r as usize + 1] += 1;
+    }
+    for r in 0..n {
+        offsets[r + 1] += offsets[r];
+    }
+    let mut next = offsets.clone();
+    let mut members = vec![0u32; n];
+    for (v, &r) in roots.iter().enumerate() {
+        members[next[r as usize] as usize] = index(v);
+        next[r as usize] += 1;
+    }
+    let same = |a: usize, b: usize| {
+        let (ua, ub) = (surface.uvs[a], surface.uvs[b]);
+        let uv = bits(ua.x) == bits(ub.x) && bits(ua.y) == bits(ub.y);
+        uv && surface.vertex_normals.is_none_or(|ns| {
+            let (na, nb) = (ns[a], ns[b]);
+            bits(na.x) == bits(nb.x) && bits(na.y) == bits(nb.y) && bits(na.z) == bits(nb.z)
+        })
+    };
+    let mut first: Vec<u32> = (0..index(n)).collect();
+    for r in 0..n {
+        let at = &members[offsets[r] as usize..offsets[r + 1] as usize];
+        if at.len() < 2 {
+            continue;
+        }
+        for (i, &v) in at.iter().enumerate() {
+            if let Some(&u) = at[..i].iter().find(|&&u| same(u as usize, v as usize)) {
+                first[v as usize] = first[u as usize];
+            }
+        }
+    }
+    first
+}
+
 /// The corners of the model sorted by position (weld root), in corner order within each.
 struct ByPosition {
     /// Per root vertex `r`: its corners are `corners[offsets[r]..offsets[r + 1]]`.
@@ -217,18 +278,23 @@ impl ByPosition {
         &self.corners[self.offsets[r] as usize..self.offsets[r + 1] as usize]
     }
 
-    /// Steps 3 to 5 for every position, in parallel: each corner's raw result, in the order
-    /// of `corners`.
-    fn evaluate<N>(&self, surface: &Surface<'_, N>, faces: &[FaceTangent]) -> Vec<Raw>
+    /// Steps 3 to 5 for every position, in parallel: each corner's tangent, in the order of
+    /// `corners`.
+    fn evaluate<N>(
+        &self,
+        surface: &Surface<'_, N>,
+        keys: &[u64],
+        faces: &[FaceTangent],
+    ) -> Vec<Vec4>
     where
-        N: Fn(usize, usize) -> Vec3 + Sync,
+        N: Fn(usize, usize) -> (Vec3, u32) + Sync,
     {
         let mut raw = vec![Vec4::ZERO; self.corners.len()];
         // Blocks of positions, cut where a position ends, about this many corners each.
         const BLOCK: usize = 1 << 14;
         let roots = self.offsets.len() - 1;
         let mut blocks = Vec::new();
-        let mut rest: &mut [Raw] = &mut raw;
+        let mut rest: &mut [Vec4] = &mut raw;
         let mut start = 0;
         while start < roots {
             let mut end = start + 1;
@@ -246,7 +312,7 @@ impl ByPosition {
             for r in range {
                 let (lo, hi) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
                 if lo < hi {
-                    let at = Position { surface, faces, corners: &self.corners[lo..hi] };
+                    let at = Position { surface, keys, faces, corners: &self.corners[lo..hi] };
                     at.evaluate(scratch, &mut out[lo - base..hi - base]);
                 }
             }
@@ -258,17 +324,18 @@ impl ByPosition {
 /// Scratch space for one position, reused from one to the next.
 #[derive(Default)]
 struct Scratch {
-    /// Per local corner: its vertex, and the vertices after and before it in its triangle.
-    vertex: Vec<Vertex>,
-    next: Vec<Vertex>,
-    prev: Vec<Vertex>,
-    /// Local corners sorted by vertex (then corner).
+    /// Per local corner: its key, and the keys of the vertices after and before it in its
+    /// triangle.
+    key: Vec<u64>,
+    next: Vec<u64>,
+    prev: Vec<u64>,
+    /// Local corners sorted by key (then corner).
     order: Vec<u32>,
     /// The healthy corners of one vertex (local indices), in corner order.
     members: Vec<u32>,
     /// Union-find over `members`.
     parent: Vec<u32>,
-    /// `members` sorted by their previous vertex.
+    /// `members` sorted by their previous vertex's key.
     by_prev: Vec<u32>,
     /// `members`' indices sorted by group.
     by_group: Vec<u32>,
@@ -284,6 +351,7 @@ struct Scratch {
 /// The corners at one position.
 struct Position<'a, 'b, N> {
     surface: &'a Surface<'b, N>,
+    keys: &'a [u64],
     faces: &'a [FaceTangent],
     /// Global corner indices, ascending.
     corners: &'a [u32],
@@ -291,39 +359,38 @@ struct Position<'a, 'b, N> {
 
 impl<N> Position<'_, '_, N>
 where
-    N: Fn(usize, usize) -> Vec3 + Sync,
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    fn vertex_of(&self, c: usize) -> Vertex {
-        let v = self.surface.triangles[c / 3][c % 3] as usize;
-        let uv = self.surface.uvs[v];
-        let n = (self.surface.normal)(c, v);
-        Vertex {
-            root: self.surface.roots[v],
-            uv: [bits(uv.x), bits(uv.y)],
-            normal: [bits(n.x), bits(n.y), bits(n.z)],
-        }
-    }
-
     fn face(&self, a: usize) -> &FaceTangent {
         &self.faces[self.corners[a] as usize / 3]
     }
 
-    /// Writes the raw result of every corner at this position into `out` (aligned with
+    /// Writes the tangent of every corner at this position into `out` (aligned with
     /// `self.corners`).
-    fn evaluate(&self, s: &mut Scratch, out: &mut [Raw]) {
+    fn evaluate(&self, s: &mut Scratch, out: &mut [Vec4]) {
         let k = self.corners.len();
-        s.vertex.clear();
-        s.vertex.extend(self.corners.iter().map(|&c| self.vertex_of(c as usize)));
+        s.key.clear();
+        s.next.clear();
+        s.prev.clear();
+        for &c in self.corners {
+            let c = c as usize;
+            let (t, k) = (c / 3 * 3, c % 3);
+            let keys = &self.keys[t..t + 3];
+            s.key.push(keys[k]);
+            s.next.push(keys[(k + 1) % 3]);
+            s.prev.push(keys[(k + 2) % 3]);
+        }
         s.order.clear();
         s.order.extend(0..index(k));
         if k > 1 {
-            s.order.sort_unstable_by_key(|&a| (s.vertex[a as usize], a));
+            let key = &s.key;
+            s.order.sort_unstable_by_key(|&a| (key[a as usize], a));
         }
         let mut i = 0;
         while i < k {
-            let v = s.vertex[s.order[i] as usize];
+            let key = s.key[s.order[i] as usize];
             let mut j = i + 1;
-            while j < k && s.vertex[s.order[j] as usize] == v {
+            while j < k && s.key[s.order[j] as usize] == key {
                 j += 1;
             }
             self.one_vertex(s, i..j, out);
@@ -332,21 +399,26 @@ where
     }
 
     /// Steps 3 to 5 for the corners `s.order[range]`, which share one vertex.
-    fn one_vertex(&self, s: &mut Scratch, range: std::ops::Range<usize>, out: &mut [Raw]) {
+    fn one_vertex(&self, s: &mut Scratch, range: std::ops::Range<usize>, out: &mut [Vec4]) {
         // Healthy corners only take part in the groups.
         s.members.clear();
         let order = &s.order[range.clone()];
         s.members.extend(order.iter().copied().filter(|&a| !self.face(a as usize).is(DEGENERATE)));
-        let m = s.members.len();
-        if m > 0 {
+        let n = self.normal_of(s.order[range.start] as usize);
+        // Corners no group reaches get a direction across the normal, w = +1.
+        let none = n.any_orthonormal_vector().extend(1.0);
+        for &a in order {
+            out[a as usize] = none;
+        }
+        if !s.members.is_empty() {
             self.groups(s);
-            self.group_tangents(s, out);
+            self.group_tangents(s, n, out);
         }
         // Step 5: a degenerate triangle's corner copies the first healthy corner's result.
         let first_healthy = s.members.first().map(|&a| out[a as usize]);
         for &a in &s.order[range] {
             if self.face(a as usize).is(DEGENERATE) {
-                out[a as usize] = first_healthy.unwrap_or(Vec4::ZERO);
+                out[a as usize] = first_healthy.unwrap_or(none);
             }
         }
     }
@@ -360,23 +432,17 @@ where
         if m == 1 {
             return;
         }
-        s.next.clear();
-        s.prev.clear();
-        for &a in &s.members {
-            let c = self.corners[a as usize] as usize;
-            let (t, k) = (c / 3 * 3, c % 3);
-            s.next.push(self.vertex_of(t + (k + 1) % 3));
-            s.prev.push(self.vertex_of(t + (k + 2) % 3));
-        }
+        let members = &s.members;
         s.by_prev.clear();
         s.by_prev.extend(0..index(m));
-        s.by_prev.sort_unstable_by_key(|&b| (s.prev[b as usize], b));
+        let prev = |b: u32| s.prev[members[b as usize] as usize];
+        s.by_prev.sort_unstable_by_key(|&b| (prev(b), b));
         for a in 0..m {
-            let next = s.next[a];
-            let from = s.by_prev.partition_point(|&b| s.prev[b as usize] < next);
-            for &b in s.by_prev[from..].iter().take_while(|&&b| s.prev[b as usize] == next) {
+            let next = s.next[members[a] as usize];
+            let from = s.by_prev.partition_point(|&b| prev(b) < next);
+            for &b in s.by_prev[from..].iter().take_while(|&&b| prev(b) == next) {
                 let (fa, fb) =
-                    (self.face(s.members[a] as usize), self.face(s.members[b as usize] as usize));
+                    (self.face(members[a] as usize), self.face(members[b as usize] as usize));
                 if (fa.flags ^ fb.flags) & ORIENTED == 0 {
                     union(&mut s.parent, index(a), b);
                 }
@@ -387,9 +453,9 @@ where
         }
     }
 
-    /// Step 4: each group's tangent, written for its members; corners of groups made only of
-    /// with-any triangles get none.
-    fn group_tangents(&self, s: &mut Scratch, out: &mut [Raw]) {
+    /// Step 4: each group's tangent, written for its members (`n` is the vertex's normal);
+    /// corners of groups made only of with-any triangles keep what they have.
+    fn group_tangents(&self, s: &mut Scratch, n: Vec3, out: &mut [Vec4]) {
         let m = s.members.len();
         // The members by group (root), in corner order within each.
         s.by_group.clear();
@@ -406,27 +472,25 @@ where
             }
             s.group.clear();
             s.group.extend(s.by_group[i..j].iter().map(|&a| s.members[a as usize]));
-            self.one_group(s, out);
+            self.one_group(s, n, out);
             i = j;
         }
     }
 
     /// Step 4 for the local corners `s.group`, one group.
-    fn one_group(&self, s: &mut Scratch, out: &mut [Raw]) {
+    fn one_group(&self, s: &mut Scratch, n: Vec3, out: &mut [Vec4]) {
         let Some(&seed) = s.group.iter().find(|&&a| !self.face(a as usize).is(ANY)) else {
             return;
         };
-        let seed = seed as usize;
-        let w = if self.face(seed).is(ORIENTED) { 1.0 } else { -1.0 };
-        let n = self.normal_of(seed);
+        let w = if self.face(seed as usize).is(ORIENTED) { 1.0 } else { -1.0 };
+        let finish = |sum: Vec3| crate::frame::orthogonal_tangent(n, sum).extend(w);
         s.frames.clear();
         for &a in &s.group {
             let a = a as usize;
             s.frames.push(if self.face(a).is(ANY) { None } else { Some(self.frame(a, n)) });
         }
         if !splits(&s.frames) {
-            let sum: Vec3 = s.frames.iter().flatten().map(|f| f.s * f.angle).sum();
-            let tangent = sum.normalize_or_zero().extend(w);
+            let tangent = finish(s.frames.iter().flatten().map(|f| f.s * f.angle).sum());
             for &a in &s.group {
                 out[a as usize] = tangent;
             }
@@ -448,7 +512,7 @@ where
                     .map(|f| f.s * f.angle)
                     .sum();
                 s.sub_members.push(similar);
-                s.sub_result.push(sum.normalize_or_zero().extend(w));
+                s.sub_result.push(finish(sum));
                 s.sub_members.len() - 1
             });
             out[a as usize] = s.sub_result[l];
@@ -458,7 +522,7 @@ where
     /// The normal of local corner `a`.
     fn normal_of(&self, a: usize) -> Vec3 {
         let c = self.corners[a] as usize;
-        (self.surface.normal)(c, self.surface.triangles[c / 3][c % 3] as usize)
+        (self.surface.normal)(c, self.surface.triangles[c / 3][c % 3] as usize).0
     }
 
     /// Local corner `a`'s triangle in the tangent plane of the vertex normal `n`: its `s` and
@@ -503,34 +567,33 @@ fn splits(frames: &[Option<Projected>]) -> bool {
 /// each of its vertices) that is healthy or already resolved; one without keeps its own.
 fn resolve_orientations<N>(
     surface: &Surface<'_, N>,
+    keys: &[u64],
     by_position: &ByPosition,
     faces: &mut [FaceTangent],
-) where
-    N: Fn(usize, usize) -> Vec3 + Sync,
-{
+) {
     let any: Vec<usize> =
         (0..faces.len()).filter(|&f| faces[f].is(ANY) && !faces[f].is(DEGENERATE)).collect();
+    let next_prev = |c: usize| {
+        let (t, k) = (c / 3 * 3, c % 3);
+        (keys[t + (k + 1) % 3], keys[t + (k + 2) % 3])
+    };
     let mut resolved = vec![false; faces.len()];
     for f in any {
         let mut found = None;
         'corners: for k in 0..3 {
             let c = f * 3 + k;
+            let (next, prev) = next_prev(c);
             let r = surface.roots[surface.triangles[f][k] as usize] as usize;
-            let at = Position { surface, faces, corners: by_position.at(r) };
-            let vertex = at.vertex_of(c);
-            let next = at.vertex_of(f * 3 + (k + 1) % 3);
-            let prev = at.vertex_of(f * 3 + (k + 2) % 3);
-            for &b in at.corners {
-                let (g, kb) = (b as usize / 3, b as usize % 3);
+            for &b in by_position.at(r) {
+                let g = b as usize / 3;
                 let fb = &faces[g];
                 if g == f || fb.is(DEGENERATE) || (fb.is(ANY) && !resolved[g]) {
                     continue;
                 }
-                if at.vertex_of(b as usize) != vertex {
+                if keys[b as usize] != keys[c] {
                     continue;
                 }
-                let b_next = at.vertex_of(g * 3 + (kb + 1) % 3);
-                let b_prev = at.vertex_of(g * 3 + (kb + 2) % 3);
+                let (b_next, b_prev) = next_prev(b as usize);
                 if b_prev == next || b_next == prev {
                     found = Some(fb.flags & ORIENTED);
                     break 'corners;

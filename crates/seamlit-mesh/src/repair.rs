@@ -263,7 +263,6 @@ fn corner_frames(
     options: &FixOptions,
 ) -> Vec<Frame> {
     let triangles = flat.triangles(model);
-    let corner_object = |c: usize| flat.object_of_triangle(c / 3);
     match (options.mode, options.tangents, roots) {
         (Mode::Flat, ..) | (_, _, None) => (0..triangles.len())
             .into_par_iter()
@@ -276,17 +275,15 @@ fn corner_frames(
         (_, TangentMethod::Mikktspace, Some(roots)) => {
             let linear: Vec<Option<Linear>> =
                 flat.linear.iter().map(|m| m.map(Linear::new)).collect();
-            let normals: Vec<Vec3> = triangles
-                .as_flattened()
-                .par_iter()
-                .enumerate()
-                .map(|(c, &v)| {
-                    let o = corner_object(c);
-                    let object = &model.objects[o];
-                    let n = object
+            // Per vertex: the object's normal in model space (+Z where it has none).
+            let vertex_normals: Vec<Vec3> = (0..flat.positions.len())
+                .into_par_iter()
+                .map(|v| {
+                    let o = flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+                    let n = model.objects[o]
                         .normals
                         .as_ref()
-                        .map_or(Vec3::Z, |ns| ns[(v - flat.vertex_start[o]) as usize]);
+                        .map_or(Vec3::Z, |ns| ns[v - flat.vertex_start[o] as usize]);
                     linear[o].as_ref().map_or(n, |l| l.normal_to_model(n)).normalize_or(Vec3::Z)
                 })
                 .collect();
@@ -296,13 +293,19 @@ fn corner_frames(
                 roots: &roots,
                 uvs: &uvs,
                 triangles: &triangles,
-                normal: |c: usize, _| normals[c],
+                normal: |_, v: usize| (vertex_normals[v], 0),
+                vertex_normals: Some(&vertex_normals),
                 v_axis: model.v_axis,
             };
             let tangents = crate::mikk::tangents(&surface);
-            (0..normals.len())
-                .into_par_iter()
-                .map(|c| Frame { normal: normals[c], tangent: tangents.get(c, normals[c]) })
+            triangles
+                .as_flattened()
+                .par_iter()
+                .enumerate()
+                .map(|(c, &v)| Frame {
+                    normal: vertex_normals[v as usize],
+                    tangent: tangents.get(c),
+                })
                 .collect()
         }
         (_, _, Some(roots)) => {
