@@ -219,30 +219,19 @@ fn compute(
             roots: smooth.roots(),
             uvs: &uvs,
             triangles: &triangles,
+            vertex_start: &flat.vertex_start,
+            triangle_start: &flat.triangle_start,
             normal: |c: usize, v: usize| smooth.corner_normal(index(c), v),
             vertex_normals: None,
             v_axis: model.v_axis,
         };
         let tangents = mikk::tangents(&surface);
-        drop(uvs);
-        let (triangles, tangents) = (&triangles, &tangents);
-        let changed = write_objects(
-            model,
-            skip,
-            want_tangents,
-            input,
-            |o, object, tangents_wanted, input| {
-                let first = flat.triangle_start[o] as usize * 3;
-                write_corners(o, object, flat, tangents_wanted, input, |t, _, _| {
-                    let c = first + t * 3;
-                    std::array::from_fn(|k| {
-                        let v = triangles[c / 3][k] as usize;
-                        let normal = smooth.corner_normal(index(c + k), v).0;
-                        Frame { normal, tangent: tangents.get(c + k) }
-                    })
-                })
-            },
-        );
+        drop((uvs, triangles));
+        let tangents = &tangents;
+        let changed =
+            write_objects(model, skip, want_tangents, input, |o, object, wanted, input| {
+                write_mikk(o, object, flat, smooth, tangents, wanted, input)
+            });
         return (changed, Some(smooth.roots().to_vec()));
     }
 
@@ -511,6 +500,46 @@ fn write_corners(
         for k in 0..3 {
             tri[k] = out.put(tri[k], f[k]);
         }
+    }
+    let changed = out.changed;
+    out.finish(&mut normals, &mut out_tangents);
+    (object.normals, object.tangents, object.triangles) = (normals, out_tangents, triangles);
+    changed
+}
+
+/// Writes one object from the smoothed normals and MikkTSpace's tangents: every vertex at a
+/// plain position takes its one frame; the corners of other positions are placed one by one,
+/// in corner order. Returns how many input vertices' normals changed.
+fn write_mikk(
+    o: usize,
+    object: &mut Object,
+    flat: &Flat,
+    smooth: &Smooth,
+    tangents: &mikk::Tangents,
+    tangents_wanted: bool,
+    input_normals: Option<&[Vec3]>,
+) -> usize {
+    let base = flat.vertex_start[o] as usize;
+    let first = flat.triangle_start[o] as usize * 3;
+    let others = tangents.others(first..flat.triangle_start[o + 1] as usize * 3);
+    let mut triangles = std::mem::take(&mut object.triangles);
+    let (mut normals, mut out_tangents) = (None, None);
+    let linear = flat.linear[o].map(Linear::new);
+    let mut out = Out::new(object, linear, tangents_wanted, input_normals);
+    for v in 0..out.is_set.len() {
+        let g = base + v;
+        if smooth.is_used(g)
+            && let Some(tangent) = tangents.fan(g, smooth.roots()[g] as usize)
+            && let Some(frame) = smooth.simple_frame(g)
+        {
+            out.set(v, Frame { normal: frame.normal, tangent });
+        }
+    }
+    for &(c, tangent) in others {
+        let local = c as usize - first;
+        let corner = &mut triangles[local / 3][local % 3];
+        let normal = smooth.corner_normal(c, base + *corner as usize).0;
+        *corner = out.put(*corner, Frame { normal, tangent });
     }
     let changed = out.changed;
     out.finish(&mut normals, &mut out_tangents);

@@ -66,6 +66,10 @@ pub(crate) struct Surface<'a, N> {
     pub uvs: &'a [Vec2],
     /// Every triangle, indexing the vertices.
     pub triangles: &'a [[u32; 3]],
+    /// Per object: its first vertex and first triangle, one extra entry at the end (an
+    /// object's triangles use its vertices only).
+    pub vertex_start: &'a [u32],
+    pub triangle_start: &'a [u32],
     /// `normal(corner, vertex)`: the unit normal of corner `triangle * 3 + k` and a key that,
     /// together with `vertex_normals`, tells normals at one position apart: corners of one
     /// position whose normals are bit for bit equal must have equal keys where
@@ -106,29 +110,241 @@ pub(crate) fn tangents<N>(surface: &Surface<'_, N>) -> Tangents
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let mut faces = face_tangents(surface);
-    let keys = keys(surface);
-    let by_position = ByPosition::gather(surface);
-    resolve_orientations(surface, &keys, &by_position, &mut faces);
-    let raw = by_position.evaluate(surface, &keys, &faces);
-    Tangents { raw, place: by_position.place }
+    tangents_with(surface, false)
 }
 
-/// The result of [`tangents`]: per corner, in the order the positions were evaluated.
+/// [`tangents`], optionally sending every position through the grouping (for tests: both
+/// paths must give the same bits).
+fn tangents_with<N>(surface: &Surface<'_, N>, all_grouped: bool) -> Tangents
+where
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
+{
+    let mut faces = face_tangents(surface);
+    let first = first_equal_vertex(surface);
+    let mut plain = plain_positions(surface, &faces, &shared(&first));
+    if all_grouped {
+        plain.fill(false);
+    }
+    let keys = keys(surface, &first, &plain);
+    drop(first);
+    let by_position = ByPosition::gather(surface, &plain);
+    resolve_orientations(surface, &keys, &by_position, &mut faces);
+    let raw = by_position.evaluate(surface, &keys, &faces);
+    drop(keys);
+    let mut rest: Vec<(u32, Vec4)> = by_position.corners.iter().copied().zip(raw).collect();
+    rest.par_sort_unstable_by_key(|&(c, _)| c);
+    let fans = plain_fans(surface, &faces, &plain);
+    Tangents { plain, fans, rest }
+}
+
+/// The result of [`tangents`].
 pub(crate) struct Tangents {
-    raw: Vec<Vec4>,
-    /// Per corner: its index into `raw`.
-    place: Vec<u32>,
+    /// Per root vertex: whether its position is plain (see [`plain_positions`]).
+    plain: Vec<bool>,
+    /// Per vertex at a plain position: the tangent of all its corners.
+    fans: Vec<Vec4>,
+    /// The tangent of every corner at the other positions, sorted by corner.
+    rest: Vec<(u32, Vec4)>,
 }
 
 impl Tangents {
-    /// The tangent of corner `c` (`triangle * 3 + k`): MikkTSpace's, made orthogonal to the
-    /// corner's normal (it is, up to rounding), `w` the handedness. A corner MikkTSpace leaves
-    /// without a tangent space (a degenerate triangle whose vertex has no healthy one) gets a
-    /// direction across its normal, `w = +1`.
-    pub fn get(&self, c: usize) -> Vec4 {
-        self.raw[self.place[c] as usize]
+    /// The tangent of every corner of vertex `v` (whose root is `root`), where its position
+    /// is plain: all its corners have one.
+    pub fn fan(&self, v: usize, root: usize) -> Option<Vec4> {
+        self.plain[root].then(|| self.fans[v])
     }
+
+    /// The corners in `corners` at positions that are not plain, ascending, with their
+    /// tangents.
+    pub fn others(&self, corners: std::ops::Range<usize>) -> &[(u32, Vec4)] {
+        let at = |c: usize| self.rest.partition_point(|&(e, _)| (e as usize) < c);
+        &self.rest[at(corners.start)..at(corners.end)]
+    }
+
+    /// The tangent of corner `c` (`triangle * 3 + k`) at vertex `v` whose root is `root`:
+    /// MikkTSpace's, made orthogonal to the corner's normal (it is, up to rounding), `w` the
+    /// handedness. A corner MikkTSpace leaves without a tangent space (a degenerate triangle
+    /// whose vertex has no healthy one) gets a direction across its normal, `w = +1`.
+    pub fn get(&self, c: usize, v: usize, root: usize) -> Vec4 {
+        if self.plain[root] {
+            return self.fans[v];
+        }
+        let i = self.rest.partition_point(|&(e, _)| (e as usize) < c);
+        self.rest[i].1
+    }
+}
+
+/// What the corners at a vertex tell [`plain_positions`].
+const HAS_ORIENTED: u8 = 1;
+const HAS_REVERSED: u8 = 2;
+/// With-any or degenerate triangles, or several normals at the position, or another vertex
+/// of the position with the same key.
+const IRREGULAR: u8 = 4;
+
+/// Mixes a key into 64 well-spread bits (splitmix64's finaliser): sums of these tell whether
+/// two multisets of keys are equal, but for a 2^-64 chance.
+fn spread(key: u64) -> u64 {
+    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Per root vertex: whether every vertex of its position is *plain*, one MikkTSpace group
+/// whose tangent [`plain_fans`] sums in one pass: its corners share one normal (a simple
+/// position) and it shares its key with no other vertex; its triangles are healthy (none
+/// with-any, none degenerate) and of one orientation; and they close around it (every
+/// triangle's next vertex is another's previous one: the sums of their spread keys agree).
+/// Such a fan is one group. The rest (boundaries of objects and UV islands, mirror lines,
+/// creases, poles) go through the grouping, position by position.
+///
+/// One case a closed fan does not rule out: two closed fans pinched at one vertex with one
+/// UV, two groups for MikkTSpace; they are summed as one here.
+fn plain_positions<N>(surface: &Surface<'_, N>, faces: &[FaceTangent], shared: &[bool]) -> Vec<bool>
+where
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
+{
+    let n = surface.roots.len();
+    let mut flags = vec![0u8; n];
+    let mut fans = vec![0u64; n];
+    let parts = split_by_object(surface, &mut flags, &mut fans);
+    parts.into_par_iter().for_each(|(o, (flags, fans))| {
+        let base = surface.vertex_start[o] as usize;
+        let triangles = surface.triangle_start[o] as usize..surface.triangle_start[o + 1] as usize;
+        for t in triangles {
+            let face = &faces[t];
+            let bits = if face.is(ANY | DEGENERATE) {
+                IRREGULAR
+            } else if face.is(ORIENTED) {
+                HAS_ORIENTED
+            } else {
+                HAS_REVERSED
+            };
+            let tri = surface.triangles[t];
+            for (k, &v) in tri.iter().enumerate() {
+                let normal =
+                    if (surface.normal)(t * 3 + k, v as usize).1 != 0 { IRREGULAR } else { 0 };
+                let v = v as usize - base;
+                flags[v] |= bits | normal;
+                // Vertices, not keys: a fan closed by vertex is closed by key (at a simple
+                // position the corners of one vertex across an edge share a normal group);
+                // one closed only through another vertex with the same key is not plain.
+                let (next, prev) =
+                    (spread(tri[(k + 1) % 3].into()), spread(tri[(k + 2) % 3].into()));
+                fans[v] = fans[v].wrapping_add(next).wrapping_sub(prev);
+            }
+        }
+    });
+    let mut plain = vec![true; n];
+    for v in 0..n {
+        let f = flags[v];
+        let mixed = f & (HAS_ORIENTED | HAS_REVERSED) == HAS_ORIENTED | HAS_REVERSED;
+        if f & IRREGULAR != 0 || mixed || fans[v] != 0 || shared[v] {
+            plain[surface.roots[v] as usize] = false;
+        }
+    }
+    plain
+}
+
+/// One object's part of two per-vertex arrays, with the object's number.
+type ObjectPart<'x, A, B> = (usize, (&'x mut [A], &'x mut [B]));
+
+/// `a` and `b` (one entry per vertex) cut into each object's part, numbered.
+fn split_by_object<'x, N, A, B>(
+    surface: &Surface<'_, N>,
+    mut a: &'x mut [A],
+    mut b: &'x mut [B],
+) -> Vec<ObjectPart<'x, A, B>> {
+    let mut parts = Vec::with_capacity(surface.vertex_start.len());
+    for (o, w) in surface.vertex_start.windows(2).enumerate() {
+        let len = (w[1] - w[0]) as usize;
+        let (pa, ra) = a.split_at_mut(len);
+        let (pb, rb) = b.split_at_mut(len);
+        parts.push((o, (pa, pb)));
+        (a, b) = (ra, rb);
+    }
+    parts
+}
+
+/// Per vertex at a plain position (see [`plain_positions`]): the tangent of its one group,
+/// summed over its corners in triangle order, as [`Position`] sums a group.
+fn plain_fans<N>(surface: &Surface<'_, N>, faces: &[FaceTangent], plain: &[bool]) -> Vec<Vec4>
+where
+    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
+{
+    let n = surface.roots.len();
+    let mut sums = vec![Vec4::ZERO; n];
+    let mut normals = vec![Vec3::ZERO; n];
+    let parts = split_by_object(surface, &mut sums, &mut normals);
+    parts.into_par_iter().for_each(|(o, (sums, normals))| {
+        let base = surface.vertex_start[o] as usize;
+        let triangles = surface.triangle_start[o] as usize..surface.triangle_start[o + 1] as usize;
+        for t in triangles {
+            let tri = surface.triangles[t];
+            for (k, &v) in tri.iter().enumerate() {
+                let v = v as usize;
+                if !plain[surface.roots[v] as usize] {
+                    continue;
+                }
+                let n = (surface.normal)(t * 3 + k, v).0;
+                let (s, angle) = s_and_angle(surface, &faces[t], t * 3 + k, n);
+                let sum = &mut sums[v - base];
+                *sum += (s * angle).extend(0.0);
+                sum.w = if faces[t].is(ORIENTED) { 1.0 } else { -1.0 };
+                normals[v - base] = n;
+            }
+        }
+        for (sum, n) in sums.iter_mut().zip(normals.iter()) {
+            if sum.w != 0.0 {
+                *sum = crate::frame::orthogonal_tangent(*n, sum.truncate()).extend(sum.w);
+            }
+        }
+    });
+    sums
+}
+
+/// Corner `c`'s triangle (whose first-order frame is `f`) in the tangent plane of the vertex
+/// normal `n`: its `s` and `t` projected and normalised, and its angle at the vertex between
+/// its edges projected (mikktspace.c's `EvalTspace`).
+fn frame<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: Vec3) -> Projected {
+    let (s, angle) = s_and_angle(surface, f, c, n);
+    Projected { s, t: (f.t - n * n.dot(f.t)).normalize_or_zero(), angle }
+}
+
+/// The `s` and angle of [`frame`] alone (what a group's sum needs).
+fn s_and_angle<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: Vec3) -> (Vec3, f32) {
+    let across = |v: Vec3| v - n * n.dot(v);
+    let (t, k) = (c / 3, c % 3);
+    let tri = surface.triangles[t];
+    let p = |i: usize| surface.positions[tri[i] as usize];
+    let here = p(k);
+    let (e1, e2) = (across(p((k + 1) % 3) - here), across(p((k + 2) % 3) - here));
+    // mikktspace.c normalises both edges, then takes the cosine; one square root does both.
+    let lengths = (e1.length_squared() * e2.length_squared()).sqrt();
+    let cos = if lengths > 0.0 { e1.dot(e2) / lengths } else { 0.0 };
+    (across(f.s).normalize_or_zero(), acos(cos.clamp(-1.0, 1.0)))
+}
+
+/// `acos(x)` for `x` in [-1, 1] by Abramowitz and Stegun's 4.4.46 (absolute error below
+/// 2e-8 rad): several times cheaper than the library's, and what weights need.
+#[expect(
+    clippy::excessive_precision,
+    reason = "the published coefficients, kept as printed in Abramowitz and Stegun"
+)]
+fn acos(x: f32) -> f32 {
+    let a = x.abs();
+    let poly = ((((((-0.001_262_491_1 * a + 0.006_670_090_1) * a - 0.017_088_125_6) * a
+        + 0.030_891_881_0)
+        * a
+        - 0.050_174_304_6)
+        * a
+        + 0.088_978_987_4)
+        * a
+        - 0.214_598_801_6)
+        * a
+        + 1.570_796_305_0;
+    let r = (1.0 - a).sqrt() * poly;
+    if x < 0.0 { std::f32::consts::PI - r } else { r }
 }
 
 /// Step 1: every triangle's first-order tangent frame and flags.
@@ -178,24 +394,39 @@ fn bits(x: f32) -> u32 {
     (x + 0.0).to_bits()
 }
 
-/// Step 2: per corner, its MikkTSpace vertex as a key: equal keys at one position are one
-/// vertex (equal position, UV and normal). The high half is the first vertex of the position
-/// with the vertex's UV (and normal, where normals are per vertex), the low half the normal's
-/// key.
-fn keys<N>(surface: &Surface<'_, N>) -> Vec<u64>
+/// Step 2: per corner of every triangle that touches a position that is not plain, its
+/// MikkTSpace vertex as a key (0 for the others): equal keys at one position are one vertex
+/// (equal position, UV and normal). The high half is the first vertex of the position with
+/// the vertex's UV (and normal, where normals are per vertex), the low half the normal's key.
+fn keys<N>(surface: &Surface<'_, N>, first: &[u32], plain: &[bool]) -> Vec<u64>
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let first = first_equal_vertex(surface);
-    surface
-        .triangles
-        .as_flattened()
-        .par_iter()
-        .enumerate()
-        .map(|(c, &v)| {
-            (u64::from(first[v as usize]) << 32) | u64::from((surface.normal)(c, v as usize).1)
-        })
-        .collect()
+    let mut keys = vec![0u64; surface.triangles.len() * 3];
+    keys.par_chunks_mut(3).zip(surface.triangles.par_iter()).enumerate().for_each(
+        |(t, (keys, tri))| {
+            if tri.iter().all(|&v| plain[surface.roots[v as usize] as usize]) {
+                return;
+            }
+            for (k, &v) in tri.iter().enumerate() {
+                let normal = (surface.normal)(t * 3 + k, v as usize).1;
+                keys[k] = (u64::from(first[v as usize]) << 32) | u64::from(normal);
+            }
+        },
+    );
+    keys
+}
+
+/// Per vertex: whether another vertex of its position has the same first vertex (see
+/// [`first_equal_vertex`]), so that the two may share a MikkTSpace vertex.
+fn shared(first: &[u32]) -> Vec<bool> {
+    let mut shared = vec![false; first.len()];
+    for (v, &f) in first.iter().enumerate() {
+        if f as usize != v {
+            (shared[v], shared[f as usize]) = (true, true);
+        }
+    }
+    shared
 }
 
 /// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
@@ -240,37 +471,38 @@ fn first_equal_vertex<N>(surface: &Surface<'_, N>) -> Vec<u32> {
     first
 }
 
-/// The corners of the model sorted by position (weld root), in corner order within each.
+/// The corners of the positions that are not plain, sorted by position (weld root), in corner
+/// order within each.
 struct ByPosition {
     /// Per root vertex `r`: its corners are `corners[offsets[r]..offsets[r + 1]]`.
     offsets: Vec<u32>,
     corners: Vec<u32>,
-    /// Per corner: its place in `corners`.
-    place: Vec<u32>,
 }
 
 impl ByPosition {
-    /// A counting sort of the corners by their vertex's root.
-    fn gather<N>(surface: &Surface<'_, N>) -> Self {
+    /// A counting sort by their vertex's root of the corners at positions that are not
+    /// `plain`.
+    fn gather<N>(surface: &Surface<'_, N>, plain: &[bool]) -> Self {
         let roots = surface.roots;
         let corners = surface.triangles.as_flattened();
         let mut offsets = vec![0u32; roots.len() + 1];
         for &v in corners {
-            offsets[roots[v as usize] as usize + 1] += 1;
+            let r = roots[v as usize] as usize;
+            offsets[r + 1] += u32::from(!plain[r]);
         }
         for r in 0..roots.len() {
             offsets[r + 1] += offsets[r];
         }
         let mut next = offsets.clone();
-        let mut sorted = vec![0u32; corners.len()];
-        let mut place = vec![0u32; corners.len()];
+        let mut sorted = vec![0u32; offsets[roots.len()] as usize];
         for (c, &v) in corners.iter().enumerate() {
-            let at = &mut next[roots[v as usize] as usize];
-            sorted[*at as usize] = index(c);
-            place[c] = *at;
-            *at += 1;
+            let r = roots[v as usize] as usize;
+            if !plain[r] {
+                sorted[next[r] as usize] = index(c);
+                next[r] += 1;
+            }
         }
-        Self { offsets, corners: sorted, place }
+        Self { offsets, corners: sorted }
     }
 
     /// The corners at root `r`.
@@ -525,18 +757,9 @@ where
         (self.surface.normal)(c, self.surface.triangles[c / 3][c % 3] as usize).0
     }
 
-    /// Local corner `a`'s triangle in the tangent plane of the vertex normal `n`: its `s` and
-    /// `t` projected and normalised, and its angle at the vertex between its edges projected.
+    /// Local corner `a`'s triangle seen from the vertex: see [`frame`].
     fn frame(&self, a: usize, n: Vec3) -> Projected {
-        let f = self.face(a);
-        let across = |v: Vec3| (v - n * n.dot(v)).normalize_or_zero();
-        let c = self.corners[a] as usize;
-        let (t, k) = (c / 3, c % 3);
-        let tri = self.surface.triangles[t];
-        let p = |i: usize| self.surface.positions[tri[i] as usize];
-        let here = p(k);
-        let (e1, e2) = (across(p((k + 1) % 3) - here), across(p((k + 2) % 3) - here));
-        Projected { s: across(f.s), t: across(f.t), angle: e1.dot(e2).clamp(-1.0, 1.0).acos() }
+        frame(self.surface, self.face(a), self.corners[a] as usize, n)
     }
 }
 
@@ -604,5 +827,68 @@ fn resolve_orientations<N>(
             faces[f].flags = (faces[f].flags & !ORIENTED) | oriented;
         }
         resolved[f] = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wavy grid of `n` x `n` quads whose right half has mirrored U, in one object, with
+    /// per-vertex normals (the grid's up, tilted by the waves).
+    fn wavy(n: u32) -> (Vec<Vec3>, Vec<Vec2>, Vec<[u32; 3]>, Vec<Vec3>) {
+        let (mut p, mut uv, mut normals, mut tris) = (vec![], vec![], vec![], vec![]);
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, z) = (i as f32 / n as f32, j as f32 / n as f32);
+                let y = (x * 7.0).sin() * 0.1 + (z * 5.0).cos() * 0.1;
+                p.push(Vec3::new(x, y, z));
+                let u = if x > 0.5 { 1.0 - x } else { x };
+                uv.push(Vec2::new(u, z));
+                normals.push(
+                    Vec3::new(-(x * 7.0).cos() * 0.7, 1.0, (z * 5.0).sin() * 0.5).normalize(),
+                );
+            }
+        }
+        let w = n + 1;
+        for j in 0..n {
+            for i in 0..n {
+                let a = j * w + i;
+                tris.push([a, a + w, a + w + 1]);
+                tris.push([a, a + w + 1, a + 1]);
+            }
+        }
+        (p, uv, tris, normals)
+    }
+
+    #[test]
+    fn plain_fans_give_the_bits_of_the_grouping() {
+        let (positions, uvs, triangles, normals) = wavy(24);
+        let roots: Vec<u32> = (0..index(positions.len())).collect();
+        let (vertex_start, triangle_start) =
+            ([0, index(positions.len())], [0, index(triangles.len())]);
+        let surface = Surface {
+            positions: &positions,
+            roots: &roots,
+            uvs: &uvs,
+            triangles: &triangles,
+            vertex_start: &vertex_start,
+            triangle_start: &triangle_start,
+            normal: |_, v: usize| (normals[v], 0),
+            vertex_normals: Some(&normals),
+            v_axis: VAxis::Up,
+        };
+        let (fast, grouped) = (tangents_with(&surface, false), tangents_with(&surface, true));
+        let plain = fast.plain.iter().filter(|&&p| p).count();
+        assert!(plain > positions.len() / 2, "{plain} plain positions");
+        for (c, &v) in triangles.as_flattened().iter().enumerate() {
+            let (a, b) =
+                (fast.get(c, v as usize, v as usize), grouped.get(c, v as usize, v as usize));
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "corner {c}"
+            );
+        }
     }
 }

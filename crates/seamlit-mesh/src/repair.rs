@@ -293,6 +293,8 @@ fn corner_frames(
                 roots: &roots,
                 uvs: &uvs,
                 triangles: &triangles,
+                vertex_start: &flat.vertex_start,
+                triangle_start: &flat.triangle_start,
                 normal: |_, v: usize| (vertex_normals[v], 0),
                 vertex_normals: Some(&vertex_normals),
                 v_axis: model.v_axis,
@@ -304,7 +306,7 @@ fn corner_frames(
                 .enumerate()
                 .map(|(c, &v)| Frame {
                     normal: vertex_normals[v as usize],
-                    tangent: tangents.get(c),
+                    tangent: tangents.get(c, v as usize, roots[v as usize] as usize),
                 })
                 .collect()
         }
