@@ -60,7 +60,7 @@ const EPS: f32 = 1e-6;
     clippy::excessive_precision,
     reason = "the published coefficients, kept as printed in Abramowitz and Stegun"
 )]
-fn acos_poly(x: Vec4) -> Vec4 {
+pub(crate) fn acos_poly(x: Vec4) -> Vec4 {
     // Horner's scheme with separate multiplies and adds: `mul_add` is a library call on CPUs
     // without FMA in the baseline target (x86-64), several times slower.
     ((((((Vec4::splat(-0.001_262_491_1) * x + 0.006_670_090_1) * x - 0.017_088_125_6) * x

@@ -281,17 +281,22 @@ where
         let triangles = surface.triangle_start[o] as usize..surface.triangle_start[o + 1] as usize;
         for t in triangles {
             let tri = surface.triangles[t];
-            for (k, &v) in tri.iter().enumerate() {
-                let v = v as usize;
-                if !plain[surface.roots[v] as usize] {
-                    continue;
+            let is_plain = tri.map(|v| plain[surface.roots[v as usize] as usize]);
+            if is_plain == [false; 3] {
+                continue;
+            }
+            let n: [Vec3; 3] =
+                std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize).0);
+            let terms = corner_terms(surface, &faces[t], t, n);
+            let w = if faces[t].is(ORIENTED) { 1.0 } else { -1.0 };
+            for k in 0..3 {
+                if is_plain[k] {
+                    let v = tri[k] as usize - base;
+                    let (s, angle) = terms[k];
+                    sums[v] += (s * angle).extend(0.0);
+                    sums[v].w = w;
+                    normals[v] = n[k];
                 }
-                let n = (surface.normal)(t * 3 + k, v).0;
-                let (s, angle) = s_and_angle(surface, &faces[t], t * 3 + k, n);
-                let sum = &mut sums[v - base];
-                *sum += (s * angle).extend(0.0);
-                sum.w = if faces[t].is(ORIENTED) { 1.0 } else { -1.0 };
-                normals[v - base] = n;
             }
         }
         for (sum, n) in sums.iter_mut().zip(normals.iter()) {
@@ -307,44 +312,40 @@ where
 /// normal `n`: its `s` and `t` projected and normalised, and its angle at the vertex between
 /// its edges projected (mikktspace.c's `EvalTspace`).
 fn frame<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: Vec3) -> Projected {
-    let (s, angle) = s_and_angle(surface, f, c, n);
+    let (s, angle) = corner_terms(surface, f, c / 3, [n; 3])[c % 3];
     Projected { s, t: (f.t - n * n.dot(f.t)).normalize_or_zero(), angle }
 }
 
-/// The `s` and angle of [`frame`] alone (what a group's sum needs).
-fn s_and_angle<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: Vec3) -> (Vec3, f32) {
-    let across = |v: Vec3| v - n * n.dot(v);
-    let (t, k) = (c / 3, c % 3);
-    let tri = surface.triangles[t];
-    let p = |i: usize| surface.positions[tri[i] as usize];
-    let here = p(k);
-    let (e1, e2) = (across(p((k + 1) % 3) - here), across(p((k + 2) % 3) - here));
-    // mikktspace.c normalises both edges, then takes the cosine; one square root does both.
-    let lengths = (e1.length_squared() * e2.length_squared()).sqrt();
-    let cos = if lengths > 0.0 { e1.dot(e2) / lengths } else { 0.0 };
-    (across(f.s).normalize_or_zero(), acos(cos.clamp(-1.0, 1.0)))
-}
-
-/// `acos(x)` for `x` in [-1, 1] by Abramowitz and Stegun's 4.4.46 (absolute error below
-/// 2e-8 rad): several times cheaper than the library's, and what weights need.
-#[expect(
-    clippy::excessive_precision,
-    reason = "the published coefficients, kept as printed in Abramowitz and Stegun"
-)]
-fn acos(x: f32) -> f32 {
-    let a = x.abs();
-    let poly = ((((((-0.001_262_491_1 * a + 0.006_670_090_1) * a - 0.017_088_125_6) * a
-        + 0.030_891_881_0)
-        * a
-        - 0.050_174_304_6)
-        * a
-        + 0.088_978_987_4)
-        * a
-        - 0.214_598_801_6)
-        * a
-        + 1.570_796_305_0;
-    let r = (1.0 - a).sqrt() * poly;
-    if x < 0.0 { std::f32::consts::PI - r } else { r }
+/// For each corner `k` of triangle `t` (whose first-order frame is `f`), seen in the tangent
+/// plane of `normals[k]`: `s` projected and normalised, and the angle between the corner's
+/// edges projected. The three corners' square roots, divisions and arc cosines run side by
+/// side in SIMD lanes (a lane gives the bits a lone corner would).
+fn corner_terms<N>(
+    surface: &Surface<'_, N>,
+    f: &FaceTangent,
+    t: usize,
+    normals: [Vec3; 3],
+) -> [(Vec3, f32); 3] {
+    let p = surface.triangles[t].map(|v| surface.positions[v as usize]);
+    let (mut dots, mut lengths) = (Vec4::ZERO, Vec4::ONE);
+    for k in 0..3 {
+        let n = normals[k];
+        let across = |v: Vec3| v - n * n.dot(v);
+        let (e1, e2) = (across(p[(k + 1) % 3] - p[k]), across(p[(k + 2) % 3] - p[k]));
+        // mikktspace.c normalises both edges, then takes their cosine; one root does both.
+        dots[k] = e1.dot(e2);
+        lengths[k] = e1.length_squared() * e2.length_squared();
+    }
+    let lengths = lengths.sqrt();
+    let cos = Vec4::select(lengths.cmpgt(Vec4::ZERO), dots / lengths, Vec4::ZERO)
+        .clamp(Vec4::NEG_ONE, Vec4::ONE);
+    let x = cos.abs();
+    let r = (Vec4::ONE - x).sqrt() * crate::face::acos_poly(x);
+    let angle = Vec4::select(cos.cmplt(Vec4::ZERO), Vec4::splat(std::f32::consts::PI) - r, r);
+    std::array::from_fn(|k| {
+        let n = normals[k];
+        ((f.s - n * n.dot(f.s)).normalize_or_zero(), angle[k])
+    })
 }
 
 /// Step 1: every triangle's first-order tangent frame and flags.
