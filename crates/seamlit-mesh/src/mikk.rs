@@ -119,13 +119,13 @@ fn tangents_with<N>(surface: &Surface<'_, N>, all_grouped: bool) -> Tangents
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let mut faces = face_tangents(surface);
+    let mut faces = face_flags(surface);
     let first = first_equal_vertex(surface);
     let mut plain = plain_positions(surface, &faces, &shared(&first));
     if all_grouped {
         plain.fill(false);
     }
-    let keys = keys(surface, &first, &plain);
+    let keys = Keys::of(surface, &first, &plain);
     drop(first);
     let by_position = ByPosition::gather(surface, &plain);
     resolve_orientations(surface, &keys, &by_position, &mut faces);
@@ -133,7 +133,7 @@ where
     drop(keys);
     let mut rest: Vec<(u32, Vec4)> = by_position.corners.iter().copied().zip(raw).collect();
     rest.par_sort_unstable_by_key(|&(c, _)| c);
-    let fans = plain_fans(surface, &faces, &plain);
+    let fans = plain_fans(surface, &plain);
     Tangents { plain, fans, rest }
 }
 
@@ -200,7 +200,7 @@ fn spread(key: u64) -> u64 {
 ///
 /// One case a closed fan does not rule out: two closed fans pinched at one vertex with one
 /// UV, two groups for MikkTSpace; they are summed as one here.
-fn plain_positions<N>(surface: &Surface<'_, N>, faces: &[FaceTangent], shared: &[bool]) -> Vec<bool>
+fn plain_positions<N>(surface: &Surface<'_, N>, faces: &[u8], shared: &[bool]) -> Vec<bool>
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
@@ -212,10 +212,10 @@ where
         let base = surface.vertex_start[o] as usize;
         let triangles = surface.triangle_start[o] as usize..surface.triangle_start[o + 1] as usize;
         for t in triangles {
-            let face = &faces[t];
-            let bits = if face.is(ANY | DEGENERATE) {
+            let face = faces[t];
+            let bits = if face & (ANY | DEGENERATE) != 0 {
                 IRREGULAR
-            } else if face.is(ORIENTED) {
+            } else if face & ORIENTED != 0 {
                 HAS_ORIENTED
             } else {
                 HAS_REVERSED
@@ -268,7 +268,7 @@ fn split_by_object<'x, N, A, B>(
 
 /// Per vertex at a plain position (see [`plain_positions`]): the tangent of its one group,
 /// summed over its corners in triangle order, as [`Position`] sums a group.
-fn plain_fans<N>(surface: &Surface<'_, N>, faces: &[FaceTangent], plain: &[bool]) -> Vec<Vec4>
+fn plain_fans<N>(surface: &Surface<'_, N>, plain: &[bool]) -> Vec<Vec4>
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
@@ -287,8 +287,9 @@ where
             }
             let n: [Vec3; 3] =
                 std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize).0);
-            let terms = corner_terms(surface, &faces[t], t, n);
-            let w = if faces[t].is(ORIENTED) { 1.0 } else { -1.0 };
+            let face = face_tangent(surface, t);
+            let terms = corner_terms(surface, &face, t, n);
+            let w = if face.is(ORIENTED) { 1.0 } else { -1.0 };
             for k in 0..3 {
                 if is_plain[k] {
                     let v = tri[k] as usize - base;
@@ -348,41 +349,43 @@ fn corner_terms<N>(
     })
 }
 
-/// Step 1: every triangle's first-order tangent frame and flags.
-fn face_tangents<N>(surface: &Surface<'_, N>) -> Vec<FaceTangent> {
+/// Step 1: every triangle's flags (its first-order frame is computed where it is needed:
+/// [`face_tangent`]).
+fn face_flags<N: Sync>(surface: &Surface<'_, N>) -> Vec<u8> {
+    (0..surface.triangles.len()).into_par_iter().map(|t| face_tangent(surface, t).flags).collect()
+}
+
+/// Triangle `t`'s first-order tangent `s` and bitangent `t` (the thesis' equations 18 and
+/// 19), normalised and signed by its UV orientation, and its flags.
+fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
+    let tri = surface.triangles[t];
+    let r = tri.map(|v| surface.roots[v as usize]);
+    if r[0] == r[1] || r[1] == r[2] || r[2] == r[0] {
+        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+    }
     let v_sign = surface.v_axis.bitangent_sign();
-    surface
-        .triangles
-        .par_iter()
-        .map(|tri| {
-            let r = tri.map(|v| surface.roots[v as usize]);
-            if r[0] == r[1] || r[1] == r[2] || r[2] == r[0] {
-                return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
-            }
-            let p = tri.map(|v| surface.positions[v as usize]);
-            let uv = tri.map(|v| {
-                let uv = surface.uvs[v as usize];
-                Vec2::new(uv.x, uv.y * v_sign)
-            });
-            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-            let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
-            let area = d1.x * d2.y - d1.y * d2.x;
-            let s = e1 * d2.y - e2 * d1.y;
-            let t = e2 * d1.x - e1 * d2.x;
-            let oriented = area > 0.0;
-            let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
-            if not_zero(area) {
-                let sign = if oriented { 1.0 } else { -1.0 };
-                face.s = s.normalize_or_zero() * sign;
-                face.t = t.normalize_or_zero() * sign;
-                let magnitude = |v: Vec3| v.length() / area.abs();
-                if not_zero(magnitude(s)) && not_zero(magnitude(t)) {
-                    face.flags &= !ANY;
-                }
-            }
-            face
-        })
-        .collect()
+    let p = tri.map(|v| surface.positions[v as usize]);
+    let uv = tri.map(|v| {
+        let uv = surface.uvs[v as usize];
+        Vec2::new(uv.x, uv.y * v_sign)
+    });
+    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+    let area = d1.x * d2.y - d1.y * d2.x;
+    let s = e1 * d2.y - e2 * d1.y;
+    let t = e2 * d1.x - e1 * d2.x;
+    let oriented = area > 0.0;
+    let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
+    if not_zero(area) {
+        let sign = if oriented { 1.0 } else { -1.0 };
+        face.s = s.normalize_or_zero() * sign;
+        face.t = t.normalize_or_zero() * sign;
+        let magnitude = |v: Vec3| v.length() / area.abs();
+        if not_zero(magnitude(s)) && not_zero(magnitude(t)) {
+            face.flags &= !ANY;
+        }
+    }
+    face
 }
 
 /// mikktspace.c's test for a usable float.
@@ -396,26 +399,47 @@ fn bits(x: f32) -> u32 {
 }
 
 /// Step 2: per corner of every triangle that touches a position that is not plain, its
-/// MikkTSpace vertex as a key (0 for the others): equal keys at one position are one vertex
+/// MikkTSpace vertex as a key: equal keys at one position are one vertex
 /// (equal position, UV and normal). The high half is the first vertex of the position with
 /// the vertex's UV (and normal, where normals are per vertex), the low half the normal's key.
-fn keys<N>(surface: &Surface<'_, N>, first: &[u32], plain: &[bool]) -> Vec<u64>
-where
-    N: Fn(usize, usize) -> (Vec3, u32) + Sync,
-{
-    let mut keys = vec![0u64; surface.triangles.len() * 3];
-    keys.par_chunks_mut(3).zip(surface.triangles.par_iter()).enumerate().for_each(
-        |(t, (keys, tri))| {
-            if tri.iter().all(|&v| plain[surface.roots[v as usize] as usize]) {
-                return;
-            }
-            for (k, &v) in tri.iter().enumerate() {
-                let normal = (surface.normal)(t * 3 + k, v as usize).1;
-                keys[k] = (u64::from(first[v as usize]) << 32) | u64::from(normal);
-            }
-        },
-    );
-    keys
+struct Keys {
+    /// The triangles that touch a position that is not plain, ascending.
+    triangles: Vec<u32>,
+    /// Three keys per triangle of `triangles`.
+    keys: Vec<[u64; 3]>,
+}
+
+impl Keys {
+    fn of<N>(surface: &Surface<'_, N>, first: &[u32], plain: &[bool]) -> Self
+    where
+        N: Fn(usize, usize) -> (Vec3, u32) + Sync,
+    {
+        let triangles: Vec<u32> = (0..surface.triangles.len())
+            .into_par_iter()
+            .filter(|&t| {
+                surface.triangles[t].iter().any(|&v| !plain[surface.roots[v as usize] as usize])
+            })
+            .map(index)
+            .collect();
+        let keys = triangles
+            .par_iter()
+            .map(|&t| {
+                let (t, tri) = (t as usize, surface.triangles[t as usize]);
+                std::array::from_fn(|k| {
+                    let normal = (surface.normal)(t * 3 + k, tri[k] as usize).1;
+                    (u64::from(first[tri[k] as usize]) << 32) | u64::from(normal)
+                })
+            })
+            .collect();
+        Self { triangles, keys }
+    }
+
+    /// The keys of the corners of triangle `t`, which touches a position that is not plain.
+    fn of_triangle(&self, t: usize) -> [u64; 3] {
+        let i = self.triangles.partition_point(|&e| (e as usize) < t);
+        debug_assert_eq!(self.triangles[i] as usize, t);
+        self.keys[i]
+    }
 }
 
 /// Per vertex: whether another vertex of its position has the same first vertex (see
@@ -513,12 +537,7 @@ impl ByPosition {
 
     /// Steps 3 to 5 for every position, in parallel: each corner's tangent, in the order of
     /// `corners`.
-    fn evaluate<N>(
-        &self,
-        surface: &Surface<'_, N>,
-        keys: &[u64],
-        faces: &[FaceTangent],
-    ) -> Vec<Vec4>
+    fn evaluate<N>(&self, surface: &Surface<'_, N>, keys: &Keys, faces: &[u8]) -> Vec<Vec4>
     where
         N: Fn(usize, usize) -> (Vec3, u32) + Sync,
     {
@@ -584,8 +603,9 @@ struct Scratch {
 /// The corners at one position.
 struct Position<'a, 'b, N> {
     surface: &'a Surface<'b, N>,
-    keys: &'a [u64],
-    faces: &'a [FaceTangent],
+    keys: &'a Keys,
+    /// Per triangle: its flags.
+    faces: &'a [u8],
     /// Global corner indices, ascending.
     corners: &'a [u32],
 }
@@ -594,8 +614,9 @@ impl<N> Position<'_, '_, N>
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    fn face(&self, a: usize) -> &FaceTangent {
-        &self.faces[self.corners[a] as usize / 3]
+    /// The flags of local corner `a`'s triangle.
+    fn flags(&self, a: usize) -> u8 {
+        self.faces[self.corners[a] as usize / 3]
     }
 
     /// Writes the tangent of every corner at this position into `out` (aligned with
@@ -607,8 +628,8 @@ where
         s.prev.clear();
         for &c in self.corners {
             let c = c as usize;
-            let (t, k) = (c / 3 * 3, c % 3);
-            let keys = &self.keys[t..t + 3];
+            let k = c % 3;
+            let keys = self.keys.of_triangle(c / 3);
             s.key.push(keys[k]);
             s.next.push(keys[(k + 1) % 3]);
             s.prev.push(keys[(k + 2) % 3]);
@@ -636,7 +657,8 @@ where
         // Healthy corners only take part in the groups.
         s.members.clear();
         let order = &s.order[range.clone()];
-        s.members.extend(order.iter().copied().filter(|&a| !self.face(a as usize).is(DEGENERATE)));
+        s.members
+            .extend(order.iter().copied().filter(|&a| !self.flags(a as usize) & DEGENERATE != 0));
         let n = self.normal_of(s.order[range.start] as usize);
         // Corners no group reaches get a direction across the normal, w = +1.
         let none = n.any_orthonormal_vector().extend(1.0);
@@ -650,7 +672,7 @@ where
         // Step 5: a degenerate triangle's corner copies the first healthy corner's result.
         let first_healthy = s.members.first().map(|&a| out[a as usize]);
         for &a in &s.order[range] {
-            if self.face(a as usize).is(DEGENERATE) {
+            if self.flags(a as usize) & DEGENERATE != 0 {
                 out[a as usize] = first_healthy.unwrap_or(none);
             }
         }
@@ -675,8 +697,8 @@ where
             let from = s.by_prev.partition_point(|&b| prev(b) < next);
             for &b in s.by_prev[from..].iter().take_while(|&&b| prev(b) == next) {
                 let (fa, fb) =
-                    (self.face(members[a] as usize), self.face(members[b as usize] as usize));
-                if (fa.flags ^ fb.flags) & ORIENTED == 0 {
+                    (self.flags(members[a] as usize), self.flags(members[b as usize] as usize));
+                if (fa ^ fb) & ORIENTED == 0 {
                     union(&mut s.parent, index(a), b);
                 }
             }
@@ -712,15 +734,15 @@ where
 
     /// Step 4 for the local corners `s.group`, one group.
     fn one_group(&self, s: &mut Scratch, n: Vec3, out: &mut [Vec4]) {
-        let Some(&seed) = s.group.iter().find(|&&a| !self.face(a as usize).is(ANY)) else {
+        let Some(&seed) = s.group.iter().find(|&&a| self.flags(a as usize) & ANY == 0) else {
             return;
         };
-        let w = if self.face(seed as usize).is(ORIENTED) { 1.0 } else { -1.0 };
+        let w = if self.flags(seed as usize) & ORIENTED != 0 { 1.0 } else { -1.0 };
         let finish = |sum: Vec3| crate::frame::orthogonal_tangent(n, sum).extend(w);
         s.frames.clear();
         for &a in &s.group {
             let a = a as usize;
-            s.frames.push(if self.face(a).is(ANY) { None } else { Some(self.frame(a, n)) });
+            s.frames.push(if self.flags(a) & ANY != 0 { None } else { Some(self.frame(a, n)) });
         }
         if !splits(&s.frames) {
             let tangent = finish(s.frames.iter().flatten().map(|f| f.s * f.angle).sum());
@@ -760,7 +782,8 @@ where
 
     /// Local corner `a`'s triangle seen from the vertex: see [`frame`].
     fn frame(&self, a: usize, n: Vec3) -> Projected {
-        frame(self.surface, self.face(a), self.corners[a] as usize, n)
+        let c = self.corners[a] as usize;
+        frame(self.surface, &face_tangent(self.surface, c / 3), c, n)
     }
 }
 
@@ -791,41 +814,38 @@ fn splits(frames: &[Option<Projected>]) -> bool {
 /// each of its vertices) that is healthy or already resolved; one without keeps its own.
 fn resolve_orientations<N>(
     surface: &Surface<'_, N>,
-    keys: &[u64],
+    keys: &Keys,
     by_position: &ByPosition,
-    faces: &mut [FaceTangent],
+    faces: &mut [u8],
 ) {
+    let is = |flags: u8, flag: u8| flags & flag != 0;
     let any: Vec<usize> =
-        (0..faces.len()).filter(|&f| faces[f].is(ANY) && !faces[f].is(DEGENERATE)).collect();
-    let next_prev = |c: usize| {
-        let (t, k) = (c / 3 * 3, c % 3);
-        (keys[t + (k + 1) % 3], keys[t + (k + 2) % 3])
-    };
+        (0..faces.len()).filter(|&f| is(faces[f], ANY) && !is(faces[f], DEGENERATE)).collect();
     let mut resolved = vec![false; faces.len()];
     for f in any {
         let mut found = None;
+        let own = keys.of_triangle(f);
         'corners: for k in 0..3 {
-            let c = f * 3 + k;
-            let (next, prev) = next_prev(c);
+            let (next, prev) = (own[(k + 1) % 3], own[(k + 2) % 3]);
             let r = surface.roots[surface.triangles[f][k] as usize] as usize;
             for &b in by_position.at(r) {
-                let g = b as usize / 3;
-                let fb = &faces[g];
-                if g == f || fb.is(DEGENERATE) || (fb.is(ANY) && !resolved[g]) {
+                let (g, kb) = (b as usize / 3, b as usize % 3);
+                let fb = faces[g];
+                if g == f || is(fb, DEGENERATE) || (is(fb, ANY) && !resolved[g]) {
                     continue;
                 }
-                if keys[b as usize] != keys[c] {
+                let theirs = keys.of_triangle(g);
+                if theirs[kb] != own[k] {
                     continue;
                 }
-                let (b_next, b_prev) = next_prev(b as usize);
-                if b_prev == next || b_next == prev {
-                    found = Some(fb.flags & ORIENTED);
+                if theirs[(kb + 2) % 3] == next || theirs[(kb + 1) % 3] == prev {
+                    found = Some(fb & ORIENTED);
                     break 'corners;
                 }
             }
         }
         if let Some(oriented) = found {
-            faces[f].flags = (faces[f].flags & !ORIENTED) | oriented;
+            faces[f] = (faces[f] & !ORIENTED) | oriented;
         }
         resolved[f] = true;
     }
