@@ -343,9 +343,19 @@ fn corner_terms<N>(
     let x = cos.abs();
     let r = (Vec4::ONE - x).sqrt() * crate::face::acos_poly(x);
     let angle = Vec4::select(cos.cmplt(Vec4::ZERO), Vec4::splat(std::f32::consts::PI) - r, r);
+    // `s` projected for each corner and normalised as `Vec3::normalize_or_zero` does, the
+    // three square roots and reciprocals side by side.
+    let across: [Vec3; 3] = std::array::from_fn(|k| f.s - normals[k] * normals[k].dot(f.s));
+    let squares = Vec4::new(
+        across[0].length_squared(),
+        across[1].length_squared(),
+        across[2].length_squared(),
+        1.0,
+    );
+    let rcp = squares.sqrt().recip();
     std::array::from_fn(|k| {
-        let n = normals[k];
-        ((f.s - n * n.dot(f.s)).normalize_or_zero(), angle[k])
+        let r = rcp[k];
+        (if r.is_finite() && r > 0.0 { across[k] * r } else { Vec3::ZERO }, angle[k])
     })
 }
 
@@ -378,10 +388,16 @@ fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
     let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
     if not_zero(area) {
         let sign = if oriented { 1.0 } else { -1.0 };
-        face.s = s.normalize_or_zero() * sign;
-        face.t = t.normalize_or_zero() * sign;
-        let magnitude = |v: Vec3| v.length() / area.abs();
-        if not_zero(magnitude(s)) && not_zero(magnitude(t)) {
+        // Each length once: for the unit vector (as `normalize_or_zero` makes it) and the
+        // magnitude.
+        let (ls, lt) = (s.length(), t.length());
+        let unit = |v: Vec3, l: f32| {
+            let r = l.recip();
+            if r.is_finite() && r > 0.0 { v * r } else { Vec3::ZERO }
+        };
+        face.s = unit(s, ls) * sign;
+        face.t = unit(t, lt) * sign;
+        if not_zero(ls / area.abs()) && not_zero(lt / area.abs()) {
             face.flags &= !ANY;
         }
     }
