@@ -1,10 +1,15 @@
-//! Atomic file output: a temporary file in the destination folder, renamed over the
-//! destination once complete, so a failed write never leaves a half-written file.
+//! Files in and out, for every format: whole files read under the size limit
+//! ([`read_bytes`], [`read_text`]), and atomic output ([`write`], [`write_with`]): a
+//! temporary file in the destination folder, renamed over the destination once complete,
+//! so a failed write never leaves a half-written file. Also the names the writers give the
+//! files they write beside their output ([`safe_name`]), and whether two paths are one
+//! file ([`same_file`]).
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::IoError;
+use crate::error::IoError;
+use crate::options::LoadOptions;
 
 /// Writes `bytes` to `path` atomically.
 ///
@@ -45,4 +50,45 @@ pub(crate) fn write_with(
     file.as_file().sync_all().map_err(io)?;
     file.persist(path).map_err(|e| io(e.error))?;
     Ok(())
+}
+
+/// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
+pub(crate) fn safe_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(
+            |c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' },
+        )
+        .collect();
+    if s.is_empty() || s.starts_with('.') { format!("model{s}") } else { s }
+}
+
+/// Whether two paths name the same file (by canonical path when both exist).
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Reads a file whole, refusing files over `options.max_file_bytes`.
+pub(crate) fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
+    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
+    if size > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: size,
+        });
+    }
+    std::fs::read(path).map_err(|e| IoError::io(path, e))
+}
+
+/// Reads a text file whole (invalid UTF-8 replaced), refusing files over the size limit.
+pub(crate) fn read_text(path: &Path, options: &LoadOptions) -> Result<String, IoError> {
+    let bytes = read_bytes(path, options)?;
+    Ok(match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(err) => String::from_utf8_lossy(err.as_bytes()).into_owned(),
+    })
 }

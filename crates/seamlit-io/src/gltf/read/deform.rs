@@ -44,12 +44,12 @@ impl Reader<'_> {
             let weight_types = [DataType::F32, DataType::U8, DataType::U16];
             self.checked(&weights, buffers, &weight_types, &wn, vertex_count)?;
             // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
-            let joints: Vec<[u32; 4]> = crate::gltf_spec::zeros_without_view(
+            let joints: Vec<[u32; 4]> = super::lenient::zeros_without_view(
                 Some(&joints),
                 reader.read_joints(set).map(|it| it.into_u16().map(|j| j.map(u32::from)).collect()),
             )
             .unwrap_or_default();
-            let weights: Vec<[f32; 4]> = crate::gltf_spec::zeros_without_view(
+            let weights: Vec<[f32; 4]> = super::lenient::zeros_without_view(
                 Some(&weights),
                 reader.read_weights(set).map(|it| it.into_f32().collect()),
             )
@@ -75,7 +75,7 @@ impl Reader<'_> {
             };
             let name = format!("targets[{k}].POSITION");
             self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
-            let deltas: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
+            let deltas: Vec<Vec3> = super::lenient::zeros_without_view(
                 Some(&accessor),
                 reader
                     .read_morph_targets()
