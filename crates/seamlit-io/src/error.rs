@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use crate::gltf::error::{BadAccessor, BadUri, GltfKind};
+use crate::gltf::error::{BadUri, GltfKind};
 
 /// Why a file could not be read or written.
 ///
@@ -132,89 +132,21 @@ pub enum IoError {
     },
 
     /// The glTF container or JSON could not be parsed, failed the gltf crate's validation or
-    /// seamlit's own checks, or holds compressed data that does not decode.
+    /// seamlit's own checks, holds geometry data that is out of range, of the wrong layout or
+    /// not finite, or holds compressed data that does not decode.
     #[error("{}: glTF {place}: {kind}", path.display())]
     Gltf {
         /// The file.
         path: PathBuf,
-        /// Where: `GLB container`, `JSON line L column C`, or the JSON path of the invalid
-        /// member (`meshes[0].primitives[0].indices`).
+        /// Where: `GLB container`, `JSON line L column C`, the JSON path of the invalid
+        /// member (`meshes[0].primitives[0].indices`), or for geometry data the element it
+        /// is about (`accessor 3`, `buffer 0`, `mesh 0 primitive 1`; see
+        /// [`GltfKind::data_place`]).
         place: String,
         /// What is wrong; its source is the foreign error (serde_json's, gltf-json's,
         /// meshoptimizer's, the Draco decoder's) where there is one.
         #[source]
         kind: GltfKind,
-    },
-
-    /// A glTF buffer is shorter than its declared `byteLength`.
-    #[error("{}: glTF buffer {buffer}: expected {expected} bytes, found {actual}", path.display())]
-    BufferLength {
-        /// The file.
-        path: PathBuf,
-        /// Buffer index.
-        buffer: usize,
-        /// Declared length.
-        expected: u64,
-        /// Available length.
-        actual: u64,
-    },
-
-    /// A glTF accessor (or its buffer view) reaches past the end of the data it points into.
-    #[error("{}: glTF accessor {accessor} (buffer view {view}): needs bytes up to {needed}, but only {available} are available", path.display())]
-    AccessorOutOfRange {
-        /// The file.
-        path: PathBuf,
-        /// Accessor index.
-        accessor: usize,
-        /// Buffer view index.
-        view: usize,
-        /// One past the last byte the accessor reads (relative to the buffer view for
-        /// accessors, to the buffer for buffer views).
-        needed: u64,
-        /// Bytes available.
-        available: u64,
-    },
-
-    /// A glTF accessor has a layout this reader does not accept (wrong type for the
-    /// attribute, a sparse accessor without data, a count that does not match the others).
-    #[error("{}: glTF accessor {accessor}: {kind}", path.display())]
-    BadAccessor {
-        /// The file.
-        path: PathBuf,
-        /// Accessor index.
-        accessor: usize,
-        /// What is wrong, with expected and actual.
-        kind: BadAccessor,
-    },
-
-    /// A vertex index in a glTF primitive is not below the vertex count.
-    #[error("{}: glTF mesh {mesh} primitive {primitive}: index accessor {accessor} holds index {index}, but the primitive has {vertex_count} vertices", path.display())]
-    IndexOutOfRange {
-        /// The file.
-        path: PathBuf,
-        /// Mesh index.
-        mesh: usize,
-        /// Primitive index within the mesh.
-        primitive: usize,
-        /// Index accessor.
-        accessor: usize,
-        /// The offending index value.
-        index: u32,
-        /// Number of vertices (POSITION count).
-        vertex_count: usize,
-    },
-
-    /// A glTF vertex attribute holds NaN or infinity.
-    #[error("{}: glTF accessor {accessor} ({attribute}): element {element} is not finite", path.display())]
-    AccessorNotFinite {
-        /// The file.
-        path: PathBuf,
-        /// Accessor index.
-        accessor: usize,
-        /// The attribute (`POSITION`, `NORMAL`, ...).
-        attribute: &'static str,
-        /// Index of the first non-finite element.
-        element: usize,
     },
 
     /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme
@@ -589,6 +521,13 @@ pub enum NotText {
 }
 
 impl IoError {
+    /// An [`IoError::Gltf`] about geometry data, at the place its kind names
+    /// ([`GltfKind::data_place`]).
+    pub(crate) fn gltf_data(path: PathBuf, kind: GltfKind) -> Self {
+        let place = kind.data_place().unwrap_or_default();
+        Self::Gltf { path, place, kind }
+    }
+
     /// An [`IoError::Io`] for `path`.
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Self::Io { path: path.into(), source }

@@ -163,8 +163,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// `options.keep_compression` for a Draco-compressed source or an `.obj` path;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
-/// inconsistent; [`IoError::AccessorOutOfRange`] or [`IoError::BadAccessor`] for a source
-/// accessor the pass-through cannot copy; [`IoError::Io`] when writing fails.
+/// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
+/// [`GltfKind::Accessor`]) for a source accessor the pass-through cannot copy;
+/// [`IoError::Io`] when writing fails.
 pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveReport, IoError> {
     if !options.overwrite_input
         && asset.source.as_deref().is_some_and(|source| files::same_file(source, path))

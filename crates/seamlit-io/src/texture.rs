@@ -288,8 +288,8 @@ pub(crate) fn encoded(
     }
     let Some(image) = &texture.image else { return Ok(None) };
     let mut png = Vec::new();
-    image.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png).map_err(
-        |source| IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source },
-    )?;
+    image.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png).map_err(|source| {
+        IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source }
+    })?;
     Ok(Some((png, "image/png")))
 }

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-/// What is wrong with a glTF accessor (see [`crate::IoError::BadAccessor`]): a kind, with the
+/// What is wrong with a glTF accessor (see [`GltfKind::Accessor`]): a kind, with the
 /// expected and the actual values.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
@@ -250,6 +250,91 @@ pub enum GltfKind {
     /// (boxed: its largest kind would double the size of every [`crate::IoError`]).
     #[error(transparent)]
     Draco(Box<Draco>),
+    /// A buffer is shorter than its declared `byteLength` (`place` is `buffer N`).
+    #[error("expected {expected} bytes, found {actual}")]
+    BufferLength {
+        /// Buffer index.
+        buffer: usize,
+        /// Declared length.
+        expected: u64,
+        /// Available length.
+        actual: u64,
+    },
+    /// An accessor (or its buffer view) reaches past the end of the data it points into
+    /// (`place` is `accessor N (buffer view M)`).
+    #[error("needs bytes up to {needed}, but only {available} are available")]
+    AccessorOutOfRange {
+        /// Accessor index.
+        accessor: usize,
+        /// Buffer view index.
+        view: usize,
+        /// One past the last byte the accessor reads (relative to the buffer view for
+        /// accessors, to the buffer for buffer views).
+        needed: u64,
+        /// Bytes available.
+        available: u64,
+    },
+    /// An accessor has a layout this reader does not accept (wrong type for the attribute, a
+    /// sparse accessor without data, a count that does not match the others; `place` is
+    /// `accessor N`).
+    #[error("{kind}")]
+    Accessor {
+        /// Accessor index.
+        accessor: usize,
+        /// What is wrong, with expected and actual (boxed, as [`GltfKind::Draco`] is).
+        kind: Box<BadAccessor>,
+    },
+    /// A vertex index in a primitive is not below the vertex count (`place` is
+    /// `mesh M primitive P`).
+    #[error(
+        "index accessor {accessor} holds index {index}, but the primitive has {vertex_count} vertices"
+    )]
+    IndexOutOfRange {
+        /// Mesh index.
+        mesh: usize,
+        /// Primitive index within the mesh.
+        primitive: usize,
+        /// Index accessor.
+        accessor: usize,
+        /// The offending index value.
+        index: u32,
+        /// Number of vertices (POSITION count).
+        vertex_count: usize,
+    },
+    /// A vertex attribute holds NaN or infinity (`place` is `accessor N (ATTRIBUTE)`).
+    #[error("element {element} is not finite")]
+    AccessorNotFinite {
+        /// Accessor index.
+        accessor: usize,
+        /// The attribute (`POSITION`, `NORMAL`, ...).
+        attribute: &'static str,
+        /// Index of the first non-finite element.
+        element: usize,
+    },
+}
+
+impl GltfKind {
+    /// For a kind about geometry data, the place [`crate::IoError::Gltf`] names: the
+    /// buffer, accessor or primitive (`buffer 0`, `accessor 3 (buffer view 1)`, `accessor 3`,
+    /// `mesh 0 primitive 1`, `accessor 3 (POSITION)`); `None` for the kinds whose place is a
+    /// JSON path or the container.
+    #[must_use]
+    pub fn data_place(&self) -> Option<String> {
+        Some(match self {
+            Self::BufferLength { buffer, .. } => format!("buffer {buffer}"),
+            Self::AccessorOutOfRange { accessor, view, .. } => {
+                format!("accessor {accessor} (buffer view {view})")
+            }
+            Self::Accessor { accessor, .. } => format!("accessor {accessor}"),
+            Self::IndexOutOfRange { mesh, primitive, .. } => {
+                format!("mesh {mesh} primitive {primitive}")
+            }
+            Self::AccessorNotFinite { accessor, attribute, .. } => {
+                format!("accessor {accessor} ({attribute})")
+            }
+            _ => return None,
+        })
+    }
 }
 
 /// ` (and N more problems)` when there are more.

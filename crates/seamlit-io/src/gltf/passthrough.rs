@@ -41,7 +41,7 @@ use serde_json::{Map, Value, json};
 use crate::asset::Asset;
 use crate::check::{check_object, unit_normal, unit_tangent};
 use crate::error::IoError;
-use crate::gltf::error::BadAccessor;
+use crate::gltf::error::{BadAccessor, GltfKind};
 use crate::gltf::json::{
     ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER, FLOAT, UNSIGNED_BYTE, UNSIGNED_INT, UNSIGNED_SHORT,
     array_member, integer, usize_member,
@@ -542,11 +542,13 @@ impl<'a> OutputDocument<'a> {
     fn duplicate(&mut self, index: &Value, object: &Object) -> Result<usize, IoError> {
         let source = self.source;
         let Some(index) = integer(index).and_then(|i| usize::try_from(i).ok()) else {
-            return Err(IoError::BadAccessor {
-                path: source.path.clone(),
-                accessor: usize::MAX,
-                kind: BadAccessor::NotAnAccessor { found: index.to_string() },
-            });
+            return Err(IoError::gltf_data(
+                source.path.clone(),
+                GltfKind::Accessor {
+                    accessor: usize::MAX,
+                    kind: Box::new(BadAccessor::NotAnAccessor { found: index.to_string() }),
+                },
+            ));
         };
         let elements = read_elements(source, index, object.input_vertex_count())?;
         let size = elements.size;

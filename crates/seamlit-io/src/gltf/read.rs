@@ -59,9 +59,9 @@ use scene::Placing;
 /// # Errors
 ///
 /// [`IoError::Gltf`] for a malformed container, JSON or a document the gltf crate rejects
-/// (with the JSON path); [`IoError::BufferLength`], [`IoError::AccessorOutOfRange`],
-/// [`IoError::BadAccessor`], [`IoError::IndexOutOfRange`], [`IoError::AccessorNotFinite`]
-/// for bad geometry data; [`IoError::BadUri`] for a URI outside the model's folder,
+/// (with the JSON path), and for bad geometry data (a buffer shorter than declared, an
+/// accessor out of range or of the wrong layout, an index out of range, a value not
+/// finite); [`IoError::BadUri`] for a URI outside the model's folder,
 /// [`IoError::LinkEscapes`] for one whose symbolic links lead out of it;
 /// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {

@@ -5,7 +5,7 @@
 use serde_json::Value;
 
 use crate::error::IoError;
-use crate::gltf::error::BadAccessor;
+use crate::gltf::error::{BadAccessor, GltfKind};
 use crate::gltf::json::{
     BYTE, FLOAT, SHORT, UNSIGNED_BYTE, UNSIGNED_INT, UNSIGNED_SHORT, integer, shape, usize_member,
 };
@@ -21,7 +21,11 @@ pub(super) struct Elements {
 
 /// Reads accessor `index` of the source, which must have `expected` elements: every
 /// element's bytes, from its buffer view (or zeros) with the sparse values substituted.
-pub(super) fn read_elements(source: &Source, index: usize, expected: usize) -> Result<Elements, IoError> {
+pub(super) fn read_elements(
+    source: &Source,
+    index: usize,
+    expected: usize,
+) -> Result<Elements, IoError> {
     let accessor = &source.json["accessors"][index];
     let at = AccessorAt { source, index };
     // Bytes per element, from componentType and type.
@@ -51,7 +55,10 @@ struct AccessorAt<'a> {
 
 impl AccessorAt<'_> {
     fn accessor_error(&self, kind: BadAccessor) -> IoError {
-        IoError::BadAccessor { path: self.source.path.clone(), accessor: self.index, kind }
+        IoError::gltf_data(
+            self.source.path.clone(),
+            GltfKind::Accessor { accessor: self.index, kind: Box::new(kind) },
+        )
     }
 
     /// Bytes per element as stored (matrix columns padded to 4 bytes).
@@ -90,13 +97,15 @@ impl AccessorAt<'_> {
             _ => offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(size),
         };
         if needed > data.len() {
-            return Err(IoError::AccessorOutOfRange {
-                path: self.source.path.clone(),
-                accessor: self.index,
-                view,
-                needed: needed as u64,
-                available: data.len() as u64,
-            });
+            return Err(IoError::gltf_data(
+                self.source.path.clone(),
+                GltfKind::AccessorOutOfRange {
+                    accessor: self.index,
+                    view,
+                    needed: needed as u64,
+                    available: data.len() as u64,
+                },
+            ));
         }
         for (k, element) in bytes.chunks_exact_mut(size).enumerate() {
             let at = offset + k * stride;
@@ -151,12 +160,16 @@ impl AccessorAt<'_> {
         let (data, _) = view_bytes(self.source, self.index, view, element)?;
         let offset = usize_member(part, "byteOffset").unwrap_or(0);
         let needed = offset.saturating_add(n.saturating_mul(element));
-        data.get(offset..needed).ok_or(IoError::AccessorOutOfRange {
-            path: self.source.path.clone(),
-            accessor: self.index,
-            view,
-            needed: needed as u64,
-            available: data.len() as u64,
+        data.get(offset..needed).ok_or_else(|| {
+            IoError::gltf_data(
+                self.source.path.clone(),
+                GltfKind::AccessorOutOfRange {
+                    accessor: self.index,
+                    view,
+                    needed: needed as u64,
+                    available: data.len() as u64,
+                },
+            )
         })
     }
 }
@@ -174,13 +187,15 @@ fn view_bytes(
     let length = usize_member(view, "byteLength").unwrap_or(0);
     let data = buffer.and_then(|b| b.get(offset..offset.checked_add(length)?));
     let Some(data) = data else {
-        return Err(IoError::AccessorOutOfRange {
-            path: source.path.clone(),
-            accessor,
-            view: index,
-            needed: offset.saturating_add(length) as u64,
-            available: buffer.map_or(0, Vec::len) as u64,
-        });
+        return Err(IoError::gltf_data(
+            source.path.clone(),
+            GltfKind::AccessorOutOfRange {
+                accessor,
+                view: index,
+                needed: offset.saturating_add(length) as u64,
+                available: buffer.map_or(0, Vec::len) as u64,
+            },
+        ));
     };
     Ok((data, usize_member(view, "byteStride").unwrap_or(element)))
 }

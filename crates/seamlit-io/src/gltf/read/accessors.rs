@@ -8,7 +8,7 @@ use gltf::accessor::{DataType, Dimensions};
 use super::Reader;
 use super::primitive::Vertices;
 use crate::error::IoError;
-use crate::gltf::error::BadAccessor;
+use crate::gltf::error::{BadAccessor, GltfKind};
 
 /// The bytes an accessor without a buffer view (zeros, plus sparse values) may take when the
 /// file's buffers hold fewer: small all-zero accessors need no buffer at all.
@@ -76,15 +76,17 @@ impl Reader<'_> {
         self.check_accessor(accessor, dimensions, types, name)?;
         self.check_sparse_indices(accessor, buffers)?;
         if accessor.count() != vertex_count {
-            return Err(IoError::BadAccessor {
-                path: self.path.to_path_buf(),
-                accessor: accessor.index(),
-                kind: BadAccessor::CountMismatch {
-                    attribute: name.to_owned(),
-                    count: accessor.count(),
-                    vertex_count,
+            return Err(IoError::gltf_data(
+                self.path.to_path_buf(),
+                GltfKind::Accessor {
+                    accessor: accessor.index(),
+                    kind: Box::new(BadAccessor::CountMismatch {
+                        attribute: name.to_owned(),
+                        count: accessor.count(),
+                        vertex_count,
+                    }),
                 },
-            });
+            ));
         }
         Ok(())
     }
@@ -99,10 +101,11 @@ impl Reader<'_> {
         buffers: &[Vec<u8>],
     ) -> Result<(), IoError> {
         let Some(sparse) = accessor.sparse() else { return Ok(()) };
-        let error = |kind: BadAccessor| IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            kind,
+        let error = |kind: BadAccessor| {
+            IoError::gltf_data(
+                self.path.to_path_buf(),
+                GltfKind::Accessor { accessor: accessor.index(), kind: Box::new(kind) },
+            )
         };
         let indices = sparse.indices();
         let view = indices.view();
@@ -137,11 +140,13 @@ impl Reader<'_> {
 impl Reader<'_> {
     /// The error for an accessor that gave fewer elements than its count.
     pub(super) fn short(&self, accessor: &gltf::Accessor<'_>, got: usize) -> IoError {
-        IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            kind: BadAccessor::ShortRead { expected: accessor.count(), read: got },
-        }
+        IoError::gltf_data(
+            self.path.to_path_buf(),
+            GltfKind::Accessor {
+                accessor: accessor.index(),
+                kind: Box::new(BadAccessor::ShortRead { expected: accessor.count(), read: got }),
+            },
+        )
     }
 
     /// A primitive's attribute `semantic`, read by `read` (zeros when its accessor has
@@ -161,12 +166,10 @@ impl Reader<'_> {
             return Err(self.short(&accessor, values.len()));
         }
         if let Some(element) = values.iter().position(|v| !v.finite()) {
-            return Err(IoError::AccessorNotFinite {
-                path: self.path.to_path_buf(),
-                accessor: accessor.index(),
-                attribute,
-                element,
-            });
+            return Err(IoError::gltf_data(
+                self.path.to_path_buf(),
+                GltfKind::AccessorNotFinite { accessor: accessor.index(), attribute, element },
+            ));
         }
         Ok(Some(values))
     }
@@ -181,11 +184,10 @@ struct AccessorCheck<'a, 'r, 'd> {
 
 impl AccessorCheck<'_, '_, '_> {
     fn accessor_error(&self, kind: BadAccessor) -> IoError {
-        IoError::BadAccessor {
-            path: self.reader.path.to_path_buf(),
-            accessor: self.accessor.index(),
-            kind,
-        }
+        IoError::gltf_data(
+            self.reader.path.to_path_buf(),
+            GltfKind::Accessor { accessor: self.accessor.index(), kind: Box::new(kind) },
+        )
     }
 
     /// The accessor's type is one of `(dimensions, types)`; its count is at least 1 and
@@ -234,13 +236,15 @@ impl AccessorCheck<'_, '_, '_> {
             offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element)
         };
         if needed > view.length() as u64 {
-            return Err(IoError::AccessorOutOfRange {
-                path: self.reader.path.to_path_buf(),
-                accessor: self.accessor.index(),
-                view: view.index(),
-                needed,
-                available: view.length() as u64,
-            });
+            return Err(IoError::gltf_data(
+                self.reader.path.to_path_buf(),
+                GltfKind::AccessorOutOfRange {
+                    accessor: self.accessor.index(),
+                    view: view.index(),
+                    needed,
+                    available: view.length() as u64,
+                },
+            ));
         }
         Ok(())
     }

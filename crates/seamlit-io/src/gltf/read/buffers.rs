@@ -64,12 +64,14 @@ impl Reader<'_> {
                 },
             };
             if (data.len() as u64) < buffer.length() as u64 {
-                return Err(IoError::BufferLength {
-                    path: self.path.to_path_buf(),
-                    buffer: buffer.index(),
-                    expected: buffer.length() as u64,
-                    actual: data.len() as u64,
-                });
+                return Err(IoError::gltf_data(
+                    self.path.to_path_buf(),
+                    GltfKind::BufferLength {
+                        buffer: buffer.index(),
+                        expected: buffer.length() as u64,
+                        actual: data.len() as u64,
+                    },
+                ));
             }
             buffers.push(data);
         }

@@ -9,7 +9,7 @@ use seamlit_mesh::Object;
 use super::Reader;
 use crate::error::IoError;
 use crate::gltf::decode::quantized::{read_directions, read_floats};
-use crate::gltf::error::BadAccessor;
+use crate::gltf::error::{BadAccessor, GltfKind};
 
 /// A primitive being read, and its vertex count (POSITION's).
 pub(super) struct Vertices<'p, 'd> {
@@ -124,10 +124,11 @@ impl Reader<'_> {
                 self.check_attribute(&accessor, (dimensions, types), name, buffers, vertex_count)?;
             }
         }
-        let error = |accessor: &gltf::Accessor<'_>, kind: BadAccessor| IoError::BadAccessor {
-            path: self.path.to_path_buf(),
-            accessor: accessor.index(),
-            kind,
+        let error = |accessor: &gltf::Accessor<'_>, kind: BadAccessor| {
+            IoError::gltf_data(
+                self.path.to_path_buf(),
+                GltfKind::Accessor { accessor: accessor.index(), kind: Box::new(kind) },
+            )
         };
         let Some(accessor) = primitive.indices() else {
             if !vertex_count.is_multiple_of(3) {
@@ -188,14 +189,16 @@ impl Reader<'_> {
         }
         if let Some(&index) = triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
         {
-            return Err(IoError::IndexOutOfRange {
-                path: self.path.to_path_buf(),
-                mesh: mesh.index(),
-                primitive: primitive.index(),
-                accessor: accessor.index(),
-                index,
-                vertex_count,
-            });
+            return Err(IoError::gltf_data(
+                self.path.to_path_buf(),
+                GltfKind::IndexOutOfRange {
+                    mesh: mesh.index(),
+                    primitive: primitive.index(),
+                    accessor: accessor.index(),
+                    index,
+                    vertex_count,
+                },
+            ));
         }
         Ok(triangles)
     }
