@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs `seamlit fix` on every model file under assets/ (.obj, .gltf, .glb, subfolders and
-# assets/validator-corpus included) to .gltf, .glb and .obj, and for glTF inputs once more
+# assets/validator-corpus included) and on the fuzz regression inputs of
+# crates/seamlit-io/tests/regressions (which fail, each with its own error) to .gltf, .glb and
+# .obj, and for glTF inputs once more
 # to .glb with --keep-compression, and writes a sha256 manifest of everything written: the
 # output files, and for each run its exit code and stderr. Two manifests of two builds diff
 # empty when the builds write the same bytes and fail the same way (issue 24: a restructure
@@ -46,7 +48,8 @@ while IFS= read -r input; do
     *.gltf | *.glb) run "$name/keep" "$input" out.glb --keep-compression ;;
   esac
   count=$((count + 1))
-done < <(find assets -type f \( -iname '*.obj' -o -iname '*.gltf' -o -iname '*.glb' \) | LC_ALL=C sort)
+done < <(find assets crates/seamlit-io/tests/regressions -type f \
+  \( -iname '*.obj' -o -iname '*.gltf' -o -iname '*.glb' \) | LC_ALL=C sort)
 
 (cd "$work" && find . -type f | LC_ALL=C sort | xargs -d '\n' sha256sum) >"$manifest"
 failed=$(grep -l -v '^0$' "$work"/*/*/exit-code.txt | wc -l)
