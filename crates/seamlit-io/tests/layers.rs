@@ -30,7 +30,7 @@ const LAYERS: &[&str] = &[
     "asset",
     "texture",
     // glTF: below the reader and the writers, the container, URIs and references; then the
-    // decoders, the reader, the pass-through writer, the generic writer, the module's root.
+    // decoders, the reader, the pass-through writer, the generic writer.
     "gltf::glb",
     "gltf::uri",
     "gltf::references",
@@ -38,7 +38,6 @@ const LAYERS: &[&str] = &[
     "gltf::read",
     "gltf::passthrough",
     "gltf::write",
-    "gltf",
     // OBJ, in the same order.
     "obj::polygon",
     "obj::parse",
@@ -46,6 +45,8 @@ const LAYERS: &[&str] = &[
     "obj::read",
     "obj::passthrough",
     "obj::write",
+    // The formats' public functions, and the entry points.
+    "gltf",
     "obj",
     "newell",
     "lib",
