@@ -183,7 +183,10 @@ impl Gpu {
     ///
     /// # Errors
     /// [`Failure::Processing`] when the GPU fails.
-    pub(crate) fn set_environment(&mut self, environment: Option<&Environment>) -> Result<(), Failure> {
+    pub(crate) fn set_environment(
+        &mut self,
+        environment: Option<&Environment>,
+    ) -> Result<(), Failure> {
         let gpu =
             environment.map(|e| GpuEnvironment::new(&self.ctx, e)).transpose().processing()?;
         self.renderer.set_environment(gpu);

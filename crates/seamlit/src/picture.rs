@@ -55,7 +55,14 @@ pub(crate) fn text_width(text: &str, size: f32) -> f32 {
 
 /// Draws `text` with its top-left corner at `(x, y)`, `size` pixels tall, blending `color`
 /// over the image.
-pub(crate) fn draw_text(image: &mut RgbaImage, text: &str, x: f32, y: f32, size: f32, color: [u8; 3]) {
+pub(crate) fn draw_text(
+    image: &mut RgbaImage,
+    text: &str,
+    x: f32,
+    y: f32,
+    size: f32,
+    color: [u8; 3],
+) {
     let font = font();
     let scaled = font.as_scaled(PxScale::from(size));
     let mut caret = x;

@@ -23,7 +23,11 @@ impl Reports {
     ///
     /// # Errors
     /// [`Failure::BadInput`] naming `file` when the geometry is bad.
-    pub(crate) fn measure(model: &Model, options: &FixOptions, file: &Path) -> Result<Self, Failure> {
+    pub(crate) fn measure(
+        model: &Model,
+        options: &FixOptions,
+        file: &Path,
+    ) -> Result<Self, Failure> {
         let report_options = ReportOptions::from(options);
         let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
         let as_loaded = seamlit_mesh::report(model, &report_options).map_err(bad)?;
