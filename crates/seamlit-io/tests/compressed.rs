@@ -604,7 +604,8 @@ fn edited_draco(dir: &Path, name: &str, edit: impl FnOnce(&mut Value, &mut Vec<u
 fn corrupt_draco_streams_fail_with_an_error_naming_the_primitive_never_a_panic() {
     // Truncated streams (the view cut short) and streams with one byte flipped: each file
     // must load or give an error naming its primitive, never panic (a panic in the decoder
-    // is caught: `gltf/decode/draco.rs`). A smoke test beside the checks, not a guard of one of them.
+    // is caught: `gltf/decode/draco.rs`). A smoke test beside the checks, not a guard of one
+    // of them.
     let dir = tempfile::tempdir().unwrap();
     let json = read(&model("teapot_draco.glb")).json;
     let place = "meshes[3].primitives[0].extensions.KHR_draco_mesh_compression";
