@@ -78,7 +78,7 @@ pub(crate) fn save(
     out.warnings.extend(note);
     out.prune();
     out.finish_compression();
-    out.place_buffers_and_images()?;
+    out.embed_or_copy_files()?;
     out.write()?;
     Ok(out.warnings)
 }

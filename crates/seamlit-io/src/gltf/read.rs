@@ -52,7 +52,7 @@ use document::decode_draco;
 use document::document;
 use lights::punctual_lights;
 use material::material;
-use scene::Placing;
+use scene::SceneWalk;
 
 /// Reads a glTF (`.gltf`, with its buffers and images) or GLB file.
 ///
@@ -130,9 +130,9 @@ fn read(
             path.display()
         ));
     }
-    let mut placing = Placing::new(&reader, &buffers, &without_data);
-    placing.walk(roots, &mut asset, &mut warnings)?;
-    let instances = placing.instances;
+    let mut scene_walk = SceneWalk::new(&reader, &buffers, &without_data);
+    scene_walk.walk(roots, &mut asset, &mut warnings)?;
+    let instances = scene_walk.instances;
     asset.model.v_axis = VAxis::Down;
     asset.lights = punctual_lights(document, scene.as_ref(), &mut warnings);
     asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));

@@ -9,14 +9,14 @@ use serde_json::{Value, json};
 
 use super::OutputDocument;
 use super::encode::Layout;
-use crate::error::IoError;
+use crate::error::{InvalidAsset, IoError};
 use crate::gltf::json::usize_member;
 
 impl OutputDocument<'_> {
     /// Buffer 0 holds the input's bytes and the appended ones: the GLB `BIN` chunk, or a new
     /// `NAME.bin` beside a `.gltf`. Other buffers and images named by file are copied beside
     /// a `.gltf`; in a GLB, images named by file are embedded.
-    pub(super) fn place_buffers_and_images(&mut self) -> Result<(), IoError> {
+    pub(super) fn embed_or_copy_files(&mut self) -> Result<(), IoError> {
         let buffer_count = self.json["buffers"].as_array().map_or(0, Vec::len);
         for b in 1..buffer_count {
             let uri = self.json["buffers"][b]["uri"].as_str().map(str::to_owned);
@@ -143,7 +143,7 @@ impl OutputDocument<'_> {
             bytes.map_err(|e| IoError::InvalidAsset {
                 path: self.path.to_path_buf(),
                 object: String::new(),
-                kind: crate::InvalidAsset::Json { source: e },
+                kind: InvalidAsset::Json { source: e },
             })
         };
         if !self.binary {
@@ -196,24 +196,7 @@ impl OutputDocument<'_> {
         debug_assert_eq!(input_length + written, length);
         Ok(())
     }
-}
 
-/// The MIME type of image bytes seamlit passes through, from their signature.
-fn sniff(bytes: &[u8]) -> Option<&'static str> {
-    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
-        Some("image/png")
-    } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
-        Some("image/jpeg")
-    } else if bytes.starts_with(b"\xABKTX 20\xBB\r\n\x1A\n") {
-        Some("image/ktx2")
-    } else if bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP" {
-        Some("image/webp")
-    } else {
-        None
-    }
-}
-
-impl OutputDocument<'_> {
     /// Whether buffer 0 of the input has no data: no `uri` and not a GLB's BIN chunk (valid
     /// glTF: its data "MAY be provided by an extension or other means"; see `read/lenient.rs`).
     fn host_without_data(&self) -> bool {
@@ -229,12 +212,27 @@ impl OutputDocument<'_> {
     /// to it.
     fn keep_host_without_data(&self) -> Result<(), IoError> {
         let kind = if self.appended > 0 {
-            crate::InvalidAsset::HostCannotGrow
+            InvalidAsset::HostCannotGrow
         } else if self.binary {
-            crate::InvalidAsset::HostInGlb
+            InvalidAsset::HostInGlb
         } else {
             return Ok(());
         };
         Err(IoError::InvalidAsset { path: self.path.to_path_buf(), object: String::new(), kind })
+    }
+}
+
+/// The MIME type of image bytes seamlit passes through, from their signature.
+fn sniff(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        Some("image/png")
+    } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+        Some("image/jpeg")
+    } else if bytes.starts_with(b"\xABKTX 20\xBB\r\n\x1A\n") {
+        Some("image/ktx2")
+    } else if bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP" {
+        Some("image/webp")
+    } else {
+        None
     }
 }

@@ -16,7 +16,7 @@ use crate::gltf::source::Instance;
 /// The walk over a scene's node tree that makes an object of every triangle primitive of
 /// every mesh instance (a mesh used by two nodes is two objects) and a [`Node`] of every
 /// node.
-pub(super) struct Placing<'r> {
+pub(super) struct SceneWalk<'r> {
     reader: &'r Reader<'r>,
     buffers: &'r [Vec<u8>],
     without_data: &'r [usize],
@@ -31,7 +31,7 @@ pub(super) struct Placing<'r> {
     triangles: usize,
 }
 
-impl<'r> Placing<'r> {
+impl<'r> SceneWalk<'r> {
     pub(super) fn new(
         reader: &'r Reader<'r>,
         buffers: &'r [Vec<u8>],
