@@ -1,13 +1,14 @@
 //! What a loaded file holds: the model (geometry, in seamlit-mesh types) plus the materials
-//! and textures that lighting needs.
+//! and textures that lighting needs, and the conversions between the two material models
+//! (Blinn-Phong shininess and glTF roughness).
 
 use std::path::PathBuf;
 use std::sync::Arc;
 
 use seamlit_mesh::Model;
 
-pub use crate::gltf_pass::GltfSource;
-pub use crate::obj_pass::ObjSource;
+use crate::gltf::source::GltfSource;
+use crate::obj::source::ObjSource;
 
 /// A loaded model file: geometry plus materials and textures.
 ///
@@ -253,4 +254,19 @@ impl Asset {
         }
         seamlit_mesh::FixOptions { tangents: TangentMethod::Mikktspace, ..options }
     }
+}
+
+/// Blinn-Phong shininess to glTF roughness: `sqrt(2 / (Ns + 2))`, the usual mapping
+/// (Ns 0 -> 1, Ns 32 -> 0.24, Ns 1000 -> 0.045).
+#[must_use]
+pub fn shininess_to_roughness(shininess: f32) -> f32 {
+    (2.0 / (shininess.max(0.0) + 2.0)).sqrt()
+}
+
+/// glTF roughness to Blinn-Phong shininess, the inverse of [`shininess_to_roughness`]:
+/// `2 / r^2 - 2`, capped at 2048 for roughness near 0.
+#[must_use]
+pub fn roughness_to_shininess(roughness: f32) -> f32 {
+    let r = roughness.clamp(0.03, 1.0);
+    (2.0 / (r * r) - 2.0).min(2048.0)
 }

@@ -51,36 +51,26 @@
 #![deny(missing_docs)]
 
 mod asset;
-mod atomic;
+mod check;
 mod error;
+mod files;
 pub mod gltf;
-mod gltf_decode;
-mod gltf_draco;
-mod gltf_encode;
-mod gltf_pass;
-mod gltf_prune;
-mod gltf_spec;
-mod gltf_write;
 pub mod newell;
 pub mod obj;
-mod obj_parse;
-mod obj_pass;
-mod obj_write;
 mod options;
 mod paths;
-mod polygon;
 mod texture;
 
 use std::path::Path;
 
 pub use asset::{
-    AlphaMode, Asset, GltfSource, Material, Node, ObjSource, PunctualKind, PunctualLight, Texture,
-    TextureRef, TextureSource, UvTransform,
+    AlphaMode, Asset, Material, Node, PunctualKind, PunctualLight, Texture, TextureRef,
+    TextureSource, UvTransform, roughness_to_shininess, shininess_to_roughness,
 };
-pub use error::{
-    BadAccessor, BadUri, Draco, Glb, GltfKind, InvalidAsset, IoError, KeepCompression, Meshopt,
-    NotText, Syntax,
-};
+pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
+pub use gltf::error::{BadAccessor, BadUri, Draco, Glb, GltfKind, Meshopt};
+pub use gltf::source::GltfSource;
+pub use obj::source::ObjSource;
 pub use options::{LoadOptions, SaveOptions};
 
 /// A model file format this crate reads.
@@ -173,11 +163,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// `options.keep_compression` for a Draco-compressed source or an `.obj` path;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
-/// inconsistent; [`IoError::AccessorOutOfRange`] or [`IoError::BadAccessor`] for a source
-/// accessor the pass-through cannot copy; [`IoError::Io`] when writing fails.
+/// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
+/// [`GltfKind::Accessor`]) for a source accessor the pass-through cannot copy;
+/// [`IoError::Io`] when writing fails.
 pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveReport, IoError> {
     if !options.overwrite_input
-        && asset.source.as_deref().is_some_and(|source| same_file(source, path))
+        && asset.source.as_deref().is_some_and(|source| files::same_file(source, path))
     {
         return Err(IoError::WouldOverwriteInput { path: path.to_path_buf() });
     }
@@ -187,10 +178,10 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
         Some(extension @ ("gltf" | "glb")) => {
             let binary = extension == "glb";
             if let Some(source) = &asset.gltf_source {
-                match source.lines_up(&asset.model) {
+                match source.check_model(&asset.model) {
                     Ok(()) => {
                         let keep = options.keep_compression;
-                        report.warnings = gltf_pass::save(asset, source, path, binary, keep)?;
+                        report.warnings = gltf::passthrough::save(asset, source, path, binary, keep)?;
                         return Ok(report);
                     }
                     Err(reason) => report.warnings.push(format!(
@@ -200,7 +191,7 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
                     )),
                 }
             }
-            gltf_write::save(asset, path, binary)?;
+            gltf::write::save(asset, path, binary)?;
         }
         Some("obj") if options.keep_compression => {
             return Err(IoError::CannotKeepCompression {
@@ -209,11 +200,11 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             });
         }
         Some("obj") => {
-            report.warnings.extend(obj_pass::tangents_not_written(&asset.model, path));
+            report.warnings.extend(obj::passthrough::tangents_not_written(&asset.model, path));
             if let Some(source) = &asset.obj_source {
-                match source.lines_up(&asset.model) {
+                match source.check_model(&asset.model) {
                     Ok(()) => {
-                        report.warnings.extend(obj_pass::save(asset, source, path)?);
+                        report.warnings.extend(obj::passthrough::save(asset, source, path)?);
                         return Ok(report);
                     }
                     Err(reason) => report.warnings.push(format!(
@@ -222,7 +213,7 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
                     )),
                 }
             }
-            obj_write::save(asset, path)?;
+            obj::write::save(asset, path)?;
         }
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
@@ -242,49 +233,4 @@ pub struct SaveReport {
     /// [`SaveOptions::keep_compression`], which views were kept compressed and how many new
     /// ones were encoded, or that the input had no compression to keep.
     pub warnings: Vec<String>,
-}
-
-/// Whether two paths name the same file (by canonical path when both exist).
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
-}
-
-/// Reads a file whole, refusing files over `options.max_file_bytes`.
-fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
-    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
-    if size > options.max_file_bytes {
-        return Err(IoError::TooLarge {
-            path: path.to_path_buf(),
-            limit: options.max_file_bytes,
-            actual: size,
-        });
-    }
-    std::fs::read(path).map_err(|e| IoError::io(path, e))
-}
-
-/// Reads a text file whole (invalid UTF-8 replaced), refusing files over the size limit.
-fn read_text(path: &Path, options: &LoadOptions) -> Result<String, IoError> {
-    let bytes = read_bytes(path, options)?;
-    Ok(match String::from_utf8(bytes) {
-        Ok(text) => text,
-        Err(err) => String::from_utf8_lossy(err.as_bytes()).into_owned(),
-    })
-}
-
-/// Blinn-Phong shininess to glTF roughness: `sqrt(2 / (Ns + 2))`, the usual mapping
-/// (Ns 0 -> 1, Ns 32 -> 0.24, Ns 1000 -> 0.045).
-#[must_use]
-pub fn shininess_to_roughness(shininess: f32) -> f32 {
-    (2.0 / (shininess.max(0.0) + 2.0)).sqrt()
-}
-
-/// glTF roughness to Blinn-Phong shininess, the inverse of [`shininess_to_roughness`]:
-/// `2 / r^2 - 2`, capped at 2048 for roughness near 0.
-#[must_use]
-pub fn roughness_to_shininess(roughness: f32) -> f32 {
-    let r = roughness.clamp(0.03, 1.0);
-    (2.0 / (r * r) - 2.0).min(2048.0)
 }

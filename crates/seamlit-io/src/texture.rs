@@ -1,5 +1,5 @@
-//! Texture decoding: every image of an asset decoded in parallel (rayon) through the image
-//! crate. A texture that is missing, cannot be decoded, is larger than
+//! Textures in and out. Decoding: every image of an asset decoded in parallel (rayon)
+//! through the image crate. A texture that is missing, cannot be decoded, is larger than
 //! [`LoadOptions::max_texture_size`] or does not fit the model's
 //! [`LoadOptions::max_texture_bytes`] keeps `image: None` and adds a warning; renderers then
 //! use a neutral default (white, or the flat normal (0.5, 0.5, 1)).
@@ -7,6 +7,8 @@
 //! Decoding goes in three steps, so that the budget is kept before memory is spent and the
 //! same textures are refused on every run: the headers are read in parallel (dimensions only),
 //! the budget is handed out in file order, then the admitted images are decoded in parallel.
+//!
+//! Encoding, for the generic writers: a texture's bytes as PNG or JPEG ([`encoded`]).
 
 use std::io::{BufRead, BufReader, Cursor, Seek};
 use std::path::{Path, PathBuf};
@@ -83,7 +85,7 @@ pub(crate) fn decode_all(
     }
     let probed = probe(sources, textures, model);
     let mut warnings = Vec::new();
-    let admitted = admit(probed, textures, model, options, &mut warnings);
+    let admitted = hand_out_budget(probed, textures, model, options, &mut warnings);
     warnings.extend(decode_admitted(textures, admitted, model, options.max_texture_size));
     Ok(warnings)
 }
@@ -176,7 +178,7 @@ fn probe(
 
 /// The textures admitted for decoding within the budget, in file order: a texture that would
 /// take the total past it is refused (a warning), as is every texture that failed before.
-fn admit(
+fn hand_out_budget(
     probed: Vec<Option<Result<Probed, String>>>,
     textures: &[Texture],
     model: &Path,
@@ -257,4 +259,37 @@ fn decode<R: BufRead + Seek>(
     limits.max_image_height = Some(max_size);
     reader.limits(limits);
     reader.decode()
+}
+
+/// A texture's encoded bytes and MIME type (PNG or JPEG): the original bytes where they are
+/// PNG or JPEG, else the decoded image encoded as PNG; `None` when neither is available.
+pub(crate) fn encoded(
+    texture: &Texture,
+    path: &Path,
+) -> Result<Option<(Vec<u8>, &'static str)>, IoError> {
+    let sniff = |bytes: &[u8]| -> Option<&'static str> {
+        if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+            Some("image/png")
+        } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+            Some("image/jpeg")
+        } else {
+            None
+        }
+    };
+    let original = match &texture.source {
+        TextureSource::File(file) => std::fs::read(file).ok(),
+        TextureSource::Embedded { bytes, .. } => Some(bytes.to_vec()),
+        TextureSource::Generated => None,
+    };
+    if let Some(bytes) = original
+        && let Some(mime) = sniff(&bytes)
+    {
+        return Ok(Some((bytes, mime)));
+    }
+    let Some(image) = &texture.image else { return Ok(None) };
+    let mut png = Vec::new();
+    image.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png).map_err(|source| {
+        IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source }
+    })?;
+    Ok(Some((png, "image/png")))
 }

@@ -14,6 +14,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use common::gltf::{File, component_size, read};
 use common::{assert_valid, f32_of, fix_and_save, usize_of};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 #[cfg(feature = "draco")]
@@ -28,47 +29,6 @@ fn model(name: &str) -> PathBuf {
 
 // ---------------------------------------------------------------------------------------
 // An independent reader: the document, its buffers, and per-corner attribute values.
-
-struct File {
-    json: Value,
-    buffers: Vec<Vec<u8>>,
-}
-
-fn read(path: &Path) -> File {
-    let bytes = std::fs::read(path).unwrap();
-    let (json, bin) = if bytes.starts_with(b"glTF") {
-        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-        let json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
-        let bin = bytes.get(20 + length + 8..).map(<[u8]>::to_vec);
-        (json, bin)
-    } else {
-        (serde_json::from_slice(&bytes).unwrap(), None)
-    };
-    let mut bin = bin;
-    let buffers = json["buffers"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|buffer| match buffer["uri"].as_str() {
-            Some(uri) if uri.starts_with("data:") => {
-                base64::decode(uri.split_once(";base64,").unwrap().1).unwrap()
-            }
-            Some(uri) => std::fs::read(path.parent().unwrap().join(uri)).unwrap(),
-            // An EXT_meshopt_compression fallback buffer has no data (this reader reads no
-            // compressed view: `elements` refuses them).
-            None if buffer["extensions"].as_object().is_some_and(|e| {
-                e.iter().any(|(name, e)| {
-                    name.ends_with("_meshopt_compression") && e["fallback"] == true
-                })
-            }) =>
-            {
-                Vec::new()
-            }
-            None => bin.take().expect("a buffer without uri is the GLB BIN chunk"),
-        })
-        .collect();
-    File { json, buffers }
-}
 
 /// A component of an accessor element: (raw bits for exact comparison, value as the glTF
 /// specification converts it).
@@ -109,11 +69,7 @@ fn elements(file: &File, index: u64) -> Elements {
     let view = &file.json["bufferViews"][accessor["bufferView"].as_u64().map(usize_of).unwrap()];
     assert!(view.get("extensions").is_none(), "accessor {index}: its view has extensions");
     let component_type = accessor["componentType"].as_u64().unwrap();
-    let size = match component_type {
-        5120 | 5121 => 1,
-        5122 | 5123 => 2,
-        _ => 4,
-    };
+    let size = component_size(component_type);
     let n = match accessor["type"].as_str().unwrap() {
         "SCALAR" => 1,
         "VEC2" => 2,
@@ -648,7 +604,8 @@ fn edited_draco(dir: &Path, name: &str, edit: impl FnOnce(&mut Value, &mut Vec<u
 fn corrupt_draco_streams_fail_with_an_error_naming_the_primitive_never_a_panic() {
     // Truncated streams (the view cut short) and streams with one byte flipped: each file
     // must load or give an error naming its primitive, never panic (a panic in the decoder
-    // is caught: `gltf_draco`). A smoke test beside the checks, not a guard of one of them.
+    // is caught: `gltf/decode/draco.rs`). A smoke test beside the checks, not a guard of one
+    // of them.
     let dir = tempfile::tempdir().unwrap();
     let json = read(&model("teapot_draco.glb")).json;
     let place = "meshes[3].primitives[0].extensions.KHR_draco_mesh_compression";

@@ -8,6 +8,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use common::gltf::{File, read};
 use common::{usize_of, validate};
 use serde_json::Value;
 
@@ -17,62 +18,20 @@ fn fox() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models/fox/Fox.glb")
 }
 
-/// A GLB's JSON document and BIN chunk.
-struct Glb {
-    json: Value,
-    bin: Vec<u8>,
+/// An accessor index as a document holds it.
+fn index_of(value: &Value) -> usize {
+    value.as_u64().map(usize_of).unwrap()
 }
 
-impl Glb {
-    fn read(path: &Path) -> Self {
-        let bytes = std::fs::read(path).unwrap();
-        let glb = gltf::Glb::from_slice(&bytes).unwrap();
-        Self {
-            json: serde_json::from_slice(&glb.json).unwrap(),
-            bin: glb.bin.expect("a BIN chunk").into_owned(),
-        }
-    }
-
-    /// Accessor `index`'s elements as stored, one byte string per element (no sparse: Fox
-    /// has none).
-    fn elements(&self, index: &Value) -> Vec<Vec<u8>> {
-        let a = &self.json["accessors"][index.as_u64().map(usize_of).unwrap()];
-        let components = match a["type"].as_str().unwrap() {
-            "SCALAR" => 1,
-            "VEC2" => 2,
-            "VEC3" => 3,
-            "VEC4" | "MAT2" => 4,
-            "MAT3" => 9,
-            "MAT4" => 16,
-            other => panic!("type {other}"),
-        };
-        let component = match a["componentType"].as_u64().unwrap() {
-            5120 | 5121 => 1,
-            5122 | 5123 => 2,
-            _ => 4,
-        };
-        let size = components * component;
-        let view = &self.json["bufferViews"][a["bufferView"].as_u64().map(usize_of).unwrap()];
-        assert_eq!(view["buffer"], 0);
-        let start =
-            view["byteOffset"].as_u64().unwrap_or(0) + a["byteOffset"].as_u64().unwrap_or(0);
-        let stride = view["byteStride"].as_u64().map_or(size, usize_of);
-        (0..a["count"].as_u64().map(usize_of).unwrap())
-            .map(|i| {
-                let at = usize_of(start) + i * stride;
-                self.bin[at..at + size].to_vec()
-            })
-            .collect()
-    }
-
+impl File {
     /// The only primitive's attribute `name`, one element per triangle corner.
     fn per_corner(&self, name: &str) -> Vec<Vec<u8>> {
         let primitive = &self.json["meshes"][0]["primitives"][0];
-        let elements = self.elements(&primitive["attributes"][name]);
+        let elements = self.elements(index_of(&primitive["attributes"][name]));
         match primitive.get("indices") {
             None => elements,
             Some(indices) => self
-                .elements(indices)
+                .elements(index_of(indices))
                 .iter()
                 .map(|i| {
                     let mut word = [0u8; 4];
@@ -100,9 +59,9 @@ fn fixed() -> &'static Path {
 }
 
 /// The input and its fixed copy (written once, shared by the tests).
-fn input_and_output() -> &'static (Glb, Glb) {
-    static FILES: OnceLock<(Glb, Glb)> = OnceLock::new();
-    FILES.get_or_init(|| (Glb::read(&fox()), Glb::read(fixed())))
+fn input_and_output() -> &'static (File, File) {
+    static FILES: OnceLock<(File, File)> = OnceLock::new();
+    FILES.get_or_init(|| (read(&fox()), read(fixed())))
 }
 
 #[test]
@@ -129,10 +88,10 @@ fn the_skin_and_its_inverse_bind_matrices_are_unchanged() {
     let (input, output) = input_and_output();
     assert_eq!(input.json["skins"], output.json["skins"]);
     let ibm = &input.json["skins"][0]["inverseBindMatrices"];
-    assert_eq!(input.elements(ibm).len(), 24);
+    assert_eq!(input.elements(index_of(ibm)).len(), 24);
     assert_eq!(
-        input.elements(ibm),
-        output.elements(&output.json["skins"][0]["inverseBindMatrices"])
+        input.elements(index_of(ibm)),
+        output.elements(index_of(&output.json["skins"][0]["inverseBindMatrices"]))
     );
 }
 
@@ -161,7 +120,10 @@ fn the_three_animations_are_unchanged_channel_by_channel_and_byte_by_byte() {
         assert_eq!(animation["channels"].as_array().unwrap().len(), 21);
         for sampler in animation["samplers"].as_array().unwrap() {
             for key in ["input", "output"] {
-                assert_eq!(input.elements(&sampler[key]), output.elements(&sampler[key]));
+                assert_eq!(
+                    input.elements(index_of(&sampler[key])),
+                    output.elements(index_of(&sampler[key]))
+                );
             }
             samplers += 1;
         }

@@ -3,17 +3,9 @@
 
 mod common;
 
-use std::path::Path;
-
+use common::gltf::glb_json;
 use common::{model, usize_of, validate};
 use seamlit_io::{LoadOptions, SaveOptions, TextureSource};
-
-/// The JSON chunk of a GLB, read with plain byte handling (independent of the loader).
-fn glb_json(path: &Path) -> serde_json::Value {
-    let bytes = std::fs::read(path).unwrap();
-    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    serde_json::from_slice(&bytes[20..20 + length]).unwrap()
-}
 
 #[test]
 fn normal_tangent_test_glb() {

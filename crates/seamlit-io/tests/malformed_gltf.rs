@@ -115,7 +115,16 @@ fn accessor_out_of_range() {
     assert!(
         matches!(
             err,
-            IoError::AccessorOutOfRange { accessor: 0, view: 0, needed: 48, available: 36, .. }
+            IoError::Gltf {
+                kind: GltfKind::AccessorOutOfRange {
+                    accessor: 0,
+                    view: 0,
+                    needed: 48,
+                    available: 36,
+                    ..
+                },
+                ..
+            }
         ),
         "{err}"
     );
@@ -126,7 +135,16 @@ fn accessor_out_of_range() {
     assert!(
         matches!(
             err,
-            IoError::AccessorOutOfRange { accessor: 1, view: 1, needed: 8, available: 6, .. }
+            IoError::Gltf {
+                kind: GltfKind::AccessorOutOfRange {
+                    accessor: 1,
+                    view: 1,
+                    needed: 8,
+                    available: 6,
+                    ..
+                },
+                ..
+            }
         ),
         "{err}"
     );
@@ -153,12 +171,15 @@ fn index_out_of_range() {
     assert!(
         matches!(
             err,
-            IoError::IndexOutOfRange {
-                mesh: 0,
-                primitive: 0,
-                accessor: 1,
-                index: 7,
-                vertex_count: 3,
+            IoError::Gltf {
+                kind: GltfKind::IndexOutOfRange {
+                    mesh: 0,
+                    primitive: 0,
+                    accessor: 1,
+                    index: 7,
+                    vertex_count: 3,
+                    ..
+                },
                 ..
             }
         ),
@@ -176,7 +197,16 @@ fn huge_declared_counts() {
     // Below the element limit, the accessor still has to fit its view.
     let options = LoadOptions { max_elements: usize::MAX, ..LoadOptions::default() };
     let err = seamlit_io::load(&dir.path().join("count.gltf"), &options).unwrap_err();
-    assert!(matches!(err, IoError::AccessorOutOfRange { accessor: 0, available: 36, .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            IoError::Gltf {
+                kind: GltfKind::AccessorOutOfRange { accessor: 0, available: 36, .. },
+                ..
+            }
+        ),
+        "{err}"
+    );
     // A buffer that declares more bytes than it holds.
     let mut doc = triangle(POSITIONS, [0, 1, 2]);
     doc["buffers"][0]["byteLength"] = json!(1u64 << 40);
@@ -184,7 +214,15 @@ fn huge_declared_counts() {
     assert!(
         matches!(
             err,
-            IoError::BufferLength { buffer: 0, expected: 1_099_511_627_776, actual: 44, .. }
+            IoError::Gltf {
+                kind: GltfKind::BufferLength {
+                    buffer: 0,
+                    expected: 1_099_511_627_776,
+                    actual: 44,
+                    ..
+                },
+                ..
+            }
         ),
         "{err}"
     );
@@ -199,7 +237,15 @@ fn nan_positions() {
     assert!(
         matches!(
             err,
-            IoError::AccessorNotFinite { accessor: 0, attribute: "POSITION", element: 1, .. }
+            IoError::Gltf {
+                kind: GltfKind::AccessorNotFinite {
+                    accessor: 0,
+                    attribute: "POSITION",
+                    element: 1,
+                    ..
+                },
+                ..
+            }
         ),
         "{err}"
     );
@@ -299,8 +345,8 @@ fn invalid_documents_name_the_json_place() {
     assert!(
         matches!(
             &err,
-            IoError::BadAccessor { accessor: 0, kind: BadAccessor::WrongType { attribute, .. }, .. }
-                if attribute == "POSITION"
+            IoError::Gltf { kind: GltfKind::Accessor { accessor: 0, kind }, .. }
+                if matches!(&**kind, BadAccessor::WrongType { attribute, .. } if attribute == "POSITION")
         ),
         "{err}"
     );

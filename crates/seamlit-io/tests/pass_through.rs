@@ -2,15 +2,17 @@
 //! only NORMAL, TANGENT, split vertices and indices changed.
 //!
 //! The fixtures are built here (JSON and binary in code). The written files are read back
-//! with serde_json and this file's own accessor reader, never with seamlit's loader, and
+//! with serde_json and the tests' own accessor reader (common/gltf.rs), never with seamlit's
+//! loader, and
 //! compared with the input: every JSON subtree seamlit does not own equal, every attribute
 //! and morph-target value per triangle corner equal, image bytes equal.
 
 mod common;
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use common::gltf::{File, read};
 use common::{assert_valid, fix_and_save, usize_of};
 use serde_json::{Value, json};
 
@@ -417,107 +419,7 @@ fn everything_with(path: &Path, unknown_extension: bool) {
 // ---------------------------------------------------------------------------------------
 // Reading written files, independently of seamlit
 
-/// A glTF or GLB file as this test reads it: the JSON and each buffer's bytes.
-struct File {
-    json: Value,
-    buffers: Vec<Vec<u8>>,
-    folder: PathBuf,
-}
-
-fn read(path: &Path) -> File {
-    let bytes = std::fs::read(path).unwrap();
-    let (json, bin) = if bytes.starts_with(b"glTF") {
-        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
-        assert_eq!(word(8), bytes.len(), "GLB length");
-        let json_length = word(12);
-        assert_eq!(&bytes[16..20], b"JSON");
-        let json: Value = serde_json::from_slice(&bytes[20..20 + json_length]).unwrap();
-        let at = 20 + json_length;
-        let bin = (at < bytes.len()).then(|| {
-            assert_eq!(&bytes[at + 4..at + 8], b"BIN\0");
-            bytes[at + 8..at + 8 + word(at)].to_vec()
-        });
-        (json, bin)
-    } else {
-        (serde_json::from_slice(&bytes).unwrap(), None)
-    };
-    let folder = path.parent().unwrap().to_path_buf();
-    let mut bin = bin;
-    let buffers = json["buffers"]
-        .as_array()
-        .map(|buffers| {
-            buffers
-                .iter()
-                .map(|b| {
-                    let data = match b["uri"].as_str() {
-                        None => bin.take().expect("a BIN chunk for the buffer without uri"),
-                        Some(uri) => std::fs::read(folder.join(uri)).unwrap(),
-                    };
-                    assert!(data.len() >= b["byteLength"].as_u64().map(usize_of).unwrap());
-                    data
-                })
-                .collect()
-        })
-        .unwrap_or_default();
-    File { json, buffers, folder }
-}
-
 impl File {
-    /// A buffer view's bytes.
-    fn view(&self, index: usize) -> &[u8] {
-        let view = &self.json["bufferViews"][index];
-        let offset = view["byteOffset"].as_u64().map_or(0, usize_of);
-        let length = view["byteLength"].as_u64().map(usize_of).unwrap();
-        &self.buffers[view["buffer"].as_u64().map(usize_of).unwrap()][offset..offset + length]
-    }
-
-    /// An accessor's elements, each as its bytes (sparse substitution applied).
-    fn elements(&self, index: usize) -> Vec<Vec<u8>> {
-        let a = &self.json["accessors"][index];
-        let component = match a["componentType"].as_u64().unwrap() {
-            5120 | 5121 => 1,
-            5122 | 5123 => 2,
-            _ => 4,
-        };
-        let size = component
-            * match a["type"].as_str().unwrap() {
-                "SCALAR" => 1,
-                "VEC2" => 2,
-                "VEC3" => 3,
-                "VEC4" | "MAT2" => 4,
-                "MAT4" => 16,
-                other => panic!("type {other}"),
-            };
-        let count = a["count"].as_u64().map(usize_of).unwrap();
-        let mut out = vec![vec![0u8; size]; count];
-        if let Some(view) = a["bufferView"].as_u64().map(usize_of) {
-            let stride =
-                self.json["bufferViews"][view]["byteStride"].as_u64().map_or(size, usize_of);
-            let offset = a["byteOffset"].as_u64().map_or(0, usize_of);
-            let data = self.view(view);
-            for (k, e) in out.iter_mut().enumerate() {
-                e.copy_from_slice(&data[offset + k * stride..offset + k * stride + size]);
-            }
-        }
-        if let Some(sparse) = a.get("sparse") {
-            let n = sparse["count"].as_u64().map(usize_of).unwrap();
-            let index_size = match sparse["indices"]["componentType"].as_u64().unwrap() {
-                5121 => 1,
-                5123 => 2,
-                _ => 4,
-            };
-            let indices =
-                self.view(sparse["indices"]["bufferView"].as_u64().map(usize_of).unwrap());
-            let values = self.view(sparse["values"]["bufferView"].as_u64().map(usize_of).unwrap());
-            for k in 0..n {
-                let mut word = [0u8; 4];
-                word[..index_size].copy_from_slice(&indices[k * index_size..(k + 1) * index_size]);
-                out[u32::from_le_bytes(word) as usize] = values[k * size..(k + 1) * size].to_vec();
-            }
-        }
-        out
-    }
-
     /// A primitive's corners: its indices, or 0, 1, 2, ... without.
     fn corners(&self, primitive: &Value) -> Vec<usize> {
         match primitive["indices"].as_u64() {

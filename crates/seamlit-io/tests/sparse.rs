@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use seamlit_io::{BadAccessor, IoError, LoadOptions};
+use seamlit_io::{BadAccessor, GltfKind, IoError, LoadOptions};
 use serde_json::{Value, json};
 
 /// The four base positions of the quad (when the accessor has a buffer view).
@@ -170,9 +170,9 @@ fn refused(sparse: &Sparse, expected: &BadAccessor) {
     };
     let message = err.to_string();
     match &err {
-        IoError::BadAccessor { accessor, kind, .. } => {
+        IoError::Gltf { kind: GltfKind::Accessor { accessor, kind, .. }, .. } => {
             assert_eq!(*accessor, 0, "{message}");
-            assert_eq!(kind, expected, "{message}");
+            assert_eq!(&**kind, expected, "{message}");
         }
         other => panic!("expected an accessor error, got {other:?}"),
     }
@@ -226,14 +226,22 @@ fn sparse_index_and_value_views_too_short_are_refused() {
     sparse.sparse_count = 3;
     let err = sparse.load().unwrap_err();
     match &err {
-        IoError::AccessorOutOfRange { accessor: 0, view: 2, needed: 12, available: 8, .. } => {}
+        IoError::Gltf {
+            kind:
+                GltfKind::AccessorOutOfRange { accessor: 0, view: 2, needed: 12, available: 8, .. },
+            ..
+        } => {}
         other => panic!("expected the indices view to be too short, got {other:?}: {other}"),
     }
     // Enough indices, values for two of three.
     let mut sparse = Sparse::new(true, U8, &[0, 1, 2], &[[5.0; 3], [6.0; 3]]);
     sparse.sparse_count = 3;
     match &sparse.load().unwrap_err() {
-        IoError::AccessorOutOfRange { accessor: 0, view: 3, needed: 36, available: 24, .. } => {}
+        IoError::Gltf {
+            kind:
+                GltfKind::AccessorOutOfRange { accessor: 0, view: 3, needed: 36, available: 24, .. },
+            ..
+        } => {}
         other => panic!("expected the values view to be too short, got {other:?}: {other}"),
     }
 }
@@ -244,7 +252,11 @@ fn a_sparse_accessor_larger_than_its_base_view_is_refused() {
     let mut sparse = Sparse::new(true, U8, &[1], &[[5.0; 3]]);
     sparse.accessor_count = 5;
     match &sparse.load().unwrap_err() {
-        IoError::AccessorOutOfRange { accessor: 0, view: 0, needed: 60, available: 48, .. } => {}
+        IoError::Gltf {
+            kind:
+                GltfKind::AccessorOutOfRange { accessor: 0, view: 0, needed: 60, available: 48, .. },
+            ..
+        } => {}
         other => panic!("expected the base view to be too short, got {other:?}: {other}"),
     }
 }

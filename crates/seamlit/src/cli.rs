@@ -201,7 +201,7 @@ pub struct FixFlags {
 impl FixFlags {
     /// `base` with every flag that was given applied.
     #[must_use]
-    pub fn apply(&self, base: FixOptions) -> FixOptions {
+    pub(crate) fn apply(&self, base: FixOptions) -> FixOptions {
         let mut o = base;
         if let Some(c) = self.crease {
             o.crease_angle_deg = c;
@@ -408,7 +408,7 @@ pub enum OutFormat {
 impl OutFormat {
     /// The file extension.
     #[must_use]
-    pub fn extension(self) -> &'static str {
+    pub(crate) fn extension(self) -> &'static str {
         match self {
             Self::Glb => "glb",
             Self::Gltf => "gltf",
@@ -564,13 +564,13 @@ fn parse_angle(s: &str) -> Result<f32, String> {
 /// A tolerance as `--weld-tolerance` spells it (the inverse of its parser): `exact`,
 /// `rel:1e-6`, `0.001`.
 #[must_use]
-pub fn tolerance_flag(t: WeldTolerance) -> String {
+pub(crate) fn tolerance_flag(t: WeldTolerance) -> String {
     t.to_string()
 }
 
 /// A weighting as `--weighting` spells it: `angle`, `area`, `angle-area`, `uniform`.
 #[must_use]
-pub fn weighting_flag(w: Weighting) -> String {
+pub(crate) fn weighting_flag(w: Weighting) -> String {
     WeightingArg::from(w).to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned())
 }
 

@@ -43,7 +43,7 @@ pub struct Look {
 impl Look {
     /// The look of `loaded` as `flags` change it.
     #[must_use]
-    pub fn new(flags: &ViewFlags, loaded: &Loaded) -> Self {
+    pub(crate) fn new(flags: &ViewFlags, loaded: &Loaded) -> Self {
         let scene = &loaded.scene.render;
         let lighting = flags.lighting.map_or_else(|| loaded.lighting(), Into::into);
         let environment = flags
@@ -76,7 +76,7 @@ impl Look {
     ///
     /// # Errors
     /// [`Failure::BadInput`] naming the file when it is missing or not a Radiance image.
-    pub fn read_environment(&self) -> Result<Option<Environment>, Failure> {
+    pub(crate) fn read_environment(&self) -> Result<Option<Environment>, Failure> {
         match &self.environment {
             EnvironmentChoice::None => Ok(None),
             EnvironmentChoice::Builtin => Ok(Some(Environment::Builtin)),
@@ -90,7 +90,7 @@ impl Look {
     /// light 0 where an environment lights the scene, the background as [`Look::background`]
     /// says.
     #[must_use]
-    pub fn settings(&self, lighting: LightingModel, lights: Vec<Light>) -> FrameSettings {
+    pub(crate) fn settings(&self, lighting: LightingModel, lights: Vec<Light>) -> FrameSettings {
         let environment = self.environment != EnvironmentChoice::None;
         let ambient = self.ambient.unwrap_or(if environment && lighting == LightingModel::Pbr {
             0.0
@@ -128,7 +128,7 @@ fn srgb_to_linear(c: f32) -> f32 {
 /// for PBR scenes whose models are all glTF (their materials expect image-based light, as in
 /// every glTF viewer), none otherwise (OBJ models and the paper's demo keep their look).
 #[must_use]
-pub fn default_environment(loaded: &Loaded, lighting: LightingModel) -> EnvironmentChoice {
+pub(crate) fn default_environment(loaded: &Loaded, lighting: LightingModel) -> EnvironmentChoice {
     let all_gltf = loaded.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
     if all_gltf && lighting == LightingModel::Pbr {
         EnvironmentChoice::Builtin
@@ -140,7 +140,7 @@ pub fn default_environment(loaded: &Loaded, lighting: LightingModel) -> Environm
 /// Frame settings from the command line's view flags and the scene ([`Look`]), with the
 /// scene's lights.
 #[must_use]
-pub fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
+pub(crate) fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
     let look = Look::new(flags, loaded);
     let settings = look.settings(look.lighting, loaded.lights());
     FrameSettings {
@@ -156,7 +156,7 @@ pub fn frame_settings(flags: &ViewFlags, loaded: &Loaded) -> FrameSettings {
 /// in for the environment that metals reflect (without it they render black but for their
 /// highlights), 0.3.
 #[must_use]
-pub fn default_ambient(model: LightingModel) -> f32 {
+pub(crate) fn default_ambient(model: LightingModel) -> f32 {
     if model == LightingModel::Pbr { 0.3 } else { 0.05 }
 }
 
@@ -173,7 +173,7 @@ impl Gpu {
     ///
     /// # Errors
     /// [`Failure::Processing`] when no adapter or device is available.
-    pub fn open() -> Result<Self, Failure> {
+    pub(crate) fn open() -> Result<Self, Failure> {
         let ctx = GpuContext::headless().processing()?;
         let renderer = Renderer::for_images(&ctx).processing()?;
         Ok(Self { ctx, renderer })
@@ -183,7 +183,10 @@ impl Gpu {
     ///
     /// # Errors
     /// [`Failure::Processing`] when the GPU fails.
-    pub fn set_environment(&mut self, environment: Option<&Environment>) -> Result<(), Failure> {
+    pub(crate) fn set_environment(
+        &mut self,
+        environment: Option<&Environment>,
+    ) -> Result<(), Failure> {
         let gpu =
             environment.map(|e| GpuEnvironment::new(&self.ctx, e)).transpose().processing()?;
         self.renderer.set_environment(gpu);
@@ -194,7 +197,7 @@ impl Gpu {
     ///
     /// # Errors
     /// [`Failure::Processing`] when upload or rendering fails.
-    pub fn render(
+    pub(crate) fn render(
         &mut self,
         asset: &Asset,
         camera: &Camera,
@@ -220,7 +223,7 @@ impl Gpu {
 ///
 /// # Errors
 /// [`Failure::BadInput`] otherwise.
-pub fn check_png(path: &Path) -> Result<(), Failure> {
+pub(crate) fn check_png(path: &Path) -> Result<(), Failure> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
         Ok(())
     } else {

@@ -15,7 +15,7 @@ pub enum Failure {
 impl Failure {
     /// The process exit status for this failure.
     #[must_use]
-    pub fn exit_code(&self) -> ExitCode {
+    pub(crate) fn exit_code(&self) -> ExitCode {
         match self {
             Self::BadInput(_) => ExitCode::from(2),
             Self::Processing(_) => ExitCode::from(1),
@@ -23,18 +23,18 @@ impl Failure {
     }
 
     /// A bad-input failure with this message.
-    pub fn input(message: impl fmt::Display) -> Self {
+    pub(crate) fn input(message: impl fmt::Display) -> Self {
         Self::BadInput(anyhow::anyhow!("{message}"))
     }
 
     /// A processing failure with this message.
-    pub fn processing(message: impl fmt::Display) -> Self {
+    pub(crate) fn processing(message: impl fmt::Display) -> Self {
         Self::Processing(anyhow::anyhow!("{message}"))
     }
 
     /// Whether the input was at fault.
     #[must_use]
-    pub fn is_bad_input(&self) -> bool {
+    pub(crate) fn is_bad_input(&self) -> bool {
         matches!(self, Self::BadInput(_))
     }
 }

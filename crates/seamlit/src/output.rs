@@ -13,7 +13,7 @@ use crate::failure::Failure;
 /// # Errors
 /// A processing failure (exit status 1) naming the folder when it cannot be created (a file of
 /// that name, no permission).
-pub fn prepare_folder_of(file: &Path) -> Result<(), Failure> {
+pub(crate) fn prepare_folder_of(file: &Path) -> Result<(), Failure> {
     match file.parent() {
         Some(folder) if !folder.as_os_str().is_empty() => prepare_folder(folder),
         _ => Ok(()),
@@ -24,7 +24,7 @@ pub fn prepare_folder_of(file: &Path) -> Result<(), Failure> {
 ///
 /// # Errors
 /// As [`prepare_folder_of`].
-pub fn prepare_folder(folder: &Path) -> Result<(), Failure> {
+pub(crate) fn prepare_folder(folder: &Path) -> Result<(), Failure> {
     if folder.is_dir() {
         return Ok(());
     }

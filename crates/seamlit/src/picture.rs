@@ -13,7 +13,7 @@ use image::{Rgba, RgbaImage};
 ///
 /// # Errors
 /// The I/O or encoding error, with the path.
-pub fn save_png(image: &RgbaImage, path: &Path) -> anyhow::Result<()> {
+pub(crate) fn save_png(image: &RgbaImage, path: &Path) -> anyhow::Result<()> {
     crate::output::prepare_folder_of(path).map_err(|f| anyhow::anyhow!("{f}"))?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -47,7 +47,7 @@ fn font() -> FontRef<'static> {
 
 /// Width in pixels of `text` at `size` pixels.
 #[must_use]
-pub fn text_width(text: &str, size: f32) -> f32 {
+pub(crate) fn text_width(text: &str, size: f32) -> f32 {
     let font = font();
     let scaled = font.as_scaled(PxScale::from(size));
     text.chars().map(|c| scaled.h_advance(font.glyph_id(c))).sum()
@@ -55,7 +55,14 @@ pub fn text_width(text: &str, size: f32) -> f32 {
 
 /// Draws `text` with its top-left corner at `(x, y)`, `size` pixels tall, blending `color`
 /// over the image.
-pub fn draw_text(image: &mut RgbaImage, text: &str, x: f32, y: f32, size: f32, color: [u8; 3]) {
+pub(crate) fn draw_text(
+    image: &mut RgbaImage,
+    text: &str,
+    x: f32,
+    y: f32,
+    size: f32,
+    color: [u8; 3],
+) {
     let font = font();
     let scaled = font.as_scaled(PxScale::from(size));
     let mut caret = x;
@@ -98,7 +105,7 @@ pub const LABEL_BAND: u32 = 44;
 /// Places panels side by side, each under a band with its title (and a smaller subtitle),
 /// on a dark background.
 #[must_use]
-pub fn labelled_row(panels: &[(RgbaImage, String, String)]) -> RgbaImage {
+pub(crate) fn labelled_row(panels: &[(RgbaImage, String, String)]) -> RgbaImage {
     let gap = 4;
     let height = panels.iter().map(|(p, ..)| p.height()).max().unwrap_or(1) + LABEL_BAND;
     let count = u32::try_from(panels.len()).unwrap_or(u32::MAX);
@@ -136,7 +143,7 @@ pub struct Rect {
 /// pixels (by more than `threshold` in some channel), or `None` when they differ in none.
 /// Windows start on a 2-pixel grid; a summed-area table counts each in O(1).
 #[must_use]
-pub fn most_different_window(
+pub(crate) fn most_different_window(
     a: &RgbaImage,
     b: &RgbaImage,
     (width, height): (u32, u32),
@@ -180,7 +187,7 @@ pub fn most_different_window(
 /// `rect` of `image` enlarged `factor` times, each pixel a `factor` x `factor` block (nearest
 /// neighbour: nothing smoothed in or out, so a seam looks exactly as sharp as it is).
 #[must_use]
-pub fn zoom(image: &RgbaImage, rect: Rect, factor: u32) -> RgbaImage {
+pub(crate) fn zoom(image: &RgbaImage, rect: Rect, factor: u32) -> RgbaImage {
     use image::imageops::{FilterType, crop_imm, resize};
     let window = crop_imm(image, rect.x, rect.y, rect.width, rect.height);
     resize(&*window, rect.width * factor, rect.height * factor, FilterType::Nearest)
@@ -188,7 +195,7 @@ pub fn zoom(image: &RgbaImage, rect: Rect, factor: u32) -> RgbaImage {
 
 /// Draws a 2-pixel frame just outside `rect` (the pixels inside stay as rendered), clipped
 /// to the image.
-pub fn frame(image: &mut RgbaImage, rect: Rect, colour: [u8; 3]) {
+pub(crate) fn frame(image: &mut RgbaImage, rect: Rect, colour: [u8; 3]) {
     let (w, h) = (i64::from(image.width()), i64::from(image.height()));
     let (x0, y0) = (i64::from(rect.x) - 2, i64::from(rect.y) - 2);
     let (x1, y1) = (i64::from(rect.x + rect.width) + 1, i64::from(rect.y + rect.height) + 1);
@@ -204,7 +211,7 @@ pub fn frame(image: &mut RgbaImage, rect: Rect, colour: [u8; 3]) {
 
 /// `top` above `bottom`, `gap` pixels apart, on the dark background of [`labelled_row`].
 #[must_use]
-pub fn stack(top: &RgbaImage, bottom: &RgbaImage, gap: u32) -> RgbaImage {
+pub(crate) fn stack(top: &RgbaImage, bottom: &RgbaImage, gap: u32) -> RgbaImage {
     let width = top.width().max(bottom.width());
     let mut out =
         RgbaImage::from_pixel(width, top.height() + gap + bottom.height(), Rgba([18, 18, 22, 255]));

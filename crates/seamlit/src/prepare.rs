@@ -33,7 +33,7 @@ pub struct FixOverride {
 impl FixOverride {
     /// The options for `asset`, a model whose scene gives `base`.
     #[must_use]
-    pub fn apply(&self, base: FixOptions, asset: &Asset) -> FixOptions {
+    pub(crate) fn apply(&self, base: FixOptions, asset: &Asset) -> FixOptions {
         let o = self.flags.apply(base);
         let o = match self.mode {
             Some(m) => o.with_mode(m),
@@ -46,7 +46,7 @@ impl FixOverride {
 /// `options` with the tangent generator a model with a normal map and no tangents needs,
 /// unless the command line `asked` for one ([`Asset::fix_options`]).
 #[must_use]
-pub fn default_tangents(asset: &Asset, options: FixOptions, asked: bool) -> FixOptions {
+pub(crate) fn default_tangents(asset: &Asset, options: FixOptions, asked: bool) -> FixOptions {
     asset.fix_options(options, asked)
 }
 
@@ -55,7 +55,7 @@ impl SceneArgs {
     ///
     /// # Errors
     /// As [`load`].
-    pub fn load(&self) -> Result<Loaded, Failure> {
+    pub(crate) fn load(&self) -> Result<Loaded, Failure> {
         let options = LoadOptions { tessellation: self.load.tessellation, ..LoadOptions::DEFAULT };
         load(&self.input, &options)
     }
@@ -65,7 +65,7 @@ impl SceneArgs {
 ///
 /// # Errors
 /// [`Failure::BadInput`] naming the file for a missing or malformed scene or model.
-pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, Failure> {
+pub(crate) fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, Failure> {
     if !path.exists() {
         return Err(Failure::input(format!("{}: no such file", path.display())));
     }
@@ -93,7 +93,7 @@ impl Loaded {
     /// # Errors
     /// [`Failure::BadInput`] when a model has bad geometry (NaN positions, indices out of
     /// range), naming the model file.
-    pub fn build(&self, fix: &FixOverride) -> Result<Asset, Failure> {
+    pub(crate) fn build(&self, fix: &FixOverride) -> Result<Asset, Failure> {
         let mut assets = Vec::with_capacity(self.parts.len());
         for (model, asset) in &self.parts {
             let options = fix.apply(model.fix, asset);
@@ -108,7 +108,7 @@ impl Loaded {
     /// came from glTF (whose materials are metallic-roughness) and Blinn-Phong otherwise
     /// (OBJ/MTL and Newell patches, whose materials are Blinn-Phong's).
     #[must_use]
-    pub fn lighting(&self) -> LightingModel {
+    pub(crate) fn lighting(&self) -> LightingModel {
         let all_gltf = self.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
         self.scene.lighting.unwrap_or(if all_gltf {
             LightingModel::Pbr
@@ -120,7 +120,7 @@ impl Loaded {
     /// The scene's `[[light]]`s; without any, the lights the model files carry (glTF
     /// KHR_lights_punctual, placed with their models); without those, the default rig.
     #[must_use]
-    pub fn lights(&self) -> Vec<Light> {
+    pub(crate) fn lights(&self) -> Vec<Light> {
         let from_files: Vec<Light> = self
             .parts
             .iter()
@@ -137,14 +137,14 @@ impl Loaded {
 
     /// The scene's cameras, or one framing `bounds` at this aspect ratio.
     #[must_use]
-    pub fn cameras(&self, bounds: Bounds, aspect: f32) -> Vec<Camera> {
+    pub(crate) fn cameras(&self, bounds: Bounds, aspect: f32) -> Vec<Camera> {
         self.scene.cameras_or_default(bounds, aspect)
     }
 }
 
 /// The bounds of an asset's model, or a unit cube around the origin for an empty one.
 #[must_use]
-pub fn bounds_of(asset: &Asset) -> Bounds {
+pub(crate) fn bounds_of(asset: &Asset) -> Bounds {
     asset.model.bounds().unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::ONE))
 }
 
@@ -152,7 +152,7 @@ pub fn bounds_of(asset: &Asset) -> Bounds {
 ///
 /// # Errors
 /// [`Failure::BadInput`] listing the cameras there are.
-pub fn pick_camera(
+pub(crate) fn pick_camera(
     cameras: &[Camera],
     name: Option<&str>,
     input: &Path,

@@ -7,13 +7,13 @@ use seamlit_mesh::{Changes, FixOptions, NormalPolicy, SeamReport, TangentMethod}
 /// `n` and the noun, singular for one: `count(1, "object")` is "1 object", `count(2,
 /// "object")` "2 objects".
 #[must_use]
-pub fn count(n: usize, noun: &str) -> String {
+pub(crate) fn count(n: usize, noun: &str) -> String {
     if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
 }
 
 /// Formats reports side by side; `columns` are `(heading, report)`.
 #[must_use]
-pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {
+pub(crate) fn report_table(columns: &[(&str, &SeamReport)]) -> String {
     type Cell = fn(&SeamReport) -> String;
     let rows: [(&str, Cell); 21] = [
         ("objects", |r| r.objects.to_string()),
@@ -72,7 +72,7 @@ pub fn report_table(columns: &[(&str, &SeamReport)]) -> String {
 /// One line saying what a fix changed: whose normals were kept, how many changed, how many
 /// vertices were split, and the tangent generator.
 #[must_use]
-pub fn changes_line(changes: &Changes, options: &FixOptions) -> String {
+pub(crate) fn changes_line(changes: &Changes, options: &FixOptions) -> String {
     let total = changes.objects.len();
     let kept: Vec<&str> =
         changes.objects.iter().filter(|o| o.kept_normals).map(|o| o.name.as_str()).collect();
@@ -109,7 +109,7 @@ pub fn changes_line(changes: &Changes, options: &FixOptions) -> String {
 
 /// What a fix changed, one row per object.
 #[must_use]
-pub fn changes_table(changes: &Changes) -> String {
+pub(crate) fn changes_table(changes: &Changes) -> String {
     let mut out = String::new();
     let width =
         changes.objects.iter().map(|o| o.name.chars().count()).chain([6]).max().unwrap_or(6);

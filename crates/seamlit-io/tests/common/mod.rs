@@ -1,5 +1,5 @@
-//! Helpers shared by the integration tests: model paths, an independent OBJ counter and the
-//! Khronos glTF Validator.
+//! Helpers shared by the integration tests: model paths, an independent OBJ counter, an
+//! independent glTF reader (`gltf.rs`) and the Khronos glTF Validator.
 
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use seamlit_mesh::Model;
+
+pub mod gltf;
 
 /// `i`, an index or count a test file holds (JSON numbers are `u64`), as a `usize`.
 pub fn usize_of(i: u64) -> usize {

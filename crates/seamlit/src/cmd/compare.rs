@@ -23,7 +23,7 @@ pub const MODES: [(Mode, &str, &str); 3] = [
 ///
 /// # Errors
 /// As the fix and the rendering.
-pub fn render_modes(
+pub(crate) fn render_modes(
     loaded: &Loaded,
     flags: &crate::cli::FixFlags,
     view: &crate::cli::ViewFlags,
@@ -60,7 +60,7 @@ pub fn render_modes(
 /// seam between objects shows most (at 640x480 a seam of the demo teapot covers a few thousand
 /// pixels of 307,200, invisible at full size). The window is framed in the panels above.
 #[must_use]
-pub fn grid(mut images: Vec<RgbaImage>) -> RgbaImage {
+pub(crate) fn grid(mut images: Vec<RgbaImage>) -> RgbaImage {
     let window = match images.as_slice() {
         [_, object, model] => {
             let size = (object.width() / ZOOM, object.height() / ZOOM);
@@ -107,7 +107,7 @@ const FRAME_COLOUR: [u8; 3] = [255, 210, 60];
 ///
 /// # Errors
 /// Bad input before any GPU work; processing failures after.
-pub fn run(args: &CompareArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &CompareArgs) -> Result<(), Failure> {
     check_png(&args.output)?;
     let loaded = args.scene.load()?;
     let (images, _) =

@@ -24,7 +24,7 @@ const TEAPOT_NAME: &str = "teapot (embedded Newell patches)";
 ///
 /// # Errors
 /// [`Failure::Processing`] when the GPU or a write fails.
-pub fn run(args: &DemoArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &DemoArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let asset = demo::teapot_asset(args.tessellation).processing()?;
     print_seam_report(&asset)?;

@@ -33,7 +33,7 @@ use crate::table::{changes_line, count};
 /// # Errors
 /// The first failure for a file; for a folder, a summary failure when any file failed
 /// (bad input if any file was bad input).
-pub fn run(args: &FixArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
     let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::DEFAULT };
     let save = SaveOptions {

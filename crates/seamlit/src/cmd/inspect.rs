@@ -23,7 +23,11 @@ impl Reports {
     ///
     /// # Errors
     /// [`Failure::BadInput`] naming `file` when the geometry is bad.
-    pub fn measure(model: &Model, options: &FixOptions, file: &Path) -> Result<Self, Failure> {
+    pub(crate) fn measure(
+        model: &Model,
+        options: &FixOptions,
+        file: &Path,
+    ) -> Result<Self, Failure> {
         let report_options = ReportOptions::from(options);
         let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
         let as_loaded = seamlit_mesh::report(model, &report_options).map_err(bad)?;
@@ -38,7 +42,7 @@ impl Reports {
 
     /// The readable table.
     #[must_use]
-    pub fn table(&self) -> String {
+    pub(crate) fn table(&self) -> String {
         let [(_, flat, _), (_, object, _), (_, model, _)] = &self.modes;
         report_table(&[
             ("as loaded", &self.as_loaded),
@@ -51,7 +55,7 @@ impl Reports {
     /// The JSON document `inspect --json` prints: the reports, and under `changes` what the
     /// fix changed in each mode.
     #[must_use]
-    pub fn json(&self, file: &Path, options: &FixOptions) -> serde_json::Value {
+    pub(crate) fn json(&self, file: &Path, options: &FixOptions) -> serde_json::Value {
         let [(_, flat, cf), (_, object, co), (_, model, cm)] = &self.modes;
         serde_json::json!({
             "file": file.display().to_string(),
@@ -69,7 +73,7 @@ impl Reports {
 ///
 /// # Errors
 /// [`Failure::BadInput`] for a missing or malformed model.
-pub fn run(args: &InspectArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &InspectArgs) -> Result<(), Failure> {
     if !args.input.is_file() {
         let what =
             if args.input.is_dir() { "is a folder, expected a model file" } else { "no such file" };

@@ -13,7 +13,7 @@ use crate::table::count;
 ///
 /// # Errors
 /// Bad input (files, camera name) before any GPU work; processing failures after.
-pub fn run(args: &RenderArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     check_png(&args.output)?;
     let loaded = args.scene.load()?;
     let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.scene.fix.clone() };

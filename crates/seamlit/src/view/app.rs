@@ -246,7 +246,7 @@ impl Viewer {
     ///
     /// # Errors
     /// Bad input when the fix fails or the camera name is unknown.
-    pub fn new(
+    pub(crate) fn new(
         loaded: Loaded,
         settings: Settings,
         camera: Option<&str>,

@@ -8,7 +8,7 @@ use crate::failure::Failure;
 pub use seamlit_render::PendingReadback as Pending;
 
 /// Records a copy of `texture` (4 bytes per pixel) into a new buffer.
-pub fn copy_to_buffer(
+pub(crate) fn copy_to_buffer(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     texture: &wgpu::Texture,
@@ -23,7 +23,7 @@ pub fn copy_to_buffer(
 ///
 /// # Errors
 /// [`Failure::Processing`] when the buffer cannot be mapped.
-pub fn read(
+pub(crate) fn read(
     ctx: &GpuContext,
     pending: Pending,
     format: wgpu::TextureFormat,

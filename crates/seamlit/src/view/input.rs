@@ -25,7 +25,7 @@ pub struct Held {
 
 impl Held {
     /// Records a key press or release.
-    pub fn key(&mut self, key: PhysicalKey, state: ElementState) {
+    pub(crate) fn key(&mut self, key: PhysicalKey, state: ElementState) {
         let PhysicalKey::Code(code) = key else { return };
         match state {
             ElementState::Pressed if !self.keys.contains(&code) => self.keys.push(code),
@@ -35,7 +35,7 @@ impl Held {
     }
 
     /// Records a mouse button.
-    pub fn button(&mut self, button: MouseButton, state: ElementState) {
+    pub(crate) fn button(&mut self, button: MouseButton, state: ElementState) {
         let down = state == ElementState::Pressed;
         match button {
             MouseButton::Left => self.left = down,
@@ -46,7 +46,7 @@ impl Held {
     }
 
     /// Records a cursor position.
-    pub fn cursor_moved(&mut self, to: Vec2) {
+    pub(crate) fn cursor_moved(&mut self, to: Vec2) {
         if let Some(from) = self.cursor {
             self.motion += to - from;
         }
@@ -55,14 +55,14 @@ impl Held {
 
     /// Whether a key is held.
     #[must_use]
-    pub fn is_down(&self, code: KeyCode) -> bool {
+    pub(crate) fn is_down(&self, code: KeyCode) -> bool {
         self.keys.contains(&code)
     }
 
     /// The FPS controller's input for this frame: WASD, E/Space up, Q/Ctrl down, Shift fast,
     /// mouse look while the right button is held.
     #[must_use]
-    pub fn fps_input(&self) -> FpsInput {
+    pub(crate) fn fps_input(&self) -> FpsInput {
         let any = |codes: &[KeyCode]| codes.iter().any(|c| self.is_down(*c));
         FpsInput {
             forward: any(&[KeyCode::KeyW, KeyCode::ArrowUp]),
@@ -77,13 +77,13 @@ impl Held {
     }
 
     /// Forgets the motion and scroll of the frame just drawn.
-    pub fn end_frame(&mut self) {
+    pub(crate) fn end_frame(&mut self) {
         self.motion = Vec2::ZERO;
         self.scroll = 0.0;
     }
 
     /// Releases everything (when the window loses focus).
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         *self = Self { cursor: self.cursor, ..Self::default() };
     }
 }

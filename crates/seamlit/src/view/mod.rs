@@ -18,7 +18,7 @@ use crate::prepare::FixOverride;
 ///
 /// # Errors
 /// Bad input before the window opens; processing failures (no display, no GPU) after.
-pub fn run(args: &ViewArgs) -> Result<(), Failure> {
+pub(crate) fn run(args: &ViewArgs) -> Result<(), Failure> {
     if let Some(shot) = &args.screenshot
         && !shot.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"))
     {

@@ -49,7 +49,7 @@ pub struct Settings {
 impl Settings {
     /// The part of the settings that needs a new fix when it changes.
     #[must_use]
-    pub fn fix_key(&self) -> (Mode, u32, Weighting) {
+    pub(crate) fn fix_key(&self) -> (Mode, u32, Weighting) {
         (self.mode, self.crease_deg.to_bits(), self.weighting)
     }
 }
@@ -82,7 +82,7 @@ pub struct Actions {
 }
 
 /// Draws the panel into `ui`, editing `s`.
-pub fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
+pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     let mut actions = Actions::default();
     readout(ui, r);
     ui.separator();

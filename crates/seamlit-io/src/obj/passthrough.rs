@@ -19,132 +19,19 @@
 //! are copied as written to the same relative places beside the output.
 
 use std::collections::HashMap;
-use std::hash::{Hash as _, Hasher as _};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
-use glam::Mat4;
 use seamlit_mesh::{Model, Object};
 
+use crate::asset::Asset;
+use crate::error::{InvalidAsset, IoError};
+use crate::obj::mtl::MapOptions;
+use crate::obj::source::{ObjSource, Source, SourceObject};
 use crate::paths::NotInside;
-use crate::{InvalidAsset, IoError};
 
 /// The UTF-8 byte-order mark, copied through (the parser skips it).
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
-
-/// The OBJ file an [`crate::Asset`] was loaded from: its text as read, its `mtllib`
-/// statements, and for each object of the model where its triangles came from in the file.
-///
-/// Opaque and cheap to clone (shared). [`crate::save`] to `.obj` uses it to write the input
-/// back with only the normals and the faces' normal references changed.
-#[derive(Clone)]
-pub struct ObjSource(Arc<Source>);
-
-struct Source {
-    /// The file's bytes (a UTF-16 file: its text, decoded to UTF-8).
-    text: Vec<u8>,
-    /// The file it was read from: `mtllib` paths are resolved against its folder.
-    path: PathBuf,
-    /// The `mtllib` statements: the name as written and the line.
-    libraries: Vec<(String, usize)>,
-    /// Per object of the loaded model.
-    objects: Vec<SourceObject>,
-}
-
-/// Where a loaded object's triangles came from.
-pub(crate) struct SourceObject {
-    /// The object's vertex count as loaded.
-    pub vertices: usize,
-    /// [`fingerprint`] of its triangles as loaded.
-    pub fingerprint: u64,
-    /// Runs of its triangles among the file's: first (counted over the file) and length.
-    pub runs: Vec<(usize, usize)>,
-    /// Its ear-clipped polygons: first triangle (in the object) and corners (vertices).
-    pub clipped: Vec<(usize, Vec<u32>)>,
-}
-
-impl std::fmt::Debug for ObjSource {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("ObjSource")
-            .field("path", &self.0.path)
-            .field("objects", &self.0.objects.len())
-            .field("bytes", &self.0.text.len())
-            .finish_non_exhaustive()
-    }
-}
-
-/// A hash of an object's triangles (as input vertices), to see that a model still has the
-/// faces it was loaded with.
-pub(crate) fn fingerprint(triangles: impl Iterator<Item = [u32; 3]>) -> u64 {
-    let mut hasher = std::hash::DefaultHasher::new();
-    for triangle in triangles {
-        triangle.hash(&mut hasher);
-    }
-    hasher.finish()
-}
-
-impl ObjSource {
-    /// Keeps a loaded file for the pass-through writer.
-    pub(crate) fn new(
-        text: Vec<u8>,
-        path: &Path,
-        libraries: Vec<(String, usize)>,
-        objects: Vec<SourceObject>,
-    ) -> Self {
-        Self(Arc::new(Source { text, path: path.to_path_buf(), libraries, objects }))
-    }
-
-    /// Whether `model` is still the model of this source: the same objects, each without a
-    /// transform, with its input vertices first (plus split copies of them) and the same
-    /// triangles, in order, up to split copies. Returns why not.
-    pub(crate) fn lines_up(&self, model: &Model) -> Result<(), String> {
-        let source = &*self.0;
-        if model.objects.len() != source.objects.len() {
-            return Err(format!(
-                "the model has {} objects, its OBJ source {}",
-                model.objects.len(),
-                source.objects.len()
-            ));
-        }
-        for (object, loaded) in model.objects.iter().zip(&source.objects) {
-            if object.transform.is_some_and(|m| m != Mat4::IDENTITY) {
-                return Err(format!("object {:?} has a transform", object.name));
-            }
-            let input = object.vertex_count().checked_sub(object.split_from.len());
-            if input != Some(loaded.vertices) {
-                return Err(format!(
-                    "object {:?} has {} input vertices, {} were loaded",
-                    object.name,
-                    input.map_or_else(|| "fewer than no".to_owned(), |n| n.to_string()),
-                    loaded.vertices
-                ));
-            }
-            if object.split_from.iter().any(|&v| v as usize >= loaded.vertices) {
-                return Err(format!(
-                    "object {:?}: a split vertex copies a vertex past the {} input vertices",
-                    object.name, loaded.vertices
-                ));
-            }
-            if fingerprint(input_triangles(object)) != loaded.fingerprint {
-                return Err(format!(
-                    "object {:?} does not have the triangles it was loaded with",
-                    object.name
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
-/// An object's triangles as the input vertices their corners are or copy (an index out of
-/// range as `u32::MAX`, which no fingerprint of a loaded object holds).
-fn input_triangles(object: &Object) -> impl Iterator<Item = [u32; 3]> + '_ {
-    let count = object.vertex_count();
-    object.triangles.iter().map(move |triangle| {
-        triangle.map(|v| if (v as usize) < count { object.source_vertex(v) } else { u32::MAX })
-    })
-}
 
 /// The warning for an OBJ output of a model with tangents: OBJ has no statement for them.
 pub(crate) fn tangents_not_written(model: &Model, path: &Path) -> Option<String> {
@@ -159,8 +46,8 @@ pub(crate) fn tangents_not_written(model: &Model, path: &Path) -> Option<String>
     })
 }
 
-/// Writes `asset` (whose model [`ObjSource::lines_up`] with `source`) as the input OBJ with
-/// its normals replaced, and copies the material libraries and their textures beside it;
+/// Writes `asset` (whose model passes [`ObjSource::check_model`] for `source`) as the input
+/// OBJ with its normals replaced, and copies the material libraries and their textures beside it;
 /// returns the warnings.
 ///
 /// # Errors
@@ -169,13 +56,9 @@ pub(crate) fn tangents_not_written(model: &Model, path: &Path) -> Option<String>
 /// the kept text does not give the loaded faces; [`IoError::LinkEscapes`] for a material
 /// library or texture reached through a link that leaves the model's folder; [`IoError::Io`]
 /// when reading a side file or writing fails.
-pub(crate) fn save(
-    asset: &crate::Asset,
-    source: &ObjSource,
-    path: &Path,
-) -> Result<Vec<String>, IoError> {
+pub(crate) fn save(asset: &Asset, source: &ObjSource, path: &Path) -> Result<Vec<String>, IoError> {
     for object in &asset.model.objects {
-        crate::gltf_write::check_object(object, path)?;
+        crate::check::check_object(object, path)?;
     }
     let text = rewrite(&asset.model, &source.0).map_err(|kind| IoError::InvalidAsset {
         path: path.to_path_buf(),
@@ -187,7 +70,7 @@ pub(crate) fn save(
         side.library(name, *line)?;
     }
     side.copy()?;
-    crate::atomic::write(path, &text)?;
+    crate::files::write(path, &text)?;
     Ok(side.warnings)
 }
 
@@ -273,8 +156,9 @@ impl<'a> Rewriter<'a> {
     /// the object's first face), and each corner's normal reference.
     fn face(&mut self, number: usize, line: &[u8]) -> Result<(), InvalidAsset> {
         let corners = self.words.len() - 1;
-        let (o, first) =
-            self.place(corners - 2).ok_or(InvalidAsset::FaceNotLoaded { line: number })?;
+        let (o, first) = self
+            .next_face_triangles(corners - 2)
+            .ok_or(InvalidAsset::FaceNotLoaded { line: number })?;
         let object = &self.model.objects[o];
         let normals = match &mut self.normal_index[o] {
             Some(normals) => normals,
@@ -282,7 +166,7 @@ impl<'a> Rewriter<'a> {
         };
         let mut references = Vec::with_capacity(corners);
         for c in 0..corners {
-            let (t, k) = corner_place(object, &self.source.objects[o], first, corners, c)
+            let (t, k) = corner_triangle(object, &self.source.objects[o], first, corners, c)
                 .ok_or(InvalidAsset::CornerNotLoaded { line: number, corner: c + 1 })?;
             let vertex = object.triangles[t][k] as usize;
             references.push(object.normals.as_ref().map(|_| normals[vertex]));
@@ -292,7 +176,7 @@ impl<'a> Rewriter<'a> {
     }
 
     /// The object and first triangle there of the next face, which gives `count` triangles.
-    fn place(&mut self, count: usize) -> Option<(usize, usize)> {
+    fn next_face_triangles(&mut self, count: usize) -> Option<(usize, usize)> {
         let triangle = self.triangle;
         while self.runs.get(self.run).is_some_and(|r| r.first + r.len <= triangle) {
             self.run += 1;
@@ -360,7 +244,7 @@ fn write_normals(
 /// own, a bit apart; a polygon corner has one normal reference, the first triangle's.) A
 /// fan holds corner `c >= 2` first in triangle `c - 2`; an ear-clipped polygon's corner is
 /// found by its vertex.
-fn corner_place(
+fn corner_triangle(
     object: &Object,
     loaded: &SourceObject,
     first: usize,
@@ -501,7 +385,7 @@ impl<'a> SideFiles<'a> {
         };
         let out_folder = self.output.parent().unwrap_or(Path::new(""));
         let destination = parts.iter().fold(out_folder.to_path_buf(), |p, s| p.join(s));
-        if !crate::same_file(&real, &destination)
+        if !crate::files::same_file(&real, &destination)
             && !self.copies.iter().any(|(_, to)| to == &destination)
         {
             self.copies.push((real.clone(), destination));
@@ -515,7 +399,7 @@ impl<'a> SideFiles<'a> {
             if let Some(parent) = to.parent().filter(|p| !p.as_os_str().is_empty()) {
                 std::fs::create_dir_all(parent).map_err(|e| IoError::io(parent, e))?;
             }
-            crate::atomic::write_with(to, |out| {
+            crate::files::write_with(to, |out| {
                 std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ())
             })?;
         }
@@ -531,7 +415,7 @@ fn texture_file(statement: &str) -> Option<String> {
     let keyword = keyword.to_ascii_lowercase();
     let is_texture = keyword.starts_with("map_")
         || ["bump", "disp", "decal", "refl", "norm"].contains(&keyword.as_str());
-    let file = crate::obj::MapOptions::parse(rest).file;
+    let file = MapOptions::parse(rest).file;
     (is_texture && !file.is_empty()).then_some(file)
 }
 

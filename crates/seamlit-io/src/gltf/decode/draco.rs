@@ -7,8 +7,9 @@
 //! `attributes` map names (by the stream's unique attribute id) and the indices become
 //! ordinary data appended to buffer 0, the accessors pointing at new buffer views. The
 //! primitive keeps the extension object in the document the loader keeps, so that the
-//! pass-through writer sees the compressed view as used by the input: [`strip`] removes the
-//! extension from the output, and pruning then drops the compressed view and its bytes.
+//! pass-through writer sees the compressed view as used by the input: the writer removes the
+//! extension from the output (`passthrough/uncompress.rs`), and pruning then drops the
+//! compressed view and its bytes.
 //!
 //! The decoder is an alpha (`docs/gltf-pass-through.md`, "Quantised and compressed
 //! geometry"), so nothing it returns is trusted: it runs inside
@@ -21,13 +22,13 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::IoError;
+use crate::error::IoError;
 
 /// The extension's name.
-const DRACO: &str = "KHR_draco_mesh_compression";
+pub(crate) const DRACO: &str = "KHR_draco_mesh_compression";
 
-/// The JSON place of primitive `(m, p)`'s extension object, for errors.
-pub(crate) fn place(m: usize, p: usize) -> String {
+/// The JSON path of primitive `(m, p)`'s extension object, for errors.
+pub(crate) fn extension_path(m: usize, p: usize) -> String {
     format!("meshes[{m}].primitives[{p}].extensions.{DRACO}")
 }
 
@@ -60,46 +61,11 @@ pub(crate) fn refuse(document: &Value, path: &Path) -> Result<(), IoError> {
     match draco_primitives(document).first() {
         Some(&(m, p)) => Err(IoError::Gltf {
             path: path.to_path_buf(),
-            place: place(m, p),
-            kind: crate::GltfKind::NoDracoDecoder { file: path.to_path_buf() },
+            place: extension_path(m, p),
+            kind: crate::gltf::error::GltfKind::NoDracoDecoder { file: path.to_path_buf() },
         }),
         None => Ok(()),
     }
-}
-
-/// For the pass-through writer: removes the extension from every primitive of `json` (the
-/// output document; the primitives' accessors hold the decoded data since [`decode`]) and
-/// from `extensionsUsed` and `extensionsRequired`. Returns one sentence for the save
-/// report, or `None` when no primitive carried it.
-pub(crate) fn strip(json: &mut Value, path: &Path) -> Option<String> {
-    let places = draco_primitives(json);
-    if places.is_empty() {
-        return None;
-    }
-    for &(m, p) in &places {
-        let primitive = &mut json["meshes"][m]["primitives"][p];
-        let Some(extensions) = primitive["extensions"].as_object_mut() else { continue };
-        extensions.remove(DRACO);
-        if extensions.is_empty()
-            && let Some(primitive) = primitive.as_object_mut()
-        {
-            primitive.remove("extensions");
-        }
-    }
-    for list in ["extensionsUsed", "extensionsRequired"] {
-        let Some(names) = json[list].as_array_mut() else { continue };
-        names.retain(|name| name != DRACO);
-        if names.is_empty()
-            && let Some(root) = json.as_object_mut()
-        {
-            root.remove(list);
-        }
-    }
-    Some(format!(
-        "{}: {} primitives compressed with {DRACO} were decompressed; the output stores them uncompressed",
-        path.display(),
-        places.len()
-    ))
 }
 
 #[cfg(feature = "draco")]
@@ -113,9 +79,12 @@ mod decoder {
     use draco_oxide_core::mesh::Mesh;
     use serde_json::{Value, json};
 
-    use super::{DRACO, draco_primitives, place};
-    use crate::gltf_pass::uint;
-    use crate::{Draco, GltfKind, IoError};
+    use super::{DRACO, draco_primitives, extension_path};
+    use crate::error::IoError;
+    use crate::gltf::error::{Draco, GltfKind};
+    use crate::gltf::json::{
+        BYTE, FLOAT, SHORT, UNSIGNED_BYTE, UNSIGNED_INT, UNSIGNED_SHORT, shape, usize_member,
+    };
 
     /// One accessor the stream fills: the attribute's name (`indices` for the indices), its
     /// Draco unique id (`None` for the indices) and what the accessor declares.
@@ -163,7 +132,7 @@ mod decoder {
         if places.is_empty() {
             return Ok(0);
         }
-        let host_length = uint(&json["buffers"][0], "byteLength").unwrap_or(0);
+        let host_length = usize_member(&json["buffers"][0], "byteLength").unwrap_or(0);
         let Some(host) = buffers.first().filter(|b| b.len() >= host_length) else {
             return Err(IoError::Gltf {
                 path: path.to_path_buf(),
@@ -175,7 +144,7 @@ mod decoder {
         for &(m, p) in &places {
             let error = |kind: Draco| IoError::Gltf {
                 path: path.to_path_buf(),
-                place: place(m, p),
+                place: extension_path(m, p),
                 kind: GltfKind::Draco(Box::new(kind)),
             };
             let plain = decode_primitive(json, (m, p), buffers, max_elements).map_err(error)?;
@@ -218,12 +187,12 @@ mod decoder {
         buffers: &'b [Vec<u8>],
     ) -> Result<&'b [u8], Draco> {
         let view_index =
-            uint(extension, "bufferView").ok_or(Draco::Missing { member: "bufferView" })?;
+            usize_member(extension, "bufferView").ok_or(Draco::Missing { member: "bufferView" })?;
         let view =
             json["bufferViews"].get(view_index).ok_or(Draco::NoSuchView { view: view_index })?;
-        let buffer = uint(view, "buffer").unwrap_or(usize::MAX);
-        let offset = uint(view, "byteOffset").unwrap_or(0);
-        let length = uint(view, "byteLength").unwrap_or(0);
+        let buffer = usize_member(view, "buffer").unwrap_or(usize::MAX);
+        let offset = usize_member(view, "byteOffset").unwrap_or(0);
+        let length = usize_member(view, "byteLength").unwrap_or(0);
         buffers
             .get(buffer)
             .and_then(|b| b.get(offset..offset.checked_add(length)?))
@@ -243,13 +212,13 @@ mod decoder {
             extension["attributes"].as_object().ok_or(Draco::Missing { member: "attributes" })?;
         let mut named: Vec<(String, Option<usize>, Option<usize>)> = Vec::new();
         for (name, id) in ids {
-            let id =
-                crate::gltf_pass::index(id).ok_or_else(|| Draco::NotAnId { name: name.clone() })?;
-            let accessor = uint(&primitive["attributes"], name)
+            let id = crate::gltf::json::index(id)
+                .ok_or_else(|| Draco::NotAnId { name: name.clone() })?;
+            let accessor = usize_member(&primitive["attributes"], name)
                 .ok_or_else(|| Draco::NotAnAttribute { name: name.clone() })?;
             named.push((name.clone(), Some(accessor), Some(id)));
         }
-        named.push(("indices".to_owned(), uint(primitive, "indices"), None));
+        named.push(("indices".to_owned(), usize_member(primitive, "indices"), None));
         let mut targets = Vec::with_capacity(named.len());
         for (name, accessor, id) in named {
             let accessor = accessor.ok_or(Draco::NoIndices)?;
@@ -272,7 +241,7 @@ mod decoder {
         if accessor.get("bufferView").is_some() || accessor.get("sparse").is_some() {
             return Err(Draco::AccessorHasData { name, accessor: index });
         }
-        let count = uint(accessor, "count").unwrap_or(0);
+        let count = usize_member(accessor, "count").unwrap_or(0);
         if count > max_elements {
             return Err(Draco::TooManyElements {
                 name,
@@ -281,17 +250,11 @@ mod decoder {
                 limit: max_elements,
             });
         }
-        let components = match accessor["type"].as_str() {
-            Some("SCALAR") => 1,
-            Some("VEC2") => 2,
-            Some("VEC3") => 3,
-            Some("VEC4") => 4,
-            other => {
-                let found = other.map(str::to_owned);
-                return Err(Draco::AccessorType { name, accessor: index, found });
-            }
+        let Some((1, components)) = accessor["type"].as_str().and_then(shape) else {
+            let found = accessor["type"].as_str().map(str::to_owned);
+            return Err(Draco::AccessorType { name, accessor: index, found });
         };
-        let component_type = uint(accessor, "componentType").unwrap_or(0) as u64;
+        let component_type = usize_member(accessor, "componentType").unwrap_or(0) as u64;
         Ok(Target { name, accessor: index, id, count, components, component_type })
     }
 
@@ -373,12 +336,12 @@ mod decoder {
     /// glTF's component type of a decoded component type, where glTF has one.
     fn gltf_component_type(t: ComponentDataType) -> Option<u64> {
         match t {
-            ComponentDataType::I8 => Some(5120),
-            ComponentDataType::U8 => Some(5121),
-            ComponentDataType::I16 => Some(5122),
-            ComponentDataType::U16 => Some(5123),
-            ComponentDataType::U32 => Some(5125),
-            ComponentDataType::F32 => Some(5126),
+            ComponentDataType::I8 => Some(BYTE),
+            ComponentDataType::U8 => Some(UNSIGNED_BYTE),
+            ComponentDataType::I16 => Some(SHORT),
+            ComponentDataType::U16 => Some(UNSIGNED_SHORT),
+            ComponentDataType::U32 => Some(UNSIGNED_INT),
+            ComponentDataType::F32 => Some(FLOAT),
             _ => None,
         }
     }
@@ -445,9 +408,9 @@ mod decoder {
             });
         }
         let limit = match target.component_type {
-            5121 => usize::from(u8::MAX),
-            5123 => usize::from(u16::MAX),
-            5125 => u32::MAX as usize,
+            UNSIGNED_BYTE => usize::from(u8::MAX),
+            UNSIGNED_SHORT => usize::from(u16::MAX),
+            UNSIGNED_INT => u32::MAX as usize,
             other => {
                 return Err(Draco::IndexType { accessor: target.accessor, component_type: other });
             }
@@ -460,8 +423,8 @@ mod decoder {
         }
         #[expect(clippy::cast_possible_truncation, reason = "every corner fits, checked above")]
         let bytes: Vec<u8> = match target.component_type {
-            5121 => corners.iter().map(|&c| c as u8).collect(),
-            5123 => corners.iter().flat_map(|&c| (c as u16).to_le_bytes()).collect(),
+            UNSIGNED_BYTE => corners.iter().map(|&c| c as u8).collect(),
+            UNSIGNED_SHORT => corners.iter().flat_map(|&c| (c as u16).to_le_bytes()).collect(),
             _ => corners.iter().flat_map(|&c| (c as u32).to_le_bytes()).collect(),
         };
         Ok(Plain { accessor: target.accessor, bytes, stride: None, indices: true })
@@ -470,9 +433,10 @@ mod decoder {
     /// The index of primitive `(m, p)`'s stream view when only that primitive names it, in a
     /// document whose every reference to a view is known.
     fn stream_view_alone(json: &Value, (m, p): (usize, usize)) -> Option<usize> {
-        let view = uint(&json["meshes"][m]["primitives"][p]["extensions"][DRACO], "bufferView")?;
-        let known = crate::gltf_prune::unknown_extensions(json).is_empty();
-        (known && crate::gltf_prune::view_uses(json, view) == 1).then_some(view)
+        let view =
+            usize_member(&json["meshes"][m]["primitives"][p]["extensions"][DRACO], "bufferView")?;
+        let known = crate::gltf::references::unknown_extensions(json).is_empty();
+        (known && crate::gltf::references::view_uses(json, view) == 1).then_some(view)
     }
 
     /// Appends one accessor's data to `host` (buffer 0) as a buffer view (in place of view
@@ -515,19 +479,17 @@ mod decoder {
 
     /// Per component, the least and greatest decoded value of an accessor's data.
     fn bounds(accessor: &Value, plain: &Plain) -> (Value, Value) {
-        let component_type = uint(accessor, "componentType").unwrap_or(0);
+        let component_type = usize_member(accessor, "componentType").unwrap_or(0) as u64;
         let (size, read): (usize, fn(&[u8]) -> f64) = match component_type {
-            5120 => (1, |b| f64::from(b[0].cast_signed())),
-            5121 => (1, |b| f64::from(b[0])),
-            5122 => (2, |b| f64::from(i16::from_le_bytes([b[0], b[1]]))),
-            5123 => (2, |b| f64::from(u16::from_le_bytes([b[0], b[1]]))),
-            5125 => (4, |b| f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
+            BYTE => (1, |b| f64::from(b[0].cast_signed())),
+            UNSIGNED_BYTE => (1, |b| f64::from(b[0])),
+            SHORT => (2, |b| f64::from(i16::from_le_bytes([b[0], b[1]]))),
+            UNSIGNED_SHORT => (2, |b| f64::from(u16::from_le_bytes([b[0], b[1]]))),
+            UNSIGNED_INT => (4, |b| f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
             _ => (4, |b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
         };
-        let components = match accessor["type"].as_str() {
-            Some("VEC2") => 2,
-            Some("VEC3") => 3,
-            Some("VEC4") => 4,
+        let components = match accessor["type"].as_str().and_then(shape) {
+            Some((1, components)) => components,
             _ => 1,
         };
         let stride = plain.stride.unwrap_or(size * components);
@@ -541,7 +503,7 @@ mod decoder {
             }
         }
         let number = |x: f64| match component_type {
-            5126 => json!(x),
+            FLOAT => json!(x),
             #[expect(
                 clippy::cast_possible_truncation,
                 reason = "an integer component, read as f64"

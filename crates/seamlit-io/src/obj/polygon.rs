@@ -32,7 +32,7 @@ pub(crate) const MOST_CORNERS: usize = 1024;
 ///
 /// Returns the polygons whose fan was replaced: their first triangle and their corners (the
 /// vertices, in the order the face gives them), so that a writer can find each corner among
-/// the new triangles (the OBJ pass-through, `obj_pass`). A polygon that keeps its fan is
+/// the new triangles (the OBJ pass-through, `passthrough.rs`). A polygon that keeps its fan is
 /// not listed: its corner `0` is its first triangle's corner 0, corner `k` (`0 < k < n - 1`)
 /// triangle `k - 1`'s corner 1, and corner `n - 1` the last triangle's corner 2.
 pub(crate) fn triangulate(

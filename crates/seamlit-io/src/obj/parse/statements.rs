@@ -105,7 +105,7 @@ impl Chunk {
     }
 
     /// An `f` statement on `line`: its corners, fan-triangulated; polygons that are not
-    /// convex are triangulated again once their positions are known (`crate::polygon`).
+    /// convex are triangulated again once their positions are known (`obj/polygon.rs`).
     fn face(
         &mut self,
         words: &mut Cursor<'_>,

@@ -14,7 +14,8 @@ use gltf::accessor::{DataType, Dimensions};
 use seamlit_mesh::{Influences, MorphTarget};
 
 use super::Reader;
-use crate::IoError;
+use crate::error::IoError;
+use crate::gltf::error::GltfKind;
 
 /// How many `JOINTS_n`/`WEIGHTS_n` sets are read (glTF requires support for one; files with
 /// more than eight influences per vertex are rare).
@@ -44,23 +45,27 @@ impl Reader<'_> {
             let weight_types = [DataType::F32, DataType::U8, DataType::U16];
             self.checked(&weights, buffers, &weight_types, &wn, vertex_count)?;
             // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
-            let joints: Vec<[u32; 4]> = crate::gltf_spec::zeros_without_view(
+            let joints: Vec<[u32; 4]> = super::lenient::zeros_without_view(
                 Some(&joints),
                 reader.read_joints(set).map(|it| it.into_u16().map(|j| j.map(u32::from)).collect()),
             )
             .unwrap_or_default();
-            let weights: Vec<[f32; 4]> = crate::gltf_spec::zeros_without_view(
+            let weights: Vec<[f32; 4]> = super::lenient::zeros_without_view(
                 Some(&weights),
                 reader.read_weights(set).map(|it| it.into_f32().collect()),
             )
             .unwrap_or_default();
             if let Some(bad) = weights.iter().position(|w| !w.iter().all(|x| x.is_finite())) {
-                return Err(IoError::AccessorNotFinite {
-                    path: self.path.to_path_buf(),
-                    accessor: primitive.get(&gltf::Semantic::Weights(set)).map_or(0, |a| a.index()),
-                    attribute: "WEIGHTS",
-                    element: bad,
-                });
+                return Err(IoError::gltf_data(
+                    self.path.to_path_buf(),
+                    GltfKind::AccessorNotFinite {
+                        accessor: primitive
+                            .get(&gltf::Semantic::Weights(set))
+                            .map_or(0, |a| a.index()),
+                        attribute: "WEIGHTS",
+                        element: bad,
+                    },
+                ));
             }
             skin.push(Influences { joints, weights });
         }
@@ -75,7 +80,7 @@ impl Reader<'_> {
             };
             let name = format!("targets[{k}].POSITION");
             self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
-            let deltas: Vec<Vec3> = crate::gltf_spec::zeros_without_view(
+            let deltas: Vec<Vec3> = super::lenient::zeros_without_view(
                 Some(&accessor),
                 reader
                     .read_morph_targets()
@@ -85,12 +90,14 @@ impl Reader<'_> {
             )
             .unwrap_or_default();
             if let Some(bad) = deltas.iter().position(|d| !d.is_finite()) {
-                return Err(IoError::AccessorNotFinite {
-                    path: self.path.to_path_buf(),
-                    accessor: accessor.index(),
-                    attribute: "morph target POSITION",
-                    element: bad,
-                });
+                return Err(IoError::gltf_data(
+                    self.path.to_path_buf(),
+                    GltfKind::AccessorNotFinite {
+                        accessor: accessor.index(),
+                        attribute: "morph target POSITION",
+                        element: bad,
+                    },
+                ));
             }
             targets.push(MorphTarget { position_deltas: deltas, ..MorphTarget::default() });
         }
@@ -149,7 +156,7 @@ pub(super) fn joint_nodes(
                     return Err(IoError::Gltf {
                         path: path.to_path_buf(),
                         place: format!("skins[{}].joints", skin.index()),
-                        kind: crate::GltfKind::JointOutOfRange {
+                        kind: GltfKind::JointOutOfRange {
                             set,
                             vertex: v,
                             joint: *j,

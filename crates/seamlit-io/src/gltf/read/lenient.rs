@@ -13,7 +13,9 @@
 //!   `string`); gltf-json refuses it. It is kept only for accessors no mesh primitive uses
 //!   (seamlit never reads those; the gltf crate would panic on one it reads).
 //!
-//! Before the typed parse, [`drop_channels_without_node`] removes, from the copy gltf-json
+//! A document gltf-json refuses to parse is parsed again as [`lenient`] patches it: a scene
+//! without `nodes`, whole numbers written as floats. Before that typed parse,
+//! [`drop_channels_without_node`] removes, from the copy gltf-json
 //! parses only, the animation channels whose target has no `node` (allowed: "When
 //! undefined, the animated object MAY be defined by an extension", as
 //! `KHR_animation_pointer` does); seamlit does not read animations, and the pass-through
@@ -172,4 +174,41 @@ pub(crate) fn root_nodes(document: &gltf::Document) -> Vec<gltf::Node<'_>> {
         child[c.index()] = true;
     }
     document.nodes().filter(|n| !child[n.index()]).collect()
+}
+
+/// What the specification allows and gltf-json 1.4.1 refuses, made acceptable to it: a
+/// scene without `nodes` (an empty scene) gets `"nodes": []`, whole numbers written as
+/// floats (`"count": 3.0`) become integers (float fields read integers as well), and
+/// animation channels without a target node are dropped (see `lenient.rs`). `None` when
+/// there is nothing to change.
+pub(super) fn lenient(document: &serde_json::Value) -> Option<serde_json::Value> {
+    fn patch(value: &mut serde_json::Value, changed: &mut bool) {
+        match value {
+            serde_json::Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(f64::NAN);
+                if x.fract() == 0.0 && (-9.0e15..9.0e15).contains(&x) {
+                    #[expect(clippy::cast_possible_truncation, reason = "a whole number, checked")]
+                    let whole = x as i64;
+                    *value = serde_json::Value::from(whole);
+                    *changed = true;
+                }
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(|v| patch(v, changed)),
+            serde_json::Value::Object(members) => {
+                members.values_mut().for_each(|v| patch(v, changed));
+            }
+            _ => {}
+        }
+    }
+    let mut patched = document.clone();
+    let mut changed = drop_channels_without_node(&mut patched);
+    patch(&mut patched, &mut changed);
+    let scenes = patched.get_mut("scenes").and_then(serde_json::Value::as_array_mut);
+    for scene in scenes.into_iter().flatten().filter_map(serde_json::Value::as_object_mut) {
+        if !scene.contains_key("nodes") {
+            scene.insert("nodes".to_owned(), serde_json::Value::Array(Vec::new()));
+            changed = true;
+        }
+    }
+    changed.then_some(patched)
 }

@@ -22,7 +22,11 @@ use gltf_json as json;
 use json::validation::{Checked, USize64};
 use seamlit_mesh::{Object, VAxis};
 
-use crate::{Asset, InvalidAsset, IoError, Material, TextureRef, TextureSource, UvTransform};
+use crate::asset::{Asset, Material, TextureRef, UvTransform};
+use crate::check::{check_object, unit_normal, unit_tangent};
+use crate::error::{InvalidAsset, IoError};
+use crate::files::safe_name;
+use crate::texture::encoded;
 
 /// Writes `asset` as `.glb` (`binary`) or `.gltf` (+ `.bin` and images beside it).
 ///
@@ -92,129 +96,20 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         })?;
     let folder = path.parent().unwrap_or(Path::new(""));
     for (name, bytes) in &writer.side_files {
-        crate::atomic::write(&folder.join(name), bytes)?;
+        crate::files::write(&folder.join(name), bytes)?;
     }
     if let Some(uri) = bin_uri {
-        crate::atomic::write_with(&folder.join(uri), |out| writer.write_bin(out))?;
+        crate::files::write_with(&folder.join(uri), |out| writer.write_bin(out))?;
     }
     if !binary {
-        return crate::atomic::write(path, &json_bytes);
+        return crate::files::write(path, &json_bytes);
     }
     let bin = (writer.bin_len > 0).then_some(writer.bin_len);
-    write_glb(path, json_bytes, bin, |out| writer.write_bin(out))
-}
-
-/// Writes a GLB atomically: a 12-byte header, the JSON chunk (padded with spaces), and, when
-/// `bin_len` is given, the BIN chunk of that many bytes that `write_bin` writes (padded with
-/// zeros), each chunk behind an 8-byte header of its length and type.
-///
-/// # Errors
-///
-/// [`IoError::InvalidAsset`] for a file over the format's 4 GiB; [`IoError::Io`] when writing
-/// fails.
-pub(crate) fn write_glb(
-    path: &Path,
-    mut json: Vec<u8>,
-    bin_len: Option<usize>,
-    write_bin: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<(), IoError> {
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let bin_padded = bin_len.map(|n| n.next_multiple_of(4));
-    let length = 12 + 8 + json.len() + bin_padded.map_or(0, |b| 8 + b);
-    let word = |n: usize| {
-        u32::try_from(n).map_err(|_| IoError::InvalidAsset {
-            path: path.to_path_buf(),
-            object: String::new(),
-            kind: InvalidAsset::GlbTooLarge { bytes: length },
-        })
-    };
-    let (length, json_length) = (word(length)?, word(json.len())?);
-    let bin_chunk_length = bin_padded.map(word).transpose()?;
-    crate::atomic::write_with(path, |out| {
-        out.write_all(b"glTF")?;
-        out.write_all(&2u32.to_le_bytes())?;
-        out.write_all(&length.to_le_bytes())?;
-        out.write_all(&json_length.to_le_bytes())?;
-        out.write_all(b"JSON")?;
-        out.write_all(&json)?;
-        if let (Some(chunk), Some(len), Some(padded)) = (bin_chunk_length, bin_len, bin_padded) {
-            out.write_all(&chunk.to_le_bytes())?;
-            out.write_all(b"BIN\0")?;
-            write_bin(out)?;
-            out.write_all(&[0; 3][..padded - len])?;
-        }
-        Ok(())
-    })
-}
-
-/// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
-pub(crate) fn safe_name(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(
-            |c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' },
-        )
-        .collect();
-    if s.is_empty() || s.starts_with('.') { format!("model{s}") } else { s }
-}
-
-/// Attribute arrays must match the vertex count and indices must be in range.
-pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> {
-    let n = object.positions.len();
-    let invalid = |kind: InvalidAsset| IoError::InvalidAsset {
-        path: path.to_path_buf(),
-        object: object.name.clone(),
-        kind,
-    };
-    let lengths = [
-        ("uvs", object.uvs.as_ref().map(Vec::len)),
-        ("normals", object.normals.as_ref().map(Vec::len)),
-        ("tangents", object.tangents.as_ref().map(Vec::len)),
-        ("colors", object.colors.as_ref().map(Vec::len)),
-    ];
-    for (attribute, len) in lengths {
-        if let Some(count) = len.filter(|&len| len != n) {
-            return Err(invalid(InvalidAsset::AttributeLength { attribute, count, positions: n }));
-        }
-    }
-    if let Some(groups) = object.smoothing_groups.as_ref().map(Vec::len) {
-        let triangles = object.triangles.len();
-        if groups != triangles {
-            return Err(invalid(InvalidAsset::SmoothingGroups { groups, triangles }));
-        }
-    }
-    if n >= u32::MAX as usize {
-        return Err(invalid(InvalidAsset::TooManyVertices { vertices: n }));
-    }
-    if let Some(t) = object.triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
-        return Err(invalid(InvalidAsset::IndexOutOfRange { triangle: *t, vertices: n }));
-    }
-    if !object.positions.iter().all(|p| p.is_finite()) {
-        return Err(invalid(InvalidAsset::NotFinite));
-    }
-    Ok(())
-}
-
-/// A normal for the validator: unit length (only non-unit ones are touched).
-pub(crate) fn unit_normal(n: Vec3) -> Vec3 {
-    if (n.length_squared() - 1.0).abs() <= 1e-5 { n } else { n.try_normalize().unwrap_or(Vec3::Z) }
-}
-
-/// A tangent for the validator: unit xyz, w exactly +-1.
-pub(crate) fn unit_tangent(t: Vec4) -> Vec4 {
-    let xyz = t.truncate();
-    let xyz = if (xyz.length_squared() - 1.0).abs() <= 1e-5 {
-        xyz
-    } else {
-        xyz.try_normalize().unwrap_or(Vec3::X)
-    };
-    xyz.extend(if t.w < 0.0 { -1.0 } else { 1.0 })
+    crate::gltf::glb::write(path, json_bytes, bin, |out| writer.write_bin(out))
 }
 
 /// A part of the binary buffer, written from the asset when the file is written.
-enum Piece<'a> {
+enum BinPart<'a> {
     /// Vertex positions, as they are.
     Positions(&'a [Vec3]),
     /// Normals, made unit length ([`unit_normal`]).
@@ -233,7 +128,7 @@ enum Piece<'a> {
     Bytes(Vec<u8>),
 }
 
-impl Piece<'_> {
+impl BinPart<'_> {
     /// Bytes this piece takes.
     fn len(&self) -> usize {
         match self {
@@ -282,7 +177,7 @@ impl Piece<'_> {
 struct Writer<'a> {
     root: json::Root,
     /// The binary buffer's contents in order, each starting at a multiple of 4 bytes.
-    pieces: Vec<Piece<'a>>,
+    pieces: Vec<BinPart<'a>>,
     /// The binary buffer's length so far.
     bin_len: usize,
     /// Files to write beside a `.gltf`: (file name, bytes).
@@ -296,7 +191,7 @@ impl<'a> Writer<'a> {
     /// Appends a piece to the binary buffer (4-byte aligned) as a buffer view.
     fn view(
         &mut self,
-        piece: Piece<'a>,
+        piece: BinPart<'a>,
         target: Option<json::buffer::Target>,
     ) -> json::Index<json::buffer::View> {
         let offset = self.bin_len.next_multiple_of(4);
@@ -330,7 +225,7 @@ impl<'a> Writer<'a> {
 
     fn accessor(
         &mut self,
-        piece: Piece<'a>,
+        piece: BinPart<'a>,
         count: usize,
         component: json::accessor::ComponentType,
         type_: json::accessor::Type,
@@ -364,7 +259,7 @@ impl<'a> Writer<'a> {
     /// A float vertex attribute of `count` elements.
     fn float_accessor(
         &mut self,
-        piece: Piece<'a>,
+        piece: BinPart<'a>,
         count: usize,
         type_: json::accessor::Type,
         min_max: Option<(Vec<f32>, Vec<f32>)>,
@@ -396,23 +291,23 @@ impl<'a> Writer<'a> {
         let bounds = Some((min.to_array().to_vec(), max.to_array().to_vec()));
         attributes.insert(
             Checked::Valid(Semantic::Positions),
-            self.float_accessor(Piece::Positions(&object.positions), n, Type::Vec3, bounds),
+            self.float_accessor(BinPart::Positions(&object.positions), n, Type::Vec3, bounds),
         );
         if let Some(normals) = &object.normals {
             attributes.insert(
                 Checked::Valid(Semantic::Normals),
-                self.float_accessor(Piece::Normals(normals), n, Type::Vec3, None),
+                self.float_accessor(BinPart::Normals(normals), n, Type::Vec3, None),
             );
             // TANGENT requires NORMAL.
             if let Some(tangents) = &object.tangents {
                 attributes.insert(
                     Checked::Valid(Semantic::Tangents),
-                    self.float_accessor(Piece::Tangents(tangents), n, Type::Vec4, None),
+                    self.float_accessor(BinPart::Tangents(tangents), n, Type::Vec4, None),
                 );
             }
         }
         if let Some(uvs) = &object.uvs {
-            let piece = Piece::Uvs { uvs, flip: v_axis == VAxis::Up };
+            let piece = BinPart::Uvs { uvs, flip: v_axis == VAxis::Up };
             attributes.insert(
                 Checked::Valid(Semantic::TexCoords(0)),
                 self.float_accessor(piece, n, Type::Vec2, None),
@@ -421,14 +316,14 @@ impl<'a> Writer<'a> {
         if let Some(colors) = &object.colors {
             attributes.insert(
                 Checked::Valid(Semantic::Colors(0)),
-                self.float_accessor(Piece::Colors(colors), n, Type::Vec4, None),
+                self.float_accessor(BinPart::Colors(colors), n, Type::Vec4, None),
             );
         }
         let count = object.triangles.len() * 3;
         let (piece, component) = if n <= usize::from(u16::MAX) {
-            (Piece::Indices16(&object.triangles), json::accessor::ComponentType::U16)
+            (BinPart::Indices16(&object.triangles), json::accessor::ComponentType::U16)
         } else {
-            (Piece::Indices32(&object.triangles), json::accessor::ComponentType::U32)
+            (BinPart::Indices32(&object.triangles), json::accessor::ComponentType::U32)
         };
         let indices = self.accessor(
             piece,
@@ -543,7 +438,7 @@ impl<'a> Writer<'a> {
             }
             let Some((bytes, mime)) = encoded(texture, self.path)? else { continue };
             let image = if self.binary {
-                let view = self.view(Piece::Bytes(bytes), None);
+                let view = self.view(BinPart::Bytes(bytes), None);
                 json::Image {
                     buffer_view: Some(view),
                     mime_type: Some(json::image::MimeType(mime.to_owned())),
@@ -673,39 +568,6 @@ fn texture_transform(
         tex_coord: Some(tex_coord),
         extras: Default::default(),
     }
-}
-
-/// A texture's encoded bytes and MIME type (PNG or JPEG): the original bytes where they are
-/// PNG or JPEG, else the decoded image encoded as PNG; `None` when neither is available.
-pub(crate) fn encoded(
-    texture: &crate::Texture,
-    path: &Path,
-) -> Result<Option<(Vec<u8>, &'static str)>, IoError> {
-    let sniff = |bytes: &[u8]| -> Option<&'static str> {
-        if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
-            Some("image/png")
-        } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
-            Some("image/jpeg")
-        } else {
-            None
-        }
-    };
-    let original = match &texture.source {
-        TextureSource::File(file) => std::fs::read(file).ok(),
-        TextureSource::Embedded { bytes, .. } => Some(bytes.to_vec()),
-        TextureSource::Generated => None,
-    };
-    if let Some(bytes) = original
-        && let Some(mime) = sniff(&bytes)
-    {
-        return Ok(Some((bytes, mime)));
-    }
-    let Some(image) = &texture.image else { return Ok(None) };
-    let mut png = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(
-        |source| IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source },
-    )?;
-    Ok(Some((png, "image/png")))
 }
 
 /// A node with the transform as translation / rotation / scale where it decomposes, else as

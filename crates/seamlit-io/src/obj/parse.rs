@@ -13,7 +13,7 @@
 //! - `o` and `g` start a new object when the current one has faces, else rename it; `usemtl`
 //!   changing the material inside an object with faces starts a new object of the same name;
 //! - faces are triangulated as fans `(a, b, c), (a, c, d), ...` (*: but for polygons that are
-//!   not convex, which are ear-clipped, see [`crate::polygon`]); faces of fewer than three
+//!   not convex, which are ear-clipped, see [`crate::obj::polygon`]); faces of fewer than three
 //!   corners (points, lines) and `p` statements are ignored, and so are `l` statements (*:
 //!   tobj makes a polygon of an `l` of three or more points; a polyline is not a surface);
 //! - vertices are the distinct `v/vt/vn` triples of an object, in order of first use; `vt`
@@ -26,7 +26,7 @@
 //!   groups (`Object::smoothing_groups` is `None`); in a file with `s`, faces before the
 //!   first are in none (0), the OBJ default.
 //!
-//! Material libraries are read with tobj (see [`crate::obj`]).
+//! Material libraries are read with tobj (see `mtl.rs`).
 
 use std::io::Read;
 use std::path::Path;
@@ -82,7 +82,7 @@ pub(crate) struct ParsedObject {
     /// gives `n - 2`, in file order) and its length, in the object's order.
     pub runs: Vec<(usize, usize)>,
     /// The polygons ear-clipped rather than fanned: first triangle and corners (see
-    /// [`crate::polygon::triangulate`]).
+    /// [`crate::obj::polygon::triangulate`]).
     pub clipped: Vec<(usize, Vec<u32>)>,
 }
 
@@ -116,7 +116,7 @@ struct Chunk {
     /// Events with the chunk-local triangle index they precede.
     events: Vec<(usize, Event)>,
     /// Faces of more than three corners, fan-triangulated here: their first triangle and
-    /// their number of corners (see [`crate::polygon`]).
+    /// their number of corners (see [`crate::obj::polygon`]).
     polygons: Vec<(usize, usize)>,
     /// `s` statements: the chunk-local triangle they precede and the group (0 = off).
     smoothing: Vec<(usize, u32)>,
@@ -451,7 +451,7 @@ fn first_out_of_range(
                         .then(|| Written::Index(i64::from(value) + 1))
                 };
                 if let Some(written) = out {
-                    return Some((c, chunk.place(at / 3, slot, written)));
+                    return Some((c, chunk.out_of_range(at / 3, slot, written)));
                 }
             }
         }
@@ -470,7 +470,7 @@ enum Written {
 impl Chunk {
     /// The line of `triangle`'s face and the index as written, from the run of faces it
     /// belongs to: each face of a run is a line, of as many triangles as its corners less two.
-    fn place(&self, triangle: usize, slot: usize, written: Written) -> OutOfRange {
+    fn out_of_range(&self, triangle: usize, slot: usize, written: Written) -> OutOfRange {
         let run = &self.face_runs[self.face_runs.partition_point(|r| r.triangle <= triangle) - 1];
         let (mut first, mut line) = (run.triangle, run.line);
         let mut polygon = self.polygons.partition_point(|&(f, _)| f < first);
@@ -545,7 +545,7 @@ impl Parsed {
                 let with_vn = keys.iter().filter(|k| k[2] != MISSING).count();
                 let all = keys.len();
                 let positions: Vec<Vec3> = keys.iter().map(|k| positions[k[0] as usize]).collect();
-                let clipped = crate::polygon::triangulate(
+                let clipped = crate::obj::polygon::triangulate(
                     &mut triangles,
                     &positions,
                     polygons(chunks, &segments),

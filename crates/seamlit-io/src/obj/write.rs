@@ -1,6 +1,6 @@
 //! Wavefront OBJ (+ MTL) out: the generic writer, for assets that did not come from OBJ or
 //! whose model no longer lines up with the OBJ it came from (an OBJ that does goes through
-//! `obj_pass`, which keeps the input file). No tangents are written: OBJ has no statement
+//! `passthrough.rs`, which keeps the input file). No tangents are written: OBJ has no statement
 //! for them.
 //!
 //! Each object becomes an `o` block with its `usemtl`, `v`, `vt` and `vn` lines and faces
@@ -61,7 +61,7 @@ impl SmoothingState {
 /// Writes `asset` as OBJ at `path`, with `STEM.mtl` and the textures beside it.
 pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
     for object in &asset.model.objects {
-        crate::gltf_write::check_object(object, path)?;
+        crate::check::check_object(object, path)?;
     }
     let stem =
         path.file_stem().map_or_else(|| "model".to_owned(), |s| s.to_string_lossy().into_owned());
@@ -85,12 +85,12 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
     let obj = write_obj(asset, (!mtl.mtl.is_empty()).then_some(&names), &stem);
     let folder = path.parent().unwrap_or(Path::new(""));
     for (name, bytes) in &mtl.side_files {
-        crate::atomic::write(&folder.join(name), bytes)?;
+        crate::files::write(&folder.join(name), bytes)?;
     }
     if !mtl.mtl.is_empty() {
-        crate::atomic::write(&folder.join(format!("{stem}.mtl")), mtl.mtl.as_bytes())?;
+        crate::files::write(&folder.join(format!("{stem}.mtl")), mtl.mtl.as_bytes())?;
     }
-    crate::atomic::write(path, obj.as_bytes())
+    crate::files::write(path, obj.as_bytes())
 }
 
 /// A name on one line: line ends become spaces, the ends are trimmed.
@@ -285,7 +285,7 @@ impl MtlWriter<'_> {
         if let Some(file) = &self.texture_files[r.texture] {
             return Ok(Some(file.clone()));
         }
-        let Some((bytes, mime)) = crate::gltf_write::encoded(texture, self.path)? else {
+        let Some((bytes, mime)) = crate::texture::encoded(texture, self.path)? else {
             return Ok(None);
         };
         let extension = if mime == "image/png" { "png" } else { "jpg" };

@@ -3,7 +3,7 @@
 //! For an input that used EXT_meshopt_compression or KHR_meshopt_compression, the
 //! pass-through writer then leaves every compressed buffer view of the input as it was
 //! written: its compressed bytes (which stay where they were, in buffer 0 or another
-//! buffer: the pass never packs a document that uses meshopt, see `gltf_prune`), mode,
+//! buffer: the pass never packs a document that uses meshopt, see `prune.rs`), mode,
 //! filter and fallback buffer, so a lossy filter (OCTAHEDRAL, QUATERNION, EXPONENTIAL,
 //! COLOR) is never applied twice. The data the pass writes anew (NORMAL, TANGENT, their
 //! morph deltas, split vertex streams, indices) is gathered into one new view per layout
@@ -24,8 +24,8 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use crate::gltf_decode::{MESHOPT, Vertex, by_stride, is_fallback, meshopt};
-use crate::gltf_pass::{array_member, uint};
+use crate::gltf::decode::meshopt::{MESHOPT, Vertex, by_stride, is_fallback, meshopt};
+use crate::gltf::json::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER, array_member, usize_member};
 use crate::{IoError, KeepCompression};
 
 /// What a new buffer view holds: how it is described and whether it can be compressed.
@@ -42,7 +42,7 @@ pub(crate) enum Layout {
 
 /// The state of a save that keeps meshopt compression: which extension, which fallback
 /// buffer, and what was kept and encoded, for the report.
-pub(crate) struct Keep {
+pub(crate) struct Recompression {
     /// The extension's name, as the input used it.
     name: &'static str,
     /// The fallback buffer that names the new views' decoded bytes.
@@ -61,7 +61,7 @@ pub(crate) struct Keep {
 
 /// New data of one layout, gathered into one buffer view until the save ends.
 struct Gathered {
-    /// The view's index (an empty entry until [`Keep::finish`]).
+    /// The view's index (an empty entry until [`Recompression::finish`]).
     view: usize,
     /// The layout, with `element` equal to `stride` for vertices (streams of several element
     /// sizes share a view of their stride).
@@ -70,7 +70,7 @@ struct Gathered {
     bytes: Vec<u8>,
 }
 
-impl Keep {
+impl Recompression {
     /// Starts a save of `json` (the output document, the input's until now) that keeps the
     /// compression. `None` when no buffer view is meshopt-compressed (nothing to keep).
     ///
@@ -79,10 +79,12 @@ impl Keep {
     /// [`IoError::CannotKeepCompression`] naming `source` (the input) when it has
     /// Draco-compressed primitives: seamlit has no Draco encoder.
     pub(crate) fn start(json: &mut Value, source: &Path) -> Result<Option<Self>, IoError> {
-        if let Some(&(m, p)) = crate::gltf_draco::draco_primitives(json).first() {
+        if let Some(&(m, p)) = crate::gltf::decode::draco::draco_primitives(json).first() {
             return Err(IoError::CannotKeepCompression {
                 path: source.to_path_buf(),
-                kind: KeepCompression::Draco { primitive: crate::gltf_draco::place(m, p) },
+                kind: KeepCompression::Draco {
+                    primitive: crate::gltf::decode::draco::extension_path(m, p),
+                },
             });
         }
         let views = json["bufferViews"].as_array().map_or(&[][..], Vec::as_slice);
@@ -95,7 +97,7 @@ impl Keep {
             is_fallback(b) && b.get("uri").is_none() && b["extensions"].get(name).is_some()
         });
         let (fallback, fallback_length) = match existing {
-            Some((index, buffer)) => (index, uint(buffer, "byteLength").unwrap_or(0)),
+            Some((index, buffer)) => (index, usize_member(buffer, "byteLength").unwrap_or(0)),
             None => {
                 let fallback =
                     json!({ "byteLength": 0, "extensions": { name: { "fallback": true } } });
@@ -116,7 +118,7 @@ impl Keep {
     }
 
     /// Gathers the new data `bytes`, laid out as `layout`, into the one new view of its layout
-    /// (an empty entry pushed to `views` the first time, filled in by [`Keep::finish`]);
+    /// (an empty entry pushed to `views` the first time, filled in by [`Recompression::finish`]);
     /// returns that view and the offset of `bytes` in it. `None` for data that is never
     /// compressed (image bytes, 8-bit indices, a stride the codec does not take).
     pub(crate) fn gather(
@@ -199,10 +201,10 @@ impl Keep {
         match gathered.layout {
             Layout::Vertices { .. } => {
                 view["byteStride"] = json!(stride);
-                view["target"] = json!(crate::gltf_pass::ARRAY_BUFFER);
+                view["target"] = json!(ARRAY_BUFFER);
             }
             Layout::Triangles { .. } => {
-                view["target"] = json!(crate::gltf_pass::ELEMENT_ARRAY_BUFFER);
+                view["target"] = json!(ELEMENT_ARRAY_BUFFER);
             }
             Layout::Bytes => {}
         }

@@ -1,0 +1,118 @@
+//! glTF materials as seamlit's [`Material`]: metallic-roughness with its textures and their
+//! KHR_texture_transform, emissive strength, alpha mode, unlit.
+
+use crate::asset::{AlphaMode, Material, TextureRef, UvTransform};
+
+/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]);
+/// `None` for a texture whose image only an extension names (no `source`: KTX2 through
+/// KHR_texture_basisu, WebP), which seamlit does not decode. The coordinate set is the texture
+/// info's `texCoord` unless its KHR_texture_transform gives its own, which then overrides it
+/// (the extension's specification).
+fn texture_ref(
+    texture: &gltf::Texture<'_>,
+    tex_coord: u32,
+    transform: Option<(UvTransform, Option<u32>)>,
+) -> Option<TextureRef> {
+    let tex_coord = transform.and_then(|(_, own)| own).unwrap_or(tex_coord);
+    let transform = transform.map(|(t, _)| t);
+    Some(TextureRef { texture: texture.source()?.index(), tex_coord, transform })
+}
+
+/// KHR_texture_transform as the gltf crate types it, with its `texCoord` override.
+fn uv_transform(t: &gltf::texture::TextureTransform<'_>) -> (UvTransform, Option<u32>) {
+    (UvTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale() }, t.tex_coord())
+}
+
+/// A JSON number as the `f32` that glTF's float properties are: rounded to nearest (a
+/// magnitude past f32's range becomes infinite); `None` for anything else.
+#[expect(clippy::cast_possible_truncation, reason = "glTF's floats are f32: rounding is the point")]
+pub(super) fn json_f32(value: &serde_json::Value) -> Option<f32> {
+    value.as_f64().map(|x| x as f32)
+}
+
+/// KHR_texture_transform from raw extension JSON (the gltf crate does not type it on
+/// normal and occlusion textures), with its `texCoord` override.
+fn uv_transform_json(value: &serde_json::Value) -> (UvTransform, Option<u32>) {
+    let pair = |key: &str, default: [f32; 2]| -> [f32; 2] {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| Some([json_f32(a.first()?)?, json_f32(a.get(1)?)?]))
+            .unwrap_or(default)
+    };
+    let transform = UvTransform {
+        offset: pair("offset", [0.0, 0.0]),
+        rotation: value.get("rotation").and_then(json_f32).unwrap_or(0.0),
+        scale: pair("scale", [1.0, 1.0]),
+    };
+    let tex_coord = value
+        .get("texCoord")
+        .and_then(serde_json::Value::as_u64)
+        .and_then(|set| u32::try_from(set).ok());
+    (transform, tex_coord)
+}
+
+/// A glTF material as seamlit's.
+pub(super) fn material(m: &gltf::Material<'_>) -> Material {
+    let pbr = m.pbr_metallic_roughness();
+    let base_color_texture = pbr.base_color_texture().and_then(|info| {
+        let transform = info.texture_transform().map(|t| uv_transform(&t));
+        texture_ref(&info.texture(), info.tex_coord(), transform)
+    });
+    let normal = m.normal_texture();
+    let normal_texture = normal.as_ref().and_then(|n| {
+        let transform = n.extension_value("KHR_texture_transform").map(uv_transform_json);
+        texture_ref(&n.texture(), n.tex_coord(), transform)
+    });
+    let base = pbr.base_color_factor();
+    let metallic = pbr.metallic_factor();
+    let roughness = pbr.roughness_factor();
+    // Specular colour: 4 % for dielectrics, the base colour for metals (the usual
+    // metallic-roughness to specular-glossiness conversion).
+    let specular = std::array::from_fn(|i| 0.04 + (base[i] - 0.04) * metallic);
+    Material {
+        name: m.name().map_or_else(|| format!("material{}", m.index().unwrap_or(0)), str::to_owned),
+        base_color: base,
+        base_color_texture,
+        normal_texture,
+        normal_scale: normal.as_ref().map_or(1.0, gltf::material::NormalTexture::scale),
+        normal_green_down: false,
+        specular,
+        shininess: crate::asset::roughness_to_shininess(roughness),
+        metallic,
+        roughness,
+        double_sided: m.double_sided(),
+        metallic_roughness_texture: pbr.metallic_roughness_texture().and_then(|i| info_ref(&i)),
+        occlusion_texture: m.occlusion_texture().and_then(|o| {
+            let transform = o.extension_value("KHR_texture_transform").map(uv_transform_json);
+            texture_ref(&o.texture(), o.tex_coord(), transform)
+        }),
+        occlusion_strength: m.occlusion_texture().map_or(1.0, |o| o.strength()),
+        emissive: m.emissive_factor().map(|c| c * emissive_strength(m)),
+        emissive_texture: m.emissive_texture().and_then(|i| info_ref(&i)),
+        alpha_mode: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => {
+                AlphaMode::Mask { cutoff: m.alpha_cutoff().unwrap_or(0.5) }
+            }
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        unlit: m.extension_value("KHR_materials_unlit").is_some(),
+    }
+}
+
+/// A texture slot's reference with its KHR_texture_transform.
+fn info_ref(info: &gltf::texture::Info<'_>) -> Option<TextureRef> {
+    let transform = info.texture_transform().map(|t| uv_transform(&t));
+    texture_ref(&info.texture(), info.tex_coord(), transform)
+}
+
+/// KHR_materials_emissive_strength's `emissiveStrength`, 1 without it. Read from the raw
+/// extension JSON, as the texture transforms of normal maps are, so that gltf-json's typed
+/// extension features (which would re-serialise the pass-through's JSON) stay off.
+fn emissive_strength(m: &gltf::Material<'_>) -> f32 {
+    m.extension_value("KHR_materials_emissive_strength")
+        .and_then(|e| e.get("emissiveStrength"))
+        .and_then(json_f32)
+        .unwrap_or(1.0)
+}
