@@ -3,7 +3,7 @@
 //! [`NormalPolicy::Keep`], objects that carry normals keep them and [`crate::repair`] repairs
 //! the seams between objects.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::face::face;
@@ -12,10 +12,11 @@ use crate::group::{Frame, Rules};
 use crate::index::{index, low_half};
 use crate::mikk;
 use crate::morph;
+use crate::out::Out;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
-use crate::weld;
+use crate::weld::{self, diagonal, roots_for_mode};
 use crate::{
     Changes, FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ObjectChanges, TangentMethod,
 };
@@ -265,217 +266,6 @@ fn write_objects(
             write(o, object, tangents, input.and_then(|m| m.objects[o].normals.as_deref()))
         })
         .collect()
-}
-
-/// The length of the diagonal of the model-space bounding box.
-pub(crate) fn diagonal(flat: &Flat) -> f32 {
-    let (lo, hi) = weld::bounds(&flat.positions);
-    if lo.x <= hi.x { lo.distance(hi) } else { 0.0 }
-}
-
-/// Each vertex's root (see [`weld::roots`]), welding across the whole model ([`Mode::Model`])
-/// or within each object ([`Mode::Object`]).
-pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32> {
-    if mode == Mode::Model {
-        return weld::roots(&flat.positions, tolerance);
-    }
-    let parts: Vec<Vec<u32>> = flat
-        .vertex_start
-        .par_windows(2)
-        .map(|w| {
-            let mut roots = weld::roots(&flat.positions[w[0] as usize..w[1] as usize], tolerance);
-            roots.iter_mut().for_each(|r| *r += w[0]);
-            roots
-        })
-        .collect();
-    parts.concat()
-}
-
-/// One object's output, built vertex by vertex: a frame per vertex, and a copy of a vertex
-/// wherever one of its corners needs another frame.
-pub(crate) struct Out<'a> {
-    positions: &'a mut Vec<Vec3>,
-    /// The object's [`Object::split_from`], extended for every copy made here.
-    split_from: &'a mut Vec<u32>,
-    /// Vertices before this index are the object's input vertices.
-    input_count: usize,
-    /// The input normals where the object is a copy without them (see [`Out::finish`]).
-    input_normals: Option<&'a [Vec3]>,
-    /// Whether the object had input normals (its own, or `input_normals`).
-    had_normals: bool,
-    /// Whether the normals are the object's own, kept: vertices no corner sets keep theirs.
-    keep_normals: bool,
-    /// Input vertices whose normal was set to other bits than the input's.
-    changed: usize,
-    uvs: &'a mut Option<Vec<Vec2>>,
-    uvs1: &'a mut Option<Vec<Vec2>>,
-    colors: &'a mut Option<Vec<Vec4>>,
-    skin: &'a mut Vec<crate::Influences>,
-    morph_targets: &'a mut Vec<crate::MorphTarget>,
-    linear: Option<Linear>,
-    /// Whether tangents are written (otherwise they are zero and split nothing).
-    tangents_wanted: bool,
-    normals: Vec<Vec3>,
-    tangents: Vec<Vec4>,
-    /// Per vertex: whether its frame is set.
-    is_set: Vec<bool>,
-    /// Copies of vertex `v` form a chain: `next[v] -> ... -> u32::MAX` (empty until needed).
-    next: Vec<u32>,
-}
-
-impl<'a> Out<'a> {
-    fn new(
-        object: &'a mut Object,
-        linear: Option<Linear>,
-        tangents_wanted: bool,
-        input_normals: Option<&'a [Vec3]>,
-    ) -> Self {
-        let n = object.positions.len();
-        let had_normals = input_normals.is_some() || object.normals.is_some();
-        // Reuse the input's memory. Input normals stay where no triangle overwrites them.
-        let mut normals = object.normals.take().unwrap_or_default();
-        normals.resize(n, Vec3::ZERO);
-        let mut tangents = object.tangents.take().unwrap_or_default();
-        tangents.clear();
-        tangents.resize(n, Vec4::ZERO);
-        Self {
-            input_count: n - object.split_from.len(),
-            positions: &mut object.positions,
-            split_from: &mut object.split_from,
-            input_normals,
-            had_normals,
-            keep_normals: false,
-            changed: 0,
-            uvs: &mut object.uvs,
-            uvs1: &mut object.uvs1,
-            colors: &mut object.colors,
-            skin: &mut object.skin,
-            morph_targets: &mut object.morph_targets,
-            linear,
-            tangents_wanted,
-            normals,
-            tangents,
-            is_set: vec![false; n],
-            next: Vec::new(),
-        }
-    }
-
-    /// An output for new tangents of an object whose normals (in local space) stay: frames
-    /// are given with [`Self::put_local`], and vertices no corner sets keep their normal.
-    pub fn keeping_normals(object: &'a mut Object) -> Self {
-        let mut out = Self::new(object, None, true, None);
-        out.keep_normals = true;
-        out
-    }
-
-    /// The normal of vertex `v`: the input one until a corner sets it.
-    pub fn normal(&self, v: u32) -> Vec3 {
-        self.normals[v as usize]
-    }
-
-    /// A model-space frame in the object's local space.
-    fn local(&self, f: Frame) -> (Vec3, Vec4) {
-        let (n, t) = match &self.linear {
-            Some(l) => l.frame_to_local(f.normal, f.tangent),
-            None => (f.normal, f.tangent),
-        };
-        (n, if self.tangents_wanted { t } else { Vec4::ZERO })
-    }
-
-    /// Sets the frame of vertex `v`, which no corner has set yet.
-    fn set(&mut self, v: usize, f: Frame) {
-        let (n, t) = self.local(f);
-        self.set_local(v, n, t);
-    }
-
-    /// [`Self::set`] in local space.
-    fn set_local(&mut self, v: usize, normal: Vec3, tangent: Vec4) {
-        let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
-        self.changed += usize::from(!self.had_normals || vec3_bits(input) != vec3_bits(normal));
-        (self.normals[v], self.tangents[v]) = (normal, tangent);
-        self.is_set[v] = true;
-    }
-
-    /// Gives a corner at vertex `v` the frame `f`: returns `v`, or the copy of `v` that has
-    /// this frame (made if none has).
-    fn put(&mut self, v: u32, f: Frame) -> u32 {
-        let (normal, tangent) = self.local(f);
-        self.put_local(v, normal, tangent)
-    }
-
-    /// [`Self::put`] in local space.
-    pub fn put_local(&mut self, v: u32, normal: Vec3, tangent: Vec4) -> u32 {
-        let vi = v as usize;
-        if !self.is_set[vi] {
-            self.set_local(vi, normal, tangent);
-            return v;
-        }
-        let key = bits(normal, tangent);
-        if self.next.is_empty() {
-            self.next = vec![u32::MAX; self.is_set.len()];
-        }
-        let mut at = vi;
-        loop {
-            if bits(self.normals[at], self.tangents[at]) == key {
-                return index(at);
-            }
-            if self.next[at] == u32::MAX {
-                let new = self.positions.len();
-                self.positions.push(self.positions[vi]);
-                let source = match vi.checked_sub(self.input_count) {
-                    Some(k) => self.split_from[k],
-                    None => v,
-                };
-                self.split_from.push(source);
-                if let Some(uvs) = self.uvs {
-                    uvs.push(uvs[vi]);
-                }
-                if let Some(uvs1) = self.uvs1 {
-                    uvs1.push(uvs1[vi]);
-                }
-                if let Some(colors) = self.colors {
-                    colors.push(colors[vi]);
-                }
-                morph::copy_vertex(self.skin, self.morph_targets, vi);
-                self.normals.push(normal);
-                self.tangents.push(tangent);
-                self.is_set.push(true);
-                self.next.push(u32::MAX);
-                // At most one new vertex per corner: see crate::index.
-                let new = index(new);
-                self.next[at] = new;
-                return new;
-            }
-            at = self.next[at] as usize;
-        }
-    }
-
-    /// Vertices no triangle uses keep their input normal (normalised, or +Z; as it is where
-    /// the normals are kept); then the result goes into the object.
-    pub fn finish(mut self, normals: &mut Option<Vec<Vec3>>, tangents: &mut Option<Vec<Vec4>>) {
-        for v in 0..self.is_set.len() {
-            if !self.is_set[v] {
-                let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
-                let n = input.try_normalize().unwrap_or(Vec3::Z);
-                if !self.keep_normals {
-                    self.changed +=
-                        usize::from(!self.had_normals || vec3_bits(input) != vec3_bits(n));
-                    self.normals[v] = n;
-                }
-                self.tangents[v] = n.any_orthonormal_vector().extend(1.0);
-            }
-        }
-        *normals = Some(self.normals);
-        *tangents = self.tangents_wanted.then_some(self.tangents);
-    }
-}
-
-fn bits(n: Vec3, t: Vec4) -> [u32; 7] {
-    [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(f32::to_bits)
-}
-
-fn vec3_bits(n: Vec3) -> [u32; 3] {
-    n.to_array().map(f32::to_bits)
 }
 
 /// Writes one object corner by corner, `frames(t, positions, uvs)` giving the model-space

@@ -48,6 +48,7 @@ mod mikk;
 mod model;
 mod morph;
 mod options;
+mod out;
 #[cfg(feature = "reference")]
 pub mod reference;
 mod repair;

@@ -33,11 +33,11 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 use crate::face::{DEGENERATE, DEGENERATE_UV, face};
-use crate::fix::{diagonal, roots_for_mode};
 use crate::frame::{Linear, orthogonal_tangent};
 use crate::group::weight;
 use crate::index::{index, low_half};
 use crate::validate::{self, Flat};
+use crate::weld::{diagonal, roots_for_mode};
 use crate::{FixOptions, Influences, MeshError, Mode, Model, MorphTarget};
 
 /// Two base normals (or tangents) at one welded position belong to one group when their

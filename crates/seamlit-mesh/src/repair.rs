@@ -28,10 +28,10 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 use crate::face::face;
-use crate::fix::Out;
 use crate::frame::{Linear, orthogonalise};
 use crate::group::{Frame, Rules, weight};
 use crate::index::{index, low_half};
+use crate::out::Out;
 use crate::smooth::{self, face_frame};
 use crate::validate::Flat;
 use crate::weld::union;

@@ -121,7 +121,7 @@ pub struct SeamReport {
 /// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
 pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, MeshError> {
     let mut flat = validate::flatten(model)?;
-    let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
+    let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
     let roots = weld::roots(&flat.positions, tolerance);
 
     let shared = flat.shared_positions(&roots);

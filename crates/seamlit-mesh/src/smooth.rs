@@ -554,7 +554,7 @@ mod tests {
             [(FixOptions::DEFAULT, true), (FixOptions::DEFAULT, false), (FixOptions::PAPER, true)]
         {
             let mut flat = validate::flatten(&model).expect("valid");
-            let tolerance = options.weld_tolerance.absolute(crate::fix::diagonal(&flat));
+            let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
             let roots = weld::roots(&flat.positions, tolerance);
             weld::snap_to_roots(&mut flat.positions, &roots);
             let rules = Rules::new(&options, tangents);

@@ -35,7 +35,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::Mode;
 use crate::index::{index, low_half};
+use crate::validate::Flat;
 
 /// The result of [`weld`]: a shared id per input position. The pipeline works with
 /// [`roots`]; this compact form is for the tests.
@@ -306,6 +308,30 @@ pub(crate) fn union(parent: &mut [u32], a: u32, b: u32) {
         let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
         parent[hi as usize] = lo;
     }
+}
+
+/// The length of the diagonal of the model-space bounding box.
+pub(crate) fn diagonal(flat: &Flat) -> f32 {
+    let (lo, hi) = bounds(&flat.positions);
+    if lo.x <= hi.x { lo.distance(hi) } else { 0.0 }
+}
+
+/// Each vertex's root (see [`roots`]), welding across the whole model ([`Mode::Model`])
+/// or within each object ([`Mode::Object`]).
+pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32> {
+    if mode == Mode::Model {
+        return roots(&flat.positions, tolerance);
+    }
+    let parts: Vec<Vec<u32>> = flat
+        .vertex_start
+        .par_windows(2)
+        .map(|w| {
+            let mut part = roots(&flat.positions[w[0] as usize..w[1] as usize], tolerance);
+            part.iter_mut().for_each(|r| *r += w[0]);
+            part
+        })
+        .collect();
+    parts.concat()
 }
 
 #[cfg(test)]

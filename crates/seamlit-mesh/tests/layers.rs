@@ -61,3 +61,91 @@ fn the_geometry_and_file_crates_never_reach_the_gpu_stack() {
         }
     }
 }
+
+/// The modules of seamlit-mesh, lowest first: a module may import from modules before it in
+/// this list (and from names re-exported at the crate root: the model's types, options and
+/// errors), never from one after it. The pipeline's order: validate and weld, the per-face
+/// and per-frame maths, the grouping and the one-pass smoothing, the report, MikkTSpace, the
+/// morph deltas, the output writer, the repair, `fix`; the paper's reference beside it.
+const MESH_LAYERS: &[&str] = &[
+    "error",
+    "index",
+    "options",
+    "model",
+    "changes",
+    "validate",
+    "weld",
+    "face",
+    "frame",
+    "group",
+    "smooth",
+    "skin",
+    "report",
+    "mikk",
+    "morph",
+    "out",
+    "repair",
+    "fix",
+    "reference",
+];
+
+/// The `crate::module` paths a source file uses outside comments and its `mod tests`.
+fn module_paths(source: &str) -> Vec<String> {
+    let code = source.split("#[cfg(test)]\nmod tests").next().unwrap_or(source);
+    let mut paths = Vec::new();
+    for line in code.lines().filter(|l| !l.trim_start().starts_with("//")) {
+        let mut rest = line;
+        while let Some(at) = rest.find("crate::") {
+            rest = &rest[at + "crate::".len()..];
+            let name: String =
+                rest.chars().take_while(|c| c.is_ascii_lowercase() || *c == '_').collect();
+            if !name.is_empty() && rest[name.len()..].starts_with([':', ';', ',', '}', ' ']) {
+                paths.push(name);
+            }
+        }
+    }
+    // `use crate::{a, b::c}` groups: the lowercase names inside the braces are modules too.
+    for group in code.split("use crate::{").skip(1) {
+        let inside = group.split("};").next().unwrap_or("");
+        for item in inside.split(',') {
+            let name = item.trim().split("::").next().unwrap_or("");
+            if name.chars().next().is_some_and(|c| c.is_ascii_lowercase()) {
+                paths.push(name.to_string());
+            }
+        }
+    }
+    paths
+}
+
+/// The imports of `module` (whose source is `source`) that run up the layers.
+fn back_edges(module: &str, source: &str) -> Vec<String> {
+    let rank = |m: &str| MESH_LAYERS.iter().position(|l| *l == m);
+    let own = rank(module).unwrap_or_else(|| panic!("{module} is not in MESH_LAYERS"));
+    module_paths(source)
+        .into_iter()
+        .filter(|m| m != module && rank(m).is_some_and(|r| r > own))
+        .map(|m| format!("{module} imports {m}"))
+        .collect()
+}
+
+#[test]
+fn mesh_imports_run_one_way() {
+    let src = concat!(env!("CARGO_MANIFEST_DIR"), "/src");
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(src).unwrap() {
+        let path = entry.unwrap().path();
+        let module = path.file_stem().unwrap().to_str().unwrap().to_string();
+        if module == "lib" {
+            continue;
+        }
+        found.extend(back_edges(&module, &std::fs::read_to_string(&path).unwrap()));
+    }
+    assert!(found.is_empty(), "imports that run up the layers: {found:#?}");
+}
+
+#[test]
+fn the_mesh_check_sees_a_back_edge() {
+    let source = "use crate::frame::Linear;\nuse crate::{Model, fix::Out};\n// crate::repair\n";
+    assert_eq!(back_edges("weld", source), ["weld imports frame", "weld imports fix"]);
+    assert!(back_edges("fix", source).is_empty());
+}
