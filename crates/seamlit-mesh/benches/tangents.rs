@@ -18,56 +18,12 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
+use common::Merged;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use glam::Vec3;
-use seamlit_mesh::{FixOptions, Model, TangentMethod, fix};
+use seamlit_mesh::{FixOptions, TangentMethod, fix};
 
 /// Tessellations giving about 64k, 256k and 1M triangles (32 patches x 2 n^2).
 const SIZES: [u32; 3] = [32, 64, 128];
-
-/// The fixed model's objects as one indexed mesh: positions, normals, UVs, indices.
-struct Merged {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    uvs: Vec<[f32; 2]>,
-    indices: Vec<u32>,
-}
-
-impl Merged {
-    fn of(model: &Model) -> Self {
-        let mut m = Self { positions: vec![], normals: vec![], uvs: vec![], indices: vec![] };
-        for object in &model.objects {
-            let base = u32::try_from(m.positions.len()).expect("fits");
-            m.positions.extend(object.positions.iter().map(|p| p.to_array()));
-            m.normals.extend(object.normals.as_ref().expect("fixed").iter().map(|n| n.to_array()));
-            let uvs = object.uvs.as_ref().expect("the teapot has UVs");
-            m.uvs.extend(uvs.iter().map(|uv| uv.to_array()));
-            m.indices.extend(object.triangles.as_flattened().iter().map(|i| i + base));
-        }
-        m
-    }
-}
-
-impl bevy_mikktspace::Geometry for Merged {
-    fn num_faces(&self) -> usize {
-        self.indices.len() / 3
-    }
-    fn num_vertices_of_face(&self, _: usize) -> usize {
-        3
-    }
-    fn position(&self, f: usize, v: usize) -> [f32; 3] {
-        self.positions[self.indices[f * 3 + v] as usize]
-    }
-    fn normal(&self, f: usize, v: usize) -> [f32; 3] {
-        self.normals[self.indices[f * 3 + v] as usize]
-    }
-    fn tex_coord(&self, f: usize, v: usize) -> [f32; 2] {
-        self.uvs[self.indices[f * 3 + v] as usize]
-    }
-    fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, _: usize, _: usize) {
-        std::hint::black_box(t.map(|t| Vec3::from_array(t.tangent())));
-    }
-}
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool")

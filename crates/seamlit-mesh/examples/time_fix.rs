@@ -68,7 +68,7 @@ fn main() {
             continue;
         }
         let options = FixOptions { tangents: TangentMethod::None, ..FixOptions::DEFAULT };
-        let mut merged = Merged::of(&fix(&model, &options).expect("valid"));
+        let mut merged = common::Merged::of(&fix(&model, &options).expect("valid"));
         let mut t: Vec<f64> = (0..runs)
             .map(|_| {
                 let s = Instant::now();
@@ -88,48 +88,5 @@ fn main() {
             .collect();
         t.sort_by(f64::total_cmp);
         println!("{name:>20}: median {:8.1} ms (the generator alone)", t[runs / 2]);
-    }
-}
-
-/// The fixed model's objects as one indexed mesh.
-struct Merged {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    uvs: Vec<[f32; 2]>,
-    indices: Vec<u32>,
-}
-
-impl Merged {
-    fn of(model: &seamlit_mesh::Model) -> Self {
-        let mut m = Self { positions: vec![], normals: vec![], uvs: vec![], indices: vec![] };
-        for object in &model.objects {
-            let base = u32::try_from(m.positions.len()).expect("fits");
-            m.positions.extend(object.positions.iter().map(|p| p.to_array()));
-            m.normals.extend(object.normals.as_ref().expect("fixed").iter().map(|n| n.to_array()));
-            m.uvs.extend(object.uvs.as_ref().expect("UVs").iter().map(|uv| uv.to_array()));
-            m.indices.extend(object.triangles.as_flattened().iter().map(|i| i + base));
-        }
-        m
-    }
-}
-
-impl bevy_mikktspace::Geometry for Merged {
-    fn num_faces(&self) -> usize {
-        self.indices.len() / 3
-    }
-    fn num_vertices_of_face(&self, _: usize) -> usize {
-        3
-    }
-    fn position(&self, f: usize, v: usize) -> [f32; 3] {
-        self.positions[self.indices[f * 3 + v] as usize]
-    }
-    fn normal(&self, f: usize, v: usize) -> [f32; 3] {
-        self.normals[self.indices[f * 3 + v] as usize]
-    }
-    fn tex_coord(&self, f: usize, v: usize) -> [f32; 2] {
-        self.uvs[self.indices[f * 3 + v] as usize]
-    }
-    fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, _: usize, _: usize) {
-        std::hint::black_box(t.map(|t| t.tangent()));
     }
 }

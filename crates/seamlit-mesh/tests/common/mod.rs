@@ -180,3 +180,48 @@ pub fn shared_corner_cube() -> Object {
     let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
     Object::new("cube", positions, triangles)
 }
+
+/// A fixed model's objects as one indexed mesh (positions, normals, UVs, indices), as the
+/// peers' MikkTSpace generators take it (benches/tangents.rs, examples/time_fix.rs).
+pub struct Merged {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub uvs: Vec<[f32; 2]>,
+    pub indices: Vec<u32>,
+}
+
+impl Merged {
+    pub fn of(model: &Model) -> Self {
+        let mut m = Self { positions: vec![], normals: vec![], uvs: vec![], indices: vec![] };
+        for object in &model.objects {
+            let base = u32::try_from(m.positions.len()).expect("fits");
+            m.positions.extend(object.positions.iter().map(|p| p.to_array()));
+            m.normals.extend(object.normals.as_ref().expect("fixed").iter().map(|n| n.to_array()));
+            let uvs = object.uvs.as_ref().expect("the teapot has UVs");
+            m.uvs.extend(uvs.iter().map(|uv| uv.to_array()));
+            m.indices.extend(object.triangles.as_flattened().iter().map(|i| i + base));
+        }
+        m
+    }
+}
+
+impl bevy_mikktspace::Geometry for Merged {
+    fn num_faces(&self) -> usize {
+        self.indices.len() / 3
+    }
+    fn num_vertices_of_face(&self, _: usize) -> usize {
+        3
+    }
+    fn position(&self, f: usize, v: usize) -> [f32; 3] {
+        self.positions[self.indices[f * 3 + v] as usize]
+    }
+    fn normal(&self, f: usize, v: usize) -> [f32; 3] {
+        self.normals[self.indices[f * 3 + v] as usize]
+    }
+    fn tex_coord(&self, f: usize, v: usize) -> [f32; 2] {
+        self.uvs[self.indices[f * 3 + v] as usize]
+    }
+    fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, _: usize, _: usize) {
+        std::hint::black_box(t.map(|t| t.tangent()));
+    }
+}
