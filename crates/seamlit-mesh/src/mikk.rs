@@ -287,7 +287,7 @@ where
             }
             let n: [Vec3; 3] =
                 std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize).0);
-            let face = face_tangent(surface, t);
+            let face = plain_tangent(surface, t);
             let terms = corner_terms(surface, &face, t, n);
             let w = if face.is(ORIENTED) { 1.0 } else { -1.0 };
             for k in 0..3 {
@@ -362,16 +362,38 @@ fn corner_terms<N>(
 /// Step 1: every triangle's flags (its first-order frame is computed where it is needed:
 /// [`face_tangent`]).
 fn face_flags<N: Sync>(surface: &Surface<'_, N>) -> Vec<u8> {
-    (0..surface.triangles.len()).into_par_iter().map(|t| face_tangent(surface, t).flags).collect()
+    (0..surface.triangles.len())
+        .into_par_iter()
+        .map(|t| {
+            let Some(raw) = first_order(surface, t) else { return DEGENERATE };
+            let oriented = u8::from(raw.area > 0.0);
+            if !not_zero(raw.area) {
+                return ANY | oriented;
+            }
+            // Where both lengths are far from zero and the UV area is sane, the magnitudes
+            // `|s| / |area|` are surely above f32::MIN_POSITIVE: no root needed. Otherwise the
+            // full test, as face_tangent makes it.
+            let sure = |v: Vec3| v.length_squared() > 1e-30 && raw.area.abs() < 1e20;
+            if sure(raw.s) && sure(raw.t) { oriented } else { face_tangent(surface, t).flags }
+        })
+        .collect()
 }
 
-/// Triangle `t`'s first-order tangent `s` and bitangent `t` (the thesis' equations 18 and
-/// 19), normalised and signed by its UV orientation, and its flags.
-fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
+/// A healthy triangle's first-order tangent and UV area, before normalising.
+struct FirstOrder {
+    s: Vec3,
+    t: Vec3,
+    /// Twice the signed UV area.
+    area: f32,
+}
+
+/// Triangle `t`'s first-order frame (the thesis' equations 18 and 19) unnormalised; `None`
+/// where two of its corners share a position.
+fn first_order<N>(surface: &Surface<'_, N>, t: usize) -> Option<FirstOrder> {
     let tri = surface.triangles[t];
     let r = tri.map(|v| surface.roots[v as usize]);
     if r[0] == r[1] || r[1] == r[2] || r[2] == r[0] {
-        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+        return None;
     }
     let v_sign = surface.v_axis.bitangent_sign();
     let p = tri.map(|v| surface.positions[v as usize]);
@@ -381,27 +403,49 @@ fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
     });
     let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
     let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
-    let area = d1.x * d2.y - d1.y * d2.x;
-    let s = e1 * d2.y - e2 * d1.y;
-    let t = e2 * d1.x - e1 * d2.x;
-    let oriented = area > 0.0;
+    Some(FirstOrder {
+        s: e1 * d2.y - e2 * d1.y,
+        t: e2 * d1.x - e1 * d2.x,
+        area: d1.x * d2.y - d1.y * d2.x,
+    })
+}
+
+/// `v` over its length `l`, as `Vec3::normalize_or_zero` makes it.
+fn unit(v: Vec3, l: f32) -> Vec3 {
+    let r = l.recip();
+    if r.is_finite() && r > 0.0 { v * r } else { Vec3::ZERO }
+}
+
+/// Triangle `t`'s first-order tangent `s` and bitangent `t`, normalised and signed by its UV
+/// orientation, and its flags.
+fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
+    let Some(raw) = first_order(surface, t) else {
+        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+    };
+    let oriented = raw.area > 0.0;
     let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
-    if not_zero(area) {
+    if not_zero(raw.area) {
         let sign = if oriented { 1.0 } else { -1.0 };
-        // Each length once: for the unit vector (as `normalize_or_zero` makes it) and the
-        // magnitude.
-        let (ls, lt) = (s.length(), t.length());
-        let unit = |v: Vec3, l: f32| {
-            let r = l.recip();
-            if r.is_finite() && r > 0.0 { v * r } else { Vec3::ZERO }
-        };
-        face.s = unit(s, ls) * sign;
-        face.t = unit(t, lt) * sign;
-        if not_zero(ls / area.abs()) && not_zero(lt / area.abs()) {
+        // Each length once: for the unit vector and the magnitude.
+        let (ls, lt) = (raw.s.length(), raw.t.length());
+        face.s = unit(raw.s, ls) * sign;
+        face.t = unit(raw.t, lt) * sign;
+        if not_zero(ls / raw.area.abs()) && not_zero(lt / raw.area.abs()) {
             face.flags &= !ANY;
         }
     }
     face
+}
+
+/// The `s` of [`face_tangent`] (and whether the triangle is oriented) for a triangle of a
+/// plain fan, which is healthy: its `t` is not needed there.
+fn plain_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
+    let Some(raw) = first_order(surface, t) else {
+        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+    };
+    let oriented = raw.area > 0.0;
+    let sign = if oriented { 1.0 } else { -1.0 };
+    FaceTangent { s: unit(raw.s, raw.s.length()) * sign, t: Vec3::ZERO, flags: u8::from(oriented) }
 }
 
 /// mikktspace.c's test for a usable float.
