@@ -214,7 +214,6 @@ fn compute(
     if options.tangents == TangentMethod::Mikktspace {
         let triangles = flat.triangles(model);
         let uvs = flat.uvs(model);
-        let smooth = &smooth;
         let surface = mikk::Surface {
             positions: &flat.positions,
             roots: smooth.roots(),
@@ -228,12 +227,12 @@ fn compute(
         };
         let tangents = mikk::tangents(&surface);
         drop((uvs, triangles));
-        let tangents = &tangents;
+        let (smooth_ref, tangents) = (&smooth, &tangents);
         let changed =
             write_objects(model, skip, want_tangents, input, |o, object, wanted, input| {
-                write_mikk(o, object, flat, smooth, tangents, wanted, input)
+                write_mikk(o, object, flat, smooth_ref, tangents, wanted, input)
             });
-        return (changed, Some(smooth.roots().to_vec()));
+        return (changed, Some(smooth.into_roots()));
     }
 
     let changed = {
