@@ -94,6 +94,7 @@ const RADIUS: f32 = 0.25;
 pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
     let Shape { rings, segments, joints } = *shape;
     anyhow::ensure!(rings >= 4 && segments >= 3 && joints >= 2, "too small a character");
+    anyhow::ensure!(joints <= 65536, "at most 65536 joints (JOINTS_0 is UNSIGNED_SHORT)");
     let neck = rings * 9 / 10;
     let spacing = HEIGHT / (joints - 1) as f32;
     let mut data = Data::default();
@@ -107,7 +108,14 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
             // The two joints around y, weighted linearly; the head's copy of the shared ring
             // follows the upper one alone.
             let at = (y / spacing).min((joints - 1) as f32 - 1e-3);
+            // Between 0 and joints - 2 (at is clamped above): fits.
+            #[expect(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "0..joints"
+            )]
             let lower = at.floor() as usize;
+            let joint = |k: usize| u16::try_from(k).expect("at most 65536 joints");
             let t = if head && j == neck { 1.0 } else { at - lower as f32 };
             for i in 0..=segments {
                 // The last column repeats the first (its UVs differ), at the same place.
@@ -115,8 +123,8 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
                 let (sin, cos) = theta.sin_cos();
                 positions.extend([RADIUS * cos, y, RADIUS * sin]);
                 uvs.extend([i as f32 / segments as f32, 1.0 - y / HEIGHT]);
-                let upper = if t > 0.0 { lower as u16 + 1 } else { 0 };
-                let first = if t < 1.0 { lower as u16 } else { 0 };
+                let upper = if t > 0.0 { joint(lower + 1) } else { 0 };
+                let first = if t < 1.0 { joint(lower) } else { 0 };
                 lanes.extend([first, upper, 0, 0]);
                 weights.extend([1.0 - t, t, 0.0, 0.0]);
                 let swell = 0.1 * (std::f32::consts::PI * y / HEIGHT).sin();
