@@ -214,3 +214,21 @@ fn ktx2_images_named_as_core_sources_stay_files_and_gain_no_validator_error() {
     assert!(images[3].get("uri").is_none() && images[3]["mimeType"] == "image/png");
     assert_eq!(warnings[1], Vec::<String>::new(), "a .gltf keeps every image a file");
 }
+
+#[test]
+fn a_gltf_1_document_is_refused_by_its_version() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, version) in [("one.gltf", r#""1.0""#), ("number.gltf", "1")] {
+        // glTF 1.0 keys its objects by id, which glTF 2.0's reader cannot parse.
+        let text = format!(
+            r#"{{"asset": {{"version": {version}}}, "meshes": {{"m": {{"primitives": []}}}}}}"#
+        );
+        let path = write(dir.path(), name, text.as_bytes());
+        match seamlit_io::load(&path, &LoadOptions::default()) {
+            Err(err @ IoError::Gltf { kind: seamlit_io::GltfKind::OldVersion { .. }, .. }) => {
+                assert!(err.to_string().contains("seamlit reads glTF 2.0"), "{err}");
+            }
+            other => panic!("{name}: {:?}", other.map(|_| ())),
+        }
+    }
+}
