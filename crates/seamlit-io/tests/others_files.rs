@@ -232,3 +232,69 @@ fn a_gltf_1_document_is_refused_by_its_version() {
         }
     }
 }
+
+/// A quad as a triangle strip (mode 5, no indices) and as a fan (mode 6, indexed), two
+/// primitives of one mesh over the same positions.
+fn strip_and_fan(dir: &Path) -> PathBuf {
+    let positions: [[f32; 3]; 4] =
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+    let fan: [u16; 4] = [0, 1, 3, 2];
+    let mut bin: Vec<u8> = bytemuck::cast_slice(&positions).to_vec();
+    bin.extend_from_slice(bytemuck::cast_slice(&fan));
+    write(dir, "strip.bin", &bin);
+    let json = serde_json::json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [
+            { "attributes": { "POSITION": 0 }, "mode": 5 },
+            { "attributes": { "POSITION": 0 }, "indices": 1, "mode": 6 }
+        ] }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+              "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0] },
+            { "bufferView": 1, "componentType": 5123, "count": 4, "type": "SCALAR" }
+        ],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": 48, "target": 34962 },
+            { "buffer": 0, "byteOffset": 48, "byteLength": 8, "target": 34963 }
+        ],
+        "buffers": [{ "uri": "strip.bin", "byteLength": 56 }]
+    });
+    write(dir, "strip.gltf", &serde_json::to_vec_pretty(&json).unwrap())
+}
+
+#[test]
+fn triangle_strips_and_fans_are_read_as_the_specification_draws_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = strip_and_fan(dir.path());
+    let asset = seamlit_io::load(&input, &LoadOptions::default()).unwrap();
+    let triangles: Vec<&Vec<[u32; 3]>> = asset.model.objects.iter().map(|o| &o.triangles).collect();
+    assert_eq!(triangles, [&vec![[0, 1, 2], [1, 3, 2]], &vec![[1, 3, 0], [3, 2, 0]]]);
+    // Written back as lists of triangles (mode 4), valid, with the same triangles.
+    let out = tempfile::tempdir().unwrap();
+    let outputs = [out.path().join("strip.glb"), out.path().join("strip.gltf")];
+    for output in &outputs {
+        common::fix_and_save(&input, output);
+        let again = seamlit_io::load(output, &LoadOptions::default()).unwrap();
+        let positions = |a: &seamlit_io::Asset| -> Vec<Vec<[[u32; 3]; 3]>> {
+            a.model
+                .objects
+                .iter()
+                .map(|o| {
+                    let p = |v: u32| o.positions[v as usize].to_array().map(|x| x.to_bits());
+                    o.triangles.iter().map(|t| t.map(p)).collect()
+                })
+                .collect()
+        };
+        assert_eq!(positions(&again), positions(&asset), "{}", output.display());
+    }
+    let json = common::gltf::glb_json(&outputs[0]);
+    for primitive in json["meshes"][0]["primitives"].as_array().unwrap() {
+        assert_eq!(primitive["mode"], 4, "{primitive}");
+    }
+    for (output, (errors, report)) in outputs.iter().zip(common::validate_many(&outputs)) {
+        assert_eq!(errors, 0, "{}: {report}", output.display());
+    }
+}
