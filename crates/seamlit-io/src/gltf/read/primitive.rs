@@ -1,6 +1,6 @@
-//! One triangle primitive read into an object: its accessors checked first, then its
-//! attributes (floats or KHR_mesh_quantization's integers), its triangles and its
-//! deformation.
+//! One triangle primitive (a list, a strip or a fan) read into an object: its accessors
+//! checked first, then its attributes (floats or KHR_mesh_quantization's integers), its
+//! triangles (a strip's or a fan's as a list) and its deformation.
 
 use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
@@ -90,7 +90,7 @@ impl Reader<'_> {
 
     /// Checks a primitive's accessors before anything is read: POSITION, NORMAL, TANGENT,
     /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
-    /// (a triangle list: a multiple of 3).
+    /// (a triangle list's: a multiple of 3).
     fn check_primitive(
         &self,
         primitive: &gltf::Primitive<'_>,
