@@ -48,7 +48,7 @@ fn mtl_colours_of_one_number_are_grey_and_spectral_ones_keep_the_default() {
 const LATIN_1_OBJ: &[u8] =
     b"mtllib bl\xe5.mtl\ng R\xf8d_tr\xe6\r\nusemtl Bl\xe5\nv 0 0 0\nv 1 0 0\n\
 v 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-const LATIN_1_MTL: &[u8] = b"# \xe6\xf8\xe5\nnewmtl Bl\xe5\nKd 0 0 1\n";
+const LATIN_1_MTL: &[u8] = b"# \xe6\xf8\xe5\nnewmtl Bl\xe5\nKd 0 0 1\nmap_Kd tr\xe6.png\n";
 
 #[test]
 fn latin_1_names_load_decoded_and_pass_through_as_written() {
@@ -59,6 +59,14 @@ fn latin_1_names_load_decoded_and_pass_through_as_written() {
     #[cfg(not(unix))]
     let library = std::ffi::OsStr::new("blå.mtl");
     std::fs::write(dir.path().join(library), LATIN_1_MTL).unwrap();
+    // So is the texture's.
+    #[cfg(unix)]
+    let texture = std::ffi::OsStr::from_bytes(b"tr\xe6.png");
+    #[cfg(not(unix))]
+    let texture = std::ffi::OsStr::new("træ.png");
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([1, 2, 3, 255]))
+        .save_with_format(dir.path().join(texture), image::ImageFormat::Png)
+        .unwrap();
     let path = write(dir.path(), "old.obj", LATIN_1_OBJ);
     let mut asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
     assert_eq!(asset.model.objects[0].name, "Rød_træ");
@@ -66,6 +74,10 @@ fn latin_1_names_load_decoded_and_pass_through_as_written() {
     assert_eq!(asset.materials[0].name, "Blå");
     assert_eq!(asset.materials[0].base_color, [0.0, 0.0, 1.0, 1.0]);
     assert_eq!(asset.model.objects[0].material, Some(0));
+    let albedo = asset.materials[0].base_color_texture.as_ref().expect("the texture");
+    assert_eq!(asset.textures[albedo.texture].name, "træ.png");
+    let image = asset.textures[albedo.texture].image.as_ref().expect("read from its bytes");
+    assert_eq!(image.get_pixel(0, 0).0, [1, 2, 3, 255]);
     // One warning per file.
     assert_eq!(asset.warnings.len(), 2, "{:?}", asset.warnings);
     assert!(asset.warnings[0].contains("old.obj:1: text that is not UTF-8"));
@@ -81,6 +93,7 @@ fn latin_1_names_load_decoded_and_pass_through_as_written() {
         assert!(written.windows(line.len()).any(|w| w == line), "{:?} lost", line.escape_ascii());
     }
     assert_eq!(std::fs::read(out.path().join(library)).unwrap(), LATIN_1_MTL);
+    assert!(out.path().join(texture).is_file(), "the texture copied under its bytes");
 
     // glTF out: the names as characters.
     let gltf_out = out.path().join("old.gltf");

@@ -255,9 +255,8 @@ fn convert_material(
         })?;
         let file = names::on_disk(library.model_folder, &parts);
         let texture = *index.entry(file.clone()).or_insert_with(|| {
-            let name = file
-                .file_name()
-                .map_or_else(|| options.file.clone(), |n| n.to_string_lossy().into_owned());
+            // The name as decoded (the file may be found under other bytes: `names.rs`).
+            let name = parts.last().cloned().unwrap_or_else(|| options.file.clone());
             textures.push(Texture { name, source: TextureSource::File(file), image: None });
             textures.len() - 1
         });
