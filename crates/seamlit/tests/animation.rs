@@ -105,3 +105,25 @@ fn inspect_measures_each_animation_as_loaded_and_fixed() {
     assert!(text.contains("no animation \"walk\"; its animations: 0 \"nod\""), "{text}");
     assert_eq!(text.trim().lines().count(), 1, "{text}");
 }
+
+#[test]
+fn fix_names_a_morph_target_that_opens_the_seam() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("swell.gltf");
+    character::write_with(&input, true);
+    let out = dir.path().join("out.glb");
+    let (code, text) = seamlit(&["fix", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains(
+            "morph targets whose deltas differ across the seam (it opens while they are active): \"swell\" at 12 shared positions"
+        ),
+        "{text}"
+    );
+    // Without the target nothing is said.
+    let plain = dir.path().join("plain.gltf");
+    character::write(&plain);
+    let (code, text) = seamlit(&["fix", plain.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    assert!(!text.contains("morph targets"), "{text}");
+}

@@ -111,9 +111,31 @@ fn tube(data: &mut Data, rings: &[(f32, [f32; 3])], slots: [u8; 3]) -> Value {
 
 /// Writes the character as a `.gltf` with its buffer in a `data:` URI.
 pub fn write(path: &Path) {
+    write_with(path, false);
+}
+
+/// [`write`], and with `swell` the body (only) gets a morph target named "swell" that pushes
+/// every vertex out by a tenth of the radius: a seam that opens at the neck while it is active.
+pub fn write_with(path: &Path, swell: bool) {
     let mut data = Data::default();
     // Skin 0 (body): root, chest, neck. Skin 1 (head): neck only.
-    let body = tube(&mut data, &BODY, [0, 1, 2]);
+    let mut body = tube(&mut data, &BODY, [0, 1, 2]);
+    if swell {
+        let deltas: Vec<f32> = BODY
+            .iter()
+            .flat_map(|_| {
+                (0..SEGMENTS).flat_map(|i| {
+                    let theta = TAU * i as f32 / SEGMENTS as f32;
+                    [0.1 * RADIUS * theta.cos(), 0.0, 0.1 * RADIUS * theta.sin()]
+                })
+            })
+            .collect();
+        let count = deltas.len() / 3;
+        let target = data.floats(&deltas, "VEC3", count, true);
+        body["primitives"][0]["targets"] = json!([{"POSITION": target}]);
+        body["weights"] = json!([0.0]);
+        body["extras"] = json!({"targetNames": ["swell"]});
+    }
     let head = tube(&mut data, &HEAD, [0, 0, 0]);
     let inverse_bind = |y: f32| Mat4::from_translation(Vec3::new(0.0, -y, 0.0)).to_cols_array();
     let body_ibm: Vec<f32> = JOINT_Y.iter().flat_map(|&y| inverse_bind(y)).collect();
