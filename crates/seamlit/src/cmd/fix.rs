@@ -233,6 +233,7 @@ fn classify_save(e: IoError) -> Failure {
         // A buffer 0 without data of its own cannot become a GLB's BIN chunk or grow: the
         // input's shape, and the line says to write .gltf.
         IoError::UnknownFormat { .. }
+        | IoError::FbxOutput { .. }
         | IoError::CannotKeepCompression { .. }
         | IoError::InvalidAsset {
             kind: InvalidAsset::HostInGlb | InvalidAsset::HostCannotGrow,
@@ -318,7 +319,7 @@ fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>,
     if files.is_empty() {
         let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
-            "{}: no model files (.obj, .gltf, .glb, Newell patches) {where_}",
+            "{}: no model files (.obj, .gltf, .glb, .fbx, Newell patches) {where_}",
             dir.display()
         )));
     }

@@ -1,0 +1,231 @@
+//! FBX in (the `fbx` feature): files written by Blender's own FBX exporter (tests/fbx/
+//! blender.py, through the bpy module) read by seamlit and compared with what Blender's own
+//! FBX importer reads from the same file: the node names, and per mesh node its triangle
+//! count and world-space vertex positions. Then the seam at a neck ring closed by `fix`, the
+//! output valid under the Khronos validator, and bad files refused in one line.
+//!
+//! Needs Python 3 with bpy (Blender 5.0 as a module; `.ci/run` installs it).
+#![cfg(feature = "fbx")]
+
+mod common;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use glam::{Mat4, Vec3};
+use seamlit_io::{Asset, FbxKind, IoError, LoadOptions, SaveOptions};
+use seamlit_mesh::{FixOptions, ReportOptions};
+use serde_json::Value;
+
+fn python() -> String {
+    std::env::var("PYTHON").unwrap_or_else(|_| "python3".to_owned())
+}
+
+/// Runs tests/fbx/blender.py with `args`; panics with its output when it fails.
+fn blender(args: &[&str]) {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fbx/blender.py");
+    let output = Command::new(python())
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python3 with bpy (pip install bpy==5.0.1) is needed for the FBX tests");
+    assert!(
+        output.status.success(),
+        "blender.py {args:?} failed (is bpy installed? pip install bpy==5.0.1):\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// The scenes of blender.py written once per test run, in one temporary folder.
+fn written(scene: &str) -> PathBuf {
+    static FOLDER: OnceLock<tempfile::TempDir> = OnceLock::new();
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let folder = FOLDER.get_or_init(|| tempfile::tempdir().unwrap());
+    let path = folder.path().join(format!("{scene}.fbx"));
+    let _guard = LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if !path.exists() {
+        blender(&["write", scene, path.to_str().unwrap()]);
+    }
+    path
+}
+
+/// What Blender's importer reads from `fbx`: per object name, the object's JSON.
+fn blender_reads(fbx: &Path) -> BTreeMap<String, Value> {
+    let out = fbx.with_extension(format!("{}.json", fbx.extension().unwrap().to_string_lossy()));
+    blender(&["read", fbx.to_str().unwrap(), out.to_str().unwrap()]);
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap();
+    json["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| (o["name"].as_str().unwrap().to_owned(), o.clone()))
+        .collect()
+}
+
+fn vec3(value: &Value) -> Vec3 {
+    let v: Vec<f32> =
+        value.as_array().unwrap().iter().map(|x| common::f32_of(x.as_f64().unwrap())).collect();
+    Vec3::new(v[0], v[1], v[2])
+}
+
+/// Whether every point of `a` lies within `tolerance` of a point of `b`.
+fn covered(a: &[Vec3], b: &[Vec3], tolerance: f32) -> Result<(), String> {
+    for p in a {
+        let nearest = b.iter().map(|q| q.distance(*p)).fold(f32::INFINITY, f32::min);
+        if nearest > tolerance {
+            return Err(format!("{p} is {nearest} from the nearest point of the other side"));
+        }
+    }
+    Ok(())
+}
+
+/// The world-space positions of the objects a node carries, and their triangle count.
+fn node_geometry(asset: &Asset, node: usize) -> (Vec<Vec3>, usize) {
+    let mut positions = Vec::new();
+    let mut triangles = 0;
+    for &o in &asset.nodes[node].objects {
+        let object = &asset.model.objects[o];
+        let m: Mat4 = object.model_transform();
+        positions.extend(object.positions.iter().map(|&p| m.transform_point3(p)));
+        triangles += object.triangle_count();
+    }
+    (positions, triangles)
+}
+
+/// Asserts that seamlit reads `fbx` as Blender's importer does: the same node names (every
+/// object Blender makes, meshes and empties), the same mesh nodes, and per mesh node the
+/// same triangle count and the same world-space positions (each side's within 1e-4 of the
+/// other's, relative to the model's size).
+fn reads_as_blender(fbx: &Path) -> Asset {
+    let asset = seamlit_io::load(fbx, &LoadOptions::GEOMETRY).unwrap();
+    let reference = blender_reads(fbx);
+    let ours: BTreeSet<&str> = asset.nodes.iter().map(|n| n.name.as_str()).collect();
+    let theirs: BTreeSet<&str> = reference.keys().map(String::as_str).collect();
+    assert_eq!(ours, theirs, "node names");
+    let meshes: BTreeSet<&str> =
+        asset.nodes.iter().filter(|n| !n.objects.is_empty()).map(|n| n.name.as_str()).collect();
+    let blender_meshes: BTreeSet<&str> =
+        reference.iter().filter(|(_, o)| o["type"] == "MESH").map(|(n, _)| n.as_str()).collect();
+    assert_eq!(meshes, blender_meshes, "mesh nodes");
+    let all: Vec<Vec3> = (0..asset.nodes.len()).flat_map(|n| node_geometry(&asset, n).0).collect();
+    let size = all.iter().fold(Vec3::ZERO, |m, p| m.max(p.abs())).max_element();
+    for (i, node) in asset.nodes.iter().enumerate() {
+        let Some(theirs) = reference.get(&node.name).filter(|o| o["type"] == "MESH") else {
+            continue;
+        };
+        let (positions, triangles) = node_geometry(&asset, i);
+        assert_eq!(
+            triangles as u64,
+            theirs["triangles"].as_u64().unwrap(),
+            "{}: triangles",
+            node.name
+        );
+        let blender: Vec<Vec3> = theirs["positions"].as_array().unwrap().iter().map(vec3).collect();
+        let tolerance = 1e-4 * size.max(1.0);
+        covered(&positions, &blender, tolerance)
+            .unwrap_or_else(|e| panic!("{}: ours: {e}", node.name));
+        covered(&blender, &positions, tolerance)
+            .unwrap_or_else(|e| panic!("{}: Blender's: {e}", node.name));
+    }
+    asset
+}
+
+#[test]
+fn a_head_and_a_body_read_as_blender_reads_them() {
+    let asset = reads_as_blender(&written("head_body"));
+    assert_eq!(asset.model.objects.len(), 2);
+    let head = asset.nodes.iter().position(|n| n.name == "Head").unwrap();
+    let body = asset.nodes.iter().position(|n| n.name == "Body").unwrap();
+    assert_eq!(asset.nodes[head].parent, Some(body), "the head is the body's child");
+    for object in &asset.model.objects {
+        assert!(object.normals.is_some(), "{}: Blender writes normals", object.name);
+    }
+}
+
+#[test]
+fn cyrillic_names_material_parts_uv_sets_colours_and_tangents_are_read() {
+    let asset = reads_as_blender(&written("names"));
+    let names: BTreeSet<&str> = asset.model.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, BTreeSet::from(["Тело.0", "Тело.1", "Рука.левая"]), "one object per part");
+    let torso: Vec<_> = asset.model.objects.iter().filter(|o| o.name.starts_with("Тело")).collect();
+    let materials: BTreeSet<&str> =
+        torso.iter().map(|o| asset.materials[o.material.unwrap()].name.as_str()).collect();
+    assert_eq!(materials, BTreeSet::from(["Кожа", "Ткань"]));
+    let fabric = asset.materials.iter().find(|m| m.name == "Ткань").unwrap();
+    for (c, want) in fabric.base_color.iter().zip([0.2, 0.4, 0.9, 1.0]) {
+        assert!((c - want).abs() < 1e-3, "Ткань base colour {:?}", fabric.base_color);
+    }
+    for object in torso {
+        assert!(object.uvs.is_some() && object.uvs1.is_some(), "{}: two UV sets", object.name);
+        assert!(object.colors.is_some(), "{}: vertex colours", object.name);
+        assert!(object.tangents.is_some(), "{}: tangents", object.name);
+        // The second set is the first moved by 0.25 in V (blender.py).
+        let (uv0, uv1) = (object.uvs.as_ref().unwrap(), object.uvs1.as_ref().unwrap());
+        assert!(
+            uv0.iter()
+                .zip(uv1)
+                .all(|(a, b)| (b.y - a.y - 0.25).abs() < 1e-5 && (a.x - b.x).abs() < 1e-6)
+        );
+    }
+}
+
+#[test]
+fn the_neck_seam_is_closed_by_fix_and_the_glb_is_valid() {
+    let fbx = written("head_body");
+    let mut asset = seamlit_io::load(&fbx, &LoadOptions::GEOMETRY).unwrap();
+    let report = |asset: &Asset| {
+        let r = seamlit_mesh::report(&asset.model, &ReportOptions::default()).unwrap();
+        r.cross_object.max_normal_angle_deg.unwrap()
+    };
+    let before = report(&asset);
+    assert!(before > 1.0, "the file's normals disagree at the neck: {before}");
+    seamlit_mesh::fix_in_place(&mut asset.model, &FixOptions::default()).unwrap();
+    let after = report(&asset);
+    assert!(after < 0.005, "0.00 degrees after fix: {after}");
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("fixed.glb");
+    seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+    let (errors, line) = common::validate(&glb);
+    assert_eq!(errors, 0, "{line}");
+}
+
+#[test]
+fn fbx_output_is_refused_in_one_line_and_nothing_is_written() {
+    let asset = seamlit_io::load(&written("head_body"), &LoadOptions::GEOMETRY).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.fbx");
+    let err = seamlit_io::save(&asset, &out, &SaveOptions::default()).unwrap_err();
+    assert!(matches!(err, IoError::FbxOutput { .. }), "{err}");
+    let line = err.to_string();
+    assert!(!line.contains('\n') && line.contains("out.fbx") && line.contains(".glb"), "{line}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing written");
+}
+
+#[test]
+fn bad_fbx_files_fail_with_one_line_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = std::fs::read(written("head_body")).unwrap();
+    let cases: [(&str, Vec<u8>); 3] = [
+        ("truncated.fbx", whole[..whole.len() / 2].to_vec()),
+        ("garbage.fbx", b"this is not an FBX file at all\n".repeat(20)),
+        ("empty.fbx", Vec::new()),
+    ];
+    for (name, bytes) in cases {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+        let line = err.to_string();
+        assert!(line.starts_with(&path.display().to_string()) && !line.contains('\n'), "{line}");
+        match (name, &err) {
+            ("truncated.fbx", IoError::Fbx { kind: FbxKind::Truncated { .. }, .. })
+            | (_, IoError::Fbx { kind: FbxKind::Refused { .. }, .. }) => {}
+            _ => panic!("{name}: {err:?}"),
+        }
+    }
+    let nothing = written("nothing");
+    let err = seamlit_io::load(&nothing, &LoadOptions::GEOMETRY).unwrap_err();
+    assert!(matches!(err, IoError::NoTriangles { .. }), "{err}");
+}
