@@ -13,4 +13,4 @@ pub(crate) mod error;
 mod read;
 
 #[cfg(feature = "fbx")]
-pub use read::load;
+pub use read::{load, parse};

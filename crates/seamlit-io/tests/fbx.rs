@@ -229,3 +229,93 @@ fn bad_fbx_files_fail_with_one_line_naming_the_file() {
     let err = seamlit_io::load(&nothing, &LoadOptions::GEOMETRY).unwrap_err();
     assert!(matches!(err, IoError::NoTriangles { .. }), "{err}");
 }
+
+/// ufbx's own test files (assets/models/ufbx, MIT or public domain), binary FBX 7.4 as
+/// Blender 2.7x and 2.9x wrote them: read as Blender's importer reads them.
+#[test]
+fn files_by_others_read_as_blender_reads_them() {
+    for name in [
+        "blender_272_cube_7400_binary.fbx",
+        "blender_279_unicode_7400_binary.fbx",
+        "blender_279_uv_set_tangents_7400_binary.fbx",
+        "blender_279_nested_meshes_7400_binary.fbx",
+    ] {
+        let asset = reads_as_blender(&common::model(&format!("ufbx/{name}")));
+        assert!(!asset.model.objects.is_empty(), "{name}");
+    }
+}
+
+/// ASCII FBX (6.1 and 7.5, Maya), which Blender's importer refuses: Maya's default cube
+/// is 1 centimetre, so 0.01 metres a side centred on the origin; the parented cubes keep
+/// their names and hierarchy.
+#[test]
+fn ascii_files_by_others_are_read_in_metres() {
+    let cube =
+        seamlit_io::load(&common::model("ufbx/maya_cube_6100_ascii.fbx"), &LoadOptions::GEOMETRY)
+            .unwrap();
+    assert_eq!(cube.nodes.iter().map(|n| n.name.as_str()).collect::<Vec<_>>(), ["pCube1"]);
+    let [object] = &cube.model.objects[..] else { panic!("one object") };
+    assert_eq!(
+        (object.triangle_count(), object.vertex_count()),
+        (12, 24),
+        "6 quads, 4 corners each"
+    );
+    let m = object.model_transform();
+    for p in &object.positions {
+        let p = m.transform_point3(*p);
+        assert!(p.abs().abs_diff_eq(Vec3::splat(0.005), 1e-6), "{p}");
+    }
+    let parented = seamlit_io::load(
+        &common::model("ufbx/maya_parented_cubes_7500_ascii.fbx"),
+        &LoadOptions::GEOMETRY,
+    )
+    .unwrap();
+    let names: Vec<(&str, Option<usize>)> =
+        parented.nodes.iter().map(|n| (n.name.as_str(), n.parent)).collect();
+    assert_eq!(names, [("Parent", None), ("Child", Some(0))]);
+    assert_eq!(parented.model.triangle_count(), 24);
+}
+
+/// Every prefix of two of ufbx's test files (binary and ASCII) at 97 lengths, and each with four bytes overwritten 3000 times
+/// places (a fixed pseudo-random sequence), either loads or fails with an error: no panic,
+/// no abort. The fuzz target `fbx` (fuzz/) does the same at random.
+#[test]
+fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let path = Path::new("/nonexistent-seamlit-test/model.fbx");
+    let options = LoadOptions::GEOMETRY;
+    for name in ["blender_272_cube_7400_binary.fbx", "maya_cube_6100_ascii.fbx"] {
+        let bytes = std::fs::read(common::model(&format!("ufbx/{name}"))).unwrap();
+        let (mut loaded, mut refused) = (0, 0);
+        for k in 0..97 {
+            match seamlit_io::fbx::parse(&bytes[..bytes.len() * k / 97], path, &options) {
+                Ok(_) => loaded += 1,
+                Err(e) => {
+                    assert!(!e.to_string().contains('\n'), "{e}");
+                    refused += 1;
+                }
+            }
+        }
+        // ufbx reads ASCII leniently (a prefix that holds the geometry loads); a binary
+        // prefix is a truncated file.
+        if name.contains("binary") {
+            assert!(refused > 90, "{name}: prefixes are truncated files ({loaded} loaded)");
+        }
+        for _ in 0..3000 {
+            let mut corrupted = bytes.clone();
+            for _ in 0..4 {
+                let at = usize::try_from(next() % bytes.len() as u64).unwrap();
+                corrupted[at] = next().to_le_bytes()[0];
+            }
+            if let Ok(asset) = seamlit_io::fbx::parse(&corrupted, path, &options) {
+                let _ = seamlit_mesh::report(&asset.model, &ReportOptions::default());
+            }
+        }
+    }
+}

@@ -35,8 +35,17 @@ use crate::options::LoadOptions;
 /// `options.max_model_triangles`; the texture errors of [`crate::LoadOptions::strict`].
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let bytes = crate::files::read_bytes(path, options)?;
-    let scene = scene::open(&bytes, path)?;
-    drop(bytes);
+    parse(&bytes, path, options)
+}
+
+/// Reads FBX bytes as [`load`] reads a file; `path` names the file in errors, and its folder
+/// is where textures that are not embedded are looked for.
+///
+/// # Errors
+///
+/// As [`load`], but for the errors of reading the file itself.
+pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    let scene = scene::open(bytes, path)?;
     let mut warnings = Vec::new();
     let mut tree = nodes::tree(&scene);
     let (materials, textures) = material::convert(&scene, path, &mut warnings);

@@ -60,6 +60,10 @@ fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("glb" | "gltf" | "obj") => Ok(()),
+        // The library's own line: seamlit writes no FBX, write .glb.
+        Some("fbx") => {
+            Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
+        }
         _ => Err(Failure::input(format!(
             "{}: unknown output format (expected a .glb, .gltf or .obj file name)",
             output.display()
