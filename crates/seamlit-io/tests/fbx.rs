@@ -276,9 +276,9 @@ fn ascii_files_by_others_are_read_in_metres() {
     assert_eq!(parented.model.triangle_count(), 24);
 }
 
-/// Every prefix of two of ufbx's test files (binary and ASCII) at 97 lengths, and each with four bytes overwritten 3000 times
-/// places (a fixed pseudo-random sequence), either loads or fails with an error: no panic,
-/// no abort. The fuzz target `fbx` (fuzz/) does the same at random.
+/// Every prefix of two of ufbx's test files (binary and ASCII) at 97 lengths, and 3000
+/// copies of each with four bytes overwritten (a fixed pseudo-random sequence), either loads
+/// or fails with an error: no panic, no abort. The fuzz target `fbx` (fuzz/) does the same at random.
 #[test]
 fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
