@@ -319,3 +319,41 @@ fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
         }
     }
 }
+
+/// Blend shapes (Blender shape keys written as FBX blend shapes) become morph targets: per
+/// target, the displaced world positions equal those of Blender's own import of the shape
+/// key; and the fixed model is written as a valid GLB with its targets.
+#[test]
+fn blend_shapes_become_morph_targets_as_blender_reads_them() {
+    let fbx = written("shapes");
+    let asset = reads_as_blender(&fbx);
+    let reference = blender_reads(&fbx);
+    let [object] = &asset.model.objects[..] else { panic!("one object") };
+    let keys = reference["Лицо"]["shape_keys"].as_array().unwrap();
+    assert_eq!(object.morph_targets.len(), keys.len(), "one target per shape key");
+    let m = object.model_transform();
+    for (target, key) in object.morph_targets.iter().zip(keys) {
+        let name = key["name"].as_str().unwrap();
+        let ours: Vec<Vec3> = object
+            .positions
+            .iter()
+            .zip(&target.position_deltas)
+            .map(|(&p, &d)| m.transform_point3(p + d))
+            .collect();
+        let theirs: Vec<Vec3> = key["positions"].as_array().unwrap().iter().map(vec3).collect();
+        covered(&ours, &theirs, 1e-4).unwrap_or_else(|e| panic!("{name}: ours: {e}"));
+        covered(&theirs, &ours, 1e-4).unwrap_or_else(|e| panic!("{name}: Blender's: {e}"));
+        let moved = target.position_deltas.iter().map(|&d| m.transform_vector3(d).length());
+        assert!(moved.fold(0.0, f32::max) > 0.15, "{name} moves");
+    }
+    let mut asset = asset;
+    seamlit_mesh::fix_in_place(&mut asset.model, &FixOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("shapes.glb");
+    seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+    let (errors, line) = common::validate(&glb);
+    assert_eq!(errors, 0, "{line}");
+    let file = common::gltf::read(&glb);
+    let targets = file.json["meshes"][0]["primitives"][0]["targets"].as_array().unwrap();
+    assert_eq!(targets.len(), 2, "{line}");
+}

@@ -1,7 +1,8 @@
 //! glTF 2.0 and GLB out, through gltf-json.
 //!
 //! Each object becomes a mesh of one triangle primitive (POSITION with min/max, NORMAL,
-//! TANGENT, TEXCOORD_0, COLOR_0 as RGBA floats, indices as u16 where every index fits below 65535, else u32) named
+//! TANGENT, TEXCOORD_0 and _1, COLOR_0 as RGBA floats, indices as u16 where every index fits
+//! below 65535, else u32, and the morph targets' POSITION, NORMAL and TANGENT deltas) named
 //! after the object. The node hierarchy of the asset is rebuilt when it is consistent with
 //! the objects' transforms (a node carrying several objects gets one child node per object);
 //! otherwise each object gets a root node with its transform. Materials and the textures
@@ -110,7 +111,7 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
 
 /// A part of the binary buffer, written from the asset when the file is written.
 enum BinPart<'a> {
-    /// Vertex positions, as they are.
+    /// Vertex positions (and morph targets' deltas), as they are.
     Positions(&'a [Vec3]),
     /// Normals, made unit length ([`unit_normal`]).
     Normals(&'a [Vec3]),
@@ -306,12 +307,14 @@ impl<'a> Writer<'a> {
                 );
             }
         }
-        if let Some(uvs) = &object.uvs {
-            let piece = BinPart::Uvs { uvs, flip: v_axis == VAxis::Up };
-            attributes.insert(
-                Checked::Valid(Semantic::TexCoords(0)),
-                self.float_accessor(piece, n, Type::Vec2, None),
-            );
+        for (set, uvs) in [(0, &object.uvs), (1, &object.uvs1)] {
+            if let Some(uvs) = uvs {
+                let piece = BinPart::Uvs { uvs, flip: v_axis == VAxis::Up };
+                attributes.insert(
+                    Checked::Valid(Semantic::TexCoords(set)),
+                    self.float_accessor(piece, n, Type::Vec2, None),
+                );
+            }
         }
         if let Some(colors) = &object.colors {
             attributes.insert(
@@ -344,7 +347,7 @@ impl<'a> Writer<'a> {
                 .and_then(|m| u32::try_from(m).ok())
                 .map(json::Index::new),
             mode: Checked::Valid(json::mesh::Mode::Triangles),
-            targets: None,
+            targets: self.morph_targets(object),
         };
         self.root.push(json::Mesh {
             extensions: None,
@@ -353,6 +356,42 @@ impl<'a> Writer<'a> {
             primitives: vec![primitive],
             weights: None,
         })
+    }
+
+    /// The morph targets of an object: POSITION deltas (with the bounds the specification
+    /// requires), and NORMAL and TANGENT deltas where every target has them (the attributes of
+    /// all targets of a primitive are the same).
+    fn morph_targets(&mut self, object: &'a Object) -> Option<Vec<json::mesh::MorphTarget>> {
+        use json::accessor::Type;
+        let targets = &object.morph_targets;
+        if targets.is_empty() {
+            return None;
+        }
+        let normals = object.normals.is_some() && targets.iter().all(|t| t.normal_deltas.is_some());
+        let tangents = normals
+            && object.tangents.is_some()
+            && targets.iter().all(|t| t.tangent_deltas.is_some());
+        let n = object.positions.len();
+        let mut deltas = |values: Option<&'a [Vec3]>, wanted: bool, bounded: bool| {
+            let values = values.filter(|_| wanted)?;
+            let bounds = bounded.then(|| {
+                let (min, max) =
+                    values.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+                        (lo.min(p), hi.max(p))
+                    });
+                (min.to_array().to_vec(), max.to_array().to_vec())
+            });
+            Some(self.float_accessor(BinPart::Positions(values), n, Type::Vec3, bounds))
+        };
+        let out = targets
+            .iter()
+            .map(|target| json::mesh::MorphTarget {
+                positions: deltas(Some(&target.position_deltas), n > 0, true),
+                normals: deltas(target.normal_deltas.as_deref(), normals, false),
+                tangents: deltas(target.tangent_deltas.as_deref(), tangents, false),
+            })
+            .collect();
+        Some(out)
     }
 
     /// The node hierarchy: the asset's own when it matches the objects, else flat.

@@ -2,8 +2,9 @@
 scenes as FBX with Blender's own exporter, and reads an FBX back with Blender's own importer
 into JSON, the reference the tests compare seamlit's reading with.
 
-    python3 blender.py write SCENE OUT.fbx   # SCENE: head_body, names, nothing
+    python3 blender.py write SCENE OUT.fbx   # SCENE: head_body, names, arm, shapes, nothing
     python3 blender.py read IN.fbx OUT.json
+    python3 blender.py pose IN.fbx OUT.json FRAME...
 
 The JSON: {"objects": [{"name", "type", "parent", "world": [16, row-major],
 "positions": [[x, y, z], ...] (mesh vertices, world space), "triangles": N}]}, with every
@@ -99,6 +100,70 @@ def names():
         c.color = (i % 3 / 2, i % 5 / 4, 0.5, 1.0)
 
 
+def arm():
+    """A skinned, animated arm: a tube along +X (0 to 2) bound to a two-bone armature
+    ("Плечо" the upper arm, "Предплечье" the forearm), weights blended over the elbow; over
+    frames 0 to 24 the forearm bends 90 degrees and the upper arm 20. 24 frames a second."""
+    scene = bpy.context.scene
+    scene.render.fps = 24
+    scene.frame_start, scene.frame_end = 0, 24
+    data = bpy.data.armatures.new("Скелет")
+    rig = bpy.data.objects.new("Скелет", data)
+    scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    upper = data.edit_bones.new("Плечо")
+    upper.head, upper.tail = (0, 0, 0), (1, 0, 0)
+    lower = data.edit_bones.new("Предплечье")
+    lower.head, lower.tail = (1, 0, 0), (2, 0, 0)
+    lower.parent = upper
+    lower.use_connect = True
+    bpy.ops.object.mode_set(mode="OBJECT")
+    n = 8
+    rings = [[(x, 0.1 * math.cos(2 * math.pi * k / n), 0.1 * math.sin(2 * math.pi * k / n)) for k in range(n)] for x in (0.0, 0.5, 0.8, 1.0, 1.2, 1.5, 2.0)]
+    mesh = mesh_object("Рука", rings, True, True)
+    mesh.parent = rig
+    groups = {name: mesh.vertex_groups.new(name=name) for name in ("Плечо", "Предплечье")}
+    for v in mesh.data.vertices:
+        t = min(max((v.co.x - 0.8) / 0.4, 0.0), 1.0)
+        if t < 1.0:
+            groups["Плечо"].add([v.index], 1.0 - t, "REPLACE")
+        if t > 0.0:
+            groups["Предплечье"].add([v.index], t, "REPLACE")
+    modifier = mesh.modifiers.new("Armature", "ARMATURE")
+    modifier.object = rig
+    for frame, (a, b) in ((0, (0.0, 0.0)), (12, (10.0, 60.0)), (24, (20.0, 90.0))):
+        for bone, angle in (("Плечо", a), ("Предплечье", b)):
+            pose_bone = rig.pose.bones[bone]
+            pose_bone.rotation_mode = "XYZ"
+            pose_bone.rotation_euler = (0.0, 0.0, math.radians(angle))
+            pose_bone.keyframe_insert("rotation_euler", frame=frame)
+
+
+def shapes():
+    """A grid with two shape keys ("Улыбка" lifts the middle, "Frown" pushes one edge down)."""
+    n = 6
+    rings = [[(x / (n - 1), y / (n - 1), 0.0) for x in range(n)] for y in range(n)]
+    mesh = bpy.data.meshes.new("Лицо")
+    bm = bmesh.new()
+    rows = [[bm.verts.new(p) for p in r] for r in rings]
+    for a, b in zip(rows, rows[1:]):
+        for k in range(n - 1):
+            bm.faces.new((a[k], a[k + 1], b[k + 1], b[k]))
+    bm.to_mesh(mesh)
+    bm.free()
+    face = bpy.data.objects.new("Лицо", mesh)
+    bpy.context.scene.collection.objects.link(face)
+    face.shape_key_add(name="Basis")
+    smile = face.shape_key_add(name="Улыбка")
+    frown = face.shape_key_add(name="Frown")
+    for i, v in enumerate(mesh.vertices):
+        x, y = v.co.x, v.co.y
+        smile.data[i].co.z = 0.3 * math.sin(math.pi * x) * math.sin(math.pi * y)
+        frown.data[i].co.z = -0.2 * (1.0 - y) if y < 0.3 else 0.0
+    smile.value = 0.25
+
+
 def nothing():
     """No mesh: an empty object only."""
     bpy.context.scene.collection.objects.link(bpy.data.objects.new("Пусто", None))
@@ -106,9 +171,17 @@ def nothing():
 
 def write(scene, out):
     empty_scene()
-    {"head_body": head_body, "names": names, "nothing": nothing}[scene]()
+    {"head_body": head_body, "names": names, "arm": arm, "shapes": shapes, "nothing": nothing}[scene]()
     bpy.context.view_layer.update()
-    bpy.ops.export_scene.fbx(filepath=out, use_selection=False, use_tspace=scene == "names", bake_anim=False)
+    bpy.ops.export_scene.fbx(
+        filepath=out,
+        use_selection=False,
+        use_tspace=scene == "names",
+        bake_anim=scene == "arm",
+        bake_anim_use_all_actions=False,
+        bake_anim_use_nla_strips=False,
+        add_leaf_bones=False,
+    )
 
 
 def read(path, out):
@@ -129,11 +202,46 @@ def read(path, out):
             mesh.calc_loop_triangles()
             entry["positions"] = [list(world @ v.co) for v in mesh.vertices]
             entry["triangles"] = len(mesh.loop_triangles)
+            if mesh.shape_keys:
+                entry["shape_keys"] = [
+                    {"name": key.name, "value": key.value, "positions": [list(world @ d.co) for d in key.data]}
+                    for key in mesh.shape_keys.key_blocks[1:]
+                ]
         objects.append(entry)
+        if obj.type == "ARMATURE":
+            # Bones are nodes in FBX (and in glTF), parts of one object in Blender.
+            for bone in obj.data.bones:
+                parent = bone.parent.name if bone.parent else obj.name
+                objects.append({"name": bone.name, "type": "BONE", "parent": parent})
     with open(out, "w", encoding="utf-8") as f:
         json.dump({"objects": objects}, f, ensure_ascii=False)
 
 
+def pose(path, out, *frames):
+    """The evaluated (skinned, animated) world positions of every mesh at each frame, and the
+    time in seconds each frame is at."""
+    empty_scene()
+    bpy.ops.import_scene.fbx(filepath=path)
+    scene = bpy.context.scene
+    poses = []
+    for frame in frames:
+        scene.frame_set(int(frame))
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        meshes = {}
+        for obj in bpy.data.objects:
+            if obj.type != "MESH":
+                continue
+            evaluated = obj.evaluated_get(depsgraph)
+            world = Z_UP_TO_Y_UP @ evaluated.matrix_world
+            mesh = evaluated.to_mesh()
+            meshes[obj.name] = [list(world @ v.co) for v in mesh.vertices]
+            evaluated.to_mesh_clear()
+        fps = scene.render.fps / scene.render.fps_base
+        poses.append({"frame": int(frame), "time": int(frame) / fps, "meshes": meshes})
+    with open(out, "w", encoding="utf-8") as f:
+        json.dump({"poses": poses}, f, ensure_ascii=False)
+
+
 if __name__ == "__main__":
     command, *args = sys.argv[1:]
-    {"write": write, "read": read}[command](*args)
+    {"write": write, "read": read, "pose": pose}[command](*args)

@@ -3,7 +3,7 @@
 //! indices (FBX stores each attribute with its own index per face corner).
 
 use glam::{Mat4, Vec2, Vec3};
-use seamlit_mesh::Object;
+use seamlit_mesh::{MorphTarget, Object};
 
 use super::nodes::Tree;
 use super::scene::mat4;
@@ -49,7 +49,8 @@ pub(super) fn objects(
         for part in mesh.material_parts.iter().filter(|p| p.num_triangles > 0) {
             let base = &tree.nodes[i].name;
             let name = if parts > 1 { format!("{base}.{}", part.index) } else { base.clone() };
-            let mut object = part_object(mesh, part, name, path, options)?;
+            let (mut object, corners) = part_object(mesh, part, name, path, options)?;
+            object.morph_targets = morph_targets(mesh, &corners);
             object.transform = (transform != Mat4::IDENTITY).then_some(transform);
             object.material = material_of(scene, node, mesh, part.index as usize);
             tree.nodes[i].objects.push(objects.len());
@@ -127,7 +128,7 @@ fn part_object(
     name: String,
     path: &std::path::Path,
     options: &LoadOptions,
-) -> Result<Object, IoError> {
+) -> Result<(Object, Vec<u32>), IoError> {
     let attributes = Attributes::of(mesh);
     let too_many = |what: &str, actual: usize| IoError::TooManyElements {
         path: path.to_path_buf(),
@@ -186,7 +187,37 @@ fn part_object(
     }
     let object = build(mesh, &attributes, &corners, triangles, name);
     check_finite(&object, path)?;
-    Ok(object)
+    Ok((object, corners))
+}
+
+/// The blend shapes of a mesh as morph targets, one per blend channel with a target shape
+/// (the shape at full weight; in-between shapes are not read), in the mesh's deformer and
+/// channel order: per vertex, the offset of its position (`corners`: each vertex's corner).
+pub(super) fn morph_targets(mesh: &ufbx::Mesh, corners: &[u32]) -> Vec<MorphTarget> {
+    blend_shapes(mesh)
+        .map(|(_, shape)| MorphTarget {
+            position_deltas: corners
+                .iter()
+                .map(|&c| {
+                    let vertex = mesh.vertex_indices.get(c as usize).copied().unwrap_or(0);
+                    let d = ufbx::get_blend_shape_vertex_offset(shape, vertex as usize);
+                    glam::DVec3::new(d.x, d.y, d.z).as_vec3()
+                })
+                .collect(),
+            ..MorphTarget::default()
+        })
+        .collect()
+}
+
+/// The blend channels of a mesh that have a target shape, with it, in order.
+pub(super) fn blend_shapes(
+    mesh: &ufbx::Mesh,
+) -> impl Iterator<Item = (&ufbx::BlendChannel, &ufbx::BlendShape)> {
+    mesh.blend_deformers.iter().flat_map(|deformer| {
+        deformer.channels.iter().filter_map(|channel| {
+            channel.target_shape.as_ref().map(|shape| (channel.as_ref(), shape.as_ref()))
+        })
+    })
 }
 
 /// Refuses positions, normals and UVs that are not finite (NaN or infinite), which no
