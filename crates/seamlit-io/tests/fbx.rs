@@ -170,6 +170,25 @@ fn cyrillic_names_material_parts_uv_sets_colours_and_tangents_are_read() {
                 .all(|(a, b)| (b.y - a.y - 0.25).abs() < 1e-5 && (a.x - b.x).abs() < 1e-6)
         );
     }
+    // Written out: both UV sets, the colours and the tangents, valid.
+    let mut asset = asset;
+    seamlit_mesh::fix_in_place(&mut asset.model, &FixOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("names.glb");
+    seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+    let (errors, line) = common::validate(&glb);
+    assert_eq!(errors, 0, "{line}");
+    let file = common::gltf::read(&glb);
+    let torso = file.json["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == "Тело.0")
+        .expect("the torso's first part, by name");
+    let attributes = torso["primitives"][0]["attributes"].as_object().unwrap();
+    for name in ["TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT", "NORMAL"] {
+        assert!(attributes.contains_key(name), "{name}: {attributes:?}");
+    }
 }
 
 #[test]

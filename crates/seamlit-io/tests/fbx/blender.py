@@ -73,7 +73,7 @@ def head_body():
 
 def names():
     """Objects named in Cyrillic, parented, rotated and scaled; one with two materials (two
-    parts), two UV layers, vertex colours and tangents."""
+    parts), two UV layers, vertex colours and tangents. Written +Z up."""
     root = bpy.data.objects.new("Корень", None)
     bpy.context.scene.collection.objects.link(root)
     root.location = (0.5, -0.25, 0.1)
@@ -181,6 +181,10 @@ def write(scene, out):
         bake_anim_use_all_actions=False,
         bake_anim_use_nla_strips=False,
         add_leaf_bones=False,
+        # The names scene is written +Z up (Blender's own axes), the others +Y up (the
+        # exporter's default): the reader converts either.
+        axis_forward="Y" if scene == "names" else "-Z",
+        axis_up="Z" if scene == "names" else "Y",
     )
 
 
