@@ -1,10 +1,12 @@
 //! `fbx::load`: the file read whole (within the size limit), opened by ufbx with glTF's
 //! conventions (`scene.rs`), then its nodes, meshes and materials converted.
 
+mod animation;
 mod material;
 mod mesh;
 mod nodes;
 mod scene;
+mod skin;
 
 use std::path::Path;
 
@@ -49,12 +51,16 @@ pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, 
     let mut warnings = Vec::new();
     let mut tree = nodes::tree(&scene);
     let (materials, textures) = material::convert(&scene, path, &mut warnings);
-    let objects = mesh::objects(&scene, &mut tree, path, options)?;
+    let (objects, skins) = mesh::objects(&scene, &mut tree, path, options)?;
+    let node_of = |n: &ufbx::Node| tree.index.get(n.element.typed_id as usize).copied().flatten();
+    let animations = animation::animations(&scene, node_of, path, &mut warnings);
     let mut asset = Asset {
         model: Model { objects, v_axis: VAxis::Up },
         materials,
         textures,
         nodes: tree.nodes,
+        skins,
+        animations,
         source: Some(path.to_path_buf()),
         ..Asset::default()
     };

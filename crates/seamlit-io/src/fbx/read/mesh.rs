@@ -6,7 +6,8 @@ use glam::{Mat4, Vec2, Vec3};
 use seamlit_mesh::{MorphTarget, Object};
 
 use super::nodes::Tree;
-use super::scene::mat4;
+use super::scene::{f32_of, mat4};
+use crate::animation::Skin;
 use crate::error::IoError;
 use crate::fbx::error::FbxKind;
 use crate::options::LoadOptions;
@@ -14,7 +15,9 @@ use crate::options::LoadOptions;
 /// No index: the attribute is absent.
 const NONE: u32 = u32::MAX;
 
-/// The objects of every mesh instance, in node order; each node's `objects` filled in.
+/// The objects of every mesh instance, in node order, and the skins of the skinned ones;
+/// each node's `objects`, `skin` and morph `weights` filled in. A skinned instance's objects
+/// are in bind-pose model space (`skin.rs`).
 ///
 /// # Errors
 ///
@@ -26,7 +29,7 @@ pub(super) fn objects(
     tree: &mut Tree,
     path: &std::path::Path,
     options: &LoadOptions,
-) -> Result<Vec<Object>, IoError> {
+) -> Result<(Vec<Object>, Vec<Skin>), IoError> {
     let instances: Vec<(usize, &ufbx::Node, &ufbx::Mesh)> = (0..tree.nodes.len())
         .filter_map(|i| {
             let node = scene.nodes.get(tree.typed[i])?;
@@ -43,8 +46,18 @@ pub(super) fn objects(
         });
     }
     let mut objects = Vec::new();
+    let mut skins = Vec::new();
     for (i, node, mesh) in instances {
         let transform = mat4(&node.geometry_to_world);
+        let joint_of =
+            |n: &ufbx::Node| tree.index.get(n.element.typed_id as usize).copied().flatten();
+        let bound = super::skin::bound(node, mesh, i, joint_of);
+        if let Some(bound) = &bound {
+            tree.nodes[i].skin = Some(skins.len());
+            skins.push(bound.skin.clone());
+        }
+        tree.nodes[i].weights =
+            blend_shapes(mesh).map(|(channel, _)| f32_of(channel.weight)).collect();
         let parts = mesh.material_parts.iter().filter(|p| p.num_triangles > 0).count();
         for part in mesh.material_parts.iter().filter(|p| p.num_triangles > 0) {
             let base = &tree.nodes[i].name;
@@ -53,11 +66,14 @@ pub(super) fn objects(
             object.morph_targets = morph_targets(mesh, &corners);
             object.transform = (transform != Mat4::IDENTITY).then_some(transform);
             object.material = material_of(scene, node, mesh, part.index as usize);
+            if let Some(bound) = &bound {
+                bound.apply(&mut object, mesh, &corners);
+            }
             tree.nodes[i].objects.push(objects.len());
             objects.push(object);
         }
     }
-    Ok(objects)
+    Ok((objects, skins))
 }
 
 /// The index in the scene's materials of material slot `slot` of a mesh instance: the node's
@@ -192,10 +208,12 @@ fn part_object(
 
 /// The blend shapes of a mesh as morph targets, one per blend channel with a target shape
 /// (the shape at full weight; in-between shapes are not read), in the mesh's deformer and
-/// channel order: per vertex, the offset of its position (`corners`: each vertex's corner).
+/// channel order, named after the channel: per vertex, the offset of its position
+/// (`corners`: each vertex's corner).
 pub(super) fn morph_targets(mesh: &ufbx::Mesh, corners: &[u32]) -> Vec<MorphTarget> {
     blend_shapes(mesh)
-        .map(|(_, shape)| MorphTarget {
+        .map(|(channel, shape)| MorphTarget {
+            name: channel.element.name.to_string(),
             position_deltas: corners
                 .iter()
                 .map(|&c| {

@@ -1,8 +1,11 @@
 //! The node tree: every ufbx node but the root, parents before children, with its name and
 //! its transform relative to its parent (ufbx's `node_to_parent`, pivots resolved; a node
 //! below the root takes the root's transform too, which after ufbx's conversion is the
-//! identity).
+//! identity), also as translation, rotation and scale where it is one.
 
+use glam::{DQuat, DVec3};
+
+use crate::animation::Trs;
 use crate::asset::Node;
 
 use super::scene::mat4;
@@ -36,11 +39,30 @@ pub(super) fn tree(scene: &ufbx::Scene) -> Tree {
         let i = tree.nodes.len();
         tree.index[typed] = Some(i);
         tree.typed.push(typed);
+        let t = &node.local_transform;
+        let trs = Trs {
+            translation: DVec3::new(t.translation.x, t.translation.y, t.translation.z).as_vec3(),
+            rotation: DQuat::from_xyzw(t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w)
+                .as_quat()
+                .normalize(),
+            scale: DVec3::new(t.scale.x, t.scale.y, t.scale.z).as_vec3(),
+        };
         tree.nodes.push(Node {
             name: node.element.name.to_string(),
             local_transform: local,
             parent,
             objects: Vec::new(),
+            // What baked animation channels replace (ufbx bakes `local_transform`), where it
+            // is the matrix (no shear from a non-uniform scale above a rotation).
+            trs: trs
+                .matrix()
+                .abs_diff_eq(
+                    local,
+                    1e-5 * local.abs().to_cols_array().iter().fold(1.0, |a: f32, &x| a.max(x)),
+                )
+                .then_some(trs),
+            skin: None,
+            weights: Vec::new(),
         });
         stack.extend(node.children.iter().rev().map(|c| (c.as_ref(), Some(i))));
     }
