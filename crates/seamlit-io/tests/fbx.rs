@@ -376,3 +376,76 @@ fn blend_shapes_become_morph_targets_as_blender_reads_them() {
     let targets = file.json["meshes"][0]["primitives"][0]["targets"].as_array().unwrap();
     assert_eq!(targets.len(), 2, "{line}");
 }
+
+/// What Blender's importer poses from `fbx` at each frame: per frame, its time in seconds
+/// and per mesh object its evaluated (skinned, animated) world positions.
+fn blender_poses(fbx: &Path, frames: &[u32]) -> Vec<(f32, BTreeMap<String, Vec<Vec3>>)> {
+    let out = fbx.with_extension("pose.json");
+    let frames: Vec<String> = frames.iter().map(u32::to_string).collect();
+    let mut args = vec!["pose", fbx.to_str().unwrap(), out.to_str().unwrap()];
+    args.extend(frames.iter().map(String::as_str));
+    blender(&args);
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap();
+    json["poses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|pose| {
+            let meshes = pose["meshes"]
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(|(name, v)| (name.clone(), v.as_array().unwrap().iter().map(vec3).collect()))
+                .collect();
+            (common::f32_of(pose["time"].as_f64().unwrap()), meshes)
+        })
+        .collect()
+}
+
+/// The box around points.
+fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    points.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+}
+
+/// A skinned, animated arm (two bones, weights blended over the elbow, 24 frames): one skin
+/// whose joints are the two bones, one animation, and at three times the posed arm
+/// (`seamlit_io::pose`) equal to Blender's own import posed at the same frame: its bounds
+/// within 1e-4 of their size, and every vertex within that of one of Blender's.
+#[test]
+fn a_skinned_animated_arm_poses_as_blender_poses_it() {
+    let fbx = written("arm");
+    let asset = reads_as_blender(&fbx);
+    let [skin] = &asset.skins[..] else { panic!("one skin: {:?}", asset.skins) };
+    let joints: BTreeSet<&str> =
+        skin.joints.iter().map(|&j| asset.nodes[j].name.as_str()).collect();
+    assert_eq!(joints, BTreeSet::from(["Плечо", "Предплечье"]));
+    assert_eq!(
+        asset.animations.len(),
+        1,
+        "{:?}",
+        asset.animations.iter().map(|a| &a.name).collect::<Vec<_>>()
+    );
+    let arm = asset.model.objects.iter().position(|o| o.name == "Рука").unwrap();
+    assert!(asset.model.objects[arm].transform.is_none(), "placed by its joints");
+    assert!(!asset.model.objects[arm].skin.is_empty(), "influences");
+    let frames = [0, 7, 18];
+    let reference = blender_poses(&fbx, &frames);
+    let mut moved = 0.0f32;
+    for (frame, (time, meshes)) in frames.iter().zip(&reference) {
+        let pose = seamlit_io::pose::Pose::at(&asset, 0, *time);
+        let ours = seamlit_io::pose::posed_object(&asset, &pose, arm).positions;
+        let theirs = &meshes["Рука"];
+        let (lo, hi) = bounds(theirs);
+        let tolerance = 1e-4 * (hi - lo).max_element();
+        let (our_lo, our_hi) = bounds(&ours);
+        assert!(
+            our_lo.abs_diff_eq(lo, tolerance) && our_hi.abs_diff_eq(hi, tolerance),
+            "frame {frame} (t = {time}): bounds {our_lo} {our_hi}, Blender's {lo} {hi}"
+        );
+        covered(&ours, theirs, tolerance).unwrap_or_else(|e| panic!("frame {frame}: ours: {e}"));
+        covered(theirs, &ours, tolerance)
+            .unwrap_or_else(|e| panic!("frame {frame}: Blender's: {e}"));
+        moved = moved.max((hi.x - 2.0).abs());
+    }
+    assert!(moved > 0.5, "the arm bends over the frames compared ({moved})");
+}

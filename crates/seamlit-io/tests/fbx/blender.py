@@ -138,6 +138,9 @@ def arm():
             pose_bone.rotation_mode = "XYZ"
             pose_bone.rotation_euler = (0.0, 0.0, math.radians(angle))
             pose_bone.keyframe_insert("rotation_euler", frame=frame)
+    # Exported at frame 0, where the pose is the rest pose (the exporter writes the current
+    # frame's transforms besides the animation).
+    scene.frame_set(0)
 
 
 def shapes():
@@ -225,7 +228,8 @@ def pose(path, out, *frames):
     """The evaluated (skinned, animated) world positions of every mesh at each frame, and the
     time in seconds each frame is at."""
     empty_scene()
-    bpy.ops.import_scene.fbx(filepath=path)
+    # No offset: the importer's default moves the animation one frame later.
+    bpy.ops.import_scene.fbx(filepath=path, anim_offset=0.0)
     scene = bpy.context.scene
     poses = []
     for frame in frames:
