@@ -373,8 +373,12 @@ fn blend_shapes_become_morph_targets_as_blender_reads_them() {
     let (errors, line) = common::validate(&glb);
     assert_eq!(errors, 0, "{line}");
     let file = common::gltf::read(&glb);
-    let targets = file.json["meshes"][0]["primitives"][0]["targets"].as_array().unwrap();
-    assert_eq!(targets.len(), 2, "{line}");
+    let mesh = &file.json["meshes"][0];
+    assert_eq!(mesh["primitives"][0]["targets"].as_array().unwrap().len(), 2, "{line}");
+    assert_eq!(mesh["extras"]["targetNames"], serde_json::json!(["Улыбка", "Frown"]));
+    let weights: Vec<f64> =
+        mesh["weights"].as_array().unwrap().iter().map(|w| w.as_f64().unwrap()).collect();
+    assert!((weights[0] - 0.25).abs() < 1e-6, "Улыбка at 0.25 as Blender set it: {weights:?}");
 }
 
 /// What Blender's importer poses from `fbx` at each frame: per frame, its time in seconds
@@ -448,4 +452,29 @@ fn a_skinned_animated_arm_poses_as_blender_poses_it() {
         moved = moved.max((hi.x - 2.0).abs());
     }
     assert!(moved > 0.5, "the arm bends over the frames compared ({moved})");
+
+    // Fixed and written as GLB: valid, with the skin, the animation and the influences, and
+    // read back it poses as Blender does.
+    let mut fixed = asset.clone();
+    seamlit_mesh::fix_in_place(&mut fixed.model, &FixOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("arm.glb");
+    seamlit_io::save(&fixed, &glb, &SaveOptions::default()).unwrap();
+    let (errors, line) = common::validate(&glb);
+    assert_eq!(errors, 0, "{line}");
+    let file = common::gltf::read(&glb);
+    assert_eq!(file.json["skins"].as_array().map(Vec::len), Some(1), "{}", file.json);
+    assert_eq!(file.json["animations"].as_array().map(Vec::len), Some(1));
+    let back = seamlit_io::load(&glb, &LoadOptions::GEOMETRY).unwrap();
+    let arm = back.model.objects.iter().position(|o| o.name == "Рука").unwrap();
+    assert!(!back.model.objects[arm].skin.is_empty(), "JOINTS_0 and WEIGHTS_0 read back");
+    for (frame, (time, meshes)) in frames.iter().zip(&reference) {
+        let pose = seamlit_io::pose::Pose::at(&back, 0, *time);
+        let ours = seamlit_io::pose::posed_object(&back, &pose, arm).positions;
+        let theirs = &meshes["Рука"];
+        let (lo, hi) = bounds(theirs);
+        let tolerance = 1e-4 * (hi - lo).max_element();
+        covered(&ours, theirs, tolerance).unwrap_or_else(|e| panic!("GLB, frame {frame}: {e}"));
+        covered(theirs, &ours, tolerance).unwrap_or_else(|e| panic!("GLB, frame {frame}: {e}"));
+    }
 }
