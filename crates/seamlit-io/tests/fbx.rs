@@ -258,6 +258,7 @@ fn files_by_others_read_as_blender_reads_them() {
         "blender_279_unicode_7400_binary.fbx",
         "blender_279_uv_set_tangents_7400_binary.fbx",
         "blender_279_nested_meshes_7400_binary.fbx",
+        "blender_293_half_skinned_7400_binary.fbx",
     ] {
         let asset = reads_as_blender(&common::model(&format!("ufbx/{name}")));
         assert!(!asset.model.objects.is_empty(), "{name}");
@@ -476,5 +477,61 @@ fn a_skinned_animated_arm_poses_as_blender_poses_it() {
         let tolerance = 1e-4 * (hi - lo).max_element();
         covered(&ours, theirs, tolerance).unwrap_or_else(|e| panic!("GLB, frame {frame}: {e}"));
         covered(theirs, &ours, tolerance).unwrap_or_else(|e| panic!("GLB, frame {frame}: {e}"));
+    }
+}
+
+/// ufbx's half-skinned mesh (Blender 2.93: some vertices weighted to no bone) and Maya's
+/// blend-shape cube (ASCII 6.1): a skin whose unweighted vertices follow the mesh's own node
+/// (weights summing to 1 everywhere, as glTF requires), posed as the file poses it equal to
+/// Blender's evaluated import; a morph target with its name; both written as GLB without a
+/// validator error (the half-skinned one's joints under a common root).
+#[test]
+fn skins_and_blend_shapes_of_files_by_others_are_read_and_written_valid() {
+    let dir = tempfile::tempdir().unwrap();
+    let skinned = seamlit_io::load(
+        &common::model("ufbx/blender_293_half_skinned_7400_binary.fbx"),
+        &LoadOptions::GEOMETRY,
+    )
+    .unwrap();
+    assert_eq!(skinned.skins.len(), 1);
+    // As the file poses it (no animation): Blender's evaluated mesh, the armature applied.
+    let half = common::model("ufbx/blender_293_half_skinned_7400_binary.fbx");
+    let copy = dir.path().join("half_skinned.fbx");
+    std::fs::copy(&half, &copy).unwrap();
+    let (_, meshes) = &blender_poses(&copy, &[0])[0];
+    let pose = seamlit_io::pose::Pose::rest(&skinned);
+    for (o, object) in skinned.model.objects.iter().enumerate() {
+        let ours = seamlit_io::pose::posed_object(&skinned, &pose, o).positions;
+        let theirs = &meshes[&object.name];
+        let (lo, hi) = bounds(theirs);
+        let tolerance = 1e-4 * (hi - lo).max_element();
+        covered(&ours, theirs, tolerance).unwrap_or_else(|e| panic!("{}: ours: {e}", object.name));
+        covered(theirs, &ours, tolerance)
+            .unwrap_or_else(|e| panic!("{}: Blender's: {e}", object.name));
+    }
+    for object in &skinned.model.objects {
+        for v in 0..object.vertex_count() {
+            let total: f32 = object.skin.iter().map(|set| set.weights[v].iter().sum::<f32>()).sum();
+            assert!((total - 1.0).abs() < 1e-5, "{}: vertex {v} weighs {total}", object.name);
+        }
+    }
+    let shapes = seamlit_io::load(
+        &common::model("ufbx/maya_blend_shape_cube_6100_ascii.fbx"),
+        &LoadOptions::GEOMETRY,
+    )
+    .unwrap();
+    let targets: Vec<&str> = shapes
+        .model
+        .objects
+        .iter()
+        .flat_map(|o| o.morph_targets.iter().map(|t| t.name.as_str()))
+        .collect();
+    assert!(!targets.is_empty() && targets.iter().all(|n| !n.is_empty()), "{targets:?}");
+    for (name, mut asset) in [("skinned", skinned), ("shapes", shapes)] {
+        seamlit_mesh::fix_in_place(&mut asset.model, &FixOptions::default()).unwrap();
+        let glb = dir.path().join(format!("{name}.glb"));
+        seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+        let (errors, line) = common::validate(&glb);
+        assert_eq!(errors, 0, "{name}: {line}");
     }
 }

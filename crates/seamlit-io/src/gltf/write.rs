@@ -537,6 +537,14 @@ impl<'a> Writer<'a> {
                     self.root.nodes[base + i].children = Some(list);
                 }
             }
+            if skins_lack_a_common_root(asset) {
+                // glTF wants a skin's joints below one node: one above every root (the
+                // identity) gives them one where they lie in different trees (the bones and
+                // the node of a half-skinned mesh, whose unweighted vertices follow it).
+                let mut top = node_with_transform(Mat4::IDENTITY);
+                top.children = Some(std::mem::take(&mut roots));
+                roots.push(self.root.push(top));
+            }
         } else {
             for (object, &mesh) in asset.model.objects.iter().zip(meshes) {
                 let mut node = node_with_transform(object.model_transform());
@@ -943,6 +951,21 @@ impl Deform {
         let first = *counts.first()?;
         (first > 0 && counts.iter().all(|&c| c == first)).then_some(first)
     }
+}
+
+/// Whether a writable skin has joints in more than one tree of the node hierarchy.
+fn skins_lack_a_common_root(asset: &Asset) -> bool {
+    let top = |mut n: usize| {
+        // Parents come before children (checked by `hierarchy_matches`): this ends.
+        while let Some(p) = asset.nodes[n].parent {
+            n = p;
+        }
+        n
+    };
+    (0..asset.skins.len()).filter(|&k| skin_writable(asset, k)).any(|k| {
+        let joints = &asset.skins[k].joints;
+        joints.iter().any(|&j| top(j) != top(joints[0]))
+    })
 }
 
 /// Whether skin `k` can be written: joints that are nodes of the asset, no more than JOINTS'

@@ -1,5 +1,5 @@
-//! Skins: a skinned mesh's clusters as the joints of an [`crate::Skin`], each with the
-//! inverse of its bone's world transform at bind time; the vertices' weights as
+//! Skins: a skinned mesh's clusters as the joints of an [`crate::Skin`], each with its
+//! binding (ufbx's `geometry_to_bone`) as the inverse bind matrix from bind-pose model space; the vertices' weights as
 //! [`Influences`] sets of four (joints as [`crate::Asset::nodes`] indices, weights summing
 //! to 1); the vertices moved into bind-pose model space (the object has no transform, as a
 //! skinned glTF mesh is placed by its joints only).
@@ -35,10 +35,13 @@ pub(super) fn bound(
     joint_of: impl Fn(&ufbx::Node) -> Option<usize>,
 ) -> Option<Bound> {
     let deformer = mesh.skin_deformers.first()?;
-    let bind = deformer
-        .clusters
-        .first()
-        .map_or_else(|| mat4(&node.geometry_to_world), |c| mat4(&c.geometry_to_world));
+    // The geometry's world transform at bind time: a bone's bind pose times the binding
+    // from the geometry to it (ufbx's cluster `geometry_to_world` is the current pose's).
+    let bind = deformer.clusters.first().map_or_else(
+        || mat4(&node.geometry_to_world),
+        |c| mat4(&c.bind_to_world) * mat4(&c.geometry_to_bone),
+    );
+    let to_geometry = bind.inverse();
     let mut joints: Vec<usize> = Vec::new();
     let mut inverse_bind_matrices = Vec::new();
     let mut clusters = Vec::new();
@@ -53,7 +56,8 @@ pub(super) fn bound(
     };
     for cluster in deformer.clusters.iter() {
         let n = cluster.bone_node.as_ref().and_then(|b| joint_of(b)).unwrap_or(node_index);
-        clusters.push(joint(n, mat4(&cluster.bind_to_world).inverse()));
+        // Bind-pose model space to the bone: back to the geometry, then ufbx's binding.
+        clusters.push(joint(n, mat4(&cluster.geometry_to_bone) * to_geometry));
     }
     // The mesh's node, bound where its geometry was (bind = node_to_world * geometry_to_node),
     // only where a vertex needs it (a joint outside the skeleton's tree is not always valid).
