@@ -535,3 +535,39 @@ fn skins_and_blend_shapes_of_files_by_others_are_read_and_written_valid() {
         assert_eq!(errors, 0, "{name}: {line}");
     }
 }
+
+/// A material's base colour texture, named by a relative path (the PNG beside the FBX) and
+/// embedded in the file (the FBX alone in its folder): found, decoded (4 x 4, one colour per
+/// row as Blender's script painted them), and carried into a valid GLB.
+#[test]
+fn textures_are_read_by_path_and_embedded() {
+    for scene in ["textured", "embedded"] {
+        let fbx = written(scene);
+        let dir = tempfile::tempdir().unwrap();
+        let copy = dir.path().join(format!("{scene}.fbx"));
+        std::fs::copy(&fbx, &copy).unwrap();
+        if scene == "textured" {
+            std::fs::copy(fbx.with_file_name("texture.png"), dir.path().join("texture.png"))
+                .unwrap();
+        }
+        let asset = seamlit_io::load(&copy, &LoadOptions::DEFAULT).unwrap();
+        assert!(asset.warnings.is_empty(), "{scene}: {:?}", asset.warnings);
+        let material = asset.materials.iter().find(|m| m.name == "Картинка").unwrap();
+        let texture = &asset.textures[material.base_color_texture.as_ref().expect(scene).texture];
+        match (scene, &texture.source) {
+            ("textured", seamlit_io::TextureSource::File(_))
+            | ("embedded", seamlit_io::TextureSource::Embedded { .. }) => {}
+            _ => panic!("{scene}: {:?}", texture.source),
+        }
+        let image = texture.image.as_ref().unwrap_or_else(|| panic!("{scene}: decoded"));
+        assert_eq!(image.dimensions(), (4, 4));
+        let rows: BTreeSet<[u8; 4]> = (0..4).map(|y| image.get_pixel(0, y).0).collect();
+        let painted = [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]];
+        assert_eq!(rows, BTreeSet::from(painted), "{scene}");
+        let glb = dir.path().join(format!("{scene}.glb"));
+        seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
+        let (errors, line) = common::validate(&glb);
+        assert_eq!(errors, 0, "{line}");
+        assert_eq!(common::gltf::read(&glb).json["images"].as_array().map(Vec::len), Some(1));
+    }
+}

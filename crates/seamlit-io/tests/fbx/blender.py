@@ -2,7 +2,7 @@
 scenes as FBX with Blender's own exporter, and reads an FBX back with Blender's own importer
 into JSON, the reference the tests compare seamlit's reading with.
 
-    python3 blender.py write SCENE OUT.fbx   # SCENE: head_body, names, arm, shapes, nothing
+    python3 blender.py write SCENE OUT.fbx   # SCENE: head_body, names, arm, shapes, textured, embedded, nothing
     python3 blender.py read IN.fbx OUT.json
     python3 blender.py pose IN.fbx OUT.json FRAME...
 
@@ -13,6 +13,7 @@ position and matrix converted from Blender's +Z up to glTF's +Y up ((x, y, z) ->
 
 import json
 import math
+import os
 import sys
 
 import bpy
@@ -167,6 +168,30 @@ def shapes():
     smile.value = 0.25
 
 
+def textured(out):
+    """A quad whose material's base colour is a 4 x 4 PNG (red, green, blue, white rows),
+    saved as texture.png beside the FBX."""
+    mesh = bpy.data.meshes.new("Quad")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop, co in zip(mesh.loops, ((0, 0), (1, 0), (1, 1), (0, 1))):
+        uv.data[loop.index].uv = co
+    quad = bpy.data.objects.new("Quad", mesh)
+    bpy.context.scene.collection.objects.link(quad)
+    image = bpy.data.images.new("texture", 4, 4)
+    rows = [(1, 0, 0, 1), (0, 1, 0, 1), (0, 0, 1, 1), (1, 1, 1, 1)]
+    image.pixels = [c for row in rows for _ in range(4) for c in row]
+    image.filepath_raw = os.path.join(os.path.dirname(out), "texture.png")
+    image.file_format = "PNG"
+    image.save()
+    material = bpy.data.materials.new("Картинка")
+    nodes = material.node_tree.nodes
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    material.node_tree.links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+    mesh.materials.append(material)
+
+
 def nothing():
     """No mesh: an empty object only."""
     bpy.context.scene.collection.objects.link(bpy.data.objects.new("Пусто", None))
@@ -174,7 +199,10 @@ def nothing():
 
 def write(scene, out):
     empty_scene()
-    {"head_body": head_body, "names": names, "arm": arm, "shapes": shapes, "nothing": nothing}[scene]()
+    if scene in ("textured", "embedded"):
+        textured(out)
+    else:
+        {"head_body": head_body, "names": names, "arm": arm, "shapes": shapes, "nothing": nothing}[scene]()
     bpy.context.view_layer.update()
     bpy.ops.export_scene.fbx(
         filepath=out,
@@ -184,6 +212,9 @@ def write(scene, out):
         bake_anim_use_all_actions=False,
         bake_anim_use_nla_strips=False,
         add_leaf_bones=False,
+        # "embedded" puts the texture's bytes in the file; the others name it by path.
+        path_mode="COPY" if scene == "embedded" else "RELATIVE",
+        embed_textures=scene == "embedded",
         # The names scene is written +Z up (Blender's own axes), the others +Y up (the
         # exporter's default): the reader converts either.
         axis_forward="Y" if scene == "names" else "-Z",
