@@ -54,9 +54,10 @@ fn written(scene: &str) -> PathBuf {
 
 /// What Blender's importer reads from `fbx`: per object name, the object's JSON.
 fn blender_reads(fbx: &Path) -> BTreeMap<String, Value> {
-    let out = fbx.with_extension(format!("{}.json", fbx.extension().unwrap().to_string_lossy()));
-    blender(&["read", fbx.to_str().unwrap(), out.to_str().unwrap()]);
-    let json: Value = serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap();
+    // A file of its own: tests run in parallel.
+    let out = tempfile::NamedTempFile::new().unwrap();
+    blender(&["read", fbx.to_str().unwrap(), out.path().to_str().unwrap()]);
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(out.path()).unwrap()).unwrap();
     json["objects"]
         .as_array()
         .unwrap()
@@ -385,12 +386,12 @@ fn blend_shapes_become_morph_targets_as_blender_reads_them() {
 /// What Blender's importer poses from `fbx` at each frame: per frame, its time in seconds
 /// and per mesh object its evaluated (skinned, animated) world positions.
 fn blender_poses(fbx: &Path, frames: &[u32]) -> Vec<(f32, BTreeMap<String, Vec<Vec3>>)> {
-    let out = fbx.with_extension("pose.json");
+    let out = tempfile::NamedTempFile::new().unwrap();
     let frames: Vec<String> = frames.iter().map(u32::to_string).collect();
-    let mut args = vec!["pose", fbx.to_str().unwrap(), out.to_str().unwrap()];
+    let mut args = vec!["pose", fbx.to_str().unwrap(), out.path().to_str().unwrap()];
     args.extend(frames.iter().map(String::as_str));
     blender(&args);
-    let json: Value = serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap();
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(out.path()).unwrap()).unwrap();
     json["poses"]
         .as_array()
         .unwrap()
