@@ -343,7 +343,9 @@ fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
 
 /// Blend shapes (Blender shape keys written as FBX blend shapes) become morph targets: per
 /// target, the displaced world positions equal those of Blender's own import of the shape
-/// key; and the fixed model is written as a valid GLB with its targets.
+/// key; the animated weight poses the mesh as Blender poses it at three frames; and the fixed
+/// model is written as a valid GLB with its targets, their names and weights, and a
+/// `weights` channel.
 #[test]
 fn blend_shapes_become_morph_targets_as_blender_reads_them() {
     let fbx = written("shapes");
@@ -367,6 +369,16 @@ fn blend_shapes_become_morph_targets_as_blender_reads_them() {
         let moved = target.position_deltas.iter().map(|&d| m.transform_vector3(d).length());
         assert!(moved.fold(0.0, f32::max) > 0.15, "{name} moves");
     }
+    // The smile's animation: posed at frames 0, 5 and 10 as Blender poses it.
+    assert_eq!(asset.animations.len(), 1);
+    let frames = [0, 5, 10];
+    for (frame, (time, meshes)) in frames.iter().zip(blender_poses(&fbx, &frames)) {
+        let pose = seamlit_io::pose::Pose::at(&asset, 0, time);
+        let ours = seamlit_io::pose::posed_object(&asset, &pose, 0).positions;
+        let theirs = &meshes["Лицо"];
+        covered(&ours, theirs, 1e-4).unwrap_or_else(|e| panic!("frame {frame}: ours: {e}"));
+        covered(theirs, &ours, 1e-4).unwrap_or_else(|e| panic!("frame {frame}: Blender's: {e}"));
+    }
     let mut asset = asset;
     seamlit_mesh::fix_in_place(&mut asset.model, &FixOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
@@ -381,6 +393,8 @@ fn blend_shapes_become_morph_targets_as_blender_reads_them() {
     let weights: Vec<f64> =
         mesh["weights"].as_array().unwrap().iter().map(|w| w.as_f64().unwrap()).collect();
     assert!((weights[0] - 0.25).abs() < 1e-6, "Улыбка at 0.25 as Blender set it: {weights:?}");
+    let channels = file.json["animations"][0]["channels"].as_array().unwrap();
+    assert!(channels.iter().any(|c| c["target"]["path"] == "weights"), "{channels:?}");
 }
 
 /// What Blender's importer poses from `fbx` at each frame: per frame, its time in seconds

@@ -145,7 +145,8 @@ def arm():
 
 
 def shapes():
-    """A grid with two shape keys ("Улыбка" lifts the middle, "Frown" pushes one edge down)."""
+    """A grid with two shape keys ("Улыбка" lifts the middle, "Frown" pushes one edge down),
+    the smile animated."""
     n = 6
     rings = [[(x / (n - 1), y / (n - 1), 0.0) for x in range(n)] for y in range(n)]
     mesh = bpy.data.meshes.new("Лицо")
@@ -166,6 +167,14 @@ def shapes():
         smile.data[i].co.z = 0.3 * math.sin(math.pi * x) * math.sin(math.pi * y)
         frown.data[i].co.z = -0.2 * (1.0 - y) if y < 0.3 else 0.0
     smile.value = 0.25
+    # Animated: the smile from 0.25 at frame 0 to 1 at frame 10, 24 frames a second.
+    scene = bpy.context.scene
+    scene.render.fps = 24
+    scene.frame_start, scene.frame_end = 0, 10
+    smile.keyframe_insert("value", frame=0)
+    smile.value = 1.0
+    smile.keyframe_insert("value", frame=10)
+    scene.frame_set(0)
 
 
 def textured(out):
@@ -208,7 +217,7 @@ def write(scene, out):
         filepath=out,
         use_selection=False,
         use_tspace=scene == "names",
-        bake_anim=scene == "arm",
+        bake_anim=scene in ("arm", "shapes"),
         bake_anim_use_all_actions=False,
         bake_anim_use_nla_strips=False,
         add_leaf_bones=False,
