@@ -23,11 +23,22 @@ pub(crate) fn check_object(object: &Object, path: &Path) -> Result<(), IoError> 
     };
     let lengths = [
         ("uvs", object.uvs.as_ref().map(Vec::len)),
+        ("uvs1", object.uvs1.as_ref().map(Vec::len)),
         ("normals", object.normals.as_ref().map(Vec::len)),
         ("tangents", object.tangents.as_ref().map(Vec::len)),
         ("colors", object.colors.as_ref().map(Vec::len)),
     ];
-    for (attribute, len) in lengths {
+    let skin = object.skin.iter().flat_map(|set| {
+        [("skin joints", Some(set.joints.len())), ("skin weights", Some(set.weights.len()))]
+    });
+    let morph = object.morph_targets.iter().flat_map(|target| {
+        [
+            ("morph position deltas", Some(target.position_deltas.len())),
+            ("morph normal deltas", target.normal_deltas.as_ref().map(Vec::len)),
+            ("morph tangent deltas", target.tangent_deltas.as_ref().map(Vec::len)),
+        ]
+    });
+    for (attribute, len) in lengths.into_iter().chain(skin).chain(morph) {
         if let Some(count) = len.filter(|&len| len != n) {
             return Err(invalid(InvalidAsset::AttributeLength { attribute, count, positions: n }));
         }

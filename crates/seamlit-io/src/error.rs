@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use crate::fbx::error::FbxKind;
 use crate::gltf::error::{BadUri, GltfKind};
 
 /// Why a file could not be read or written.
@@ -24,7 +25,7 @@ pub enum IoError {
 
     /// The file's extension (or, for extension-less files, its first token) names no format
     /// this crate reads or writes.
-    #[error("{}: unknown model format (expected .obj, .gltf, .glb or a Newell patch file)", path.display())]
+    #[error("{}: unknown model format (expected .obj, .gltf, .glb, .fbx or a Newell patch file)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -147,6 +148,23 @@ pub enum IoError {
         /// meshoptimizer's, the Draco decoder's) where there is one.
         #[source]
         kind: GltfKind,
+    },
+
+    /// An FBX file that ufbx refuses, that is truncated, or whose geometry is not finite.
+    #[error("{}: FBX: {kind}", path.display())]
+    Fbx {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        kind: FbxKind,
+    },
+
+    /// An `.fbx` output path: seamlit writes no FBX (no maintained FBX writer exists in
+    /// Rust). Nothing was written.
+    #[error("{}: seamlit cannot write FBX; write .glb (or .gltf) instead, which every FBX tool imports", path.display())]
+    FbxOutput {
+        /// The output path.
+        path: PathBuf,
     },
 
     /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme

@@ -54,6 +54,7 @@ mod animation;
 mod asset;
 mod check;
 mod error;
+pub mod fbx;
 mod files;
 pub mod gltf;
 pub mod motion;
@@ -75,6 +76,7 @@ pub use asset::{
     TextureSource, UvTransform, roughness_to_shininess, shininess_to_roughness,
 };
 pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
+pub use fbx::error::FbxKind;
 pub use gltf::error::{BadAccessor, BadUri, Draco, Glb, GltfKind, Meshopt};
 pub use gltf::source::GltfSource;
 pub use obj::source::ObjSource;
@@ -92,11 +94,13 @@ pub enum Format {
     Glb,
     /// Newell's Bezier patch text.
     Newell,
+    /// Autodesk FBX, binary or ASCII (read only, with the `fbx` feature).
+    Fbx,
 }
 
 impl Format {
     /// The format of `path`, from its extension (case-insensitive): `.obj`, `.gltf`, `.glb`,
-    /// and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
+    /// `.fbx` (with the `fbx` feature), and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
     /// extension is a Newell patch file if its first token is an integer (the patch count).
     ///
     /// Returns `None` for anything else (and for an extension-less file that cannot be read).
@@ -107,6 +111,7 @@ impl Format {
             Some("obj") => Some(Self::Obj),
             Some("gltf") => Some(Self::Gltf),
             Some("glb") => Some(Self::Glb),
+            Some("fbx") if cfg!(feature = "fbx") => Some(Self::Fbx),
             Some("bpt" | "patch" | "patches" | "newell") => Some(Self::Newell),
             None => {
                 let mut head = [0u8; 64];
@@ -127,13 +132,18 @@ impl Format {
 /// # Errors
 ///
 /// [`IoError::UnknownFormat`] for an extension no reader handles, the errors of
-/// [`obj::load`], [`gltf::load`] and [`newell::load`], and [`IoError::NoTriangles`] for a
+/// [`obj::load`], [`gltf::load`], [`newell::load`] and (with the `fbx` feature) `fbx::load`,
+/// and [`IoError::NoTriangles`] for a
 /// file that holds no triangle (those readers return such a file as an empty model).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let asset = match Format::of(path) {
         Some(Format::Obj) => obj::load(path, options),
         Some(Format::Gltf | Format::Glb) => gltf::load(path, options),
         Some(Format::Newell) => newell::load(path, options),
+        #[cfg(feature = "fbx")]
+        Some(Format::Fbx) => fbx::load(path, options),
+        #[cfg(not(feature = "fbx"))]
+        Some(Format::Fbx) => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
         None if !path.exists() => {
             Err(IoError::io(path, std::io::Error::from(std::io::ErrorKind::NotFound)))
         }
@@ -169,6 +179,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::WouldOverwriteInput`] when `path` is the asset's own source and
 /// `options.overwrite_input` is not set; [`IoError::CannotKeepCompression`] with
 /// `options.keep_compression` for a Draco-compressed source or an `.obj` path;
+/// [`IoError::FbxOutput`] for an `.fbx` path (seamlit writes no FBX);
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
@@ -223,6 +234,7 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             }
             obj::write::save(asset, path)?;
         }
+        Some("fbx") => return Err(IoError::FbxOutput { path: path.to_path_buf() }),
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)

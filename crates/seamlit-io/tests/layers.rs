@@ -18,6 +18,7 @@ use std::path::Path;
 const LAYERS: &[&str] = &[
     // What goes wrong, the options, and the pieces every format shares.
     "gltf::error",
+    "fbx::error",
     "error",
     "options",
     "paths",
@@ -49,9 +50,12 @@ const LAYERS: &[&str] = &[
     "obj::read",
     "obj::passthrough",
     "obj::write",
+    // FBX: the reader (ufbx's scene to an asset); no writer.
+    "fbx::read",
     // The formats' public functions, and the entry points.
     "gltf",
     "obj",
+    "fbx",
     "newell",
     "lib",
 ];

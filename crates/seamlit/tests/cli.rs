@@ -1166,3 +1166,32 @@ fn new_normals_cannot_be_appended_to_a_buffer_without_data() {
         assert!(!out.exists());
     }
 }
+
+/// An FBX (ufbx's test file of nested Blender meshes) goes through every command that reads
+/// a model; an .fbx output and a truncated FBX are bad input in one line.
+#[test]
+fn fbx_is_read_by_every_command_and_refused_as_output() {
+    let fbx = models().join("ufbx/blender_279_nested_meshes_7400_binary.fbx").display().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    let o = seamlit(&["inspect", &fbx, "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = seamlit(&["fix", &fbx, "-o", &out("fixed.glb")]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).starts_with("wrote "), "{}", stdout(&o));
+    for command in ["render", "compare"] {
+        let png = out(&format!("{command}.png"));
+        let o = seamlit(&[command, &fbx, "-o", &png, "--size", "160x120"]);
+        assert!(o.status.success(), "{command}: {}", String::from_utf8_lossy(&o.stderr));
+        let img = image::open(&png).unwrap().to_rgba8();
+        assert!(foreground_fraction(&img, 0) > 0.01, "{command}: the model is drawn");
+    }
+    let o = seamlit(&["fix", &fbx, "-o", &out("out.fbx")]);
+    assert_bad_input(&o, &["out.fbx", "cannot write FBX", ".glb"]);
+    let bytes = std::fs::read(&fbx).unwrap();
+    let truncated = out("truncated.fbx");
+    std::fs::write(&truncated, &bytes[..bytes.len() / 3]).unwrap();
+    let o = seamlit(&["inspect", &truncated]);
+    assert_bad_input(&o, &["truncated.fbx", "FBX", "truncated"]);
+    assert_eq!(listing(dir.path()), ["compare.png", "fixed.glb", "render.png", "truncated.fbx"]);
+}

@@ -1,7 +1,8 @@
 //! glTF 2.0 and GLB out, through gltf-json.
 //!
 //! Each object becomes a mesh of one triangle primitive (POSITION with min/max, NORMAL,
-//! TANGENT, TEXCOORD_0, COLOR_0 as RGBA floats, indices as u16 where every index fits below 65535, else u32) named
+//! TANGENT, TEXCOORD_0 and _1, COLOR_0 as RGBA floats, indices as u16 where every index fits
+//! below 65535, else u32, and the morph targets' POSITION, NORMAL and TANGENT deltas) named
 //! after the object. The node hierarchy of the asset is rebuilt when it is consistent with
 //! the objects' transforms (a node carrying several objects gets one child node per object);
 //! otherwise each object gets a root node with its transform. Materials and the textures
@@ -22,6 +23,7 @@ use gltf_json as json;
 use json::validation::{Checked, USize64};
 use seamlit_mesh::{Object, VAxis};
 
+use crate::animation::{Interpolation, Property};
 use crate::asset::{Asset, Material, TextureRef, UvTransform};
 use crate::check::{check_object, unit_normal, unit_tangent};
 use crate::error::{InvalidAsset, IoError};
@@ -69,13 +71,20 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         let m = writer.material(material, &textures);
         writer.root.push(m);
     }
+    let hierarchy = hierarchy_matches(asset);
+    let deform = Deform::of(asset, hierarchy);
     let meshes: Vec<json::Index<json::Mesh>> = asset
         .model
         .objects
         .iter()
-        .map(|o| writer.mesh(o, asset.model.v_axis, asset.materials.len()))
+        .enumerate()
+        .map(|(i, o)| writer.mesh(o, asset.model.v_axis, asset.materials.len(), &deform, i))
         .collect();
-    writer.nodes(asset, &meshes);
+    let written = writer.nodes(asset, &meshes, hierarchy);
+    if hierarchy {
+        writer.skins(asset, &written);
+        writer.animations(asset, &written, &deform);
+    }
 
     let bin_uri = (!binary && writer.bin_len > 0).then(|| format!("{}.bin", writer.stem));
     if writer.bin_len > 0 {
@@ -110,7 +119,7 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
 
 /// A part of the binary buffer, written from the asset when the file is written.
 enum BinPart<'a> {
-    /// Vertex positions, as they are.
+    /// Vertex positions (and morph targets' deltas), as they are.
     Positions(&'a [Vec3]),
     /// Normals, made unit length ([`unit_normal`]).
     Normals(&'a [Vec3]),
@@ -120,6 +129,12 @@ enum BinPart<'a> {
     Colors(&'a [Vec4]),
     /// Texture coordinates, V flipped (`1 - v`) when `flip` is set.
     Uvs { uvs: &'a [Vec2], flip: bool },
+    /// Skin joints as u16 (indices into the object's skin's joints).
+    Joints(Vec<[u16; 4]>),
+    /// Skin weights, as they are.
+    Weights(&'a [[f32; 4]]),
+    /// Floats, as they are: inverse bind matrices, animation times and values.
+    Floats(Vec<f32>),
     /// Triangle indices as u16 (every index is below 65535).
     Indices16(&'a [[u32; 3]]),
     /// Triangle indices as u32.
@@ -135,6 +150,9 @@ impl BinPart<'_> {
             Self::Positions(v) | Self::Normals(v) => v.len() * 12,
             Self::Tangents(v) | Self::Colors(v) => v.len() * 16,
             Self::Uvs { uvs, .. } => uvs.len() * 8,
+            Self::Joints(j) => j.len() * 8,
+            Self::Weights(w) => w.len() * 16,
+            Self::Floats(f) => f.len() * 4,
             Self::Indices16(t) => t.len() * 6,
             Self::Indices32(t) => t.len() * 12,
             Self::Bytes(b) => b.len(),
@@ -160,6 +178,11 @@ impl BinPart<'_> {
             Self::Uvs { uvs, flip } => {
                 uvs.iter().try_for_each(|t| floats(out, [t.x, if *flip { 1.0 - t.y } else { t.y }]))
             }
+            Self::Joints(joints) => joints
+                .iter()
+                .try_for_each(|j| out.write_all(j.map(u16::to_le_bytes).as_flattened())),
+            Self::Weights(weights) => weights.iter().try_for_each(|w| floats(out, *w)),
+            Self::Floats(values) => values.iter().try_for_each(|x| out.write_all(&x.to_le_bytes())),
             Self::Indices16(triangles) => triangles.iter().try_for_each(|t| {
                 // Every index is below 65535, checked by the caller.
                 #[expect(clippy::cast_possible_truncation, reason = "below 65535, checked")]
@@ -233,6 +256,31 @@ impl<'a> Writer<'a> {
         min_max: Option<(Vec<f32>, Vec<f32>)>,
     ) -> json::Index<json::Accessor> {
         let view = self.view(piece, Some(target));
+        self.push_accessor(view, count, component, type_, min_max)
+    }
+
+    /// Floats that are not vertex attributes (inverse bind matrices, animation times and
+    /// values): a view without a target.
+    fn data_accessor(
+        &mut self,
+        values: Vec<f32>,
+        count: usize,
+        type_: json::accessor::Type,
+        min_max: Option<(Vec<f32>, Vec<f32>)>,
+    ) -> json::Index<json::Accessor> {
+        let view = self.view(BinPart::Floats(values), None);
+        self.push_accessor(view, count, json::accessor::ComponentType::F32, type_, min_max)
+    }
+
+    /// An accessor of a whole view.
+    fn push_accessor(
+        &mut self,
+        view: json::Index<json::buffer::View>,
+        count: usize,
+        component: json::accessor::ComponentType,
+        type_: json::accessor::Type,
+        min_max: Option<(Vec<f32>, Vec<f32>)>,
+    ) -> json::Index<json::Accessor> {
         let (min, max) = match min_max {
             Some((min, max)) => (
                 Some(json::Value::from(min.iter().map(|&x| f64::from(x)).collect::<Vec<_>>())),
@@ -279,6 +327,8 @@ impl<'a> Writer<'a> {
         object: &'a Object,
         v_axis: VAxis,
         material_count: usize,
+        deform: &Deform,
+        index: usize,
     ) -> json::Index<json::Mesh> {
         use json::accessor::Type;
         use json::mesh::Semantic;
@@ -306,18 +356,51 @@ impl<'a> Writer<'a> {
                 );
             }
         }
-        if let Some(uvs) = &object.uvs {
-            let piece = BinPart::Uvs { uvs, flip: v_axis == VAxis::Up };
-            attributes.insert(
-                Checked::Valid(Semantic::TexCoords(0)),
-                self.float_accessor(piece, n, Type::Vec2, None),
-            );
+        for (set, uvs) in [(0, &object.uvs), (1, &object.uvs1)] {
+            if let Some(uvs) = uvs {
+                let piece = BinPart::Uvs { uvs, flip: v_axis == VAxis::Up };
+                attributes.insert(
+                    Checked::Valid(Semantic::TexCoords(set)),
+                    self.float_accessor(piece, n, Type::Vec2, None),
+                );
+            }
         }
         if let Some(colors) = &object.colors {
             attributes.insert(
                 Checked::Valid(Semantic::Colors(0)),
                 self.float_accessor(BinPart::Colors(colors), n, Type::Vec4, None),
             );
+        }
+        if let Some(joints) = deform.joints_of(index) {
+            for (set, influences) in object.skin.iter().enumerate() {
+                let Ok(set) = u32::try_from(set) else { break };
+                let remapped: Vec<[u16; 4]> = influences
+                    .joints
+                    .iter()
+                    .zip(&influences.weights)
+                    .map(|(j, w)| {
+                        // A joint the skin lacks can only carry no weight (checked by
+                        // `Deform::of`); it is written as joint 0.
+                        std::array::from_fn(|k| {
+                            if w[k] > 0.0 { joints.get(&j[k]).copied().unwrap_or(0) } else { 0 }
+                        })
+                    })
+                    .collect();
+                let view =
+                    self.view(BinPart::Joints(remapped), Some(json::buffer::Target::ArrayBuffer));
+                let accessor = self.push_accessor(
+                    view,
+                    n,
+                    json::accessor::ComponentType::U16,
+                    Type::Vec4,
+                    None,
+                );
+                attributes.insert(Checked::Valid(Semantic::Joints(set)), accessor);
+                attributes.insert(
+                    Checked::Valid(Semantic::Weights(set)),
+                    self.float_accessor(BinPart::Weights(&influences.weights), n, Type::Vec4, None),
+                );
+            }
         }
         let count = object.triangles.len() * 3;
         let (piece, component) = if n <= usize::from(u16::MAX) {
@@ -344,21 +427,75 @@ impl<'a> Writer<'a> {
                 .and_then(|m| u32::try_from(m).ok())
                 .map(json::Index::new),
             mode: Checked::Valid(json::mesh::Mode::Triangles),
-            targets: None,
+            targets: self.morph_targets(object),
         };
+        let targets = object.morph_targets.len();
+        let weights = deform.weights[index].clone().filter(|w| targets > 0 && w.len() == targets);
+        // glTF has no target names; `extras.targetNames` is the convention readers know.
+        let names: Vec<&str> = object.morph_targets.iter().map(|t| t.name.as_str()).collect();
+        let extras = names
+            .iter()
+            .any(|n| !n.is_empty())
+            .then(|| {
+                serde_json::value::to_raw_value(&serde_json::json!({ "targetNames": names })).ok()
+            })
+            .flatten();
         self.root.push(json::Mesh {
             extensions: None,
-            extras: Default::default(),
+            extras,
             name: Some(object.name.clone()),
             primitives: vec![primitive],
-            weights: None,
+            weights,
         })
     }
 
-    /// The node hierarchy: the asset's own when it matches the objects, else flat.
-    fn nodes(&mut self, asset: &Asset, meshes: &[json::Index<json::Mesh>]) {
+    /// The morph targets of an object: POSITION deltas (with the bounds the specification
+    /// requires), and NORMAL and TANGENT deltas where every target has them (the attributes of
+    /// all targets of a primitive are the same).
+    fn morph_targets(&mut self, object: &'a Object) -> Option<Vec<json::mesh::MorphTarget>> {
+        use json::accessor::Type;
+        let targets = &object.morph_targets;
+        if targets.is_empty() {
+            return None;
+        }
+        let normals = object.normals.is_some() && targets.iter().all(|t| t.normal_deltas.is_some());
+        let tangents = normals
+            && object.tangents.is_some()
+            && targets.iter().all(|t| t.tangent_deltas.is_some());
+        let n = object.positions.len();
+        let mut deltas = |values: Option<&'a [Vec3]>, wanted: bool, bounded: bool| {
+            let values = values.filter(|_| wanted)?;
+            let bounds = bounded.then(|| {
+                let (min, max) =
+                    values.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+                        (lo.min(p), hi.max(p))
+                    });
+                (min.to_array().to_vec(), max.to_array().to_vec())
+            });
+            Some(self.float_accessor(BinPart::Positions(values), n, Type::Vec3, bounds))
+        };
+        let out = targets
+            .iter()
+            .map(|target| json::mesh::MorphTarget {
+                positions: deltas(Some(&target.position_deltas), n > 0, true),
+                normals: deltas(target.normal_deltas.as_deref(), normals, false),
+                tangents: deltas(target.tangent_deltas.as_deref(), tangents, false),
+            })
+            .collect();
+        Some(out)
+    }
+
+    /// The node hierarchy: the asset's own when it matches the objects (`hierarchy`), else
+    /// flat. Returns where the asset's nodes went (empty when flat).
+    fn nodes(
+        &mut self,
+        asset: &Asset,
+        meshes: &[json::Index<json::Mesh>],
+        hierarchy: bool,
+    ) -> Written {
         let mut roots = Vec::new();
-        if hierarchy_matches(asset) {
+        let mut written = Written { nodes: Vec::new(), meshes: Vec::new() };
+        if hierarchy {
             let base = self.root.nodes.len();
             for node in &asset.nodes {
                 let mut json_node = node_with_transform(node.local_transform);
@@ -368,7 +505,9 @@ impl<'a> Writer<'a> {
                     json_node.name = Some(asset.model.objects[object].name.clone());
                     json_node.mesh = Some(meshes[object]);
                 }
-                self.root.push(json_node);
+                let index = self.root.push(json_node);
+                written.nodes.push(index);
+                written.meshes.push(if node.objects.len() == 1 { vec![index] } else { Vec::new() });
             }
             let mut children: Vec<Vec<json::Index<json::Node>>> =
                 vec![Vec::new(); asset.nodes.len()];
@@ -387,7 +526,9 @@ impl<'a> Writer<'a> {
                         let mut child = node_with_transform(Mat4::IDENTITY);
                         child.name = Some(asset.model.objects[object].name.clone());
                         child.mesh = Some(meshes[object]);
-                        children[i].push(self.root.push(child));
+                        let child = self.root.push(child);
+                        children[i].push(child);
+                        written.meshes[i].push(child);
                     }
                 }
             }
@@ -395,6 +536,14 @@ impl<'a> Writer<'a> {
                 if !list.is_empty() {
                     self.root.nodes[base + i].children = Some(list);
                 }
+            }
+            if skins_lack_a_common_root(asset) {
+                // glTF wants a skin's joints below one node: one above every root (the
+                // identity) gives them one where they lie in different trees (the bones and
+                // the node of a half-skinned mesh, whose unweighted vertices follow it).
+                let mut top = node_with_transform(Mat4::IDENTITY);
+                top.children = Some(std::mem::take(&mut roots));
+                roots.push(self.root.push(top));
             }
         } else {
             for (object, &mesh) in asset.model.objects.iter().zip(meshes) {
@@ -411,6 +560,136 @@ impl<'a> Writer<'a> {
             nodes: roots,
         });
         self.root.scene = Some(scene);
+        written
+    }
+
+    /// The asset's skins whose joints are all written nodes: joints and inverse bind
+    /// matrices; each set on the nodes that carry its meshes.
+    fn skins(&mut self, asset: &Asset, written: &Written) {
+        for (k, skin) in asset.skins.iter().enumerate() {
+            if !skin_writable(asset, k) {
+                continue;
+            }
+            let joints: Vec<json::Index<json::Node>> =
+                skin.joints.iter().map(|&j| written.nodes[j]).collect();
+            let matrices: Vec<f32> =
+                skin.inverse_bind_matrices.iter().flat_map(Mat4::to_cols_array).collect();
+            let accessor =
+                self.data_accessor(matrices, joints.len(), json::accessor::Type::Mat4, None);
+            let index = self.root.push(json::Skin {
+                extensions: None,
+                extras: Default::default(),
+                inverse_bind_matrices: Some(accessor),
+                joints,
+                name: (!skin.name.is_empty()).then(|| skin.name.clone()),
+                skeleton: None,
+            });
+            for (i, node) in asset.nodes.iter().enumerate() {
+                if node.skin == Some(k) {
+                    for &mesh_node in &written.meshes[i] {
+                        self.root.nodes[mesh_node.value()].skin = Some(index);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The asset's animations: one sampler per channel (times with their bounds, values as
+    /// the channel holds them), aimed at the written node; a `Weights` channel at every
+    /// written node of the node's meshes, where each mesh has that many morph targets.
+    /// Channels that cannot be written so are left out (a malformed sampler, a node without
+    /// meshes for weights).
+    fn animations(&mut self, asset: &Asset, written: &Written, deform: &Deform) {
+        use json::accessor::Type;
+        use json::animation::{Interpolation as Interp, Property as Path};
+        for animation in &asset.animations {
+            let mut samplers = Vec::new();
+            let mut channels = Vec::new();
+            for channel in &animation.channels {
+                let sampler = &channel.sampler;
+                let keys = sampler.times.len();
+                let components = sampler.components();
+                let groups =
+                    if sampler.interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+                if keys == 0
+                    || components == 0
+                    || sampler.values.len() != keys * groups * components
+                    || !sampler.times.windows(2).all(|t| t[0] < t[1])
+                    || !sampler.times.iter().chain(&sampler.values).all(|x| x.is_finite())
+                {
+                    continue;
+                }
+                let Some(&node) = written.nodes.get(channel.node) else { continue };
+                let (path, type_, targets) = match channel.property {
+                    Property::Translation if components == 3 => {
+                        (Path::Translation, Type::Vec3, vec![node])
+                    }
+                    Property::Rotation if components == 4 => {
+                        (Path::Rotation, Type::Vec4, vec![node])
+                    }
+                    Property::Scale if components == 3 => (Path::Scale, Type::Vec3, vec![node]),
+                    Property::Weights
+                        if deform.morph_targets_of(asset, channel.node) == Some(components) =>
+                    {
+                        (
+                            Path::MorphTargetWeights,
+                            Type::Scalar,
+                            written.meshes[channel.node].clone(),
+                        )
+                    }
+                    _ => continue,
+                };
+                if targets.is_empty() {
+                    continue;
+                }
+                let count =
+                    if type_ == Type::Scalar { keys * groups * components } else { keys * groups };
+                let (first, last) = (sampler.times[0], sampler.times[keys - 1]);
+                let input = self.data_accessor(
+                    sampler.times.clone(),
+                    keys,
+                    Type::Scalar,
+                    Some((vec![first], vec![last])),
+                );
+                let output = self.data_accessor(sampler.values.clone(), count, type_, None);
+                let interpolation = match sampler.interpolation {
+                    Interpolation::Step => Interp::Step,
+                    Interpolation::Linear => Interp::Linear,
+                    Interpolation::CubicSpline => Interp::CubicSpline,
+                };
+                #[expect(clippy::cast_possible_truncation, reason = "one sampler per channel")]
+                let index = json::Index::new(samplers.len() as u32);
+                samplers.push(json::animation::Sampler {
+                    extensions: None,
+                    extras: Default::default(),
+                    input,
+                    interpolation: Checked::Valid(interpolation),
+                    output,
+                });
+                for node in targets {
+                    channels.push(json::animation::Channel {
+                        sampler: index,
+                        target: json::animation::Target {
+                            extensions: None,
+                            extras: Default::default(),
+                            node,
+                            path: Checked::Valid(path),
+                        },
+                        extensions: None,
+                        extras: Default::default(),
+                    });
+                }
+            }
+            if !channels.is_empty() {
+                self.root.push(json::Animation {
+                    extensions: None,
+                    extras: Default::default(),
+                    channels,
+                    name: (!animation.name.is_empty()).then(|| animation.name.clone()),
+                    samplers,
+                });
+            }
+        }
     }
 
     /// Images, textures and one sampler for the textures that materials use and whose bytes
@@ -599,8 +878,111 @@ fn node_with_transform(m: Mat4) -> json::Node {
     node
 }
 
+/// Where the asset's nodes went in the written document.
+struct Written {
+    /// Per asset node, its written node (empty when the hierarchy was written flat).
+    nodes: Vec<json::Index<json::Node>>,
+    /// Per asset node, the written nodes that carry its meshes (the node itself for one
+    /// object, a child per object for several).
+    meshes: Vec<Vec<json::Index<json::Node>>>,
+}
+
+/// What skins and morph weights the writer gives each object.
+struct Deform {
+    /// Per skin: each joint node's index in the skin's joints.
+    joints: Vec<HashMap<u32, u16>>,
+    /// Per object: the skin its JOINTS index, where it is written with one.
+    skin: Vec<Option<usize>>,
+    /// Per object: its node's default morph weights, where the node gives some.
+    weights: Vec<Option<Vec<f32>>>,
+}
+
+impl Deform {
+    /// Objects are written skinned where the hierarchy is written, their node names a
+    /// writable skin (see [`skin_writable`]) and every joint they weigh is one of its joints.
+    fn of(asset: &Asset, hierarchy: bool) -> Self {
+        let joints: Vec<HashMap<u32, u16>> = asset
+            .skins
+            .iter()
+            .map(|skin| {
+                skin.joints
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, &j)| Some((u32::try_from(j).ok()?, u16::try_from(k).ok()?)))
+                    .collect()
+            })
+            .collect();
+        let n = asset.model.objects.len();
+        let mut deform = Self { joints, skin: vec![None; n], weights: vec![None; n] };
+        for node in &asset.nodes {
+            for &o in node.objects.iter().filter(|&&o| o < n) {
+                deform.weights[o] = (!node.weights.is_empty()).then(|| node.weights.clone());
+                let Some(k) = node.skin.filter(|&k| hierarchy && skin_writable(asset, k)) else {
+                    continue;
+                };
+                let object = &asset.model.objects[o];
+                let known = object.skin.iter().all(|set| {
+                    set.joints.iter().zip(&set.weights).all(|(j, w)| {
+                        (0..4).all(|i| w[i] <= 0.0 || deform.joints[k].contains_key(&j[i]))
+                    })
+                });
+                if known && !object.skin.is_empty() {
+                    deform.skin[o] = Some(k);
+                }
+            }
+        }
+        deform
+    }
+
+    /// The joint indices of object `o`'s skin, where it is written skinned.
+    fn joints_of(&self, o: usize) -> Option<&HashMap<u32, u16>> {
+        self.skin[o].map(|k| &self.joints[k])
+    }
+
+    /// The number of morph targets every object of node `node` has, where they agree and
+    /// are not zero.
+    fn morph_targets_of(&self, asset: &Asset, node: usize) -> Option<usize> {
+        let objects = &asset.nodes.get(node)?.objects;
+        let counts: Vec<usize> = objects
+            .iter()
+            .filter_map(|&o| asset.model.objects.get(o))
+            .map(|o| o.morph_targets.len())
+            .collect();
+        let first = *counts.first()?;
+        (first > 0 && counts.iter().all(|&c| c == first)).then_some(first)
+    }
+}
+
+/// Whether a writable skin has joints in more than one tree of the node hierarchy.
+fn skins_lack_a_common_root(asset: &Asset) -> bool {
+    let top = |mut n: usize| {
+        // Parents come before children (checked by `hierarchy_matches`): this ends.
+        while let Some(p) = asset.nodes[n].parent {
+            n = p;
+        }
+        n
+    };
+    (0..asset.skins.len()).filter(|&k| skin_writable(asset, k)).any(|k| {
+        let joints = &asset.skins[k].joints;
+        joints.iter().any(|&j| top(j) != top(joints[0]))
+    })
+}
+
+/// Whether skin `k` can be written: joints that are nodes of the asset, no more than JOINTS'
+/// u16 can index, one inverse bind matrix each, all finite.
+fn skin_writable(asset: &Asset, k: usize) -> bool {
+    asset.skins.get(k).is_some_and(|skin| {
+        !skin.joints.is_empty()
+            && skin.joints.len() <= usize::from(u16::MAX)
+            && skin.joints.iter().all(|&j| j < asset.nodes.len())
+            && skin.inverse_bind_matrices.len() == skin.joints.len()
+            && skin.inverse_bind_matrices.iter().all(|m| m.is_finite())
+    })
+}
+
 /// Whether the asset's nodes describe its objects: every object carried by exactly one node,
-/// parents before children, and each object's transform the composition of its node chain.
+/// parents before children, and each object's transform the composition of its node chain
+/// (a skinned node's objects have none: they are placed by their joints).
 fn hierarchy_matches(asset: &Asset) -> bool {
     if asset.nodes.is_empty() {
         return false;
@@ -618,6 +1000,9 @@ fn hierarchy_matches(asset: &Asset) -> bool {
         for &object in &node.objects {
             let Some(o) = asset.model.objects.get(object) else { return false };
             carried[object] += 1;
+            if node.skin.is_some() && o.transform.is_none() {
+                continue;
+            }
             let tolerance =
                 1e-5 * global.to_cols_array().iter().fold(1.0f32, |a, &x| a.max(x.abs()));
             if !o.model_transform().abs_diff_eq(global, tolerance) {

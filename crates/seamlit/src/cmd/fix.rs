@@ -61,6 +61,10 @@ fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("glb" | "gltf" | "obj") => Ok(()),
+        // The library's own line: seamlit writes no FBX, write .glb.
+        Some("fbx") => {
+            Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
+        }
         _ => Err(Failure::input(format!(
             "{}: unknown output format (expected a .glb, .gltf or .obj file name)",
             output.display()
@@ -263,6 +267,7 @@ fn classify_save(e: IoError) -> Failure {
         // A buffer 0 without data of its own cannot become a GLB's BIN chunk or grow: the
         // input's shape, and the line says to write .gltf.
         IoError::UnknownFormat { .. }
+        | IoError::FbxOutput { .. }
         | IoError::CannotKeepCompression { .. }
         | IoError::InvalidAsset {
             kind: InvalidAsset::HostInGlb | InvalidAsset::HostCannotGrow,
@@ -349,7 +354,7 @@ fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>,
     if files.is_empty() {
         let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
-            "{}: no model files (.obj, .gltf, .glb, Newell patches) {where_}",
+            "{}: no model files (.obj, .gltf, .glb, .fbx, Newell patches) {where_}",
             dir.display()
         )));
     }
