@@ -12,8 +12,8 @@ use crate::camera::{Bounds, Camera};
 use crate::error::{Invalid, SceneError};
 use crate::lights::three_point_rig;
 use crate::schema::{
-    CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, RenderDef, Scale,
-    SceneFile, ToneMappingKind,
+    AnimationDef, CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, RenderDef,
+    Scale, SceneFile, ToneMappingKind,
 };
 
 /// A scene, checked and with its paths resolved.
@@ -55,6 +55,28 @@ pub struct RenderOptions {
     pub exposure: Option<f32>,
     /// `shadows`: directional and spot lights cast shadows.
     pub shadows: Option<bool>,
+    /// `animation`: the animation the model is posed by (a name or an index into the merged
+    /// asset's animations, resolved by the program against what the files have).
+    pub animation: Option<AnimationChoice>,
+    /// `time`: seconds into the animation (>= 0).
+    pub time: Option<f32>,
+}
+
+/// An animation, as a scene file or the command line names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum AnimationChoice {
+    /// The animation at this index.
+    Index(usize),
+    /// The first animation of this name.
+    Name(String),
+}
+
+impl AnimationChoice {
+    /// A number is an index, anything else a name.
+    #[must_use]
+    pub fn parse(text: &str) -> Self {
+        text.parse().map_or_else(|_| Self::Name(text.to_owned()), Self::Index)
+    }
 }
 
 /// Where image-based light comes from: `"none"`, `"builtin"` or a Radiance `.hdr` file.
@@ -365,6 +387,11 @@ impl Ctx<'_> {
                 "a number > 0",
             )?,
             shadows: def.shadows,
+            animation: def.animation.as_ref().map(|a| match a {
+                AnimationDef::Index(i) => AnimationChoice::Index(*i),
+                AnimationDef::Name(n) => AnimationChoice::Name(n.clone()),
+            }),
+            time: check("time", def.time, |v| v.is_finite() && v >= 0.0, "seconds >= 0")?,
         };
         Ok((lighting, options))
     }
@@ -766,6 +793,29 @@ fov_deg = 50
         assert_eq!(invalid_at(&e, 3), &Invalid::Background { value: [2.0, 0.0, 0.0] });
         let e = err("[[model]]\npath = \"a.obj\"\n[render]\ntone_mapping = \"reinhard\"\n");
         assert!(parse_error_at(&e, 4, "tone_mapping"), "{e:?}");
+    }
+
+    #[test]
+    fn the_render_table_names_an_animation_and_a_time() {
+        let named =
+            parse("[[model]]\npath = \"a.glb\"\n[render]\nanimation = \"Walk\"\ntime = 0.5\n");
+        let r = named.unwrap().render;
+        assert_eq!(r.animation, Some(AnimationChoice::Name("Walk".into())));
+        assert_eq!(r.time, Some(0.5));
+        let indexed = parse("[[model]]\npath = \"a.glb\"\n[render]\nanimation = 2\n");
+        assert_eq!(indexed.unwrap().render.animation, Some(AnimationChoice::Index(2)));
+        let e = err("[[model]]\npath = \"a.glb\"\n[render]\ntime = -1\n");
+        assert!(
+            matches!(
+                invalid_at(&e, 3),
+                Invalid::RenderValue { key: "time", value: -1.0, expected: "seconds >= 0" }
+            ),
+            "{e}"
+        );
+        let e = err("[[model]]\npath = \"a.glb\"\n[render]\nanimation = [1]\n");
+        assert!(parse_error_at(&e, 4, "animation"), "{e:?}");
+        assert_eq!(AnimationChoice::parse("3"), AnimationChoice::Index(3));
+        assert_eq!(AnimationChoice::parse("Run"), AnimationChoice::Name("Run".into()));
     }
 
     #[test]
