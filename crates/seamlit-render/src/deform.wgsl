@@ -54,10 +54,13 @@ fn deform(v: u32, position: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>) ->
     var m = mat4x4<f32>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var s = 0u; s < object.skin_sets; s = s + 1u) {
         let influence = skin[s * n + v];
-        m = m + joint_palette[influence.joints.x] * influence.weights.x;
-        m = m + joint_palette[influence.joints.y] * influence.weights.y;
-        m = m + joint_palette[influence.joints.z] * influence.weights.z;
-        m = m + joint_palette[influence.joints.w] * influence.weights.w;
+        // Lanes without weight (most vertices have fewer than four influences) are skipped.
+        for (var lane = 0u; lane < 4u; lane = lane + 1u) {
+            let w = influence.weights[lane];
+            if w != 0.0 {
+                m = m + joint_palette[influence.joints[lane]] * w;
+            }
+        }
     }
     let a = m[0].xyz;
     let b = m[1].xyz;
