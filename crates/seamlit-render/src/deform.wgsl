@@ -3,8 +3,9 @@
 // each). Each of them declares, in its own bind group, `object: Object` and the storage
 // buffers read here (the object's group, `Layouts::object` in context.rs):
 //   skin: array<SkinVertex>        set s of vertex v at s * vertex_count + v
-//   morph_deltas: array<f32>       target k of vertex v at (k * vertex_count + v) * 9:
-//                                  position, normal, tangent deltas (zeros where none)
+//   morph_deltas: array<vec4<f32>> target k of vertex v at (k * vertex_count + v) * 3:
+//                                  position, normal, tangent deltas in xyz (zeros where
+//                                  none; vectors, so that each is one load)
 //   joint_palette: array<mat4x4>   model-space joint matrices, indexed by SkinVertex.joints
 //   morph_weights: array<f32>      one per target
 //
@@ -28,10 +29,6 @@ struct Deformed {
     det_sign: f32,
 }
 
-fn morph_delta(at: u32) -> vec3<f32> {
-    return vec3<f32>(morph_deltas[at], morph_deltas[at + 1u], morph_deltas[at + 2u]);
-}
-
 fn deform(v: u32, position: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>) -> Deformed {
     var out: Deformed;
     out.position = position;
@@ -42,10 +39,10 @@ fn deform(v: u32, position: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>) ->
     for (var k = 0u; k < object.morph_targets; k = k + 1u) {
         let w = morph_weights[k];
         if w != 0.0 {
-            let at = (k * n + v) * 9u;
-            out.position = out.position + w * morph_delta(at);
-            out.normal = out.normal + w * morph_delta(at + 3u);
-            out.tangent = vec4<f32>(out.tangent.xyz + w * morph_delta(at + 6u), out.tangent.w);
+            let at = (k * n + v) * 3u;
+            out.position = out.position + w * morph_deltas[at].xyz;
+            out.normal = out.normal + w * morph_deltas[at + 1u].xyz;
+            out.tangent = vec4<f32>(out.tangent.xyz + w * morph_deltas[at + 2u].xyz, out.tangent.w);
         }
     }
     if object.skin_sets == 0u {

@@ -137,7 +137,7 @@ const PI: f32 = 3.141592653589793;
 @group(2) @binding(0) var<uniform> object: Object;
 @group(2) @binding(1) var<storage, read> vertex_data: array<f32>;
 @group(2) @binding(2) var<storage, read> skin: array<SkinVertex>;
-@group(2) @binding(3) var<storage, read> morph_deltas: array<f32>;
+@group(2) @binding(3) var<storage, read> morph_deltas: array<vec4<f32>>;
 @group(2) @binding(4) var<storage, read> joint_palette: array<mat4x4<f32>>;
 @group(2) @binding(5) var<storage, read> morph_weights: array<f32>;
 @group(3) @binding(0) var environment_specular: texture_cube<f32>;

@@ -36,8 +36,9 @@ pub(crate) struct SkinRaw {
     pub weights: [f32; 4],
 }
 
-/// Floats per vertex and morph target in the delta buffer: position, normal, tangent.
-const MORPH_STRIDE: usize = 9;
+/// Floats per vertex and morph target in the delta buffer: position, normal and tangent
+/// deltas, each a vec4 (w unused) so that the shader loads each at once.
+const MORPH_STRIDE: usize = 12;
 
 /// An object's skin and morph data on the GPU, and what [`crate::GpuScene::set_pose`] needs
 /// to check a pose and bound the posed object.
@@ -248,7 +249,8 @@ fn skin_influences(object: &Object) -> Result<Vec<SkinRaw>, RenderError> {
 }
 
 /// Every morph target's deltas, target after target, [`MORPH_STRIDE`] floats a vertex
-/// (zeros where a target has no normal or tangent deltas), checked against the vertex count.
+/// (zeros where a target has no normal or tangent deltas, and in each vec4's w), checked
+/// against the vertex count.
 fn morph_deltas(object: &Object) -> Result<Vec<f32>, RenderError> {
     let n = object.positions.len();
     let mut out = vec![0.0; object.morph_targets.len() * n * MORPH_STRIDE];
@@ -256,8 +258,8 @@ fn morph_deltas(object: &Object) -> Result<Vec<f32>, RenderError> {
         let slot = &mut out[k * n * MORPH_STRIDE..(k + 1) * n * MORPH_STRIDE];
         let columns = [
             ("position", Some(&target.position_deltas), 0),
-            ("normal", target.normal_deltas.as_ref(), 3),
-            ("tangent", target.tangent_deltas.as_ref(), 6),
+            ("normal", target.normal_deltas.as_ref(), 4),
+            ("tangent", target.tangent_deltas.as_ref(), 8),
         ];
         for (what, deltas, at) in columns {
             let Some(deltas) = deltas else { continue };

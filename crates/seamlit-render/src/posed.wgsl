@@ -6,7 +6,7 @@
 @group(0) @binding(0) var<uniform> object: Object;
 @group(0) @binding(1) var<storage, read> vertex_data: array<f32>;
 @group(0) @binding(2) var<storage, read> skin: array<SkinVertex>;
-@group(0) @binding(3) var<storage, read> morph_deltas: array<f32>;
+@group(0) @binding(3) var<storage, read> morph_deltas: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> joint_palette: array<mat4x4<f32>>;
 @group(0) @binding(5) var<storage, read> morph_weights: array<f32>;
 @group(1) @binding(0) var<storage, read_write> posed: array<vec4<f32>>;

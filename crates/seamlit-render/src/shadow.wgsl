@@ -10,7 +10,7 @@
 @group(0) @binding(0) var<uniform> light_view_proj: mat4x4<f32>;
 @group(1) @binding(0) var<uniform> object: Object;
 @group(1) @binding(2) var<storage, read> skin: array<SkinVertex>;
-@group(1) @binding(3) var<storage, read> morph_deltas: array<f32>;
+@group(1) @binding(3) var<storage, read> morph_deltas: array<vec4<f32>>;
 @group(1) @binding(4) var<storage, read> joint_palette: array<mat4x4<f32>>;
 @group(1) @binding(5) var<storage, read> morph_weights: array<f32>;
 
