@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use seamlit_mesh::Model;
 
+use crate::animation::{Animation, Skin, SkinsChanged, Trs};
 use crate::gltf::source::GltfSource;
 use crate::obj::source::ObjSource;
 
@@ -22,8 +23,9 @@ pub struct Asset {
     pub materials: Vec<Material>,
     /// Textures (images), in file order.
     pub textures: Vec<Texture>,
-    /// Per object: the name of the node it came from and its parent chain, so writers can
-    /// rebuild a hierarchy. Empty when the format has none (OBJ, Newell patches).
+    /// The scene's nodes (glTF nodes, FBX models), a parent before its children; each names
+    /// the objects it carries, so writers can rebuild the hierarchy and [`crate::pose`] can
+    /// move them. Empty when the format has none (OBJ, Newell patches).
     pub nodes: Vec<Node>,
     /// The file this asset was loaded from, if any.
     pub source: Option<PathBuf>,
@@ -31,6 +33,13 @@ pub struct Asset {
     pub warnings: Vec<String>,
     /// The lights the file carries (glTF KHR_lights_punctual), in model space.
     pub lights: Vec<PunctualLight>,
+    /// The skins (glTF `skins`, FBX clusters), in file order; [`Node::skin`] indexes them.
+    pub skins: Vec<Skin>,
+    /// The animations (glTF `animations`, FBX animation stacks), in file order.
+    pub animations: Vec<Animation>,
+    /// The objects' influences and the skins that [`crate::match_skin_seams`] changed, which
+    /// the glTF pass-through writes anew; empty after loading.
+    pub skins_changed: SkinsChanged,
     /// For an asset loaded from glTF or GLB: the input document and its buffers, so that
     /// [`crate::save`] to `.gltf` or `.glb` writes the input back with only what seamlit owns
     /// changed (normals, tangents, split vertices, indices). `None` for other formats; set it
@@ -55,6 +64,48 @@ pub struct Node {
     pub parent: Option<usize>,
     /// Indices of the objects (in `model.objects`) this node carries.
     pub objects: Vec<usize>,
+    /// The local transform as translation, rotation and scale, where the file gives it so
+    /// (what animations move); `None` where it gives a matrix, which
+    /// [`Node::local_transform`] holds as written.
+    pub trs: Option<Trs>,
+    /// The skin of the node's mesh, an index into [`Asset::skins`]. The objects of a skinned
+    /// node are in the skin's bind-pose space (their `transform` is `None`), and their
+    /// [`seamlit_mesh::Influences`] name joints as indices into [`Asset::nodes`].
+    pub skin: Option<usize>,
+    /// The morph target weights of the node's mesh when no animation moves them (glTF:
+    /// the node's `weights`, else its mesh's); empty where the file gives none (all 0).
+    pub weights: Vec<f32>,
+}
+
+impl Node {
+    /// A node with a name, a local transform and a parent, carrying no objects.
+    #[must_use]
+    pub fn new(
+        name: impl Into<String>,
+        local_transform: glam::Mat4,
+        parent: Option<usize>,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            local_transform,
+            parent,
+            objects: Vec::new(),
+            trs: None,
+            skin: None,
+            weights: Vec::new(),
+        }
+    }
+
+    /// The local transform as translation, rotation and scale: [`Node::trs`], else the
+    /// matrix's decomposition.
+    #[must_use]
+    pub fn local_trs(&self) -> Trs {
+        self.trs.unwrap_or_else(|| {
+            let (scale, rotation, translation) =
+                self.local_transform.to_scale_rotation_translation();
+            Trs { translation, rotation, scale }
+        })
+    }
 }
 
 /// A material: what the renderer needs for per-pixel lighting with normal mapping.

@@ -50,19 +50,26 @@
 //! when computed ones are not written. The design: `docs/obj-pass-through.md`.
 #![deny(missing_docs)]
 
+mod animation;
 mod asset;
 mod check;
 mod error;
 mod files;
 pub mod gltf;
+pub mod motion;
 pub mod newell;
 pub mod obj;
 mod options;
 mod paths;
+pub mod pose;
+mod skins;
 mod texture;
 
 use std::path::Path;
 
+pub use animation::{
+    Animation, Channel, Interpolation, Property, Sampler, Skin, SkinsChanged, Trs,
+};
 pub use asset::{
     AlphaMode, Asset, Material, Node, PunctualKind, PunctualLight, Texture, TextureRef,
     TextureSource, UvTransform, roughness_to_shininess, shininess_to_roughness,
@@ -72,6 +79,7 @@ pub use gltf::error::{BadAccessor, BadUri, Draco, Glb, GltfKind, Meshopt};
 pub use gltf::source::GltfSource;
 pub use obj::source::ObjSource;
 pub use options::{LoadOptions, SaveOptions};
+pub use skins::match_skin_seams;
 
 /// A model file format this crate reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

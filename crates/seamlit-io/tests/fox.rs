@@ -76,9 +76,15 @@ fn the_fox_is_loaded_with_its_skin_and_gets_normals() {
     let object = &asset.model.objects[0];
     assert_eq!(object.triangle_count(), 576);
     assert_eq!(object.skin.len(), 1);
-    // Joints are node indices: the skin's joints are nodes 2 to 25.
-    let joints = object.skin[0].joints.iter().flatten();
-    assert!(joints.clone().all(|&j| (2..=25).contains(&j)), "joints map through the skin");
+    // Joints are the asset's node indices, each one of the skin's 24 joints.
+    let node = asset.nodes.iter().find(|n| n.objects.contains(&0)).unwrap();
+    let skin = &asset.skins[node.skin.unwrap()];
+    assert_eq!(skin.joints.len(), 24);
+    let mut joints = object.skin[0].joints.iter().flatten();
+    assert!(joints.all(|&j| skin.joints.contains(&(j as usize))), "joints map through the skin");
+    // The file's animations, with their names.
+    let names: Vec<&str> = asset.animations.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["Survey", "Walk", "Run"]);
     let (_, output) = input_and_output();
     assert!(output.json["meshes"][0]["primitives"][0]["attributes"].get("NORMAL").is_some());
 }

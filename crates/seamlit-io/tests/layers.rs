@@ -27,7 +27,11 @@ const LAYERS: &[&str] = &[
     "gltf::json",
     "gltf::source",
     "obj::source",
+    "animation",
     "asset",
+    "pose",
+    "skins",
+    "motion",
     "texture",
     // glTF: below the reader and the writers, the container, URIs and references; then the
     // decoders, the reader, the pass-through writer, the generic writer.

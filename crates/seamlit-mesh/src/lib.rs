@@ -64,7 +64,7 @@ pub use fix::{fix, fix_in_place};
 pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
-pub use skin::{SkinSeamExample, SkinSeams};
+pub use skin::{SkinMatch, SkinSeamExample, SkinSeams, match_skin_seams, shared_copies};
 
 /// The largest number of vertices (and of triangle corners, and of the two together: `fix`
 /// may give an object a new vertex per corner) a model may have: indices are 32-bit.

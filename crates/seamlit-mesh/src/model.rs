@@ -118,6 +118,9 @@ pub struct Influences {
 /// input had).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MorphTarget {
+    /// The target's name (glTF: the mesh's `extras.targetNames`, FBX: the blend shape's),
+    /// empty where the file gives none.
+    pub name: String,
     /// Per vertex: the displacement of its position, in the object's local space.
     pub position_deltas: Vec<Vec3>,
     /// Per vertex: the target's unit normal minus the base normal, local space.

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::index::low_half;
 use crate::validate::Flat;
-use crate::{Model, Object};
+use crate::{Influences, Model, Object};
 
 /// Two weights of one joint closer than this are equal: one step of a normalised byte, and
 /// a little for the rounding of the sums.
@@ -124,6 +124,186 @@ fn same(a: &[(u32, f32)], b: &[(u32, f32)]) -> bool {
     true
 }
 
+/// What [`match_skin_seams`] changed.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SkinMatch {
+    /// Welded positions whose skinned objects disagreed and now agree.
+    pub positions: usize,
+    /// Vertices given new influences.
+    pub vertices: usize,
+    /// Per object: whether its influences changed (so a writer writes them anew).
+    pub objects: Vec<bool>,
+}
+
+/// Gives every copy of a welded position the same skin influences, where the skinned
+/// objects that share it disagree (as [`SkinSeams`] counts them): a seam that stays closed in
+/// every pose, since every copy then follows the same joints by the same weights.
+///
+/// The influences are merged in joint-node space: each object's weight per joint there (the
+/// mean over its vertices at the position, which are split copies of one another or
+/// nearly), averaged over the objects; the largest `4 x sets` kept (sets: the most any of
+/// them has; objects with fewer get zero-weight sets added) and renormalised to sum 1; lanes
+/// in order of weight. Objects without a skin are left out. Nothing else changes.
+///
+/// # Errors
+///
+/// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
+pub fn match_skin_seams(
+    model: &mut Model,
+    tolerance: crate::WeldTolerance,
+) -> Result<SkinMatch, crate::MeshError> {
+    let mut out = SkinMatch { objects: vec![false; model.objects.len()], ..SkinMatch::default() };
+    if model.objects.iter().all(|o| o.skin.is_empty()) {
+        return Ok(out);
+    }
+    let flat = crate::validate::flatten(model)?;
+    let tolerance = tolerance.absolute(crate::weld::diagonal(&flat));
+    let roots = crate::weld::roots(&flat.positions, tolerance);
+    let shared = flat.shared_positions(&roots);
+    let mut at_shared: Vec<u64> = roots
+        .par_iter()
+        .enumerate()
+        .filter(|&(_, &r)| shared[r as usize])
+        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
+        .collect();
+    at_shared.par_sort_unstable();
+    let object_of = |v: usize| flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    let objects = &model.objects;
+    // Per disagreeing position: its vertices (object, vertex) and their merged influences.
+    type Merged = (Vec<(usize, usize)>, Vec<(u32, f32)>, usize);
+    let merged: Vec<Merged> = at_shared
+        .par_chunk_by(|a, b| a >> 32 == b >> 32)
+        .filter_map(|run| {
+            let vertices: Vec<(usize, usize)> = run
+                .iter()
+                .map(|&e| {
+                    let v = low_half(e) as usize;
+                    let o = object_of(v);
+                    (o, v - flat.vertex_start[o] as usize)
+                })
+                .filter(|&(o, _)| !objects[o].skin.is_empty())
+                .collect();
+            let each: Vec<(usize, Vec<(u32, f32)>)> =
+                vertices.iter().map(|&(o, v)| (o, influences(&objects[o], v))).collect();
+            let disagree = each
+                .iter()
+                .enumerate()
+                .any(|(i, (oa, a))| each[i + 1..].iter().any(|(ob, b)| oa != ob && !same(a, b)));
+            if !disagree {
+                return None;
+            }
+            let sets = vertices.iter().map(|&(o, _)| objects[o].skin.len()).max().unwrap_or(1);
+            Some((vertices, merge(&each, 4 * sets), sets))
+        })
+        .collect();
+    for (vertices, joints, sets) in merged {
+        out.positions += 1;
+        for (o, v) in vertices {
+            let object = &mut model.objects[o];
+            let count = object.positions.len();
+            while object.skin.len() < sets {
+                object.skin.push(Influences {
+                    joints: vec![[0; 4]; count],
+                    weights: vec![[0.0; 4]; count],
+                });
+            }
+            for (s, set) in object.skin.iter_mut().enumerate() {
+                for lane in 0..4 {
+                    let (joint, weight) = joints.get(4 * s + lane).copied().unwrap_or((0, 0.0));
+                    set.joints[v][lane] = joint;
+                    set.weights[v][lane] = weight;
+                }
+            }
+            out.vertices += 1;
+            out.objects[o] = true;
+        }
+    }
+    Ok(out)
+}
+
+/// The copies of each welded position that two or more objects share, as the seam report
+/// welds them: per position (in the order of its lowest vertex), its vertices as
+/// `(object, vertex)`. What a pose pulls apart when the copies move differently.
+///
+/// # Errors
+///
+/// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
+pub fn shared_copies(
+    model: &Model,
+    tolerance: crate::WeldTolerance,
+) -> Result<Vec<Vec<(u32, u32)>>, crate::MeshError> {
+    let flat = crate::validate::flatten(model)?;
+    let tolerance = tolerance.absolute(crate::weld::diagonal(&flat));
+    let roots = crate::weld::roots(&flat.positions, tolerance);
+    let shared = flat.shared_positions(&roots);
+    let mut at_shared: Vec<u64> = roots
+        .par_iter()
+        .enumerate()
+        .filter(|&(_, &r)| shared[r as usize])
+        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
+        .collect();
+    at_shared.par_sort_unstable();
+    let object_of = |v: usize| flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    Ok(at_shared
+        .chunk_by(|a, b| a >> 32 == b >> 32)
+        .map(|run| {
+            run.iter()
+                .map(|&e| {
+                    let v = low_half(e) as usize;
+                    let o = object_of(v);
+                    // Both fit u32: the model's vertex count does (validate).
+                    #[expect(clippy::cast_possible_truncation, reason = "checked by validate")]
+                    (o as u32, (v - flat.vertex_start[o] as usize) as u32)
+                })
+                .collect()
+        })
+        .collect())
+}
+
+/// The influences of several objects' vertices at one position merged: per object the mean
+/// weight per joint over its vertices, then the mean over the objects; the `keep` largest
+/// (ties: the lower joint first), renormalised to sum 1.
+fn merge(each: &[(usize, Vec<(u32, f32)>)], keep: usize) -> Vec<(u32, f32)> {
+    /// An object, how many of its vertices are at the position, their weights per joint.
+    type PerObject = (usize, usize, Vec<(u32, f32)>);
+    let mut per_object: Vec<PerObject> = Vec::new();
+    for (o, influences) in each {
+        let entry = match per_object.iter_mut().position(|(x, _, _)| x == o) {
+            Some(i) => &mut per_object[i],
+            None => {
+                per_object.push((*o, 0, Vec::new()));
+                per_object.last_mut().expect("just pushed")
+            }
+        };
+        entry.1 += 1;
+        for &(j, w) in influences {
+            match entry.2.iter_mut().find(|(k, _)| *k == j) {
+                Some(slot) => slot.1 += w,
+                None => entry.2.push((j, w)),
+            }
+        }
+    }
+    let mut total: Vec<(u32, f32)> = Vec::new();
+    for (_, count, weights) in &per_object {
+        for &(j, w) in weights {
+            let w = w / *count as f32 / per_object.len() as f32;
+            match total.iter_mut().find(|(k, _)| *k == j) {
+                Some(slot) => slot.1 += w,
+                None => total.push((j, w)),
+            }
+        }
+    }
+    total.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    total.truncate(keep);
+    let sum: f32 = total.iter().map(|&(_, w)| w).sum();
+    if sum > 0.0 {
+        for (_, w) in &mut total {
+            *w /= sum;
+        }
+    }
+    total
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,5 +316,18 @@ mod tests {
         assert!(!same(&[(1, 1.0)], &[(2, 1.0)]));
         assert!(!same(&[], &[(2, 1.0)]));
         assert!(same(&[], &[]));
+    }
+
+    #[test]
+    fn merging_averages_per_object_keeps_the_largest_and_sums_to_one() {
+        // Object 0 has two vertices there (a split copy), object 1 one.
+        let each =
+            vec![(0, vec![(1, 0.5), (2, 0.5)]), (0, vec![(1, 0.5), (2, 0.5)]), (1, vec![(2, 1.0)])];
+        let merged = merge(&each, 4);
+        assert_eq!(merged, vec![(2, 0.75), (1, 0.25)]);
+        let five: Vec<(u32, f32)> = (0..5).map(|j| (j, 0.1 + 0.01 * j as f32)).collect();
+        let kept = merge(&[(0, five)], 4);
+        assert_eq!(kept.iter().map(|&(j, _)| j).collect::<Vec<_>>(), [4, 3, 2, 1]);
+        assert!((kept.iter().map(|&(_, w)| w).sum::<f32>() - 1.0).abs() < 1e-6);
     }
 }

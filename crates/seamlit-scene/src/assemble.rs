@@ -176,6 +176,9 @@ fn load_normal_texture(t: &NormalTexture) -> Result<Texture, SceneError> {
 }
 
 /// Places an asset in the world: `transform` is applied after each object's own transform.
+/// An asset with nodes gets a new root node carrying `transform` above its roots (node 0,
+/// the others renumbered), so that its poses ([`seamlit_io::pose`]) are placed too (a skinned
+/// object's joint matrices then include `transform`, and replace its own).
 pub(crate) fn place(asset: &mut Asset, transform: Mat4) {
     if transform == Mat4::IDENTITY {
         return;
@@ -183,10 +186,48 @@ pub(crate) fn place(asset: &mut Asset, transform: Mat4) {
     for object in &mut asset.model.objects {
         object.transform = Some(transform * object.model_transform());
     }
+    if !asset.nodes.is_empty() {
+        let mut nodes = std::mem::take(&mut asset.nodes);
+        renumber_nodes(asset, &mut nodes, 1);
+        for node in &mut nodes {
+            node.parent = Some(node.parent.unwrap_or(0));
+        }
+        asset.nodes = std::iter::once(seamlit_io::Node::new("placement", transform, None))
+            .chain(nodes)
+            .collect();
+    }
 }
 
-/// Merges assets into one: objects, materials, textures and nodes are concatenated and their
-/// indices shifted. The first asset's V axis wins; assets whose V runs the other way have
+/// Adds `offset` to every node index of `asset` but its nodes' parents (which the caller
+/// shifts with `nodes`): the objects' skin joints, the skins' joints, the animations'
+/// channels, and the parents of `nodes`.
+fn renumber_nodes(asset: &mut Asset, nodes: &mut [seamlit_io::Node], offset: usize) {
+    let shift = |n: &mut usize| *n += offset;
+    for node in nodes {
+        node.parent.as_mut().map(shift);
+    }
+    let joint_offset = u32::try_from(offset).unwrap_or(u32::MAX);
+    for object in &mut asset.model.objects {
+        for set in &mut object.skin {
+            for joints in &mut set.joints {
+                for j in joints {
+                    *j = j.saturating_add(joint_offset);
+                }
+            }
+        }
+    }
+    for skin in &mut asset.skins {
+        skin.joints.iter_mut().for_each(shift);
+    }
+    for animation in &mut asset.animations {
+        for channel in &mut animation.channels {
+            shift(&mut channel.node);
+        }
+    }
+}
+
+/// Merges assets into one: objects, materials, textures, nodes, skins and animations are
+/// concatenated and their indices shifted (an animation moves the nodes of its own asset). The first asset's V axis wins; assets whose V runs the other way have
 /// their UVs flipped (`v' = 1 - v`) and their tangent handedness kept, as a conversion
 /// between OBJ and glTF does.
 #[must_use]
@@ -222,16 +263,21 @@ fn merge(parts: Vec<Asset>) -> Asset {
                 t.texture += textures;
             }
         }
-        for node in &mut part.nodes {
-            node.parent = node.parent.map(|p| p + nodes);
+        let mut part_nodes = std::mem::take(&mut part.nodes);
+        renumber_nodes(&mut part, &mut part_nodes, nodes);
+        let skins = out.skins.len();
+        for node in &mut part_nodes {
+            node.skin = node.skin.map(|s| s + skins);
             for o in &mut node.objects {
                 *o += objects;
             }
         }
         out.model.objects.append(&mut part.model.objects);
+        out.nodes.append(&mut part_nodes);
+        out.skins.append(&mut part.skins);
+        out.animations.append(&mut part.animations);
         out.materials.append(&mut part.materials);
         out.textures.append(&mut part.textures);
-        out.nodes.append(&mut part.nodes);
         out.warnings.append(&mut part.warnings);
     }
     out
@@ -355,6 +401,7 @@ mod tests {
             weights: vec![[0.25, 0.75, 0.0, 0.0]; 3],
         };
         let target = seamlit_mesh::MorphTarget {
+            name: "smile".into(),
             position_deltas: vec![Vec3::Z; 3],
             normal_deltas: Some(vec![Vec3::X * 0.1; 3]),
             tangent_deltas: None,

@@ -93,6 +93,17 @@ pub struct FixArgs {
     /// OUTPUT is refused.
     #[arg(long)]
     pub keep_compression: bool,
+    /// Where objects that share a position are skinned differently there (the seam opens
+    /// when the model moves): `match` gives every copy the same joints and weights (the
+    /// copies' influences merged, the largest kept per set and renormalised; a joint an
+    /// object's skin lacks is added to it); `keep` leaves the weights as authored.
+    #[arg(long, value_enum, value_name = "POLICY", default_value_t = SkinSeamsArg::Match)]
+    pub skin_seams: SkinSeamsArg,
+    /// Times sampled per animation (evenly, from its start to its end) when the seams in
+    /// motion are measured, before and after the fix.
+    #[arg(long, value_name = "N", default_value_t = 30,
+          value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    pub samples: u32,
     #[command(flatten)]
     pub fix: FixFlags,
     #[command(flatten)]
@@ -109,6 +120,16 @@ pub struct InspectArgs {
     /// each a full seam report.
     #[arg(long)]
     pub json: bool,
+    /// Also measure the seams in motion: pose the model at --samples times of `all` its
+    /// animations, or of one named or numbered (0 is the first), and report per animation
+    /// the largest gap between the copies of a shared position and the largest normal
+    /// angle across the seam, as loaded and after `fix`, with the times they happen.
+    #[arg(long, value_name = "all|NAME|INDEX")]
+    pub animation: Option<String>,
+    /// Times sampled per animation with --animation (evenly, from its start to its end).
+    #[arg(long, value_name = "N", default_value_t = 30,
+          value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    pub samples: u32,
     #[command(flatten)]
     pub fix: FixFlags,
     #[command(flatten)]
@@ -293,6 +314,15 @@ pub enum Switch {
     On,
     /// Off.
     Off,
+}
+
+/// `--skin-seams`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SkinSeamsArg {
+    /// Every copy of a shared position gets the same skin influences.
+    Match,
+    /// The skin weights stay as authored.
+    Keep,
 }
 
 /// `--mode`.

@@ -6,6 +6,7 @@ mod cli;
 mod cmd;
 mod draw;
 mod failure;
+mod motion;
 mod output;
 mod picture;
 mod prepare;

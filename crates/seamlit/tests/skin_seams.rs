@@ -1,5 +1,6 @@
 //! `seamlit fix` and `seamlit inspect` report welded positions whose objects' skin weights
-//! differ, in text and JSON.
+//! differ, in text and JSON; `fix` matches them by default and keeps them with
+//! `--skin-seams keep`.
 
 use std::path::Path;
 use std::process::Command;
@@ -77,13 +78,23 @@ fn fix_and_inspect_name_the_seam_position_whose_skin_weights_differ() {
     let input = dir.path().join("quads.gltf");
     let out = dir.path().join("out.glb");
     two_skinned_quads(&input, 0.5);
-    let (ok, text) = seamlit(&["fix", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let (input, out_s) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let (ok, text) = seamlit(&["fix", input, "-o", out_s, "--skin-seams", "keep"]);
     assert!(ok, "{text}");
     assert!(
         text.contains("skins: 1 shared position where objects' skin weights differ")
             && text.contains("(1, 1, 0) between arm and shoulder"),
         "{text}"
     );
+    // By default the copies get the same weights, and the report after the fix has none.
+    let (ok, text) = seamlit(&["fix", input, "-o", out_s]);
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("skins: gave the copies at 1 shared position the same joints and weights")
+            && !text.contains("weights differ"),
+        "{text}"
+    );
+    let input = Path::new(input);
     let (ok, text) = seamlit(&["inspect", input.to_str().unwrap()]);
     assert!(ok, "{text}");
     let row = text.lines().find(|l| l.starts_with("shared positions whose skins differ"));

@@ -301,6 +301,14 @@ pub enum GltfKind {
         /// Number of vertices (POSITION count).
         vertex_count: usize,
     },
+    /// A skin's or an animation sampler's data breaks glTF's rules (fewer inverse bind
+    /// matrices than joints, key times not increasing, values that do not fit the keys;
+    /// `place` is `skins[S]` or `animations[A].samplers[S]`).
+    #[error("{problem}")]
+    Animation {
+        /// What is wrong, with the numbers.
+        problem: String,
+    },
     /// A vertex attribute holds NaN or infinity (`place` is `accessor N (ATTRIBUTE)`).
     #[error("element {element} is not finite")]
     AccessorNotFinite {

@@ -71,8 +71,9 @@ pub(crate) fn save(
         out.uncompress_views();
     }
     for group in instance_groups(&asset.model, &source.0.instances) {
-        out.mesh(&asset.model, &group)?;
+        out.mesh(asset, &group)?;
     }
+    out.skins(asset);
     // Decoded at load (`decode/draco.rs`): the accessors hold plain data.
     let note = uncompress::strip_draco(&mut out.json, &source.0.path);
     out.warnings.extend(note);
@@ -162,6 +163,7 @@ fn same_result(a: &Object, b: &Object) -> bool {
     };
     a.triangles == b.triangles
         && a.split_from == b.split_from
+        && a.skin == b.skin
         && match (normals(a), normals(b)) {
             (Some(x), Some(y)) => close(&x, &y, 3),
             (x, y) => x.is_none() && y.is_none(),
@@ -350,12 +352,15 @@ impl<'a> OutputDocument<'a> {
 
     /// Writes one group: its primitives into the mesh, or into a clone the group's nodes
     /// then point at.
-    fn mesh(&mut self, model: &Model, group: &Group) -> Result<(), IoError> {
+    fn mesh(&mut self, asset: &Asset, group: &Group) -> Result<(), IoError> {
         let source = self.source;
         let mut mesh = source.json["meshes"][group.mesh].clone();
         for &(p, object) in &group.objects {
             let primitive = &source.json["meshes"][group.mesh]["primitives"][p];
-            let written = self.primitive(primitive, &model.objects[object])?;
+            let mut written = self.primitive(primitive, &asset.model.objects[object])?;
+            if asset.skins_changed.objects.contains(&object) {
+                self.influences(&mut written, asset, object);
+            }
             mesh["primitives"][p] = written;
         }
         if !group.clone {
@@ -448,6 +453,83 @@ impl<'a> OutputDocument<'a> {
             }
         }
         Ok(primitive)
+    }
+
+    /// Replaces a written primitive's `JOINTS_n`/`WEIGHTS_n` with the object's influences
+    /// ([`crate::match_skin_seams`] changed them): joints as indices into its node's skin
+    /// (`UNSIGNED_SHORT`), weights as `FLOAT`, one pair per set.
+    fn influences(&mut self, primitive: &mut Value, asset: &Asset, object: usize) {
+        let o = &asset.model.objects[object];
+        let Some(joints) = crate::pose::node_of(asset, object)
+            .and_then(|n| asset.nodes[n].skin)
+            .and_then(|s| asset.skins.get(s))
+            .map(|s| &s.joints)
+        else {
+            return;
+        };
+        let Some(attributes) = primitive["attributes"].as_object_mut() else { return };
+        attributes.retain(|name, _| !name.starts_with("JOINTS_") && !name.starts_with("WEIGHTS_"));
+        let mut added = Vec::new();
+        for (set, influences) in o.skin.iter().enumerate() {
+            // Every joint an influence names is in the skin (match_skin_seams added it).
+            let slot = |node: u32| -> u16 {
+                let k = joints.iter().position(|&j| j == node as usize).unwrap_or(0);
+                u16::try_from(k).unwrap_or(u16::MAX)
+            };
+            let bytes: Vec<u8> = influences
+                .joints
+                .iter()
+                .flat_map(|j| j.map(slot))
+                .flat_map(u16::to_le_bytes)
+                .collect();
+            let layout = Layout::Vertices { element: 8, stride: 8 };
+            let count = influences.joints.len();
+            let joints_accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": UNSIGNED_SHORT, "count": count, "type": "VEC4" }),
+            );
+            let bytes: Vec<u8> =
+                influences.weights.iter().flatten().flat_map(|w| w.to_le_bytes()).collect();
+            let layout = Layout::Vertices { element: 16, stride: 16 };
+            let weights_accessor = self.accessor_over(
+                bytes,
+                layout,
+                json!({ "componentType": FLOAT, "count": count, "type": "VEC4" }),
+            );
+            added.push((format!("JOINTS_{set}"), joints_accessor));
+            added.push((format!("WEIGHTS_{set}"), weights_accessor));
+        }
+        if let Some(attributes) = primitive["attributes"].as_object_mut() {
+            attributes.extend(added.into_iter().map(|(n, a)| (n, json!(a))));
+        }
+    }
+
+    /// The skins that [`crate::match_skin_seams`] gave joints: their `joints` and a new
+    /// `inverseBindMatrices` accessor, from the asset.
+    fn skins(&mut self, asset: &Asset) {
+        let nodes = &self.source.nodes;
+        for &s in &asset.skins_changed.skins {
+            let Some(skin) = asset.skins.get(s) else { continue };
+            let joints: Vec<usize> =
+                skin.joints.iter().map(|&j| nodes.get(j).copied().unwrap_or(usize::MAX)).collect();
+            if joints.contains(&usize::MAX) {
+                continue;
+            }
+            let bytes: Vec<u8> = skin
+                .inverse_bind_matrices
+                .iter()
+                .flat_map(glam::Mat4::to_cols_array)
+                .flat_map(f32::to_le_bytes)
+                .collect();
+            let accessor = self.accessor_over(
+                bytes,
+                Layout::Bytes,
+                json!({ "componentType": FLOAT, "count": joints.len(), "type": "MAT4" }),
+            );
+            self.json["skins"][s]["joints"] = json!(joints);
+            self.json["skins"][s]["inverseBindMatrices"] = json!(accessor);
+        }
     }
 
     /// The morph target `k`'s normal and tangent deltas that `fix` computed for `object`

@@ -26,10 +26,11 @@
 //! The steps, a file each: the validated document of the bytes (`document.rs`, with the
 //! leniency rules in `lenient.rs`), the buffers and images (`buffers.rs`), the scene walk
 //! (`scene.rs`), each primitive (`primitive.rs`) and the checks of its accessors
-//! (`accessors.rs`), skins and morph targets (`deform.rs`), materials (`material.rs`) and
-//! lights (`lights.rs`).
+//! (`accessors.rs`), skin influences and morph targets (`deform.rs`), skins and animations
+//! (`animation.rs`), materials (`material.rs`) and lights (`lights.rs`).
 
 mod accessors;
+mod animation;
 mod buffers;
 mod deform;
 mod document;
@@ -132,10 +133,21 @@ fn read(
     }
     let mut scene_walk = SceneWalk::new(&reader, &buffers, &without_data);
     scene_walk.walk(roots, &mut asset, &mut warnings)?;
-    let instances = scene_walk.instances;
+    let (instances, mut node_indices) = (scene_walk.instances, scene_walk.node_indices);
+    reader.skins_and_animations(
+        document,
+        &buffers,
+        &mut node_indices,
+        &mut asset,
+        &mut warnings,
+    )?;
     asset.model.v_axis = VAxis::Down;
     asset.lights = punctual_lights(document, scene.as_ref(), &mut warnings);
-    asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances));
+    let mut document_nodes = vec![usize::MAX; asset.nodes.len()];
+    for (&d, &a) in &node_indices {
+        document_nodes[a] = d;
+    }
+    asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances, document_nodes));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;
     Ok(asset)

@@ -29,6 +29,8 @@ pub(crate) struct Source {
     pub(crate) path: PathBuf,
     /// Per object of the loaded model: where it came from.
     pub(crate) instances: Vec<Instance>,
+    /// Per node of [`crate::Asset::nodes`]: its index in the document's `nodes`.
+    pub(crate) nodes: Vec<usize>,
 }
 
 /// Where an object came from: a primitive of a mesh, instanced by a node.
@@ -59,8 +61,9 @@ impl GltfSource {
         buffers: Vec<Vec<u8>>,
         path: &Path,
         instances: Vec<Instance>,
+        nodes: Vec<usize>,
     ) -> Self {
-        Self(Arc::new(Source { json, buffers, path: path.to_path_buf(), instances }))
+        Self(Arc::new(Source { json, buffers, path: path.to_path_buf(), instances, nodes }))
     }
 
     /// Whether `model` is still the model of this source: one object per primitive instance,

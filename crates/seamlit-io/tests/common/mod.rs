@@ -9,6 +9,7 @@ use std::process::Command;
 
 use seamlit_mesh::Model;
 
+pub mod character;
 pub mod gltf;
 
 /// `i`, an index or count a test file holds (JSON numbers are `u64`), as a `usize`.

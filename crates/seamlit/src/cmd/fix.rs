@@ -23,7 +23,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use seamlit_io::{Format, InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, ReportOptions};
 
-use crate::cli::FixArgs;
+use crate::cli::{FixArgs, SkinSeamsArg};
 use crate::failure::{Classify, Failure};
 use crate::prepare::default_tangents;
 use crate::table::{changes_line, count};
@@ -49,8 +49,9 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     check_keep_compression(args.keep_compression, &args.output, &extension.unwrap_or_default())?;
     let _quiet = QuietPanics::install();
     let asked = args.fix.tangents.is_some();
+    let skins = Skins { policy: args.skin_seams, samples: args.samples };
     let line = guarded(&args.input, || {
-        fix_file(&args.input, &args.output, &options, asked, &load, &save)
+        fix_file(&args.input, &args.output, &options, asked, &load, &save, skins)
     })?;
     println!("{line}");
     Ok(())
@@ -161,6 +162,14 @@ impl Drop for QuietPanics {
     }
 }
 
+/// What `fix` does about skins: the `--skin-seams` policy, and how many times of each
+/// animation it samples to measure the seams in motion.
+#[derive(Clone, Copy, Debug)]
+struct Skins {
+    policy: SkinSeamsArg,
+    samples: u32,
+}
+
 /// Loads, fixes and writes one model; returns a summary: what was written, then what the fix
 /// changed. `tangents_asked`: whether the command line named a tangent generator (otherwise
 /// a model with a normal map and no tangents gets MikkTSpace).
@@ -171,6 +180,7 @@ fn fix_file(
     tangents_asked: bool,
     load: &LoadOptions,
     save: &SaveOptions,
+    skins: Skins,
 ) -> Result<String, Failure> {
     if !input.exists() {
         return Err(Failure::input(format!("{}: no such file", input.display())));
@@ -180,11 +190,22 @@ fn fix_file(
         eprintln!("warning: {warning}");
     }
     let options = &default_tangents(&asset, *options, tangents_asked);
+    let animations: Vec<usize> = (0..asset.animations.len()).collect();
+    let motion_before = crate::motion::measure(&asset, &animations, skins.samples, options, input)?;
     // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
     let changes = seamlit_mesh::fix_in_place(&mut asset.model, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
+    let matched = match skins.policy {
+        SkinSeamsArg::Match => Some(
+            seamlit_io::match_skin_seams(&mut asset, options.weld_tolerance)
+                .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?,
+        ),
+        SkinSeamsArg::Keep => None,
+    };
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
+    let motion_after = crate::motion::measure(&asset, &animations, skins.samples, options, input)?;
+    let morphs = crate::motion::morph_line(&asset, options, input)?;
     crate::output::prepare_folder_of(output)?;
     let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     for warning in &saved.warnings {
@@ -194,9 +215,17 @@ fn fix_file(
         .cross_object
         .max_normal_angle_deg
         .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
-    let skins = skin_seams_line(&report.skin_seams);
+    let skin_seams = skin_seams_line(&report.skin_seams);
+    let matched = matched.filter(|m| m.positions > 0).map_or_else(String::new, |m| {
+        format!(
+            "\n  skins: gave the copies at {} the same joints and weights ({} vertices)",
+            count(m.positions, "shared position"),
+            m.vertices
+        )
+    });
+    let motion = crate::motion::lines(&motion_before, &motion_after);
     Ok(format!(
-        "wrote {}: {}, {}, {} shared by 2+ objects{seams}{skins}\n  {}",
+        "wrote {}: {}, {}, {} shared by 2+ objects{seams}{skin_seams}\n  {}{matched}{motion}{morphs}",
         output.display(),
         count(report.objects, "object"),
         count(report.triangles, "triangle"),
@@ -268,7 +297,8 @@ fn run_folder(
         bar.set_message(relative.display().to_string());
         let output = output_name(relative, &args.output, args.format.extension(), &mut used);
         let asked = args.fix.tangents.is_some();
-        match guarded(input, || fix_file(input, &output, options, asked, load, save)) {
+        let skins = Skins { policy: args.skin_seams, samples: args.samples };
+        match guarded(input, || fix_file(input, &output, options, asked, load, save, skins)) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
                 failed += 1;

@@ -27,6 +27,7 @@ impl Reader<'_> {
     /// indices, count equal to `vertex_count`, finite values.
     pub(super) fn deformation(
         &self,
+        mesh: &gltf::Mesh<'_>,
         primitive: &gltf::Primitive<'_>,
         buffers: &[Vec<u8>],
         vertex_count: usize,
@@ -70,9 +71,12 @@ impl Reader<'_> {
             skin.push(Influences { joints, weights });
         }
         let mut targets = Vec::new();
+        let names = target_names(mesh);
+        let target_name = |k: usize| names.get(k).cloned().unwrap_or_default();
         for (k, target) in primitive.morph_targets().enumerate() {
             let Some(accessor) = target.positions() else {
                 targets.push(MorphTarget {
+                    name: target_name(k),
                     position_deltas: vec![Vec3::ZERO; vertex_count],
                     ..MorphTarget::default()
                 });
@@ -99,7 +103,11 @@ impl Reader<'_> {
                     },
                 ));
             }
-            targets.push(MorphTarget { position_deltas: deltas, ..MorphTarget::default() });
+            targets.push(MorphTarget {
+                name: target_name(k),
+                position_deltas: deltas,
+                ..MorphTarget::default()
+            });
         }
         Ok((skin, targets))
     }
@@ -118,6 +126,19 @@ impl Reader<'_> {
             if name.ends_with("POSITION") { Dimensions::Vec3 } else { Dimensions::Vec4 };
         self.check_attribute(accessor, (dimensions, types), name, buffers, vertex_count)
     }
+}
+
+/// The names of the primitive's morph targets: its mesh's `extras.targetNames` (the
+/// convention of Blender, three.js and the Khronos samples), empty where the file has none.
+fn target_names(mesh: &gltf::Mesh<'_>) -> Vec<String> {
+    let Some(extras) = mesh.extras().as_ref() else { return Vec::new() };
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(extras.get()) else {
+        return Vec::new();
+    };
+    value["targetNames"]
+        .as_array()
+        .map(|names| names.iter().map(|n| n.as_str().unwrap_or_default().to_owned()).collect())
+        .unwrap_or_default()
 }
 
 /// The influences `read` (joints as indices into a skin's `joints`) with their joints mapped

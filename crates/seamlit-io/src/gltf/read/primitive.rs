@@ -69,7 +69,7 @@ impl Reader<'_> {
                 reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect())
             })?;
         let triangles = self.triangles(mesh, primitive, buffers, vertices.count)?;
-        let (skin, morph_targets) = self.deformation(primitive, buffers, vertices.count)?;
+        let (skin, morph_targets) = self.deformation(mesh, primitive, buffers, vertices.count)?;
         Ok(Some(Object {
             name: String::new(),
             positions,

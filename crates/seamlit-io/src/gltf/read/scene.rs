@@ -29,6 +29,8 @@ pub(super) struct SceneWalk<'r> {
     pub(super) instances: Vec<Instance>,
     /// Triangles placed so far, instances counted.
     triangles: usize,
+    /// Per document node: its index in [`Asset::nodes`], where the walk reached it.
+    pub(super) node_indices: HashMap<usize, usize>,
 }
 
 impl<'r> SceneWalk<'r> {
@@ -45,6 +47,7 @@ impl<'r> SceneWalk<'r> {
             influences: HashMap::new(),
             instances: Vec::new(),
             triangles: 0,
+            node_indices: HashMap::new(),
         }
     }
 
@@ -80,11 +83,28 @@ impl<'r> SceneWalk<'r> {
                 Some(mesh) => self.mesh_instance(&node, &mesh, global, asset, warnings)?,
                 None => Vec::new(),
             };
+            let trs = match node.transform() {
+                gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+                    Some(crate::animation::Trs {
+                        translation: translation.into(),
+                        rotation: glam::Quat::from_array(rotation),
+                        scale: scale.into(),
+                    })
+                }
+                gltf::scene::Transform::Matrix { .. } => None,
+            };
+            let weights = node
+                .weights()
+                .or_else(|| node.mesh().and_then(|m| m.weights()))
+                .map(<[f32]>::to_vec)
+                .unwrap_or_default();
+            self.node_indices.insert(node.index(), node_index);
             asset.nodes.push(Node {
-                name: node.name().unwrap_or_default().to_owned(),
-                local_transform: local,
-                parent,
                 objects,
+                trs,
+                skin: node.skin().map(|s| s.index()),
+                weights,
+                ..Node::new(node.name().unwrap_or_default(), local, parent)
             });
             for child in node.children().collect::<Vec<_>>().into_iter().rev() {
                 stack.push((child, Some(node_index), global));

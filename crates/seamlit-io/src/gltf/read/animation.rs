@@ -1,0 +1,256 @@
+//! Skins and animations: read after the scene walk, with their nodes renumbered from the
+//! document's to [`Asset::nodes`]' (the walk's order), and the objects' skin influences with
+//! them.
+
+use std::collections::HashMap;
+
+use glam::Mat4;
+use gltf::accessor::{DataType, Dimensions};
+
+use super::Reader;
+use crate::animation::{Animation, Channel, Interpolation, Property, Sampler, Skin};
+use crate::asset::{Asset, Node};
+use crate::error::IoError;
+use crate::gltf::error::GltfKind;
+
+impl Reader<'_> {
+    /// Renumbers the objects' joints (document nodes, as `deform::joint_nodes` maps them)
+    /// into [`Asset::nodes`], reads the skins (every joint the scene walk did not reach is
+    /// added as a root node without objects, with a warning) and the animations (a channel
+    /// whose node is outside the scene is dropped, with a warning).
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::Gltf`] for an accessor outside its data, of the wrong type, holding NaN or
+    /// infinity, or with fewer elements than it must have; key times not increasing.
+    pub(super) fn skins_and_animations(
+        &self,
+        document: &gltf::Document,
+        buffers: &[Vec<u8>],
+        nodes: &mut HashMap<usize, usize>,
+        asset: &mut Asset,
+        warnings: &mut Vec<String>,
+    ) -> Result<(), IoError> {
+        // Joints outside the scene: roots of their own, so that every influence has a node.
+        for skin in document.skins() {
+            for joint in skin.joints() {
+                if let std::collections::hash_map::Entry::Vacant(entry) = nodes.entry(joint.index())
+                {
+                    warnings.push(format!(
+                        "{}: skins[{}] joint nodes[{}] is not in the scene; it is placed as a root",
+                        self.path.display(),
+                        skin.index(),
+                        joint.index()
+                    ));
+                    entry.insert(asset.nodes.len());
+                    let local = Mat4::from_cols_array_2d(&joint.transform().matrix());
+                    asset.nodes.push(Node::new(joint.name().unwrap_or_default(), local, None));
+                }
+            }
+        }
+        for object in &mut asset.model.objects {
+            for set in &mut object.skin {
+                for joints in &mut set.joints {
+                    for j in joints {
+                        // Every joint of a skin is in `nodes` now.
+                        let node = nodes.get(&(*j as usize)).and_then(|&n| u32::try_from(n).ok());
+                        *j = node.unwrap_or(*j);
+                    }
+                }
+            }
+        }
+        for skin in document.skins() {
+            asset.skins.push(self.skin(&skin, buffers, nodes)?);
+        }
+        for animation in document.animations() {
+            asset.animations.push(self.animation(&animation, buffers, nodes, warnings)?);
+        }
+        Ok(())
+    }
+
+    fn skin(
+        &self,
+        skin: &gltf::Skin<'_>,
+        buffers: &[Vec<u8>],
+        nodes: &HashMap<usize, usize>,
+    ) -> Result<Skin, IoError> {
+        let joints: Vec<usize> = skin.joints().map(|j| nodes[&j.index()]).collect();
+        let mut inverse_bind_matrices = vec![Mat4::IDENTITY; joints.len()];
+        if let Some(accessor) = skin.inverse_bind_matrices() {
+            let name = format!("skins[{}].inverseBindMatrices", skin.index());
+            self.check_accessor(&accessor, Dimensions::Mat4, &[DataType::F32], &name)?;
+            self.check_sparse_indices(&accessor, buffers)?;
+            let reader = skin.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            let read: Vec<Mat4> = if without_data(&accessor) {
+                vec![Mat4::ZERO; accessor.count()]
+            } else {
+                reader
+                    .read_inverse_bind_matrices()
+                    .map(|it| it.map(|m| Mat4::from_cols_array_2d(&m)).collect())
+                    .unwrap_or_default()
+            };
+            if read.len() < joints.len() {
+                return Err(self.animation_error(
+                    format!("skins[{}]", skin.index()),
+                    format!(
+                        "inverseBindMatrices has {} matrices, the skin has {} joints",
+                        read.len(),
+                        joints.len()
+                    ),
+                ));
+            }
+            if let Some(bad) = read.iter().position(|m| !m.is_finite()) {
+                return Err(IoError::gltf_data(
+                    self.path.to_path_buf(),
+                    GltfKind::AccessorNotFinite {
+                        accessor: accessor.index(),
+                        attribute: "inverseBindMatrices",
+                        element: bad,
+                    },
+                ));
+            }
+            inverse_bind_matrices.copy_from_slice(&read[..joints.len()]);
+        }
+        Ok(Skin { name: skin.name().unwrap_or_default().to_owned(), joints, inverse_bind_matrices })
+    }
+
+    fn animation(
+        &self,
+        animation: &gltf::Animation<'_>,
+        buffers: &[Vec<u8>],
+        nodes: &HashMap<usize, usize>,
+        warnings: &mut Vec<String>,
+    ) -> Result<Animation, IoError> {
+        let mut channels = Vec::new();
+        for channel in animation.channels() {
+            let target = channel.target();
+            let Some(&node) = nodes.get(&target.node().index()) else {
+                warnings.push(format!(
+                    "{}: animations[{}] channel {}: nodes[{}] is not in the scene; the channel is not played",
+                    self.path.display(),
+                    animation.index(),
+                    channel.index(),
+                    target.node().index()
+                ));
+                continue;
+            };
+            let property = match target.property() {
+                gltf::animation::Property::Translation => Property::Translation,
+                gltf::animation::Property::Rotation => Property::Rotation,
+                gltf::animation::Property::Scale => Property::Scale,
+                gltf::animation::Property::MorphTargetWeights => Property::Weights,
+            };
+            let sampler = channel.sampler();
+            let place = format!("animations[{}].samplers[{}]", animation.index(), sampler.index());
+            let interpolation = match sampler.interpolation() {
+                gltf::animation::Interpolation::Step => Interpolation::Step,
+                gltf::animation::Interpolation::Linear => Interpolation::Linear,
+                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+            };
+            let (input, output) = (sampler.input(), sampler.output());
+            self.check_accessor(
+                &input,
+                Dimensions::Scalar,
+                &[DataType::F32],
+                &format!("{place}.input"),
+            )?;
+            self.check_sparse_indices(&input, buffers)?;
+            let output_types: &[DataType] = match property {
+                Property::Translation | Property::Scale => &[DataType::F32],
+                _ => &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16],
+            };
+            let dimensions = match property {
+                Property::Translation | Property::Scale => Dimensions::Vec3,
+                Property::Rotation => Dimensions::Vec4,
+                Property::Weights => Dimensions::Scalar,
+            };
+            self.check_accessor(&output, dimensions, output_types, &format!("{place}.output"))?;
+            self.check_sparse_indices(&output, buffers)?;
+            let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
+            let times: Vec<f32> = if without_data(&input) {
+                vec![0.0; input.count()]
+            } else {
+                reader.read_inputs().map(Iterator::collect).unwrap_or_default()
+            };
+            let values: Vec<f32> = match reader.read_outputs().filter(|_| !without_data(&output)) {
+                Some(gltf::animation::util::ReadOutputs::Translations(it)) => {
+                    it.flatten().collect()
+                }
+                Some(gltf::animation::util::ReadOutputs::Scales(it)) => it.flatten().collect(),
+                Some(gltf::animation::util::ReadOutputs::Rotations(it)) => {
+                    it.into_f32().flatten().collect()
+                }
+                Some(gltf::animation::util::ReadOutputs::MorphTargetWeights(it)) => {
+                    it.into_f32().collect()
+                }
+                None if without_data(&output) => {
+                    vec![0.0; output.count() * output.dimensions().multiplicity()]
+                }
+                None => Vec::new(),
+            };
+            let sampler = Sampler { interpolation, times, values };
+            self.check_keys(&sampler, property, &place)?;
+            channels.push(Channel { node, property, sampler });
+        }
+        Ok(Animation { name: animation.name().unwrap_or_default().to_owned(), channels })
+    }
+
+    /// Key times finite and increasing, values finite and a whole number per key.
+    fn check_keys(
+        &self,
+        sampler: &Sampler,
+        property: Property,
+        place: &str,
+    ) -> Result<(), IoError> {
+        let error = |problem: String| self.animation_error(place.to_owned(), problem);
+        if let Some(k) = sampler.times.iter().position(|t| !t.is_finite()) {
+            return Err(error(format!("key time {k} is not finite")));
+        }
+        if let Some(k) = sampler.times.windows(2).position(|w| w[1] < w[0]) {
+            return Err(error(format!(
+                "key times must increase: key {} is at {}, key {} at {}",
+                k,
+                sampler.times[k],
+                k + 1,
+                sampler.times[k + 1]
+            )));
+        }
+        if let Some(k) = sampler.values.iter().position(|v| !v.is_finite()) {
+            return Err(error(format!("output value {k} is not finite")));
+        }
+        let groups = if sampler.interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+        let keys = sampler.times.len() * groups;
+        let per_key = match property {
+            Property::Translation | Property::Scale => Some(3),
+            Property::Rotation => Some(4),
+            Property::Weights => None,
+        };
+        let fits = keys > 0
+            && sampler.values.len().is_multiple_of(keys)
+            && per_key.is_none_or(|n| sampler.values.len() == n * keys);
+        if !fits {
+            return Err(error(format!(
+                "{} output values do not fit {} keys{}",
+                sampler.values.len(),
+                sampler.times.len(),
+                if groups == 3 { " of a cubic spline (three values each)" } else { "" }
+            )));
+        }
+        Ok(())
+    }
+
+    fn animation_error(&self, place: String, problem: String) -> IoError {
+        IoError::Gltf {
+            path: self.path.to_path_buf(),
+            place,
+            kind: GltfKind::Animation { problem },
+        }
+    }
+}
+
+/// An accessor with neither a buffer view nor sparse data: its elements are zeros (glTF 2.0,
+/// "Accessors"), where the gltf crate's reader gives none.
+fn without_data(accessor: &gltf::Accessor<'_>) -> bool {
+    accessor.view().is_none() && accessor.sparse().is_none()
+}

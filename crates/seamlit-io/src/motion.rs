@@ -1,0 +1,187 @@
+//! Seams in motion: how far the copies of the positions that objects share come apart, and
+//! how far their normals turn from each other, over the time of an animation.
+
+use glam::Vec3;
+
+use crate::asset::Asset;
+use crate::pose::{Pose, Poser};
+
+/// The worst of one animation's seams, over its sampled times.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SeamMotion {
+    /// The animation's index in [`Asset::animations`].
+    pub animation: usize,
+    /// Its name (empty where the file gives none).
+    pub name: String,
+    /// Its length in seconds.
+    pub duration: f32,
+    /// How many times were sampled, evenly from 0 to the duration.
+    pub samples: usize,
+    /// The largest distance between two copies of one shared position, model units.
+    pub max_gap: f32,
+    /// `max_gap` over the diagonal of the model's bounds (bind pose).
+    pub max_gap_fraction: f32,
+    /// When it happens, seconds.
+    pub max_gap_time: f32,
+    /// The largest angle between the normals of two copies whose normals agree within the
+    /// crease angle in the bind pose (a smooth seam), degrees; `None` where no such pair has
+    /// normals.
+    pub max_normal_angle_deg: Option<f32>,
+    /// When it happens, seconds.
+    pub max_normal_angle_time: f32,
+}
+
+/// Measures the seams of `asset` in animation `animation` at `samples` times (at least 2:
+/// 0 and the duration) (`copies`: [`seamlit_mesh::shared_copies`] of the model;
+/// `crease_angle_deg`: pairs of copies whose normals are further apart than this in the
+/// bind pose meet at a hard edge and are not compared).
+///
+/// # Panics
+///
+/// If `copies` names an object or vertex the model lacks.
+#[must_use]
+pub fn seam_motion(
+    asset: &Asset,
+    animation: usize,
+    samples: usize,
+    copies: &[Vec<(u32, u32)>],
+    crease_angle_deg: f32,
+) -> SeamMotion {
+    let samples = samples.max(2);
+    let duration = asset.animations.get(animation).map_or(0.0, crate::Animation::duration);
+    let diagonal = bounds_diagonal(asset);
+    // The pairs whose normals count: different objects, normals within the crease (bind pose).
+    let cos_crease = crease_angle_deg.to_radians().cos();
+    let objects: Vec<usize> = {
+        let mut o: Vec<usize> = copies.iter().flatten().map(|&(o, _)| o as usize).collect();
+        o.sort_unstable();
+        o.dedup();
+        o
+    };
+    let bind_normal = |o: usize, v: usize| -> Option<Vec3> {
+        let object = &asset.model.objects[o];
+        let n = *object.normals.as_ref()?.get(v)?;
+        let linear = glam::Mat3::from_mat4(object.model_transform());
+        Some((crate::pose::normal_matrix(linear) * n).normalize_or_zero())
+    };
+    let smooth_pairs: Vec<Vec<(usize, usize)>> = copies
+        .iter()
+        .map(|group| {
+            let mut pairs = Vec::new();
+            for (i, &(oa, va)) in group.iter().enumerate() {
+                for (j, &(ob, vb)) in group.iter().enumerate().skip(i + 1) {
+                    let (Some(a), Some(b)) = (
+                        bind_normal(oa as usize, va as usize),
+                        bind_normal(ob as usize, vb as usize),
+                    ) else {
+                        continue;
+                    };
+                    if oa != ob && a.dot(b) >= cos_crease {
+                        pairs.push((i, j));
+                    }
+                }
+            }
+            pairs
+        })
+        .collect();
+    let mut out = SeamMotion {
+        animation,
+        name: asset.animations.get(animation).map(|a| a.name.clone()).unwrap_or_default(),
+        duration,
+        samples,
+        ..SeamMotion::default()
+    };
+    let mut angle: Option<f32> = None;
+    for s in 0..samples {
+        let time = duration * s as f32 / (samples - 1) as f32;
+        let pose = Pose::at(asset, animation, time);
+        let posers: Vec<Option<Poser<'_>>> = (0..asset.model.objects.len())
+            .map(|o| objects.binary_search(&o).is_ok().then(|| Poser::new(asset, &pose, o)))
+            .collect();
+        for (group, pairs) in copies.iter().zip(&smooth_pairs) {
+            let posed: Vec<(Vec3, Option<Vec3>)> = group
+                .iter()
+                .map(|&(o, v)| {
+                    let poser = posers[o as usize].as_ref().expect("posed above");
+                    let (p, n, _) = poser.vertex(v as usize);
+                    (p, n)
+                })
+                .collect();
+            for (i, a) in posed.iter().enumerate() {
+                for b in &posed[i + 1..] {
+                    let gap = a.0.distance(b.0);
+                    if gap > out.max_gap {
+                        out.max_gap = gap;
+                        out.max_gap_time = time;
+                    }
+                }
+            }
+            for &(i, j) in pairs {
+                let (Some(a), Some(b)) = (posed[i].1, posed[j].1) else { continue };
+                // atan2 of sine and cosine: exact near 0, where acos of a dot product of
+                // f32 unit vectors is off by hundredths of a degree.
+                let degrees = a.cross(b).length().atan2(a.dot(b)).to_degrees();
+                if angle.is_none_or(|worst| degrees > worst) {
+                    angle = Some(degrees);
+                    out.max_normal_angle_time = time;
+                }
+            }
+        }
+    }
+    out.max_normal_angle_deg = angle;
+    out.max_gap_fraction = if diagonal > 0.0 { out.max_gap / diagonal } else { 0.0 };
+    out
+}
+
+/// The diagonal of the model's bounds in model space (bind pose).
+fn bounds_diagonal(asset: &Asset) -> f32 {
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for object in &asset.model.objects {
+        let m = object.model_transform();
+        for &p in &object.positions {
+            let p = m.transform_point3(p);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    if lo.x > hi.x { 0.0 } else { lo.distance(hi) }
+}
+
+/// Morph targets whose deltas differ between the copies of a shared position (a seam that
+/// opens while the target is active): per target (by index; named by the first object
+/// that names it, else `target K`), how many shared positions.
+#[must_use]
+pub fn morph_seams(asset: &Asset, copies: &[Vec<(u32, u32)>]) -> Vec<(String, usize)> {
+    let objects = &asset.model.objects;
+    let targets = objects.iter().map(|o| o.morph_targets.len()).max().unwrap_or(0);
+    if targets == 0 {
+        return Vec::new();
+    }
+    let tolerance = 1e-6 * bounds_diagonal(asset).max(f32::MIN_POSITIVE);
+    let delta = |o: u32, v: u32, k: usize| -> Vec3 {
+        let object = &objects[o as usize];
+        let d = object.morph_targets.get(k).map_or(Vec3::ZERO, |t| t.position_deltas[v as usize]);
+        object.model_transform().transform_vector3(d)
+    };
+    let mut out: Vec<(String, usize)> = (0..targets)
+        .map(|k| {
+            let name = objects
+                .iter()
+                .find_map(|o| {
+                    o.morph_targets.get(k).map(|t| t.name.clone()).filter(|n| !n.is_empty())
+                })
+                .unwrap_or_else(|| format!("target {k}"));
+            (name, 0)
+        })
+        .collect();
+    for group in copies {
+        for (k, (_, count)) in out.iter_mut().enumerate() {
+            let first = delta(group[0].0, group[0].1, k);
+            if group[1..].iter().any(|&(o, v)| delta(o, v, k).distance(first) > tolerance) {
+                *count += 1;
+            }
+        }
+    }
+    out.retain(|&(_, count)| count > 0);
+    out
+}
