@@ -411,6 +411,18 @@ function main() {
     const [name, file] = arg.split('=');
     let glb;
     try { glb = unpackGlb(readFileSync(file)); } catch (e) { console.error(`${file}: ${e.message}`); process.exit(2); }
+    // A primitive without a material gets the glTF default material written out (`{}`: base
+    // colour 1, metallic 1, roughness 1), which the viewer draws as it draws none; seamlit
+    // gives material-less objects its own grey default instead.
+    for (const mesh of glb.json.meshes ?? []) {
+      for (const p of mesh.primitives) {
+        if (p.material === undefined) {
+          glb.json.materials ??= [];
+          p.material = glb.json.materials.length;
+          glb.json.materials.push({ name: 'glTF default' });
+        }
+      }
+    }
     const { eye, target } = framingEye(glb.json);
     const camera = addCameraAndLight(glb.json, eye, target, aspect);
     writeFileSync(join(out, `${name}.glb`), packGlb(glb.json, glb.bin));

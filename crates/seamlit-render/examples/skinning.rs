@@ -57,8 +57,8 @@ fn skinned(mut sphere: Object) -> Object {
         sphere.normals.as_ref().map_or_else(Vec::new, |n| n.iter().map(|n| *n * 0.1).collect());
     let shear = sphere.positions.iter().map(|p| Vec3::new(p.y * 0.2, 0.0, 0.0)).collect();
     sphere.morph_targets = vec![
-        MorphTarget { position_deltas: bulge, normal_deltas: None, tangent_deltas: None },
-        MorphTarget { position_deltas: shear, normal_deltas: None, tangent_deltas: None },
+        MorphTarget { position_deltas: bulge, ..MorphTarget::default() },
+        MorphTarget { position_deltas: shear, ..MorphTarget::default() },
     ];
     sphere
 }

@@ -138,6 +138,7 @@ fn morphing_square() -> Object {
             position_deltas: vec![Vec3::new(0.0, 5.0, 0.0); 4],
             normal_deltas: None,
             tangent_deltas: None,
+            ..MorphTarget::default()
         },
         MorphTarget {
             position_deltas: vec![
@@ -148,6 +149,7 @@ fn morphing_square() -> Object {
             ],
             normal_deltas: Some(vec![Vec3::new(1.2, 0.0, 0.0); 4]),
             tangent_deltas: None,
+            ..MorphTarget::default()
         },
     ];
     o

@@ -18,6 +18,8 @@ pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     let loaded = args.scene.load()?;
     let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.scene.fix.clone() };
     let asset = loaded.build(&fix)?;
+    let moment = crate::animate::moment(&args.scene.animation, &loaded, &asset, &args.scene.input)?;
+    let poses = crate::animate::poses(&asset, moment);
     let bounds = bounds_of(&asset);
     let size = args.scene.view.size;
     let aspect = size.0 as f32 / size.1 as f32;
@@ -27,7 +29,7 @@ pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     let environment = Look::new(&args.scene.view, &loaded).read_environment()?;
     let mut gpu = Gpu::open()?;
     gpu.set_environment(environment.as_ref())?;
-    let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
+    let (scene, image) = gpu.render(&asset, poses.as_deref(), &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;
     println!(
         "wrote {} ({}x{}, camera {:?}, {}, {})",
