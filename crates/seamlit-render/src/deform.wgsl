@@ -15,6 +15,10 @@
 // normal with M's inverse-transpose (the cofactor matrix times sign(det M)) normalised,
 // tangent xyz with M, w kept.
 
+// False in the pipelines that draw objects without a pose (pipeline.rs, shadow.rs), so that
+// they run none of this: unposed objects cost what they did before skinning existed.
+override DEFORM: bool = true;
+
 struct SkinVertex {
     joints: vec4<u32>,
     weights: vec4<f32>,
@@ -35,6 +39,9 @@ fn deform(v: u32, position: vec3<f32>, normal: vec3<f32>, tangent: vec4<f32>) ->
     out.normal = normal;
     out.tangent = tangent;
     out.det_sign = 1.0;
+    if !DEFORM {
+        return out;
+    }
     let n = object.vertex_count;
     for (var k = 0u; k < object.morph_targets; k = k + 1u) {
         let w = morph_weights[k];

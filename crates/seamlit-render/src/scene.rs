@@ -182,6 +182,8 @@ pub(crate) struct GpuMesh {
     pub material: usize,
     /// The transform has a negative determinant: front faces wind clockwise.
     pub mirrored: bool,
+    /// The pose skins or morphs the object: drawn by the pipelines that do.
+    pub posed: bool,
     /// The centre of the object's world-space bounds, for sorting blended objects.
     pub center: Vec3,
 }
@@ -333,6 +335,7 @@ impl GpuScene {
             ctx.queue().write_buffer(&mesh.uniform, 0, bytemuck::bytes_of(&raw));
             mesh.deform.write(ctx, pose);
             mesh.mirrored = raw.det_sign < 0.0;
+            mesh.posed = raw.skin_sets > 0 || raw.morph_targets > 0;
             let (lo, hi) = mesh.deform.posed_bounds(pose);
             mesh.center = (lo + hi) * 0.5;
             bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
@@ -665,6 +668,7 @@ fn upload_object(
         bind_group,
         material,
         mirrored: raw.det_sign < 0.0,
+        posed: false,
         center: world_center(object, model),
     })
 }
