@@ -115,6 +115,11 @@ pub struct SceneModel {
     pub fix: FixOptions,
     /// Material overrides, applied in order.
     pub materials: Vec<MaterialOverride>,
+    /// `animation`: the animation this model is posed by (an index counts this model's own
+    /// animations), instead of `[render]`'s.
+    pub animation: Option<AnimationChoice>,
+    /// `time`: seconds into it (>= 0), instead of `[render]`'s.
+    pub time: Option<f32>,
 }
 
 /// Changes to one material of a model (or all of them).
@@ -236,6 +241,8 @@ impl Scene {
                 transform: Mat4::IDENTITY,
                 fix: FixOptions::default(),
                 materials: Vec::new(),
+                animation: None,
+                time: None,
             }],
             lights: Vec::new(),
             cameras: Vec::new(),
@@ -445,7 +452,14 @@ impl Ctx<'_> {
             .into_iter()
             .map(|m| self.material(m, base, &span, &name))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(SceneModel { name, path, transform, fix, materials })
+        if let Some(value) = def.time.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+            return Err(self.invalid(&span, Invalid::ModelTime { model: name, value }));
+        }
+        let animation = def.animation.map(|a| match a {
+            AnimationDef::Index(i) => AnimationChoice::Index(i),
+            AnimationDef::Name(n) => AnimationChoice::Name(n),
+        });
+        Ok(SceneModel { name, path, transform, fix, materials, animation, time: def.time })
     }
 
     fn material(
@@ -816,6 +830,16 @@ fov_deg = 50
         assert!(parse_error_at(&e, 4, "animation"), "{e:?}");
         assert_eq!(AnimationChoice::parse("3"), AnimationChoice::Index(3));
         assert_eq!(AnimationChoice::parse("Run"), AnimationChoice::Name("Run".into()));
+    }
+
+    #[test]
+    fn a_model_names_its_own_animation_and_time() {
+        let scene = parse("[[model]]\npath = \"a.glb\"\nanimation = \"Run\"\ntime = 1.5\n");
+        let model = &scene.unwrap().models[0];
+        assert_eq!(model.animation, Some(AnimationChoice::Name("Run".into())));
+        assert_eq!(model.time, Some(1.5));
+        let e = err("[[model]]\npath = \"a.glb\"\ntime = -1\n");
+        assert_eq!(invalid_at(&e, 1), &Invalid::ModelTime { model: "a".into(), value: -1.0 });
     }
 
     #[test]

@@ -81,6 +81,8 @@ pub(crate) struct ModelDef {
     pub fix: Option<FixOptions>,
     #[serde(default)]
     pub material: Vec<MaterialDef>,
+    pub animation: Option<AnimationDef>,
+    pub time: Option<f32>,
 }
 
 /// A uniform or per-axis scale.

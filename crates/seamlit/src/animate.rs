@@ -1,7 +1,9 @@
 //! Posing a model for `render`, `compare` and `view`: which animation (the command line's,
-//! else the scene's `[render]`), at which time, and the per-object poses the renderer takes
-//! (from `seamlit_io::pose`, the CPU's sampling of the glTF animation).
+//! else a `[[model]]`'s own for its model, else the scene's `[render]`), at which time, and the
+//! per-object poses the renderer takes (from `seamlit_io::pose`, the CPU's sampling of the
+//! glTF animation).
 
+use std::ops::Range;
 use std::path::Path;
 
 use seamlit_io::Asset;
@@ -22,6 +24,15 @@ pub(crate) struct Moment {
     pub time: f32,
 }
 
+/// A `[[model]]` posed by its own `animation`: the merged asset's objects that are that
+/// model's and the moment they are posed at (the animation an index into the merged asset's,
+/// which moves only that model's nodes).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct OwnMoment {
+    objects: Range<usize>,
+    moment: Moment,
+}
+
 /// The moment the flags (else the scene) ask for, the animation resolved against `asset`'s.
 ///
 /// # Errors
@@ -39,6 +50,49 @@ pub(crate) fn moment(
     let time = flags.time.or(render.time).unwrap_or(0.0);
     let animation = choice.map(|c| resolve(asset, &c, input)).transpose()?;
     Ok(Moment { animation, time })
+}
+
+/// The models that have their own `animation` key, unless the command line names one for all:
+/// each with its objects in `asset` (the scene's models merged by `Scene::assemble`, which
+/// concatenates objects and animations in model order) and its moment (its own `time`, else
+/// the command line's or `[render]`'s, else 0).
+///
+/// # Errors
+/// [`Failure::BadInput`] for an animation a model lacks (listing those it has);
+/// [`Failure::Processing`] when `asset` is not laid out as the parts say.
+pub(crate) fn own_moments(
+    flags: &AnimationFlags,
+    loaded: &Loaded,
+    asset: &Asset,
+    input: &Path,
+) -> Result<Vec<OwnMoment>, Failure> {
+    let mut own = Vec::new();
+    let (mut object, mut animation) = (0, 0);
+    for (model, part) in &loaded.parts {
+        let objects = part.model.objects.len();
+        if flags.animation.is_none()
+            && let Some(choice) = &model.animation
+        {
+            let local = resolve(part, choice, &model.path)?;
+            let time = model.time.or(flags.time).or(loaded.scene.render.time).unwrap_or(0.0);
+            own.push(OwnMoment {
+                objects: object..object + objects,
+                moment: Moment { animation: Some(animation + local), time },
+            });
+        }
+        object += objects;
+        animation += part.animations.len();
+    }
+    if object != asset.model.objects.len() || animation != asset.animations.len() {
+        return Err(Failure::processing(format!(
+            "{}: the merged scene has {} objects and {} animations, its models {object} and \
+             {animation}: cannot place the models' own animations",
+            input.display(),
+            asset.model.objects.len(),
+            asset.animations.len()
+        )));
+    }
+    Ok(own)
 }
 
 /// The index of the animation `choice` names.
@@ -82,19 +136,23 @@ pub(crate) fn list(asset: &Asset) -> Vec<(String, f32)> {
 
 /// The pose of every object of `asset` at `moment` (the rest pose without an animation:
 /// skinned objects are drawn skinned by their nodes as authored, as the Khronos Sample
-/// Viewer draws them); `None` for a model with neither skins nor animations, which is drawn
-/// as it is.
-pub(crate) fn poses(asset: &Asset, moment: Moment) -> Option<Vec<ObjectPose>> {
+/// Viewer draws them), the nodes of each of `own` at its own moment; `None` for a model
+/// with neither skins nor animations, which is drawn as it is.
+pub(crate) fn poses(asset: &Asset, moment: Moment, own: &[OwnMoment]) -> Option<Vec<ObjectPose>> {
     if asset.skins.is_empty() && asset.animations.is_empty() {
         return None;
     }
-    let pose = match moment.animation {
-        Some(a) => Pose::at(asset, a, moment.time),
+    let at = |m: Moment| match m.animation {
+        Some(a) => Pose::at(asset, a, m.time),
         None => Pose::rest(asset),
     };
+    let pose = at(moment);
+    let own_poses: Vec<(Range<usize>, Pose)> =
+        own.iter().map(|o| (o.objects.clone(), at(o.moment))).collect();
     Some(
         (0..asset.model.objects.len())
             .map(|o| {
+                let pose = own_poses.iter().find(|(r, _)| r.contains(&o)).map_or(&pose, |(_, p)| p);
                 let joints = pose.joint_matrices(asset, o);
                 // A skinned mesh's own node transform is ignored (glTF "Skins"): its joint
                 // matrices place it in model space.

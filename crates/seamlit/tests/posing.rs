@@ -77,6 +77,50 @@ fn an_animation_by_name_or_index_or_from_the_scene_poses_the_fox() {
 }
 
 #[test]
+fn a_model_s_own_animation_poses_that_model_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let at = |name: &str| -> PathBuf { tmp.path().join(name) };
+    let scene = |keys: &str| {
+        let path = at("two.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "[[model]]\npath = {fox:?}\ntranslate = [-150, 0, 0]\n{keys}\n\n\
+                 [[model]]\npath = {fox:?}\ntranslate = [150, 0, 0]\n",
+                fox = fox()
+            ),
+        )
+        .unwrap();
+        path.display().to_string()
+    };
+    let flags = ["--shadows", "off"];
+    let rest = render(&scene(""), &at("rest.png"), &flags);
+    let posed = render(&scene("animation = \"Walk\"\ntime = 0.35"), &at("posed.png"), &flags);
+    let half = rest.width() / 2;
+    let side = |image: &image::RgbaImage, left: bool| {
+        let x0 = if left { 0 } else { half };
+        image::imageops::crop_imm(image, x0, 0, half, image.height()).to_image()
+    };
+    assert!(differing_pixels(&side(&rest, true), &side(&posed, true)) > 50, "the left fox walks");
+    assert_eq!(side(&rest, false), side(&posed, false), "the right fox stays at rest");
+    // The same key on a one-model scene poses it as the flags do.
+    let one = at("one.toml");
+    std::fs::write(&one, format!("[[model]]\npath = {:?}\nanimation = 1\ntime = 0.35\n", fox()))
+        .unwrap();
+    let own = render(&one.display().to_string(), &at("own.png"), &[]);
+    let flagged = render(&fox(), &at("flagged.png"), &["--animation", "Walk", "--time", "0.35"]);
+    assert_eq!(own, flagged, "[[model]] animation = 1 is --animation Walk");
+    std::fs::write(&one, format!("[[model]]\npath = {:?}\nanimation = \"Trot\"\n", fox())).unwrap();
+    let o =
+        seamlit(&["render", &one.display().to_string(), "-o", &at("x.png").display().to_string()]);
+    assert_bad_input(&o, &["Fox.glb", "no animation \"Trot\"", "1 \"Walk\""]);
+    std::fs::write(&one, format!("[[model]]\npath = {:?}\ntime = -0.5\n", fox())).unwrap();
+    let o =
+        seamlit(&["render", &one.display().to_string(), "-o", &at("x.png").display().to_string()]);
+    assert_bad_input(&o, &["one.toml", "time = -0.5"]);
+}
+
+#[test]
 fn animations_the_model_lacks_and_bad_times_are_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out.png");

@@ -40,10 +40,9 @@ pub(crate) fn render_modes(
         let asset = loaded.build(&FixOverride { mode: Some(mode), flags: flags.clone() })?;
         let bounds = bounds_of(&asset);
         let camera = pick_camera(&loaded.cameras(bounds, aspect), view.camera.as_deref(), input)?;
-        let poses = crate::animate::poses(
-            &asset,
-            crate::animate::moment(animation, loaded, &asset, input)?,
-        );
+        let moment = crate::animate::moment(animation, loaded, &asset, input)?;
+        let own = crate::animate::own_moments(animation, loaded, &asset, input)?;
+        let poses = crate::animate::poses(&asset, moment, &own);
         jobs.push((asset, poses, camera, bounds));
     }
     let mut gpu = match gpu {

@@ -124,6 +124,8 @@ fn demo_scene(asset: Asset) -> Loaded {
         transform: Mat4::IDENTITY,
         fix: FixOptions::DEFAULT,
         materials: Vec::new(),
+        animation: None,
+        time: None,
     };
     let scene = Scene {
         source: None,

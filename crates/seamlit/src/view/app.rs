@@ -234,6 +234,8 @@ pub struct Viewer {
     animations: Vec<(String, f32)>,
     /// The moment the GPU scene is posed at; `None`: not posed since the last upload.
     posed: Option<crate::animate::Moment>,
+    /// The models posed by their own `animation` key (the panel's animation poses the rest).
+    own_moments: Vec<crate::animate::OwnMoment>,
     held: Held,
     gfx: Option<Gfx>,
     frames: u64,
@@ -278,6 +280,8 @@ impl Viewer {
             playing: moment.animation.is_some() && !timed,
         };
         let animations = crate::animate::list(&asset);
+        let own_moments =
+            crate::animate::own_moments(&options.animation, &loaded, &asset, &options.input)?;
         let speed = (bounds.1 - bounds.0).length() * 0.3;
         Ok(Self {
             orbit: OrbitController::looking_at(chosen.position, chosen.target),
@@ -287,6 +291,7 @@ impl Viewer {
             settings,
             animations,
             posed: None,
+            own_moments,
             options,
             loaded,
             asset,
@@ -383,7 +388,7 @@ impl Viewer {
             return;
         }
         self.posed = Some(moment);
-        if let Some(poses) = crate::animate::poses(&self.asset, moment)
+        if let Some(poses) = crate::animate::poses(&self.asset, moment, &self.own_moments)
             && let Err(e) = gfx.scene.set_pose(&gfx.ctx, &poses)
         {
             self.status = format!("could not pose the model: {e}");
