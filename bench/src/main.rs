@@ -11,12 +11,15 @@
 //! - `flip REFERENCE.png TEST.png [--side-by-side OUT.png]` prints the mean FLIP error of
 //!   TEST against REFERENCE (NVIDIA's FLIP, the `nv-flip` crate) and writes reference | test |
 //!   error map (bench/sample-viewer/compare.sh).
+//! - `skinned OUT.gltf [--rings R --segments S --joints J]` writes a skinned, morphed,
+//!   animated two-object character (`skinned.rs`), the animation benchmarks' input.
 //! - `assjson IN.assjson OUT.glb` converts Assimp's JSON dump, which keeps the tangents that
 //!   Assimp's glTF 2 exporter drops.
 
 mod assjson;
 mod flip;
 mod render;
+mod skinned;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -64,6 +67,20 @@ enum Command {
         /// Where to write.
         output: PathBuf,
     },
+    /// Write a skinned, morphed, animated two-object character (2 S triangles).
+    Skinned {
+        /// Where to write (.gltf; its buffer goes beside it as NAME.bin).
+        output: PathBuf,
+        /// Rings of vertices up the tube.
+        #[arg(long, default_value_t = 1001)]
+        rings: usize,
+        /// Segments around it.
+        #[arg(long, default_value_t = 500)]
+        segments: usize,
+        /// Joints in the chain up the tube.
+        #[arg(long, default_value_t = 64)]
+        joints: usize,
+    },
     /// Render each FILE with its own normals and tangents, side by side, one row per view.
     Render(render::RenderArgs),
     /// Print the mean FLIP error of TEST against REFERENCE; optionally write the pictures and
@@ -100,6 +117,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             save(&asset, &output)
         }
         Command::Assjson { input, output } => save(&assjson::load(&input)?, &output),
+        Command::Skinned { output, rings, segments, joints } => {
+            skinned::write(&skinned::Shape { rings, segments, joints }, &output)
+        }
         Command::Render(args) => render::run(&args),
         Command::Flip(args) => flip::run(&args),
     }

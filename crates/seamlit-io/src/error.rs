@@ -317,16 +317,6 @@ pub enum Syntax {
         /// The word.
         found: String,
     },
-    /// An MTL colour statement (`Ka`, `Kd`, `Ks`, `Ke`) of fewer than three numbers.
-    #[error("`{keyword}` needs 3 numbers, found {found}: {text:?}")]
-    ShortColour {
-        /// The statement's keyword.
-        keyword: String,
-        /// How many numbers the line has.
-        found: usize,
-        /// The line.
-        text: String,
-    },
     /// A line of a material library that tobj rejects (the line alone, after a `newmtl`).
     #[error("{tobj}: {text:?}")]
     Material {

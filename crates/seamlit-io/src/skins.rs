@@ -2,7 +2,7 @@
 //! joint an object's influences now name added to its skin, so that writers can store them.
 
 use glam::Mat4;
-use seamlit_mesh::{SkinMatch, WeldTolerance};
+use seamlit_mesh::SkinMatch;
 
 use crate::asset::Asset;
 use crate::pose::{Pose, node_of};
@@ -11,16 +11,10 @@ use crate::pose::{Pose, node_of};
 /// objects disagree there (see [`seamlit_mesh::match_skin_seams`]), and appends to each
 /// object's skin the joints it now names but lacked, with the inverse bind matrix another
 /// skin gives that joint (else the inverse of the joint's rest transform, the bind pose a
-/// skin without one implies). Records what changed in [`Asset::skins_changed`].
-///
-/// # Errors
-///
-/// The input checks of [`seamlit_mesh::fix`].
-pub fn match_skin_seams(
-    asset: &mut Asset,
-    tolerance: WeldTolerance,
-) -> Result<SkinMatch, seamlit_mesh::MeshError> {
-    let matched = seamlit_mesh::match_skin_seams(&mut asset.model, tolerance)?;
+/// skin without one implies). Records what changed in [`Asset::skins_changed`]. `copies`:
+/// [`seamlit_mesh::shared_copies`] of the model.
+pub fn match_skin_seams(asset: &mut Asset, copies: &[Vec<(u32, u32)>]) -> SkinMatch {
+    let matched = seamlit_mesh::match_skin_seams(&mut asset.model, copies);
     let mut rest: Option<Pose> = None;
     for (o, _) in matched.objects.iter().enumerate().filter(|&(_, &changed)| changed) {
         push_unique(&mut asset.skins_changed.objects, o);
@@ -50,7 +44,7 @@ pub fn match_skin_seams(
             push_unique(&mut asset.skins_changed.skins, skin);
         }
     }
-    Ok(matched)
+    matched
 }
 
 fn push_unique(list: &mut Vec<usize>, value: usize) {

@@ -157,7 +157,8 @@ fn matched_skins_keep_the_neck_closed_in_every_pose() {
     assert!(gap > 0.01, "the ring opens as the neck turns: {gap}");
     assert!(angle.unwrap() > 5.0, "and its normals part: {angle:?}");
 
-    let matched = seamlit_io::match_skin_seams(&mut asset, WeldTolerance::default()).unwrap();
+    let copies = seamlit_mesh::shared_copies(&asset.model, WeldTolerance::default()).unwrap();
+    let matched = seamlit_io::match_skin_seams(&mut asset, &copies);
     assert_eq!(matched.positions, common::character::SEGMENTS);
     let (gap, angle) = motion(&asset);
     assert!(gap < 1e-6, "the gap after matching: {gap}");

@@ -145,43 +145,26 @@ pub struct SkinMatch {
 /// them has; objects with fewer get zero-weight sets added) and renormalised to sum 1; lanes
 /// in order of weight. Objects without a skin are left out. Nothing else changes.
 ///
-/// # Errors
-///
-/// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
-pub fn match_skin_seams(
-    model: &mut Model,
-    tolerance: crate::WeldTolerance,
-) -> Result<SkinMatch, crate::MeshError> {
+/// `copies` are the model's shared positions as [`shared_copies`] gives them (for a model
+/// that `fix` has split since, those of its input vertices: the split copies follow their
+/// sources' influences already); entries past an object's vertices are skipped.
+pub fn match_skin_seams(model: &mut Model, copies: &[Vec<(u32, u32)>]) -> SkinMatch {
     let mut out = SkinMatch { objects: vec![false; model.objects.len()], ..SkinMatch::default() };
     if model.objects.iter().all(|o| o.skin.is_empty()) {
-        return Ok(out);
+        return out;
     }
-    let flat = crate::validate::flatten(model)?;
-    let tolerance = tolerance.absolute(crate::weld::diagonal(&flat));
-    let roots = crate::weld::roots(&flat.positions, tolerance);
-    let shared = flat.shared_positions(&roots);
-    let mut at_shared: Vec<u64> = roots
-        .par_iter()
-        .enumerate()
-        .filter(|&(_, &r)| shared[r as usize])
-        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
-        .collect();
-    at_shared.par_sort_unstable();
-    let object_of = |v: usize| flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
     let objects = &model.objects;
     // Per disagreeing position: its vertices (object, vertex) and their merged influences.
     type Merged = (Vec<(usize, usize)>, Vec<(u32, f32)>, usize);
-    let merged: Vec<Merged> = at_shared
-        .par_chunk_by(|a, b| a >> 32 == b >> 32)
-        .filter_map(|run| {
-            let vertices: Vec<(usize, usize)> = run
+    let merged: Vec<Merged> = copies
+        .par_iter()
+        .filter_map(|group| {
+            let vertices: Vec<(usize, usize)> = group
                 .iter()
-                .map(|&e| {
-                    let v = low_half(e) as usize;
-                    let o = object_of(v);
-                    (o, v - flat.vertex_start[o] as usize)
+                .map(|&(o, v)| (o as usize, v as usize))
+                .filter(|&(o, v)| {
+                    objects.get(o).is_some_and(|o| !o.skin.is_empty() && v < o.positions.len())
                 })
-                .filter(|&(o, _)| !objects[o].skin.is_empty())
                 .collect();
             let each: Vec<(usize, Vec<(u32, f32)>)> =
                 vertices.iter().map(|&(o, v)| (o, influences(&objects[o], v))).collect();
@@ -218,7 +201,7 @@ pub fn match_skin_seams(
             out.objects[o] = true;
         }
     }
-    Ok(out)
+    out
 }
 
 /// The copies of each welded position that two or more objects share, as the seam report

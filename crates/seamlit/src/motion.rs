@@ -38,55 +38,55 @@ pub(crate) fn list(asset: &Asset) -> String {
     format!("its animations: {}", names.join(", "))
 }
 
-/// The seams of `asset` in each of `animations`, `samples` times each, with the weld and
-/// crease of `options`.
+/// The copies of the positions the model's objects share ([`seamlit_mesh::shared_copies`]),
+/// where something can pull them apart (skins, morph targets or animations); none otherwise,
+/// which costs nothing.
 ///
 /// # Errors
 /// [`Failure::BadInput`] naming `file` when the geometry is bad.
+pub(crate) fn copies(
+    asset: &Asset,
+    options: &FixOptions,
+    file: &Path,
+) -> Result<Vec<Vec<(u32, u32)>>, Failure> {
+    let moves = !asset.animations.is_empty()
+        || asset.model.objects.iter().any(|o| !o.skin.is_empty() || !o.morph_targets.is_empty());
+    if !moves {
+        return Ok(Vec::new());
+    }
+    seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance)
+        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))
+}
+
+/// The seams of `asset` in each of `animations`, `samples` times each, at `copies` (see
+/// [`copies`]), with the crease of `options`.
 pub(crate) fn measure(
     asset: &Asset,
     animations: &[usize],
     samples: u32,
     options: &FixOptions,
-    file: &Path,
-) -> Result<Vec<SeamMotion>, Failure> {
-    if animations.is_empty() {
-        return Ok(Vec::new());
-    }
-    let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance)
-        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))?;
-    Ok(animations
+    copies: &[Vec<(u32, u32)>],
+) -> Vec<SeamMotion> {
+    animations
         .iter()
-        .map(|&a| seam_motion(asset, a, samples as usize, &copies, options.crease_angle_deg))
-        .collect())
+        .map(|&a| seam_motion(asset, a, samples as usize, copies, options.crease_angle_deg))
+        .collect()
 }
 
 /// The morph targets whose deltas differ across the seam, as a line (empty where none do).
-///
-/// # Errors
-/// [`Failure::BadInput`] naming `file` when the geometry is bad.
-pub(crate) fn morph_line(
-    asset: &Asset,
-    options: &FixOptions,
-    file: &Path,
-) -> Result<String, Failure> {
-    if asset.model.objects.iter().all(|o| o.morph_targets.is_empty()) {
-        return Ok(String::new());
-    }
-    let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance)
-        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))?;
-    let seams = morph_seams(asset, &copies);
+pub(crate) fn morph_line(asset: &Asset, copies: &[Vec<(u32, u32)>]) -> String {
+    let seams = morph_seams(asset, copies);
     if seams.is_empty() {
-        return Ok(String::new());
+        return String::new();
     }
     let each: Vec<String> = seams
         .iter()
         .map(|(name, n)| format!("{name:?} at {}", crate::table::count(*n, "shared position")))
         .collect();
-    Ok(format!(
+    format!(
         "\n  morph targets whose deltas differ across the seam (it opens while they are active): {}",
         each.join(", ")
-    ))
+    )
 }
 
 /// One animation's figures: `gap 0.088 (4.4% of the bounds) at 0.50 s, normals 21.70° at 0.50 s`.

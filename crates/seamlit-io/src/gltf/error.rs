@@ -185,6 +185,15 @@ pub enum GltfKind {
         /// How many more problems it found elsewhere.
         more: usize,
     },
+    /// A glTF 1.0 document (`asset.version` "1.0"; `place` is `asset.version`): seamlit reads
+    /// glTF 2.0, whose layout is not 1.0's.
+    #[error(
+        "glTF {version}: seamlit reads glTF 2.0; convert the file first (e.g. `assimp export IN OUT.glb`)"
+    )]
+    OldVersion {
+        /// The version written.
+        version: String,
+    },
     /// A primitive's `POSITION` names an accessor that does not exist.
     #[error("accessor {accessor} does not exist (the file has {count})")]
     NoSuchAccessor {

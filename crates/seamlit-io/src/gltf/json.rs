@@ -34,6 +34,9 @@ pub(crate) fn integer(value: &Value) -> Option<u64> {
     })
 }
 
+/// A primitive's `mode` for a list of triangles.
+pub(crate) const TRIANGLES: u64 = 4;
+
 /// `ARRAY_BUFFER` and `ELEMENT_ARRAY_BUFFER`, buffer view targets.
 pub(crate) const ARRAY_BUFFER: u32 = 34962;
 pub(crate) const ELEMENT_ARRAY_BUFFER: u32 = 34963;

@@ -43,8 +43,8 @@ use crate::check::{check_object, unit_normal, unit_tangent};
 use crate::error::IoError;
 use crate::gltf::error::{BadAccessor, GltfKind};
 use crate::gltf::json::{
-    ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER, FLOAT, UNSIGNED_BYTE, UNSIGNED_INT, UNSIGNED_SHORT,
-    array_member, integer, usize_member,
+    ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER, FLOAT, TRIANGLES, UNSIGNED_BYTE, UNSIGNED_INT,
+    UNSIGNED_SHORT, array_member, integer, usize_member,
 };
 use crate::gltf::source::{GltfSource, Instance, Source};
 use accessors::read_elements;
@@ -451,6 +451,10 @@ impl<'a> OutputDocument<'a> {
                     p.remove("indices");
                 }
             }
+        }
+        // A strip or a fan was read as a list of triangles, which the indices now are.
+        if primitive.get("mode").is_some() {
+            primitive["mode"] = json!(TRIANGLES);
         }
         Ok(primitive)
     }

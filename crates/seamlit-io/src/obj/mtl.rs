@@ -10,7 +10,10 @@ use std::path::{Path, PathBuf};
 
 use crate::asset::{Asset, Material, Texture, TextureRef, TextureSource, UvTransform};
 use crate::error::{IoError, Syntax};
+use crate::obj::parse::names;
 use crate::options::LoadOptions;
+
+mod usable;
 
 /// The materials of an OBJ's libraries, in order: per material, the tobj material, its
 /// library file and that file's folder as parts below the model's folder (for resolving its
@@ -29,7 +32,9 @@ pub(super) struct Libraries {
 ///
 /// [`IoError::PathEscapes`] / [`IoError::LinkEscapes`] for a library outside the model's
 /// folder, [`IoError::MissingFile`] for a missing one when `options.strict` is set (a
-/// warning otherwise), [`IoError::Syntax`] for one tobj rejects, with its line.
+/// warning otherwise), [`IoError::Syntax`] for one tobj rejects, with its line (none that
+/// [`usable`] lets through is known). A statement seamlit cannot use is a warning
+/// ([`usable::warning`]), and so are names that are not UTF-8 ([`names::decode_lines`]).
 pub(super) fn read_libraries(
     path: &Path,
     statements: &[(String, usize)],
@@ -45,9 +50,11 @@ pub(super) fn read_libraries(
             what: "material library",
             reference: name.clone(),
         })?;
-        let resolved = parts.iter().fold(folder.to_path_buf(), |p, s| p.join(s));
+        // Read where it is on disk; named in messages and kept as decoded.
+        let resolved = names::on_disk(folder, &parts);
+        let named = parts.iter().fold(folder.to_path_buf(), |p, s| p.join(s));
         let sub = parts[..parts.len().saturating_sub(1)].to_vec();
-        let Some(mtl_text) = read_library(path, folder, name, *line, &resolved, options)? else {
+        let Some(mtl_bytes) = read_library(path, folder, name, *line, &resolved, options)? else {
             warnings.push(format!(
                 "{}:{line}: material library {} not found; its materials get defaults",
                 path.display(),
@@ -56,10 +63,15 @@ pub(super) fn read_libraries(
             libraries.missing = true;
             continue;
         };
+        let (mtl_text, legacy) = names::decode_lines(&mtl_bytes);
+        warnings.extend(legacy.map(|line| names::legacy_warning(&named, line)));
+        let mtl = usable::usable(&mtl_text);
+        warnings.extend(usable::warning(&named, &mtl.unusable));
+        let mtl_text = mtl.text;
         let (library, _) = read_mtl(&mtl_text).map_err(|err| {
             let (line, kind) = locate_mtl_error(&mtl_text)
                 .unwrap_or((0, Syntax::MaterialLibrary { tobj: err.to_string() }));
-            IoError::Syntax { path: resolved.clone(), line, kind }
+            IoError::Syntax { path: named.clone(), line, kind }
         })?;
         for material in library {
             libraries.by_name.insert(material.name.clone(), libraries.materials.len());
@@ -69,7 +81,7 @@ pub(super) fn read_libraries(
     Ok(libraries)
 }
 
-/// The text of the library `name` (on `line` of the OBJ at `path`), resolved to `resolved`
+/// The bytes of the library `name` (on `line` of the OBJ at `path`), resolved to `resolved`
 /// in the model's `folder`; `None` when it is missing and `options.strict` is not set.
 ///
 /// # Errors
@@ -83,7 +95,7 @@ fn read_library(
     line: usize,
     resolved: &Path,
     options: &LoadOptions,
-) -> Result<Option<String>, IoError> {
+) -> Result<Option<Vec<u8>>, IoError> {
     // A symbolic link on the way must not lead out of the model's folder; the real path
     // is what is read. A missing file is left to the read below, which reports it.
     let real = match crate::paths::real_inside(folder, resolved) {
@@ -99,7 +111,7 @@ fn read_library(
         Err(crate::paths::NotInside::Io(_)) => resolved.to_path_buf(),
     };
     match std::fs::read(&real) {
-        Ok(bytes) => Ok(Some(String::from_utf8_lossy(&bytes).into_owned())),
+        Ok(bytes) => Ok(Some(bytes)),
         Err(err) if err.kind() == std::io::ErrorKind::NotFound => match options.strict {
             true => Err(IoError::MissingFile {
                 path: path.to_path_buf(),
@@ -155,9 +167,6 @@ pub(super) fn convert_materials(
 
 /// Finds the line of an MTL file that tobj rejects, by giving it each line alone.
 fn locate_mtl_error(text: &str) -> Option<(usize, Syntax)> {
-    if let Some(found) = short_colour(text) {
-        return Some(found);
-    }
     text.lines().enumerate().find_map(|(i, line)| {
         let probe = format!("newmtl probe\n{line}\n");
         let is_newmtl = line.split_whitespace().next() == Some("newmtl");
@@ -168,16 +177,13 @@ fn locate_mtl_error(text: &str) -> Option<(usize, Syntax)> {
     })
 }
 
-/// tobj's MTL reader, after a check for the lines it panics on.
+/// tobj's MTL reader, given text that [`usable`] has read first.
 ///
 /// tobj 4.0.5 unwraps a colour statement (`Ka`, `Kd`, `Ks`, `Ke`) of fewer than three numbers
 /// (`parse_float3`, found by the `obj` fuzz target: regression input
-/// `tests/regressions/obj_mtl_colour_with_two_numbers.obj`); such a line is an error here and
-/// tobj never sees it. Any other panic in tobj is caught and becomes an error too.
+/// `tests/regressions/obj_mtl_colour_with_two_numbers.obj`); [`usable`] gives it none. Any
+/// panic in tobj is caught and becomes an error all the same.
 fn read_mtl(text: &str) -> tobj::MTLLoadResult {
-    if short_colour(text).is_some() {
-        return Err(tobj::LoadError::MaterialParseError);
-    }
     let text = name_unnamed(text);
     let (mut materials, mut names) =
         std::panic::catch_unwind(|| tobj::load_mtl_buf(&mut text.as_bytes()))
@@ -215,19 +221,6 @@ fn name_unnamed(text: &str) -> std::borrow::Cow<'_, str> {
     std::borrow::Cow::Owned(out)
 }
 
-/// The first colour statement of fewer than three numbers: `(line, reason)`.
-fn short_colour(text: &str) -> Option<(usize, Syntax)> {
-    text.lines().enumerate().find_map(|(i, line)| {
-        let mut words = line.split_whitespace();
-        let keyword = words.next()?;
-        let count = words.count();
-        (["Ka", "Kd", "Ks", "Ke"].contains(&keyword) && count < 3).then(|| {
-            let (keyword, found, text) = (keyword.to_owned(), count, line.trim().to_owned());
-            (i + 1, Syntax::ShortColour { keyword, found, text })
-        })
-    })
-}
-
 /// Where a material came from: the `.mtl` file and its folder below the model's folder.
 struct Library<'a> {
     model_folder: &'a Path,
@@ -260,11 +253,10 @@ fn convert_material(
                 reference: options.file.clone(),
             }
         })?;
-        let file = parts.iter().fold(library.model_folder.to_path_buf(), |p, s| p.join(s));
+        let file = names::on_disk(library.model_folder, &parts);
         let texture = *index.entry(file.clone()).or_insert_with(|| {
-            let name = file
-                .file_name()
-                .map_or_else(|| options.file.clone(), |n| n.to_string_lossy().into_owned());
+            // The name as decoded (the file may be found under other bytes: `names.rs`).
+            let name = parts.last().cloned().unwrap_or_else(|| options.file.clone());
             textures.push(Texture { name, source: TextureSource::File(file), image: None });
             textures.len() - 1
         });
@@ -300,6 +292,9 @@ pub(crate) struct MapOptions {
     bump_multiplier: f32,
     offset: [f32; 2],
     scale: [f32; 2],
+    /// Whether it has an option the MTL specification does not list (skipped with one
+    /// argument, unless that is the last word: the file).
+    pub(crate) unknown: bool,
 }
 
 impl MapOptions {
@@ -309,11 +304,14 @@ impl MapOptions {
             bump_multiplier: 1.0,
             offset: [0.0, 0.0],
             scale: [1.0, 1.0],
+            unknown: false,
         };
         let mut rest = spec.trim();
         while let Some(option) = rest.strip_prefix('-') {
             let (name, after) = option.split_once(char::is_whitespace).unwrap_or((option, ""));
             let mut words = after.trim_start();
+            // An option of no argument before the file: the last word is the file.
+            let last_word = !words.contains(char::is_whitespace);
             let mut take = |max: usize, numeric_only: bool| -> Vec<f32> {
                 let mut values = Vec::new();
                 while values.len() < max {
@@ -351,9 +349,13 @@ impl MapOptions {
                 "mm" => {
                     take(2, true);
                 }
-                // One argument, a word or a number: -blendu on, -clamp on, -imfchan r, -type sphere,
-                // -boost 1, -texres 512, -cc on.
+                "blendu" | "blendv" | "boost" | "cc" | "clamp" | "imfchan" | "texres" | "type" => {
+                    take(1, false);
+                }
+                _ if last_word => out.unknown = true,
+                // An option the specification does not list: one argument, a word or a number.
                 _ => {
+                    out.unknown = true;
                     take(1, false);
                 }
             }

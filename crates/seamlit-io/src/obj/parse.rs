@@ -44,6 +44,7 @@ use statements::parse_chunk;
 mod blocks;
 mod corners;
 mod dedup;
+pub(crate) mod names;
 mod numbers;
 mod statements;
 
@@ -122,6 +123,8 @@ struct Chunk {
     smoothing: Vec<(usize, u32)>,
     /// The smoothing group in force at the chunk's first triangle (set in [`assemble`]).
     smoothing_at_start: u32,
+    /// The first line of a name that is not UTF-8 (read as Windows-1252, `names.rs`).
+    legacy_names: Option<usize>,
 }
 
 /// Faces on consecutive lines of a chunk: the first one's first triangle and line, and the
@@ -148,6 +151,8 @@ pub(crate) struct Parsed {
     normals: Vec<Vec3>,
     /// Whether the file has an `s` statement.
     has_smoothing: bool,
+    /// The first line of a name that is not UTF-8 (read as Windows-1252, `names.rs`).
+    pub legacy_names: Option<usize>,
 }
 
 /// Reads and parses the OBJ text of `file` (UTF-8, opened from `path`; a UTF-8 byte-order
@@ -181,9 +186,11 @@ pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, IoErro
 
     let mut line_base = 0;
     let mut chunks = Vec::with_capacity(parsed.len());
+    let mut legacy_names = None;
     for (_, result) in parsed {
         match result {
             Ok(chunk) => {
+                legacy_names = legacy_names.or(chunk.legacy_names.map(|line| line_base + line));
                 line_base += chunk.lines;
                 chunks.push(chunk);
             }
@@ -192,7 +199,9 @@ pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, IoErro
             }
         }
     }
-    assemble(chunks, path)
+    let mut parsed = assemble(chunks, path)?;
+    parsed.legacy_names = legacy_names;
+    Ok(parsed)
 }
 
 /// Resolves the chunks' face indices and splits the triangles into objects.
@@ -216,6 +225,7 @@ fn assemble(mut chunks: Vec<Chunk>, path: &Path) -> Result<Parsed, IoError> {
         uvs: elements.uvs,
         normals: elements.normals,
         has_smoothing,
+        legacy_names: None,
     })
 }
 

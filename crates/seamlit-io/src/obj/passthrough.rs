@@ -27,6 +27,7 @@ use seamlit_mesh::{Model, Object};
 use crate::asset::Asset;
 use crate::error::{InvalidAsset, IoError};
 use crate::obj::mtl::MapOptions;
+use crate::obj::parse::names;
 use crate::obj::source::{ObjSource, Source, SourceObject};
 use crate::paths::NotInside;
 
@@ -344,7 +345,9 @@ impl<'a> SideFiles<'a> {
         let Some(real) = self.plan(&parts, &what)? else { return Ok(()) };
         let bytes = std::fs::read(&real).map_err(|e| IoError::io(&real, e))?;
         let sub = &parts[..parts.len() - 1];
-        for (number, statement) in String::from_utf8_lossy(&bytes).lines().enumerate() {
+        // Names read as the reader read them (`parse/names.rs`); the file is copied as it is.
+        let (text, _) = names::decode_lines(&bytes);
+        for (number, statement) in text.lines().enumerate() {
             let Some(file) = texture_file(statement) else { continue };
             let what = format!("texture {file:?} ({name}:{})", number + 1);
             match crate::paths::inside(sub, &file) {
@@ -364,7 +367,8 @@ impl<'a> SideFiles<'a> {
     /// the output's; returns its real path, or `None` (and a warning) when it is missing.
     fn plan(&mut self, parts: &[String], what: &str) -> Result<Option<PathBuf>, IoError> {
         let folder = self.input.parent().unwrap_or(Path::new(""));
-        let file = parts.iter().fold(folder.to_path_buf(), |p, s| p.join(s));
+        // A name decoded from Windows-1252 may be on disk under its bytes as written.
+        let file = names::on_disk(folder, parts);
         let real = match crate::paths::real_inside(folder, &file) {
             Ok(real) => real,
             Err(NotInside::Outside(target)) => {
@@ -384,7 +388,10 @@ impl<'a> SideFiles<'a> {
             }
         };
         let out_folder = self.output.parent().unwrap_or(Path::new(""));
-        let destination = parts.iter().fold(out_folder.to_path_buf(), |p, s| p.join(s));
+        let destination = match file.strip_prefix(folder) {
+            Ok(below) => out_folder.join(below),
+            Err(_) => parts.iter().fold(out_folder.to_path_buf(), |p, s| p.join(s)),
+        };
         if !crate::files::same_file(&real, &destination)
             && !self.copies.iter().any(|(_, to)| to == &destination)
         {

@@ -7,10 +7,13 @@
 //! colours (`v x y z r g b [a]`) are kept where every face of the object has them. A
 //! `usemtl` that names no material of the file's libraries gets a warning, and a material
 //! that `newmtl` leaves unnamed (Blender 2.61 writes one) has the empty name. A file with a
-//! UTF-16 byte-order mark is decoded; a NUL byte or invalid UTF-8 in a statement is an error.
+//! UTF-16 byte-order mark is decoded; a name (`o`, `g`, `usemtl`, `mtllib`) that is not UTF-8
+//! is read as Windows-1252 with one warning (`parse/names.rs`); a NUL byte or invalid UTF-8
+//! in any other statement is an error.
 //! Material libraries are read with tobj and converted here, including the `-bm` (bump
 //! multiplier), `-o` and `-s` options that tobj leaves in the texture name, and the `norm`
-//! statement it does not know. Texture paths resolve against the `.mtl` file's folder.
+//! statement it does not know; a material statement seamlit cannot use is a warning, never
+//! an error (`mtl/usable.rs`). Texture paths resolve against the `.mtl` file's folder.
 //!
 //! The geometry is read by this crate's parallel parser (`parse.rs` explains why and how it
 //! matches tobj); material libraries by tobj. `mtllib` and texture paths that leave the
@@ -49,6 +52,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         None => crate::obj::parse::read(file, path),
     }?;
     let mut warnings = Vec::new();
+    if let Some(line) = parsed.legacy_names {
+        warnings.push(crate::obj::parse::names::legacy_warning(path, line));
+    }
     let libraries = read_libraries(path, &parsed.libraries, options, &mut warnings)?;
     if !libraries.missing {
         warn_unknown_materials(path, &parsed.materials_used, &libraries.by_name, &mut warnings);

@@ -191,21 +191,22 @@ fn fix_file(
     }
     let options = &default_tangents(&asset, *options, tangents_asked);
     let animations: Vec<usize> = (0..asset.animations.len()).collect();
-    let motion_before = crate::motion::measure(&asset, &animations, skins.samples, options, input)?;
+    // The input vertices keep their indices through the fix (split copies are appended), so
+    // one weld serves the measures before and after and the match.
+    let copies = crate::motion::copies(&asset, options, input)?;
+    let motion_before =
+        crate::motion::measure(&asset, &animations, skins.samples, options, &copies);
     // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
     let changes = seamlit_mesh::fix_in_place(&mut asset.model, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     let matched = match skins.policy {
-        SkinSeamsArg::Match => Some(
-            seamlit_io::match_skin_seams(&mut asset, options.weld_tolerance)
-                .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?,
-        ),
+        SkinSeamsArg::Match => Some(seamlit_io::match_skin_seams(&mut asset, &copies)),
         SkinSeamsArg::Keep => None,
     };
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
-    let motion_after = crate::motion::measure(&asset, &animations, skins.samples, options, input)?;
-    let morphs = crate::motion::morph_line(&asset, options, input)?;
+    let motion_after = crate::motion::measure(&asset, &animations, skins.samples, options, &copies);
+    let morphs = crate::motion::morph_line(&asset, &copies);
     crate::output::prepare_folder_of(output)?;
     let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     for warning in &saved.warnings {

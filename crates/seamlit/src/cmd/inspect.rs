@@ -20,7 +20,8 @@ pub struct Reports {
 }
 
 impl Reports {
-    /// Measures `model` with `options` (its mode is replaced by each mode in turn).
+    /// Measures `model` with `options` (its mode is replaced by each mode in turn), each
+    /// fixed model with its skin seams matched, as `fix` does by default.
     ///
     /// # Errors
     /// [`Failure::BadInput`] naming `file` when the geometry is bad.
@@ -36,6 +37,12 @@ impl Reports {
             let mut fixed = model.clone();
             let changes =
                 seamlit_mesh::fix_in_place(&mut fixed, &options.with_mode(mode)).map_err(bad)?;
+            // As `fix` does by default (--skin-seams match).
+            if model.objects.iter().any(|o| !o.skin.is_empty()) {
+                let copies =
+                    seamlit_mesh::shared_copies(model, options.weld_tolerance).map_err(bad)?;
+                seamlit_mesh::match_skin_seams(&mut fixed, &copies);
+            }
             Ok((mode, seamlit_mesh::report(&fixed, &report_options).map_err(bad)?, changes))
         };
         Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
@@ -135,15 +142,14 @@ impl Motion {
         file: &Path,
     ) -> Result<Self, Failure> {
         let animations = crate::motion::select(asset, spec, file)?;
-        let as_loaded = crate::motion::measure(asset, &animations, samples, options, file)?;
+        let copies = crate::motion::copies(asset, options, file)?;
+        let as_loaded = crate::motion::measure(asset, &animations, samples, options, &copies);
         let mut fixed = asset.clone();
         let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
         seamlit_mesh::fix_in_place(&mut fixed.model, &options.with_mode(Mode::Model))
             .map_err(bad)?;
-        let matched = seamlit_io::match_skin_seams(&mut fixed, options.weld_tolerance)
-            .map_err(bad)?
-            .positions;
-        let after = crate::motion::measure(&fixed, &animations, samples, options, file)?;
+        let matched = seamlit_io::match_skin_seams(&mut fixed, &copies).positions;
+        let after = crate::motion::measure(&fixed, &animations, samples, options, &copies);
         Ok(Self { as_loaded, fixed: after, matched })
     }
 

@@ -103,7 +103,9 @@ impl OutputDocument<'_> {
     }
 
     /// Embeds image `i`, named by `uri`, in buffer 0 (GLB output); `false` when it stays a
-    /// URI (a `data:` URI, a missing file, a format whose MIME type is unknown).
+    /// URI (a `data:` URI, a missing file, a format whose MIME type is unknown, or a format
+    /// other than PNG and JPEG that a texture names as its core `source`: embedded, its
+    /// `mimeType` would make that texture invalid, as it is not when named by file).
     fn embed(&mut self, i: usize, uri: &str, what: &str) -> Result<bool, IoError> {
         let Some((_, Some(real))) = crate::gltf::uri::resolve_file(&self.source.path, uri, what)?
         else {
@@ -114,6 +116,14 @@ impl OutputDocument<'_> {
         let Some(mime) = declared.or_else(|| sniff(&bytes).map(str::to_owned)) else {
             return Ok(false);
         };
+        if !["image/png", "image/jpeg"].contains(&mime.as_str()) && self.core_source(i) {
+            self.warnings.push(format!(
+                "{}: {what} ({uri}, {mime}) stays a file beside the GLB: a texture names it as \
+                 its core source, which glTF allows in a buffer only for PNG and JPEG",
+                self.source.path.display()
+            ));
+            return Ok(false);
+        }
         let view = self.view(bytes, Layout::Bytes);
         if let Some(image) = self.json["images"][i].as_object_mut() {
             image.remove("uri");
@@ -121,6 +131,13 @@ impl OutputDocument<'_> {
             image.insert("mimeType".to_owned(), json!(mime));
         }
         Ok(true)
+    }
+
+    /// Whether a texture names image `i` as its core `source` (rather than only through an
+    /// extension such as KHR_texture_basisu or EXT_texture_webp).
+    fn core_source(&self, i: usize) -> bool {
+        let textures = self.json["textures"].as_array().map_or(&[][..], Vec::as_slice);
+        textures.iter().any(|t| usize_member(t, "source") == Some(i))
     }
 
     /// Writes the side files, then the document.

@@ -29,6 +29,19 @@ pub(super) fn document(
     };
     // Parsed as plain JSON (what the pass-through writer writes back), then as typed glTF.
     let value: serde_json::Value = serde_json::from_slice(json).map_err(|e| json_error(e, path))?;
+    // glTF 1.0 fails typed parsing at its first object-keyed member: say what it is instead.
+    let version = match &value["asset"]["version"] {
+        serde_json::Value::String(v) => Some(v.clone()),
+        serde_json::Value::Number(n) => Some(n.to_string()),
+        _ => None,
+    };
+    if let Some(version) = version.filter(|v| v == "1" || v.starts_with("1.")) {
+        return Err(IoError::Gltf {
+            path: path.to_path_buf(),
+            place: "asset.version".to_owned(),
+            kind: GltfKind::OldVersion { version: version.to_owned() },
+        });
+    }
     // A document gltf-json refuses is read again as the specification allows (see
     // `lenient`); if that fails too, the first error (with its line) is reported.
     let root = gltf::json::Root::from_slice(json).or_else(|error| {

@@ -1,6 +1,6 @@
-//! One triangle primitive read into an object: its accessors checked first, then its
-//! attributes (floats or KHR_mesh_quantization's integers), its triangles and its
-//! deformation.
+//! One triangle primitive (a list, a strip or a fan) read into an object: its accessors
+//! checked first, then its attributes (floats or KHR_mesh_quantization's integers), its
+//! triangles (a strip's or a fan's as a list) and its deformation.
 
 use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
@@ -90,7 +90,7 @@ impl Reader<'_> {
 
     /// Checks a primitive's accessors before anything is read: POSITION, NORMAL, TANGENT,
     /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 (types, extent, as many elements as POSITION) and the indices
-    /// (a triangle list: a multiple of 3).
+    /// (a triangle list's: a multiple of 3).
     fn check_primitive(
         &self,
         primitive: &gltf::Primitive<'_>,
@@ -130,8 +130,9 @@ impl Reader<'_> {
                 GltfKind::Accessor { accessor: accessor.index(), kind: Box::new(kind) },
             )
         };
+        let list = primitive.mode() == gltf::mesh::Mode::Triangles;
         let Some(accessor) = primitive.indices() else {
-            if !vertex_count.is_multiple_of(3) {
+            if list && !vertex_count.is_multiple_of(3) {
                 return Err(error(
                     position,
                     BadAccessor::NotTriangles { what: "vertices", count: vertex_count },
@@ -142,7 +143,7 @@ impl Reader<'_> {
         let types = [DataType::U8, DataType::U16, DataType::U32];
         self.check_accessor(&accessor, Dimensions::Scalar, &types, "indices")?;
         self.check_sparse_indices(&accessor, buffers)?;
-        if !accessor.count().is_multiple_of(3) {
+        if list && !accessor.count().is_multiple_of(3) {
             return Err(error(
                 &accessor,
                 BadAccessor::NotTriangles { what: "indices", count: accessor.count() },
@@ -154,7 +155,7 @@ impl Reader<'_> {
 
 impl Reader<'_> {
     /// A primitive's triangles: its indices, checked against the vertex count, or `0, 1,
-    /// 2, ...` for a non-indexed list.
+    /// 2, ...` for a non-indexed list; a strip's or a fan's as a list ([`unstrip`]).
     fn triangles(
         &self,
         mesh: &gltf::Mesh<'_>,
@@ -177,14 +178,32 @@ impl Reader<'_> {
                     actual: vertex_count,
                 });
             };
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                return Ok(unstrip(primitive.mode(), &(0..count).collect::<Vec<u32>>()));
+            }
             return Ok((0..count / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect());
         };
+        let read: Vec<u32> = match primitive.mode() {
+            gltf::mesh::Mode::Triangles => read,
+            mode => {
+                let count = read.len();
+                if count != accessor.count() {
+                    return Err(self.short(&accessor, count));
+                }
+                unstrip(mode, &read).into_iter().flatten().collect()
+            }
+        };
+        let accessor_count = if primitive.mode() == gltf::mesh::Mode::Triangles {
+            accessor.count()
+        } else {
+            read.len()
+        };
         let mut read = read.into_iter();
-        let mut triangles = Vec::with_capacity(accessor.count() / 3);
+        let mut triangles = Vec::with_capacity(accessor_count / 3);
         while let (Some(a), Some(b), Some(c)) = (read.next(), read.next(), read.next()) {
             triangles.push([a, b, c]);
         }
-        if triangles.len() * 3 != accessor.count() {
+        if triangles.len() * 3 != accessor_count {
             return Err(self.short(&accessor, triangles.len() * 3));
         }
         if let Some(&index) = triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
@@ -202,4 +221,19 @@ impl Reader<'_> {
         }
         Ok(triangles)
     }
+}
+
+/// The triangles of a strip or a fan (`mode`) of vertices `v`, as the specification draws
+/// them (3.7.2.1): strip triangle `i` is `v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]`, fan
+/// triangle `i` is `v[i + 1], v[i + 2], v[0]`. Triangles with a repeated vertex (a strip's
+/// joins) are left out: they have no area.
+fn unstrip(mode: gltf::mesh::Mode, v: &[u32]) -> Vec<[u32; 3]> {
+    let triangle = |i: usize| match mode {
+        gltf::mesh::Mode::TriangleFan => [v[i + 1], v[i + 2], v[0]],
+        _ => [v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]],
+    };
+    (0..v.len().saturating_sub(2))
+        .map(triangle)
+        .filter(|[a, b, c]| a != b && b != c && a != c)
+        .collect()
 }

@@ -172,7 +172,7 @@ impl<'r> SceneWalk<'r> {
         warnings: &mut Vec<String>,
     ) -> Result<Option<Object>, IoError> {
         let (path, m, p) = (self.reader.path.display(), mesh.index(), primitive.index());
-        if primitive.mode() != Mode::Triangles {
+        if !matches!(primitive.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
             warnings.push(format!(
                 "{path}: mesh {m} primitive {p}: mode {:?} skipped (only triangles are read)",
                 primitive.mode()

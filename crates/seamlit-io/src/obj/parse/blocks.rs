@@ -63,8 +63,9 @@ pub(super) fn read_blocks(
     }
 }
 
-/// The first statement line (not a comment) of `block` that holds a NUL byte or invalid
-/// UTF-8, with what is wrong. A block of ASCII without NUL (nearly every OBJ file) is seen
+/// The first statement line (not a comment) of `block` that holds a NUL byte, or invalid
+/// UTF-8 in a statement other than a name's (`o`, `g`, `usemtl`, `mtllib`: a name that is not
+/// UTF-8 is read as Windows-1252, `names.rs`), with what is wrong. A block of ASCII without NUL (nearly every OBJ file) is seen
 /// to have none in one pass that vectorises; others are searched line by line.
 pub(super) fn first_line_not_text(block: &[u8]) -> Option<(usize, ChunkError)> {
     // Bit 7 of `b | (b - 1)` is set for NUL (0 - 1 = 0xFF) and for every byte above 127.
@@ -78,13 +79,20 @@ pub(super) fn first_line_not_text(block: &[u8]) -> Option<(usize, ChunkError)> {
             return None;
         } else if line.contains(&0) {
             NotText::Nul
-        } else if std::str::from_utf8(line).is_err() {
+        } else if std::str::from_utf8(line).is_err() && !names_a_thing(&line[start..]) {
             NotText::InvalidUtf8
         } else {
             return None;
         };
         Some((i + 1, ChunkError::NotText(problem)))
     })
+}
+
+/// Whether a statement (its line from its first word) gives a name: `o`, `g`, `usemtl`,
+/// `mtllib`.
+fn names_a_thing(statement: &[u8]) -> bool {
+    let keyword = statement.split(|&b| end_of_word(b)).next().unwrap_or_default();
+    [&b"o"[..], b"g", b"usemtl", b"mtllib"].contains(&keyword)
 }
 
 /// A blank between words (space, tab, carriage return, form feed).

@@ -69,17 +69,36 @@ impl Chunk {
                 self.normals.push(Vec3::new(x, y, z));
             }
             b"f" => self.face(words, line, face)?,
-            b"o" | b"g" => self.events.push((next, Event::Object(rest_of(words)))),
+            b"o" | b"g" => {
+                let name = self.name(words, line);
+                self.events.push((next, Event::Object(name)));
+            }
             // An empty name is the name of a material `newmtl` left unnamed.
-            b"usemtl" => self.events.push((next, Event::Material(rest_of(words), line))),
+            b"usemtl" => {
+                let name = self.name(words, line);
+                self.events.push((next, Event::Material(name, line)));
+            }
             b"s" => {
                 let group = smoothing_group(words.word())?;
                 self.smoothing.push((next, group));
             }
-            b"mtllib" => self.events.push((next, Event::Library(rest_of(words), line))),
+            b"mtllib" => {
+                let name = self.name(words, line);
+                self.events.push((next, Event::Library(name, line)));
+            }
             _ => {}
         }
         Ok(())
+    }
+
+    /// The name a statement on `line` gives: the rest of the line, trimmed (names may hold
+    /// spaces), decoded as Windows-1252 where it is not UTF-8 (noting the first such line).
+    fn name(&mut self, words: &Cursor<'_>, line: usize) -> String {
+        let (name, legacy) = super::names::decode(words.rest());
+        if legacy && self.legacy_names.is_none() {
+            self.legacy_names = Some(line);
+        }
+        name.trim().to_owned()
     }
 
     /// A `v` statement: `x y z`, `x y z w` (divided by w) or `x y z r g b [a]` (a colour).
@@ -229,11 +248,6 @@ fn numbers<const N: usize>(
         *slot = value;
     }
     Ok(out)
-}
-
-/// The rest of a statement's line after its keyword, trimmed (names may hold spaces).
-fn rest_of(words: &Cursor<'_>) -> String {
-    text(words.rest()).trim().to_owned()
 }
 
 /// The group of an `s` statement from its first word: a number, 0 and `off` for none.

@@ -1,0 +1,242 @@
+//! `seamlit-bench skinned`: a skinned, morphed, animated character of any size, the input of
+//! the animation benchmarks (BENCHMARKS.md, "Seams in motion").
+//!
+//! A tube along +Y (height 2, radius 0.25) of `rings` x `segments` vertices with UVs, split
+//! near the top into a body mesh and a head mesh that each keep a copy of the ring they share;
+//! a chain of `joints` joints up the tube, each vertex weighted to the two nearest (the
+//! head's ring copy to the one above the ring only, so the seam opens in motion); two morph
+//! targets on both meshes ("bulge": radial, "lift": up); one animation "sway" of 2 seconds
+//! (21 LINEAR keys per joint, each joint swaying about X and Z) and a weights channel per
+//! mesh. Written as `.gltf` with its buffer beside it (`NAME.bin`).
+
+use std::f32::consts::TAU;
+use std::path::Path;
+
+use anyhow::Context as _;
+use glam::{Mat4, Quat, Vec3};
+use serde_json::{Value, json};
+
+/// The buffer, its views and accessors.
+#[derive(Default)]
+struct Data {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Data {
+    fn push(&mut self, bytes: &[u8], mut accessor: Value, target: Option<u32>) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let mut view =
+            json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        if let Some(target) = target {
+            view["target"] = json!(target);
+        }
+        self.bin.extend_from_slice(bytes);
+        self.views.push(view);
+        accessor["bufferView"] = json!(self.views.len() - 1);
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// A `FLOAT` accessor of `width` components per element; vertex data (`bounds`: with min
+    /// and max, as POSITION needs) gets the vertex-buffer target.
+    fn floats(&mut self, values: &[f32], kind: &str, width: usize, bounds: bool) -> usize {
+        self.floats_for(values, kind, width, bounds, Some(34962))
+    }
+
+    /// Animation keys and matrices: no buffer-view target.
+    fn keys(&mut self, values: &[f32], kind: &str, width: usize, bounds: bool) -> usize {
+        self.floats_for(values, kind, width, bounds, None)
+    }
+
+    fn floats_for(
+        &mut self,
+        values: &[f32],
+        kind: &str,
+        width: usize,
+        bounds: bool,
+        target: Option<u32>,
+    ) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let count = values.len() / width;
+        let mut accessor = json!({"componentType": 5126, "count": count, "type": kind});
+        if bounds {
+            let mut lo = vec![f32::INFINITY; width];
+            let mut hi = vec![f32::NEG_INFINITY; width];
+            for chunk in values.chunks(width) {
+                for (i, &v) in chunk.iter().enumerate() {
+                    lo[i] = lo[i].min(v);
+                    hi[i] = hi[i].max(v);
+                }
+            }
+            accessor["min"] = json!(lo);
+            accessor["max"] = json!(hi);
+        }
+        self.push(&bytes, accessor, target)
+    }
+}
+
+/// The size of the character.
+pub(crate) struct Shape {
+    pub rings: usize,
+    pub segments: usize,
+    pub joints: usize,
+}
+
+/// Height of the tube and of the joint chain.
+const HEIGHT: f32 = 2.0;
+const RADIUS: f32 = 0.25;
+
+/// Writes the character to `output` (`.gltf`, with `NAME.bin` beside it).
+pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
+    let Shape { rings, segments, joints } = *shape;
+    anyhow::ensure!(rings >= 4 && segments >= 3 && joints >= 2, "too small a character");
+    anyhow::ensure!(joints <= 65536, "at most 65536 joints (JOINTS_0 is UNSIGNED_SHORT)");
+    let neck = rings * 9 / 10;
+    let spacing = HEIGHT / (joints - 1) as f32;
+    let mut data = Data::default();
+    let mut meshes = Vec::new();
+    for (ring_range, head) in [(0..neck + 1, false), (neck..rings, true)] {
+        let (mut positions, mut uvs, mut lanes, mut weights) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut bulge, mut lift) = (Vec::new(), Vec::new());
+        for j in ring_range.clone() {
+            let y = HEIGHT * j as f32 / (rings - 1) as f32;
+            // The two joints around y, weighted linearly; the head's copy of the shared ring
+            // follows the upper one alone.
+            let at = (y / spacing).min((joints - 1) as f32 - 1e-3);
+            // Between 0 and joints - 2 (at is clamped above): fits.
+            #[expect(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "0..joints"
+            )]
+            let lower = at.floor() as usize;
+            let joint = |k: usize| u16::try_from(k).expect("at most 65536 joints");
+            let t = if head && j == neck { 1.0 } else { at - lower as f32 };
+            for i in 0..=segments {
+                // The last column repeats the first (its UVs differ), at the same place.
+                let theta = TAU * (i % segments) as f32 / segments as f32;
+                let (sin, cos) = theta.sin_cos();
+                positions.extend([RADIUS * cos, y, RADIUS * sin]);
+                uvs.extend([i as f32 / segments as f32, 1.0 - y / HEIGHT]);
+                let upper = if t > 0.0 { joint(lower + 1) } else { 0 };
+                let first = if t < 1.0 { joint(lower) } else { 0 };
+                lanes.extend([first, upper, 0, 0]);
+                weights.extend([1.0 - t, t, 0.0, 0.0]);
+                let swell = 0.1 * (std::f32::consts::PI * y / HEIGHT).sin();
+                bulge.extend([swell * cos, 0.0, swell * sin]);
+                lift.extend([0.0, 0.05 * y, 0.0]);
+            }
+        }
+        let width = segments + 1;
+        let count = ring_range.len();
+        let mut indices: Vec<u32> = Vec::with_capacity((count - 1) * segments * 6);
+        for j in 0..count - 1 {
+            for i in 0..segments {
+                let at = |j: usize, i: usize| u32::try_from(j * width + i).expect("fits u32");
+                let (a, b, c, d) = (at(j, i), at(j, i + 1), at(j + 1, i + 1), at(j + 1, i));
+                indices.extend([a, d, c, a, c, b]);
+            }
+        }
+        let position = data.floats(&positions, "VEC3", 3, true);
+        let uv = data.floats(&uvs, "VEC2", 2, false);
+        let bytes: Vec<u8> = lanes.iter().flat_map(|j| j.to_le_bytes()).collect();
+        let vertices = positions.len() / 3;
+        let joint_accessor = data.push(
+            &bytes,
+            json!({"componentType": 5123, "count": vertices, "type": "VEC4"}),
+            Some(34962),
+        );
+        let weight_accessor = data.floats(&weights, "VEC4", 4, false);
+        let bulge = data.floats(&bulge, "VEC3", 3, true);
+        let lift = data.floats(&lift, "VEC3", 3, true);
+        let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let index_accessor = data.push(
+            &bytes,
+            json!({"componentType": 5125, "count": indices.len(), "type": "SCALAR"}),
+            Some(34963),
+        );
+        meshes.push(json!({
+            "name": if head { "head" } else { "body" },
+            "primitives": [{
+                "attributes": {"POSITION": position, "TEXCOORD_0": uv,
+                    "JOINTS_0": joint_accessor, "WEIGHTS_0": weight_accessor},
+                "indices": index_accessor,
+                "targets": [{"POSITION": bulge}, {"POSITION": lift}],
+            }],
+            "weights": [0.0, 0.0],
+            "extras": {"targetNames": ["bulge", "lift"]},
+        }));
+    }
+    // Joints: node 2 + k, each translated `spacing` up from its parent.
+    let inverse_bind: Vec<f32> = (0..joints)
+        .flat_map(|k| Mat4::from_translation(Vec3::Y * -(k as f32 * spacing)).to_cols_array())
+        .collect();
+    let ibm = data.keys(&inverse_bind, "MAT4", 16, false);
+    let keys = 21;
+    let times: Vec<f32> = (0..keys).map(|k| 2.0 * k as f32 / (keys - 1) as f32).collect();
+    let input = data.keys(&times, "SCALAR", 1, true);
+    let (mut samplers, mut channels) = (Vec::new(), Vec::new());
+    for k in 0..joints {
+        let rotations: Vec<f32> = times
+            .iter()
+            .flat_map(|&t| {
+                let phase = TAU * t / 2.0 + k as f32 * 0.3;
+                Quat::from_euler(glam::EulerRot::XYZ, 0.05 * phase.sin(), 0.0, 0.04 * phase.cos())
+                    .to_array()
+            })
+            .collect();
+        let output = data.keys(&rotations, "VEC4", 4, false);
+        samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+        channels.push(json!({"sampler": samplers.len() - 1,
+            "target": {"node": 2 + k, "path": "rotation"}}));
+    }
+    let morph: Vec<f32> =
+        times.iter().flat_map(|&t| [0.5 - 0.5 * (TAU * t / 2.0).cos(), 0.5 * t / 2.0]).collect();
+    let output = data.keys(&morph, "SCALAR", 1, false);
+    samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+    for node in [0, 1] {
+        channels.push(json!({"sampler": samplers.len() - 1,
+            "target": {"node": node, "path": "weights"}}));
+    }
+    let mut nodes = vec![
+        json!({"name": "body", "mesh": 0, "skin": 0}),
+        json!({"name": "head", "mesh": 1, "skin": 0}),
+    ];
+    for k in 0..joints {
+        let mut node = json!({"name": format!("joint{k}")});
+        if k > 0 {
+            node["translation"] = json!([0.0, spacing, 0.0]);
+        }
+        if k + 1 < joints {
+            node["children"] = json!([3 + k]);
+        }
+        nodes.push(node);
+    }
+    let bin_name = path.with_extension("bin");
+    let uri = bin_name.file_name().and_then(|n| n.to_str()).context("a file name")?.to_owned();
+    let document = json!({
+        "asset": {"version": "2.0", "generator": "seamlit-bench skinned"},
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": nodes,
+        "skins": [{"name": "chain", "joints": (2..2 + joints).collect::<Vec<_>>(),
+            "inverseBindMatrices": ibm}],
+        "animations": [{"name": "sway", "samplers": samplers, "channels": channels}],
+        "meshes": meshes,
+        "accessors": data.accessors, "bufferViews": data.views,
+        "buffers": [{"byteLength": data.bin.len(), "uri": uri}],
+    });
+    std::fs::write(&bin_name, &data.bin).with_context(|| bin_name.display().to_string())?;
+    std::fs::write(path, serde_json::to_vec(&document)?)
+        .with_context(|| path.display().to_string())?;
+    println!(
+        "wrote {} ({} triangles, {joints} joints, 2 morph targets, 1 animation)",
+        path.display(),
+        2 * (rings - 1) * segments
+    );
+    Ok(())
+}
