@@ -2,7 +2,8 @@
 # seamlit against the Khronos glTF Sample Viewer: the same models, camera, light and tone
 # mapping in both, the mean FLIP error per model and the pictures side by side.
 #
-#   bench/sample-viewer/compare.sh [--environment] [--size WxH] [--out DIR] [NAME=FILE.glb ...]
+#   bench/sample-viewer/compare.sh [--environment] [--size WxH] [--out DIR]
+#       [--animation N --times T1,T2,...] [NAME=FILE.glb ...]
 #
 # Models: those models.mjs builds (spheres: metallic x roughness; materials: emissive,
 # textures, occlusion, alpha mask and blend), the Khronos samples in assets/models
@@ -13,6 +14,9 @@
 # Without --environment: punctual light only (the Sample Viewer's IBL off and no default
 # lights; seamlit's --ambient 0). With --environment: both also light with the same
 # equirectangular sky.hdr that models.mjs writes (seamlit: --environment PATH.hdr).
+#
+# With --animation N: only the models given, each posed by its animation N at each of the
+# --times (seconds) in both (seamlit: --animation N --time T), pictures NAME@T.png.
 #
 # Writes DIR/viewer/NAME.png, DIR/seamlit/NAME.png, DIR/side-by-side/NAME.png (Sample Viewer |
 # seamlit | FLIP error map) and DIR/flip.md (the table); DIR defaults to out/sample-viewer.
@@ -25,17 +29,27 @@ size=640x480
 out=$root/out/sample-viewer
 environment=0
 models=("NormalTangentTest=$root/assets/models/NormalTangentTest.glb" "Fox=$root/assets/models/fox/Fox.glb")
+given=()
+animation=""
+times=""
 while [ $# -gt 0 ]; do
     case $1 in
         --environment) environment=1 ;;
+        --animation) animation=$2; shift ;;
+        --times) times=$2; shift ;;
         --size) size=$2; shift ;;
         --out) out=$2; shift ;;
-        -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-        *=*) models+=("$1") ;;
+        -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *=*) models+=("$1"); given+=("$1") ;;
         *) echo "compare.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
     esac
     shift
 done
+if [ -n "$animation" ]; then
+    [ -n "$times" ] && [ ${#given[@]} -gt 0 ] ||
+        { echo "compare.sh: --animation needs --times and NAME=FILE.glb models" >&2; exit 2; }
+    models=("${given[@]}")
+fi
 width=${size%x*}
 height=${size#*x}
 # seamlit's background (linear 0.02, 0.02, 0.025, as sRGB bytes): the Sample Viewer clears to it.
@@ -65,18 +79,31 @@ bench=${SEAMLIT_BENCH:-$(pick seamlit-bench)}
 mkdir -p "$out/models" "$out/viewer" "$out/seamlit" "$out/side-by-side"
 ASPECT="$width/$height" node "$here/models.mjs" "$out/models" "${models[@]}"
 names=(spheres materials)
+[ -n "$animation" ] && names=()
 for m in "${models[@]}"; do names+=("${m%%=*}"); done
+# Each picture: NAME (unposed) or NAME@T (animation $animation at T seconds).
+shots=()
+for name in "${names[@]}"; do
+    if [ -n "$animation" ]; then
+        for t in ${times//,/ }; do shots+=("$name@$t"); done
+    else
+        shots+=("$name")
+    fi
+done
 sky=$out/models/sky.hdr
 
 echo "Sample Viewer: ${names[*]} at ${width}x${height}"
 {
     echo "["
     sep=""
-    for name in "${names[@]}"; do
+    for shot in "${shots[@]}"; do
+        name=${shot%@*}
+        pose=""
+        [ "$shot" != "$name" ] && pose=",\"animation\":$animation,\"time\":${shot#*@}"
         camera=$(node -e "console.log(JSON.parse(require('fs').readFileSync(process.argv[1])).index)" "$out/models/$name.camera.json")
-        printf '%s{"model":"%s","camera":%s,"width":%s,"height":%s,"clearColor":[%s,%s,%s],"environment":"%s","useIBL":%s,"environmentIntensity":1,"environmentRotation":90,"out":"%s"}\n' \
+        printf '%s{"model":"%s","camera":%s,"width":%s,"height":%s,"clearColor":[%s,%s,%s],"environment":"%s","useIBL":%s,"environmentIntensity":1,"environmentRotation":90%s,"out":"%s"}\n' \
             "$sep" "$out/models/$name.glb" "$camera" "$width" "$height" "${background[@]}" "$sky" \
-            "$([ $environment = 1 ] && echo true || echo false)" "$out/viewer/$name.png"
+            "$([ $environment = 1 ] && echo true || echo false)" "$pose" "$out/viewer/$shot.png"
         sep=","
     done
     echo "]"
@@ -102,17 +129,22 @@ for name in "${names[@]}"; do
             'position = ' + v(c.position) + '\ntarget = ' + v(c.target) + '\nfov_deg = ' + c.fov_deg +
             '\nnear = ' + c.near + '\nfar = ' + c.far);
     " "$out/models/$name.camera.json" "$name.glb" > "$out/models/$name.toml"
-    "$seamlit" render "$out/models/$name.toml" -o "$out/seamlit/$name.png" --size "$size" \
-        --camera compare "${lighting[@]}" > /dev/null
+done
+for shot in "${shots[@]}"; do
+    name=${shot%@*}
+    pose=()
+    [ "$shot" != "$name" ] && pose=(--animation "$animation" --time "${shot#*@}")
+    "$seamlit" render "$out/models/$name.toml" -o "$out/seamlit/$shot.png" --size "$size" \
+        --camera compare "${lighting[@]}" "${pose[@]}" > /dev/null
 done
 
 mode=$([ $environment = 1 ] && echo "punctual light + sky.hdr" || echo "punctual light only")
 {
     echo "| model ($mode, ${width}x${height}) | mean FLIP |"
     echo "|---|---:|"
-    for name in "${names[@]}"; do
-        flip=$("$bench" flip "$out/viewer/$name.png" "$out/seamlit/$name.png" --side-by-side "$out/side-by-side/$name.png")
-        echo "| $name | $flip |"
+    for shot in "${shots[@]}"; do
+        flip=$("$bench" flip "$out/viewer/$shot.png" "$out/seamlit/$shot.png" --side-by-side "$out/side-by-side/$shot.png")
+        echo "| $shot | $flip |"
     done
 } | tee "$out/flip.md"
 echo "pictures: $out/side-by-side/ (Sample Viewer | seamlit | FLIP error)"

@@ -141,7 +141,33 @@ function packGlb(json, bin) {
   return Buffer.concat([header, chunk(0x4e4f534a, text), ...(data.length ? [chunk(0x004e4942, data)] : [])]);
 }
 
+/** A .gltf whose buffers are all `data:` URIs as GLB parts: the buffers joined into one BIN
+ * chunk (each at a 4-byte boundary), the buffer views pointed into it. */
+function embeddedGltf(bytes) {
+  const json = JSON.parse(bytes.toString('utf8'));
+  const parts = [];
+  const starts = [];
+  let length = 0;
+  for (const buffer of json.buffers ?? []) {
+    const uri = buffer.uri ?? '';
+    if (!uri.startsWith('data:')) throw new Error(`buffer ${uri}: only data: URIs (or a GLB) are read`);
+    const data = Buffer.from(uri.slice(uri.indexOf(',') + 1), 'base64');
+    const padded = Buffer.concat([data, Buffer.alloc((4 - (data.length % 4)) % 4)]);
+    starts.push(length);
+    parts.push(padded);
+    length += padded.length;
+  }
+  for (const view of json.bufferViews ?? []) {
+    view.byteOffset = (view.byteOffset ?? 0) + starts[view.buffer];
+    view.buffer = 0;
+  }
+  const bin = Buffer.concat(parts);
+  json.buffers = bin.length ? [{ byteLength: bin.length }] : [];
+  return { json, bin };
+}
+
 function unpackGlb(bytes) {
+  if (bytes[0] === 0x7b) return embeddedGltf(bytes); // '{': a .gltf
   if (bytes.readUInt32LE(0) !== 0x46546c67) throw new Error('not a GLB file');
   const jsonLength = bytes.readUInt32LE(12);
   const json = JSON.parse(bytes.subarray(20, 20 + jsonLength).toString('utf8'));
@@ -309,7 +335,8 @@ function materials() {
   return doc;
 }
 
-/** World-space bounds of a document's meshes from the POSITION accessors' min and max. */
+/** World-space bounds of a document's meshes from the POSITION accessors' min and max (and
+ * their morph targets'). */
 function bounds(json) {
   const mul = (a, b) => a.map((_, i) => [0, 1, 2, 3].reduce((s, k) => s + a[(i & 12) + k] * b[k * 4 + (i & 3)], 0));
   const trs = (n) => {
@@ -330,8 +357,15 @@ function bounds(json) {
     if (node.mesh !== undefined) {
       for (const p of json.meshes[node.mesh].primitives) {
         const a = json.accessors[p.attributes.POSITION];
+        // Morph targets at weights 0..1 each widen the box by their deltas' bounds.
+        const [min, max] = [[...a.min], [...a.max]];
+        for (const t of p.targets ?? []) {
+          if (t.POSITION === undefined) continue;
+          const d = json.accessors[t.POSITION];
+          for (let k = 0; k < 3; k++) { min[k] += Math.min(d.min[k], 0); max[k] += Math.max(d.max[k], 0); }
+        }
         for (let c = 0; c < 8; c++) {
-          const v = [0, 1, 2].map((k) => ((c >> k) & 1 ? a.max[k] : a.min[k]));
+          const v = [0, 1, 2].map((k) => ((c >> k) & 1 ? max[k] : min[k]));
           for (let k = 0; k < 3; k++) {
             const w = world[k * 4] * v[0] + world[k * 4 + 1] * v[1] + world[k * 4 + 2] * v[2] + world[k * 4 + 3];
             lo[k] = Math.min(lo[k], w); hi[k] = Math.max(hi[k], w);
@@ -358,7 +392,7 @@ function framingEye(json) {
 
 function main() {
   const [out, ...inputs] = process.argv.slice(2);
-  if (!out) { console.error('usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]'); process.exit(2); }
+  if (!out) { console.error('usage: node models.mjs OUT_DIR [NAME=FILE.glb|FILE.gltf (data: URIs) ...]'); process.exit(2); }
   mkdirSync(out, { recursive: true });
   // ASPECT is W/H (the image size, so that the viewer does not letterbox by a rounding).
   const [w, h] = (process.env.ASPECT ?? '4/3').split('/').map(Number);
@@ -377,6 +411,18 @@ function main() {
     const [name, file] = arg.split('=');
     let glb;
     try { glb = unpackGlb(readFileSync(file)); } catch (e) { console.error(`${file}: ${e.message}`); process.exit(2); }
+    // A primitive without a material gets the glTF default material written out (`{}`: base
+    // colour 1, metallic 1, roughness 1), which the viewer draws as it draws none; seamlit
+    // gives material-less objects its own grey default instead.
+    for (const mesh of glb.json.meshes ?? []) {
+      for (const p of mesh.primitives) {
+        if (p.material === undefined) {
+          glb.json.materials ??= [];
+          p.material = glb.json.materials.length;
+          glb.json.materials.push({ name: 'glTF default' });
+        }
+      }
+    }
     const { eye, target } = framingEye(glb.json);
     const camera = addCameraAndLight(glb.json, eye, target, aspect);
     writeFileSync(join(out, `${name}.glb`), packGlb(glb.json, glb.bin));

@@ -205,7 +205,9 @@ pub(crate) struct Layouts {
     /// Group 1: material uniforms, base colour and normal textures, sampler, then the
     /// metallic-roughness, occlusion and emissive textures.
     pub material: wgpu::BindGroupLayout,
-    /// Group 2: object uniforms and the object's vertices (read as storage for TBN lines).
+    /// Group 2: object uniforms, the object's vertices (read as storage for TBN lines and
+    /// the posed-vertex readback), its skin influences and morph target deltas, and its
+    /// pose's joint palette and morph weights (`deform.wgsl`).
     pub object: wgpu::BindGroupLayout,
     /// Group 3: the environment's specular and irradiance cubes, BRDF table and sampler.
     pub environment: wgpu::BindGroupLayout,
@@ -266,8 +268,12 @@ fn object_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("seamlit object"),
         entries: &[
-            buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
-            buffer(1, S::VERTEX, STORAGE),
+            buffer(0, S::VERTEX_FRAGMENT | S::COMPUTE, wgpu::BufferBindingType::Uniform),
+            buffer(1, S::VERTEX | S::COMPUTE, STORAGE),
+            buffer(2, S::VERTEX | S::COMPUTE, STORAGE),
+            buffer(3, S::VERTEX | S::COMPUTE, STORAGE),
+            buffer(4, S::VERTEX | S::COMPUTE, STORAGE),
+            buffer(5, S::VERTEX | S::COMPUTE, STORAGE),
         ],
     })
 }

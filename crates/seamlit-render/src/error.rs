@@ -46,6 +46,14 @@ pub enum RenderError {
         /// What is wrong (expected and actual lengths, the bad index).
         what: String,
     },
+    /// A pose given to `GpuScene::set_pose` does not fit the scene or one of its objects.
+    #[error("pose of object {object:?}: {what}")]
+    BadPose {
+        /// The object's name (or "the scene" for the number of poses).
+        object: String,
+        /// What is wrong (a palette too short, more weights than targets, a non-finite number).
+        what: String,
+    },
     /// A material index or texture index points past the end of its list.
     #[error("{what} index {index} is out of range (there are {count})")]
     IndexOutOfRange {

@@ -19,7 +19,10 @@
 //!   [`GpuContext::for_surface`] for a window, whose device an egui-wgpu renderer can share.
 //! - [`GpuScene`]: a model with materials and textures on the GPU (mipmapped, 1x1 defaults for
 //!   missing textures; [`TextureOptions`] for mipmaps and anisotropy);
-//!   [`GpuScene::replace_model`] swaps the geometry after a re-fix.
+//!   [`GpuScene::replace_model`] swaps the geometry after a re-fix; [`GpuScene::set_pose`]
+//!   poses it ([`ObjectPose`]: transform, joint palette, morph weights), skinned and morphed
+//!   in the vertex stage (`src/deform.wgsl`), and [`GpuScene::posed_vertices`] reads the
+//!   posed vertices back.
 //! - [`Renderer`]: pipelines for one target format and MSAA sample count;
 //!   [`Renderer::render`] into a view (a window), [`Renderer::render_to_image`] to an image,
 //!   [`Renderer::time_frames`] for frame timing, each given a [`FrameDescriptor`] (scene,
@@ -77,6 +80,7 @@ mod environment;
 mod error;
 mod light;
 mod pipeline;
+mod pose;
 mod readback;
 mod renderer;
 mod scene;
@@ -89,9 +93,10 @@ pub use context::GpuContext;
 pub use environment::{Environment, GpuEnvironment};
 pub use error::RenderError;
 pub use light::{CameraDescriptor, CameraView, DebugView, Light, LightingModel, Projection};
+pub use pose::ObjectPose;
 pub use readback::PendingReadback;
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameDescriptor, FrameTimes, IMAGE_FORMAT, Renderer};
-pub use scene::GpuScene;
+pub use scene::{GpuScene, PosedVertices};
 pub use settings::{FrameSettings, ToneMapping};
 pub use texture::TextureOptions;
 /// The wgpu this crate is built on, for creating surfaces and sharing the device.

@@ -136,6 +136,10 @@ const PI: f32 = 3.141592653589793;
 @group(1) @binding(6) var emissive_texture: texture_2d<f32>;
 @group(2) @binding(0) var<uniform> object: Object;
 @group(2) @binding(1) var<storage, read> vertex_data: array<f32>;
+@group(2) @binding(2) var<storage, read> skin: array<SkinVertex>;
+@group(2) @binding(3) var<storage, read> morph_deltas: array<vec4<f32>>;
+@group(2) @binding(4) var<storage, read> joint_palette: array<mat4x4<f32>>;
+@group(2) @binding(5) var<storage, read> morph_weights: array<f32>;
 @group(3) @binding(0) var environment_specular: texture_cube<f32>;
 @group(3) @binding(1) var environment_irradiance: texture_cube<f32>;
 @group(3) @binding(2) var brdf_lut: texture_2d<f32>;
@@ -148,6 +152,7 @@ struct VertexIn {
     @location(3) uv: vec2<f32>,
     @location(4) color: vec4<f32>,
     @location(5) uv1: vec2<f32>,
+    @builtin(vertex_index) index: u32,
 }
 
 struct VertexOut {
@@ -164,29 +169,22 @@ struct VertexOut {
     @location(9) uv1: vec2<f32>,
 }
 
-fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
-    let len2 = dot(v, v);
-    if len2 > 1e-20 {
-        return v * inverseSqrt(len2);
-    }
-    return fallback;
-}
-
 // The world-space frame of a vertex: normal, Gram-Schmidt tangent (zero when the vertex has
-// none) and bitangent B = cross(N, T) * w * sign(det(model)).
+// none) and bitangent B = cross(N, T) * w * sign(det(model)) * skin_sign (the sign of the
+// skinning matrix's determinant, deform.wgsl).
 struct Tbn {
     t: vec3<f32>,
     b: vec3<f32>,
     n: vec3<f32>,
 }
 
-fn world_tbn(normal: vec3<f32>, tangent: vec4<f32>) -> Tbn {
+fn world_tbn(normal: vec3<f32>, tangent: vec4<f32>, skin_sign: f32) -> Tbn {
     var out: Tbn;
     out.n = safe_normalize((object.normal * vec4<f32>(normal, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let t = (object.model * vec4<f32>(tangent.xyz, 0.0)).xyz;
     let t_ortho = t - dot(t, out.n) * out.n;
     out.t = safe_normalize(t_ortho, vec3<f32>(0.0));
-    let w = select(1.0, -1.0, tangent.w < 0.0) * object.det_sign;
+    let w = select(1.0, -1.0, tangent.w < 0.0) * object.det_sign * skin_sign;
     out.b = cross(out.n, out.t) * w;
     return out;
 }
@@ -430,8 +428,9 @@ fn out_lit(c: vec3<f32>, alpha: f32) -> vec4<f32> {
 @vertex
 fn vs_main(in: VertexIn) -> VertexOut {
     var out: VertexOut;
-    let world = object.model * vec4<f32>(in.position, 1.0);
-    let tbn = world_tbn(in.normal, in.tangent);
+    let posed = deform(in.index, in.position, in.normal, in.tangent);
+    let world = object.model * vec4<f32>(posed.position, 1.0);
+    let tbn = world_tbn(posed.normal, posed.tangent, posed.det_sign);
     out.clip = frame.view_proj * world;
     out.world = world.xyz;
     out.normal = tbn.n;
@@ -634,7 +633,8 @@ fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
     let position = vec3<f32>(vertex_data[o], vertex_data[o + 1u], vertex_data[o + 2u]);
     let normal = vec3<f32>(vertex_data[o + 3u], vertex_data[o + 4u], vertex_data[o + 5u]);
     let tangent = vec4<f32>(vertex_data[o + 6u], vertex_data[o + 7u], vertex_data[o + 8u], vertex_data[o + 9u]);
-    let tbn = world_tbn(normal, tangent);
+    let posed = deform(vertex, position, normal, tangent);
+    let tbn = world_tbn(posed.normal, posed.tangent, posed.det_sign);
     var dir = tbn.n;
     var color = vec3<f32>(0.1, 0.3, 1.0);
     if axis == 0u {
@@ -644,7 +644,7 @@ fn vs_tbn(@builtin(vertex_index) index: u32) -> LineOut {
         dir = tbn.b;
         color = vec3<f32>(0.1, 1.0, 0.1);
     }
-    let world = (object.model * vec4<f32>(position, 1.0)).xyz + dir * frame.tbn_length * tip;
+    let world = (object.model * vec4<f32>(posed.position, 1.0)).xyz + dir * frame.tbn_length * tip;
     var out: LineOut;
     out.clip = frame.view_proj * vec4<f32>(world, 1.0);
     out.color = color;

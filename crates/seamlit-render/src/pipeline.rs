@@ -1,5 +1,6 @@
 //! The render pipelines: meshes in eight variants (front faces counter-clockwise or clockwise,
-//! culled or double-sided, opaque or alpha-blended), the environment behind them and the TBN
+//! culled or double-sided, opaque or alpha-blended), each without and (made on first use)
+//! with skinning and morphing in the vertex stage, the environment behind them and the TBN
 //! lines.
 
 use crate::GpuContext;
@@ -11,8 +12,16 @@ pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 /// All pipelines for one target format and sample count.
 #[derive(Debug)]
 pub(crate) struct Pipelines {
-    /// Indexed by [`Pipelines::mesh_index`].
+    /// Indexed by [`Pipelines::mesh`]'s variant, `deform.wgsl`'s `DEFORM` false: for objects
+    /// without a pose.
     mesh: [wgpu::RenderPipeline; 8],
+    /// The same with `DEFORM` true, for posed objects; made by [`Pipelines::prepare_posed`].
+    posed: Option<[wgpu::RenderPipeline; 8]>,
+    /// What making the posed variants needs.
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    format: wgpu::TextureFormat,
+    multisample: wgpu::MultisampleState,
     pub tbn: wgpu::RenderPipeline,
     /// The environment, blurred, behind everything.
     pub sky: wgpu::RenderPipeline,
@@ -21,23 +30,37 @@ pub(crate) struct Pipelines {
 impl Pipelines {
     pub(crate) fn new(ctx: &GpuContext, format: wgpu::TextureFormat, sample_count: u32) -> Self {
         let device = ctx.device();
+        let module = crate::shaders::MESH.module(device);
+        let layout = mesh_layout(ctx);
+        let multisample = wgpu::MultisampleState {
+            count: sample_count,
+            mask: !0,
+            alpha_to_coverage_enabled: false,
+        };
+        let shared = Shared { device, module: &module, layout: &layout, format, multisample };
+        let vertices = [Some(VertexRaw::layout())];
+        let mesh = std::array::from_fn(|index| {
+            shared.create(&PipelineDescriptor { deform: false, ..mesh_pipeline(index, &vertices) })
+        });
+        let (tbn, sky) = (shared.create(&tbn_pipeline()), shared.create(&sky_pipeline()));
+        Self { mesh, posed: None, module, layout, format, multisample, tbn, sky }
+    }
+
+    /// Makes the posed variants of the mesh pipelines if they are not made yet.
+    pub(crate) fn prepare_posed(&mut self, device: &wgpu::Device) {
+        if self.posed.is_some() {
+            return;
+        }
         let shared = Shared {
             device,
-            module: &crate::shaders::MESH.module(device),
-            layout: &mesh_layout(ctx),
-            format,
-            multisample: wgpu::MultisampleState {
-                count: sample_count,
-                mask: !0,
-                alpha_to_coverage_enabled: false,
-            },
+            module: &self.module,
+            layout: &self.layout,
+            format: self.format,
+            multisample: self.multisample,
         };
         let vertices = [Some(VertexRaw::layout())];
-        Self {
-            mesh: std::array::from_fn(|index| shared.create(&mesh_pipeline(index, &vertices))),
-            tbn: shared.create(&tbn_pipeline()),
-            sky: shared.create(&sky_pipeline()),
-        }
+        self.posed =
+            Some(std::array::from_fn(|index| shared.create(&mesh_pipeline(index, &vertices))));
     }
 
     /// Front face, whether back faces are culled and whether colour is blended, for a
@@ -47,17 +70,20 @@ impl Pipelines {
         (front, index & 2 == 0, index & 4 != 0)
     }
 
-    /// The mesh pipeline for an object: a transform with a negative determinant turns
-    /// counter-clockwise triangles clockwise on screen; double-sided materials are not culled;
-    /// alphaMode BLEND materials blend by alpha and leave the depth buffer alone.
+    /// The mesh pipeline for an object: a posed object's skins and morphs in the vertex stage
+    /// (once [`Pipelines::prepare_posed`] has made those variants; before, the unposed ones);
+    /// a transform with a negative determinant turns counter-clockwise triangles clockwise on
+    /// screen; double-sided materials are not culled; alphaMode BLEND materials blend by alpha
+    /// and leave the depth buffer alone.
     pub(crate) fn mesh(
         &self,
+        posed: bool,
         mirrored: bool,
         double_sided: bool,
         blend: bool,
     ) -> &wgpu::RenderPipeline {
-        &self.mesh
-            [usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
+        let set = if posed { self.posed.as_ref().unwrap_or(&self.mesh) } else { &self.mesh };
+        &set[usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
     }
 }
 
@@ -99,6 +125,8 @@ struct PipelineDescriptor<'a> {
     depth_stencil: wgpu::DepthStencilState,
     /// How colour is blended into the target (`None`: replaced).
     blend: Option<wgpu::BlendState>,
+    /// `deform.wgsl`'s `DEFORM` in the vertex stage: skinning and morphing compiled in.
+    deform: bool,
 }
 
 impl Shared<'_> {
@@ -109,7 +137,7 @@ impl Shared<'_> {
             vertex: wgpu::VertexState {
                 module: self.module,
                 entry_point: Some(desc.vertex),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                compilation_options: deform_option(desc.deform),
                 buffers: desc.buffers,
             },
             primitive: desc.primitive,
@@ -128,6 +156,16 @@ impl Shared<'_> {
             multiview_mask: None,
             cache: None,
         })
+    }
+}
+
+/// The vertex stage's options: `DEFORM` false where `deform` is (the shader's default is
+/// true).
+pub(crate) fn deform_option(deform: bool) -> wgpu::PipelineCompilationOptions<'static> {
+    const OFF: &[(&str, f64)] = &[("DEFORM", 0.0)];
+    wgpu::PipelineCompilationOptions {
+        constants: if deform { &[] } else { OFF },
+        ..wgpu::PipelineCompilationOptions::default()
     }
 }
 
@@ -163,6 +201,7 @@ fn mesh_pipeline<'a>(
         // lies behind them.
         depth_stencil: wgpu::DepthStencilState { depth_write_enabled: Some(!blend), ..depth() },
         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+        deform: true,
     }
 }
 
@@ -183,6 +222,7 @@ fn tbn_pipeline() -> PipelineDescriptor<'static> {
             ..depth()
         },
         blend: None,
+        deform: true,
     }
 }
 
@@ -201,5 +241,6 @@ fn sky_pipeline() -> PipelineDescriptor<'static> {
             ..depth()
         },
         blend: None,
+        deform: false,
     }
 }

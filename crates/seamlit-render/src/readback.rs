@@ -97,3 +97,100 @@ pub(crate) fn read_texture(
     ctx.queue().submit([encoder.finish()]);
     pending.finish(ctx)
 }
+
+/// Runs `posed.wgsl` over the first `count` vertices of the object whose group-2 bind group
+/// is `object` and reads back what it wrote (12 floats a vertex).
+pub(crate) fn read_posed(
+    ctx: &GpuContext,
+    object: &wgpu::BindGroup,
+    count: u32,
+) -> Result<crate::PosedVertices, RenderError> {
+    let device = ctx.device();
+    let size = u64::from(count.max(1)) * 48;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("seamlit posed vertices"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("seamlit posed readback"),
+        size,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let output_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("seamlit posed output"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    });
+    let output_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("seamlit posed output"),
+        layout: &output_layout,
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: output.as_entire_binding() }],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("seamlit posed"),
+        bind_group_layouts: &[Some(&ctx.layouts.object), Some(&output_layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("seamlit posed"),
+        layout: Some(&layout),
+        module: &crate::shaders::POSED.module(device),
+        entry_point: Some("cs_posed"),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    });
+    let mut encoder = device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("seamlit posed") });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("seamlit posed"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, object, &[]);
+        pass.set_bind_group(1, &output_group, &[]);
+        // At most 65535 groups a dimension: rows of 65535 groups of 64 vertices.
+        let groups = count.div_ceil(64);
+        let (x, y) =
+            if groups <= 65535 { (groups.max(1), 1) } else { (65535, groups.div_ceil(65535)) };
+        pass.dispatch_workgroups(x, y, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
+    ctx.queue().submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    read.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+        // The receiver lives until after the poll below; a send error cannot happen.
+        let _ = sender.send(result);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely())?;
+    receiver.recv().map_err(|_| RenderError::Gpu {
+        during: "reading back posed vertices",
+        message: "the map callback never ran".into(),
+    })??;
+    let floats: Vec<f32> = {
+        let mapped = read.slice(..).get_mapped_range().map_err(|e| RenderError::Gpu {
+            during: "reading back posed vertices",
+            message: e.to_string(),
+        })?;
+        bytemuck::cast_slice(&mapped).to_vec()
+    };
+    read.unmap();
+    let mut out = crate::PosedVertices::default();
+    for v in floats.chunks_exact(12).take(count as usize) {
+        out.positions.push(glam::Vec3::new(v[0], v[1], v[2]));
+        out.normals.push(glam::Vec3::new(v[4], v[5], v[6]));
+        out.tangents.push(glam::Vec4::new(v[8], v[9], v[10], v[11]));
+    }
+    Ok(out)
+}

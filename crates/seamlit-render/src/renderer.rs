@@ -220,6 +220,9 @@ impl Renderer {
         let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
         self.prepare(ctx, frame);
+        if scene.meshes.iter().any(|m| m.posed) {
+            self.pipelines.prepare_posed(ctx.device());
+        }
         self.shadows.encode(encoder, scene, self.shadows_used);
         let Some(attachments) = &self.attachments else { return Ok(()) };
         let mut pass = begin_scene_pass(encoder, attachments, target, settings.clear_color);
@@ -240,6 +243,7 @@ impl Renderer {
         for mesh in draw_order(scene, eye) {
             let material = &scene.materials[mesh.material];
             pass.set_pipeline(self.pipelines.mesh(
+                mesh.posed,
                 mesh.mirrored,
                 material.double_sided,
                 material.blend,

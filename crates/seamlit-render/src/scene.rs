@@ -8,6 +8,7 @@ use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
+use crate::pose::{Deform, ObjectPose};
 use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
@@ -53,6 +54,12 @@ pub(crate) struct ObjectRaw {
     pub object_id: u32,
     pub flip_v: u32,
     pub has_tangents: u32,
+    /// Skin sets `deform.wgsl` blends (zero unless a pose with a palette is set).
+    pub skin_sets: u32,
+    /// Morph targets `deform.wgsl` adds (zero unless a pose is set).
+    pub morph_targets: u32,
+    pub vertex_count: u32,
+    pub pad: u32,
 }
 
 /// Material flag: the material has a normal map.
@@ -156,6 +163,14 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
 /// One object on the GPU.
 #[derive(Debug)]
 pub(crate) struct GpuMesh {
+    /// The object's name and its index in the model's objects.
+    pub name: String,
+    pub object: usize,
+    /// The object's uniforms as uploaded (no pose), and their buffer.
+    rest: ObjectRaw,
+    uniform: wgpu::Buffer,
+    /// Skin influences, morph deltas and the pose's buffers.
+    deform: Deform,
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
     pub index_count: u32,
@@ -167,6 +182,8 @@ pub(crate) struct GpuMesh {
     pub material: usize,
     /// The transform has a negative determinant: front faces wind clockwise.
     pub mirrored: bool,
+    /// The pose skins or morphs the object: drawn by the pipelines that do.
+    pub posed: bool,
     /// The centre of the object's world-space bounds, for sorting blended objects.
     pub center: Vec3,
 }
@@ -192,6 +209,10 @@ pub struct GpuScene {
     material_count: usize,
     bounds: Option<(Vec3, Vec3)>,
     triangles: usize,
+    /// How many objects the model has, triangles or not (the poses `set_pose` takes).
+    object_total: usize,
+    /// A small storage buffer bound where an object has no skin, deltas or pose buffers.
+    empty: wgpu::Buffer,
 }
 
 impl GpuScene {
@@ -238,6 +259,13 @@ impl GpuScene {
                 material_count: materials.len(),
                 bounds: None,
                 triangles: 0,
+                object_total: 0,
+                empty: ctx.device().create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("seamlit empty storage"),
+                    size: 64,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                }),
             };
             scene.set_model(ctx, model)?;
             Ok(scene)
@@ -246,7 +274,7 @@ impl GpuScene {
 
     /// Replaces the geometry (for instance after re-running `seamlit_mesh::fix` in another
     /// mode), keeping materials and textures. Material indices must fit the materials the
-    /// scene was uploaded with.
+    /// scene was uploaded with. The new geometry has no pose: set it again.
     ///
     /// # Errors
     ///
@@ -263,21 +291,82 @@ impl GpuScene {
             .enumerate()
             .filter(|(_, o)| !o.triangles.is_empty())
             .map(|(i, o)| {
-                upload_object(
-                    ctx,
-                    o,
-                    u32::try_from(i).unwrap_or(u32::MAX),
-                    flip_v,
-                    self.material_count,
-                )
+                let upload = ObjectUpload { index: i, flip_v, material_count: self.material_count };
+                upload_object(ctx, o, &upload, &self.empty)
             })
             .collect::<Result<Vec<_>, _>>()?;
         self.meshes = meshes;
         self.bounds = model.bounds();
         self.triangles = model.triangle_count();
+        self.object_total = model.objects.len();
         Ok(())
     }
 
+    /// Poses the model: `poses` has one [`ObjectPose`] per object of the model, in
+    /// `model.objects` order (objects without triangles included). Each object is drawn,
+    /// in the scene and shadow passes, with its morph targets weighted, then skinned by its
+    /// palette (where it has a skin and the pose a palette), then placed by the pose's
+    /// transform instead of its own. The bounds ([`GpuScene::bounds`]) become bounds of the
+    /// posed model. A scene whose pose was never set draws each object unposed.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::BadPose`] for a count other than the model's objects, a palette shorter
+    /// than the joints an object's influences name, more weights than targets or a number
+    /// that is not finite; nothing is changed then.
+    pub fn set_pose(&mut self, ctx: &GpuContext, poses: &[ObjectPose]) -> Result<(), RenderError> {
+        if poses.len() != self.object_total {
+            return Err(RenderError::BadPose {
+                object: "the scene".into(),
+                what: format!("{} poses for {} objects", poses.len(), self.object_total),
+            });
+        }
+        for mesh in &self.meshes {
+            mesh.deform.check(&mesh.name, &poses[mesh.object])?;
+        }
+        let mut bounds: Option<(Vec3, Vec3)> = None;
+        for mesh in &mut self.meshes {
+            let pose = &poses[mesh.object];
+            let raw = ObjectRaw {
+                skin_sets: if mesh.deform.skinned(pose) { mesh.deform.skin_sets } else { 0 },
+                morph_targets: mesh.deform.morph_targets,
+                ..transformed_raw(mesh.rest, pose.transform)
+            };
+            ctx.queue().write_buffer(&mesh.uniform, 0, bytemuck::bytes_of(&raw));
+            mesh.deform.write(ctx, pose);
+            mesh.mirrored = raw.det_sign < 0.0;
+            mesh.posed = raw.skin_sets > 0 || raw.morph_targets > 0;
+            let (lo, hi) = mesh.deform.posed_bounds(pose);
+            mesh.center = (lo + hi) * 0.5;
+            bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+        }
+        self.bounds = bounds;
+        Ok(())
+    }
+
+    /// The vertices of object `object` (an index into the model's objects) as the vertex
+    /// stage places them under the current pose, read back from the GPU: world-space
+    /// positions, unit normals and tangents (xyz under the model matrix, unnormalised; w the
+    /// handedness). They come from the same `deform.wgsl` the scene and shadow passes run,
+    /// in a compute pass; for checks and tools, not for every frame. An object without
+    /// triangles is not on the GPU: `None`. On adapters whose storage binding limit is smaller
+    /// than the object's vertex buffer, the vertices that fit.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::Gpu`], [`RenderError::Poll`], [`RenderError::Map`].
+    pub fn posed_vertices(
+        &self,
+        ctx: &GpuContext,
+        object: usize,
+    ) -> Result<Option<PosedVertices>, RenderError> {
+        let Some(mesh) = self.meshes.iter().find(|m| m.object == object) else {
+            return Ok(None);
+        };
+        ctx.scoped("reading posed vertices", || {
+            crate::readback::read_posed(ctx, &mesh.bind_group, mesh.tbn_vertex_count).map(Some)
+        })
+    }
     /// The axis-aligned bounds of the geometry in world space, `None` when empty.
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
@@ -511,19 +600,28 @@ pub(crate) fn interleave(object: &Object) -> Result<Vec<VertexRaw>, RenderError>
         .collect())
 }
 
-/// One object: its material index checked, its vertices, indices and uniforms uploaded, its
-/// bind group.
+/// Where an object goes in the scene: its index in the model, whether V runs up, and the
+/// number of materials its index must fit.
+struct ObjectUpload {
+    index: usize,
+    flip_v: bool,
+    material_count: usize,
+}
+
+/// One object: its material index checked, its vertices, indices, uniforms, skin influences
+/// and morph deltas uploaded, its bind group (`empty` bound where it has no skin or targets).
 fn upload_object(
     ctx: &GpuContext,
     object: &Object,
-    id: u32,
-    flip_v: bool,
-    material_count: usize,
+    upload: &ObjectUpload,
+    empty: &wgpu::Buffer,
 ) -> Result<GpuMesh, RenderError> {
     let vertices = interleave(object)?;
-    let material = material_index(object, material_count)?;
+    let material = material_index(object, upload.material_count)?;
+    let deform = Deform::upload(ctx, object)?;
     let model: Mat4 = object.model_transform();
-    let raw = object_to_raw(object, model, id, flip_v);
+    let id = u32::try_from(upload.index).unwrap_or(u32::MAX);
+    let raw = object_to_raw(object, model, id, upload.flip_v);
     // The TBN lines read the vertices as a storage buffer, which may be smaller than the
     // vertex buffer on some adapters: lines are drawn for the vertices that fit.
     let max_storage = ctx.device().limits().max_storage_buffer_binding_size;
@@ -541,13 +639,26 @@ fn upload_object(
         wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
     );
     let index_buffer = buffer(bytemuck::cast_slice(&object.triangles), wgpu::BufferUsages::INDEX);
-    let uniform = buffer(bytemuck::bytes_of(&raw), wgpu::BufferUsages::UNIFORM);
-    let bind_group = object_bind_group(ctx, &object.name, &uniform, &vertex_buffer, tbn_vertices);
+    let uniform = buffer(
+        bytemuck::bytes_of(&raw),
+        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    );
+    let bind_group = object_bind_group(
+        ctx,
+        &object.name,
+        &ObjectBuffers { uniform: &uniform, vertices: &vertex_buffer, deform: &deform, empty },
+        tbn_vertices,
+    );
     let too_many = |what: &str| RenderError::BadObject {
         object: object.name.clone(),
         what: format!("too many {what} for 32-bit indices"),
     };
     Ok(GpuMesh {
+        name: object.name.clone(),
+        object: upload.index,
+        rest: raw,
+        uniform,
+        deform,
         index_count: u32::try_from(object.triangles.len() * 3)
             .map_err(|_| too_many("triangles"))?,
         tbn_vertex_count: u32::try_from(tbn_vertices.min(vertices.len()))
@@ -557,6 +668,7 @@ fn upload_object(
         bind_group,
         material,
         mirrored: raw.det_sign < 0.0,
+        posed: false,
         center: world_center(object, model),
     })
 }
@@ -575,43 +687,88 @@ fn material_index(object: &Object, material_count: usize) -> Result<usize, Rende
     }
 }
 
-/// The object's uniforms under the transform `model`.
+/// The object's uniforms under the transform `model`, unposed.
 fn object_to_raw(object: &Object, model: Mat4, id: u32, flip_v: bool) -> ObjectRaw {
+    let raw = ObjectRaw {
+        model: [[0.0; 4]; 4],
+        normal: [[0.0; 4]; 4],
+        det_sign: 1.0,
+        object_id: id,
+        flip_v: u32::from(flip_v),
+        has_tangents: u32::from(object.tangents.is_some()),
+        skin_sets: 0,
+        morph_targets: 0,
+        vertex_count: u32::try_from(object.positions.len()).unwrap_or(u32::MAX),
+        pad: 0,
+    };
+    transformed_raw(raw, model)
+}
+
+/// `raw` with its model matrix, normal matrix and determinant's sign those of `model`.
+fn transformed_raw(raw: ObjectRaw, model: Mat4) -> ObjectRaw {
     let det = model.determinant();
     ObjectRaw {
         model: model.to_cols_array_2d(),
         normal: model.inverse().transpose().to_cols_array_2d(),
         det_sign: if det < 0.0 { -1.0 } else { 1.0 },
-        object_id: id,
-        flip_v: u32::from(flip_v),
-        has_tangents: u32::from(object.tangents.is_some()),
+        ..raw
     }
 }
 
-/// Group 2 of `mesh.wgsl`: the object's uniforms and its first `tbn_vertices` vertices as
-/// storage, for the TBN lines.
-fn object_bind_group(
+/// The buffers of an object's bind group.
+struct ObjectBuffers<'a> {
+    uniform: &'a wgpu::Buffer,
+    vertices: &'a wgpu::Buffer,
+    deform: &'a Deform,
+    /// Bound where the object has no skin, deltas or pose buffers.
+    empty: &'a wgpu::Buffer,
+}
+
+/// Group 2 of `mesh.wgsl`: the object's uniforms, its first `tbn_vertices` vertices as
+/// storage (for the TBN lines and the posed-vertex readback), its skin influences and morph
+/// deltas, its pose's palette and weights.
+fn object_bind_group<'a>(
     ctx: &GpuContext,
     label: &str,
-    uniform: &wgpu::Buffer,
-    vertices: &wgpu::Buffer,
+    buffers: &ObjectBuffers<'a>,
     tbn_vertices: usize,
 ) -> wgpu::BindGroup {
+    let d = buffers.deform;
+    let empty = buffers.empty;
+    let storage = |binding, buffer: &'a Option<wgpu::Buffer>| wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_ref().unwrap_or(empty).as_entire_binding(),
+    };
     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
         layout: &ctx.layouts.object,
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 0, resource: buffers.uniform.as_entire_binding() },
             wgpu::BindGroupEntry {
                 binding: 1,
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: vertices,
+                    buffer: buffers.vertices,
                     offset: 0,
                     size: wgpu::BufferSize::new(tbn_vertices as u64 * VERTEX_SIZE),
                 }),
             },
+            storage(2, &d.skin),
+            storage(3, &d.morph),
+            storage(4, &d.palette),
+            storage(5, &d.weights),
         ],
     })
+}
+
+/// The posed vertices of one object, read back by [`GpuScene::posed_vertices`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PosedVertices {
+    /// World-space positions.
+    pub positions: Vec<Vec3>,
+    /// World-space unit normals.
+    pub normals: Vec<Vec3>,
+    /// World-space tangents: xyz under the model matrix (not normalised), w the handedness.
+    pub tangents: Vec<glam::Vec4>,
 }
 
 /// The centre of an object's bounds after `model`, the point blended objects are sorted by.

@@ -1,6 +1,7 @@
 //! The WGSL sources as the GPU gets them. WGSL has no include, so what two shaders share is a
-//! file of its own put in front of each: `object.wgsl`, the per-object uniforms that the scene
-//! pass and the shadow pass both read.
+//! file of its own put in front of each: `object.wgsl`, the per-object uniforms, and
+//! `deform.wgsl`, morph targets and skinning, which the scene pass, the shadow pass and the
+//! posed-vertex readback all apply.
 //!
 //! Invariant: every struct a shader reads from a buffer has the layout of the Rust struct that
 //! fills it (`Frame` / `FrameRaw`, `Light` / `LightRaw`, `Material` / `MaterialRaw`,
@@ -10,13 +11,31 @@
 /// The scene pass: meshes, the sky and the TBN lines (`mesh.wgsl`).
 pub(crate) const MESH: Source = Source {
     label: "seamlit mesh.wgsl",
-    text: concat!(include_str!("object.wgsl"), include_str!("mesh.wgsl")),
+    text: concat!(
+        include_str!("object.wgsl"),
+        include_str!("deform.wgsl"),
+        include_str!("mesh.wgsl")
+    ),
 };
 
 /// The shadow-map pass (`shadow.wgsl`).
 pub(crate) const SHADOW: Source = Source {
     label: "seamlit shadow.wgsl",
-    text: concat!(include_str!("object.wgsl"), include_str!("shadow.wgsl")),
+    text: concat!(
+        include_str!("object.wgsl"),
+        include_str!("deform.wgsl"),
+        include_str!("shadow.wgsl")
+    ),
+};
+
+/// The posed-vertex readback's compute pass (`posed.wgsl`).
+pub(crate) const POSED: Source = Source {
+    label: "seamlit posed.wgsl",
+    text: concat!(
+        include_str!("object.wgsl"),
+        include_str!("deform.wgsl"),
+        include_str!("posed.wgsl")
+    ),
 };
 
 /// The environment's prefiltering compute passes (`ibl.wgsl`).
@@ -49,10 +68,11 @@ mod tests {
     use super::*;
     use crate::environment::ParamsRaw;
     use crate::light::LightRaw;
+    use crate::pose::SkinRaw;
     use crate::scene::{MaterialRaw, ObjectRaw};
     use crate::settings::FrameRaw;
 
-    const ALL: [Source; 3] = [MESH, SHADOW, IBL];
+    const ALL: [Source; 4] = [MESH, SHADOW, POSED, IBL];
 
     fn parse(source: Source) -> naga::Module {
         let module = naga::front::wgsl::parse_str(source.text)
@@ -127,8 +147,17 @@ mod tests {
 
     #[test]
     fn gpu_structs_have_the_layout_of_their_rust_structs() {
-        let object =
-            rust_layout!(ObjectRaw { model, normal, det_sign, object_id, flip_v, has_tangents });
+        let object = rust_layout!(ObjectRaw {
+            model,
+            normal,
+            det_sign,
+            object_id,
+            flip_v,
+            has_tangents,
+            skin_sets,
+            morph_targets,
+            vertex_count,
+        });
         let pairs = [
             (
                 MESH,
@@ -189,7 +218,9 @@ mod tests {
                 }),
             ),
             (MESH, "Object", object.clone()),
-            (SHADOW, "Object", object),
+            (SHADOW, "Object", object.clone()),
+            (POSED, "Object", object),
+            (MESH, "SkinVertex", rust_layout!(SkinRaw { joints, weights })),
             (IBL, "Params", rust_layout!(ParamsRaw { size, kind, roughness, base_size, color })),
         ];
         for (source, name, rust) in pairs {

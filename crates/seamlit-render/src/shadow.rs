@@ -27,7 +27,9 @@ pub(crate) struct Shadows {
     /// Every layer's light view-projection, for the lighting shader.
     pub matrices: wgpu::Buffer,
     pub sampler: wgpu::Sampler,
+    /// For objects without a pose (`DEFORM` false), and for posed ones.
     pipeline: wgpu::RenderPipeline,
+    posed_pipeline: wgpu::RenderPipeline,
 }
 
 impl Shadows {
@@ -64,7 +66,8 @@ impl Shadows {
             pass_bind_groups,
             matrices: uniform(device, "seamlit shadow matrices", 64 * u64::from(MAX_SHADOW_MAPS)),
             sampler,
-            pipeline: pipeline(ctx, &pass_layout),
+            pipeline: pipeline(ctx, &pass_layout, false),
+            posed_pipeline: pipeline(ctx, &pass_layout, true),
         }
     }
 
@@ -121,9 +124,9 @@ impl Shadows {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, bind_group, &[]);
             for mesh in &scene.meshes {
+                pass.set_pipeline(if mesh.posed { &self.posed_pipeline } else { &self.pipeline });
                 pass.set_bind_group(1, &mesh.bind_group, &[]);
                 pass.set_vertex_buffer(0, mesh.vertices.slice(..));
                 pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -232,7 +235,12 @@ fn pass_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
-fn pipeline(ctx: &GpuContext, pass_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+/// The depth-only pipeline, skinning and morphing in its vertex stage where `deform` is true.
+fn pipeline(
+    ctx: &GpuContext,
+    pass_layout: &wgpu::BindGroupLayout,
+    deform: bool,
+) -> wgpu::RenderPipeline {
     let device = ctx.device();
     let module = crate::shaders::SHADOW.module(device);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -246,7 +254,7 @@ fn pipeline(ctx: &GpuContext, pass_layout: &wgpu::BindGroupLayout) -> wgpu::Rend
         vertex: wgpu::VertexState {
             module: &module,
             entry_point: Some("vs_shadow"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            compilation_options: crate::pipeline::deform_option(deform),
             buffers: &[Some(VertexRaw::layout())],
         },
         primitive: wgpu::PrimitiveState::default(),

@@ -92,6 +92,14 @@ pub enum Invalid {
         /// What it must be (`a number > 0`).
         expected: &'static str,
     },
+    /// A model's `time` that is not seconds >= 0.
+    #[error("model {model:?}: time = {value}: must be seconds >= 0")]
+    ModelTime {
+        /// The model's name.
+        model: String,
+        /// The value written.
+        value: f32,
+    },
     /// A `[render]` background outside 0..1.
     #[error("[render] background = {value:?}: each of r, g, b must be in 0..1")]
     Background {

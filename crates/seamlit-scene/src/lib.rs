@@ -60,6 +60,6 @@ pub use camera::{Bounds, Camera};
 pub use controller::{FpsController, FpsInput, OrbitController};
 pub use error::{Invalid, SceneError};
 pub use scene::{
-    EnvironmentChoice, MaterialOverride, NormalTexture, RenderOptions, Scene, SceneModel,
-    is_scene_path,
+    AnimationChoice, EnvironmentChoice, MaterialOverride, NormalTexture, RenderOptions, Scene,
+    SceneModel, is_scene_path,
 };

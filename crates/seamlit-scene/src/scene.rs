@@ -12,8 +12,8 @@ use crate::camera::{Bounds, Camera};
 use crate::error::{Invalid, SceneError};
 use crate::lights::three_point_rig;
 use crate::schema::{
-    CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, RenderDef, Scale,
-    SceneFile, ToneMappingKind,
+    AnimationDef, CameraDef, LightDef, LightKind, LightingKind, MaterialDef, ModelDef, RenderDef,
+    Scale, SceneFile, ToneMappingKind,
 };
 
 /// A scene, checked and with its paths resolved.
@@ -55,6 +55,28 @@ pub struct RenderOptions {
     pub exposure: Option<f32>,
     /// `shadows`: directional and spot lights cast shadows.
     pub shadows: Option<bool>,
+    /// `animation`: the animation the model is posed by (a name or an index into the merged
+    /// asset's animations, resolved by the program against what the files have).
+    pub animation: Option<AnimationChoice>,
+    /// `time`: seconds into the animation (>= 0).
+    pub time: Option<f32>,
+}
+
+/// An animation, as a scene file or the command line names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum AnimationChoice {
+    /// The animation at this index.
+    Index(usize),
+    /// The first animation of this name.
+    Name(String),
+}
+
+impl AnimationChoice {
+    /// A number is an index, anything else a name.
+    #[must_use]
+    pub fn parse(text: &str) -> Self {
+        text.parse().map_or_else(|_| Self::Name(text.to_owned()), Self::Index)
+    }
 }
 
 /// Where image-based light comes from: `"none"`, `"builtin"` or a Radiance `.hdr` file.
@@ -93,6 +115,11 @@ pub struct SceneModel {
     pub fix: FixOptions,
     /// Material overrides, applied in order.
     pub materials: Vec<MaterialOverride>,
+    /// `animation`: the animation this model is posed by (an index counts this model's own
+    /// animations), instead of `[render]`'s.
+    pub animation: Option<AnimationChoice>,
+    /// `time`: seconds into it (>= 0), instead of `[render]`'s.
+    pub time: Option<f32>,
 }
 
 /// Changes to one material of a model (or all of them).
@@ -214,6 +241,8 @@ impl Scene {
                 transform: Mat4::IDENTITY,
                 fix: FixOptions::default(),
                 materials: Vec::new(),
+                animation: None,
+                time: None,
             }],
             lights: Vec::new(),
             cameras: Vec::new(),
@@ -365,6 +394,11 @@ impl Ctx<'_> {
                 "a number > 0",
             )?,
             shadows: def.shadows,
+            animation: def.animation.as_ref().map(|a| match a {
+                AnimationDef::Index(i) => AnimationChoice::Index(*i),
+                AnimationDef::Name(n) => AnimationChoice::Name(n.clone()),
+            }),
+            time: check("time", def.time, |v| v.is_finite() && v >= 0.0, "seconds >= 0")?,
         };
         Ok((lighting, options))
     }
@@ -418,7 +452,14 @@ impl Ctx<'_> {
             .into_iter()
             .map(|m| self.material(m, base, &span, &name))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(SceneModel { name, path, transform, fix, materials })
+        if let Some(value) = def.time.filter(|t| !(t.is_finite() && *t >= 0.0)) {
+            return Err(self.invalid(&span, Invalid::ModelTime { model: name, value }));
+        }
+        let animation = def.animation.map(|a| match a {
+            AnimationDef::Index(i) => AnimationChoice::Index(i),
+            AnimationDef::Name(n) => AnimationChoice::Name(n),
+        });
+        Ok(SceneModel { name, path, transform, fix, materials, animation, time: def.time })
     }
 
     fn material(
@@ -766,6 +807,39 @@ fov_deg = 50
         assert_eq!(invalid_at(&e, 3), &Invalid::Background { value: [2.0, 0.0, 0.0] });
         let e = err("[[model]]\npath = \"a.obj\"\n[render]\ntone_mapping = \"reinhard\"\n");
         assert!(parse_error_at(&e, 4, "tone_mapping"), "{e:?}");
+    }
+
+    #[test]
+    fn the_render_table_names_an_animation_and_a_time() {
+        let named =
+            parse("[[model]]\npath = \"a.glb\"\n[render]\nanimation = \"Walk\"\ntime = 0.5\n");
+        let r = named.unwrap().render;
+        assert_eq!(r.animation, Some(AnimationChoice::Name("Walk".into())));
+        assert_eq!(r.time, Some(0.5));
+        let indexed = parse("[[model]]\npath = \"a.glb\"\n[render]\nanimation = 2\n");
+        assert_eq!(indexed.unwrap().render.animation, Some(AnimationChoice::Index(2)));
+        let e = err("[[model]]\npath = \"a.glb\"\n[render]\ntime = -1\n");
+        assert!(
+            matches!(
+                invalid_at(&e, 3),
+                Invalid::RenderValue { key: "time", value: -1.0, expected: "seconds >= 0" }
+            ),
+            "{e}"
+        );
+        let e = err("[[model]]\npath = \"a.glb\"\n[render]\nanimation = [1]\n");
+        assert!(parse_error_at(&e, 4, "animation"), "{e:?}");
+        assert_eq!(AnimationChoice::parse("3"), AnimationChoice::Index(3));
+        assert_eq!(AnimationChoice::parse("Run"), AnimationChoice::Name("Run".into()));
+    }
+
+    #[test]
+    fn a_model_names_its_own_animation_and_time() {
+        let scene = parse("[[model]]\npath = \"a.glb\"\nanimation = \"Run\"\ntime = 1.5\n");
+        let model = &scene.unwrap().models[0];
+        assert_eq!(model.animation, Some(AnimationChoice::Name("Run".into())));
+        assert_eq!(model.time, Some(1.5));
+        let e = err("[[model]]\npath = \"a.glb\"\ntime = -1\n");
+        assert_eq!(invalid_at(&e, 1), &Invalid::ModelTime { model: "a".into(), value: -1.0 });
     }
 
     #[test]

@@ -32,6 +32,16 @@ pub(crate) struct RenderDef {
     pub tone_mapping: Option<ToneMappingKind>,
     pub exposure: Option<f32>,
     pub shadows: Option<bool>,
+    pub animation: Option<AnimationDef>,
+    pub time: Option<f32>,
+}
+
+/// `[render] animation`: a name or an index.
+#[derive(Debug, Deserialize)]
+#[serde(untagged, expecting = "an animation's name or index")]
+pub(crate) enum AnimationDef {
+    Index(usize),
+    Name(String),
 }
 
 /// The tone mappings a scene can ask for.
@@ -71,6 +81,8 @@ pub(crate) struct ModelDef {
     pub fix: Option<FixOptions>,
     #[serde(default)]
     pub material: Vec<MaterialDef>,
+    pub animation: Option<AnimationDef>,
+    pub time: Option<f32>,
 }
 
 /// A uniform or per-axis scale.

@@ -189,9 +189,25 @@ pub struct SceneArgs {
     #[command(flatten)]
     pub view: ViewFlags,
     #[command(flatten)]
+    pub animation: AnimationFlags,
+    #[command(flatten)]
     pub fix: FixFlags,
     #[command(flatten)]
     pub load: LoadFlags,
+}
+
+/// Which animation poses the model, and when; each flag replaces the scene's `[render]`
+/// value. Without an animation, skinned models are drawn skinned in their nodes' rest pose.
+#[derive(Debug, Args, Clone, Default)]
+pub struct AnimationFlags {
+    /// The glTF animation to pose the model by: its name or its index (`seamlit inspect`
+    /// lists them) [default: the scene's `[render] animation`, else none: the rest pose].
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub animation: Option<String>,
+    /// Seconds into the animation (past its last keyframe the last values hold) [default: the
+    /// scene's `[render] time`, else 0].
+    #[arg(long, value_name = "SECONDS", value_parser = parse_non_negative, allow_negative_numbers = true)]
+    pub time: Option<f32>,
 }
 
 /// How normals and tangents are computed; each flag replaces the scene's value.

@@ -193,19 +193,24 @@ impl Gpu {
         Ok(())
     }
 
-    /// Uploads `asset` and renders it through `camera`.
+    /// Uploads `asset`, poses it (`poses`: one per object, see [`crate::animate::poses`])
+    /// and renders it through `camera`.
     ///
     /// # Errors
     /// [`Failure::Processing`] when upload or rendering fails.
     pub(crate) fn render(
         &mut self,
         asset: &Asset,
+        poses: Option<&[seamlit_render::ObjectPose]>,
         camera: &Camera,
         bounds: Bounds,
         settings: &FrameSettings,
         size: (u32, u32),
     ) -> Result<(GpuScene, RgbaImage), Failure> {
-        let scene = GpuScene::upload(&self.ctx, asset).processing()?;
+        let mut scene = GpuScene::upload(&self.ctx, asset).processing()?;
+        if let Some(poses) = poses {
+            scene.set_pose(&self.ctx, poses).processing()?;
+        }
         let aspect = size.0 as f32 / size.1 as f32;
         let view = camera.view(aspect, Some(bounds));
         let image = self

@@ -2,6 +2,7 @@
 //! per-pixel lighting. `seamlit --help` lists the subcommands; docs/design.md section 8 is the
 //! design. Exit status: 0 success, 1 processing failure, 2 bad input or usage.
 
+mod animate;
 mod cli;
 mod cmd;
 mod draw;

@@ -119,7 +119,7 @@ fn every_command_line_in_the_readme_and_the_examples_runs() {
     // The two commands, and the ten lines (the list is checked so that a README edit that
     // breaks the parsing fails here instead of testing nothing).
     assert!(lines.contains(&"seamlit demo".to_owned()), "{lines:?}");
-    assert_eq!(lines.len(), 12, "{lines:?}");
+    assert_eq!(lines.len(), 14, "{lines:?}");
     let examples = example_lines();
     assert!(examples.len() >= 2, "{examples:?}");
 

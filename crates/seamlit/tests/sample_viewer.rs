@@ -6,7 +6,9 @@
 //! under 0.05 without an environment (`NAME.viewer.png`), under 0.1 with sky.hdr as the
 //! environment in both (`NAME.environment.viewer.png`). On failure the picture and the side
 //! by side (Sample Viewer | seamlit | FLIP error) are left in the test's temporary folder,
-//! named in the message.
+//! named in the message. Animated models are compared at three times of an animation
+//! (`NAME@T.viewer.png`: the Sample Viewer at T seconds; seamlit `--animation N --time T`),
+//! punctual light only, under 0.05 too.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -18,6 +20,9 @@ enum Lighting {
     PunctualOnly,
     /// sky.hdr at intensity 1, rotation 0 (the Sample Viewer's default 90): under 0.1.
     Environment,
+    /// As `PunctualOnly`, with no aim: the unposed picture a posed reference is also measured
+    /// against.
+    Loose,
 }
 
 impl Lighting {
@@ -25,13 +30,14 @@ impl Lighting {
         match self {
             Self::PunctualOnly => 0.05,
             Self::Environment => 0.1,
+            Self::Loose => f32::INFINITY,
         }
     }
 
     /// The reference picture's file name.
     fn reference(self, name: &str) -> String {
         match self {
-            Self::PunctualOnly => format!("{name}.viewer.png"),
+            Self::PunctualOnly | Self::Loose => format!("{name}.viewer.png"),
             Self::Environment => format!("{name}.environment.viewer.png"),
         }
     }
@@ -40,7 +46,7 @@ impl Lighting {
     fn flags(self) -> Vec<String> {
         let sky = data().join("sky.hdr").display().to_string();
         let flags: &[&str] = match self {
-            Self::PunctualOnly => &["--environment", "none"],
+            Self::PunctualOnly | Self::Loose => &["--environment", "none"],
             // The Sample Viewer's clear colour, seamlit's default background (39, 39, 44).
             Self::Environment => &[
                 "--environment",
@@ -61,8 +67,15 @@ fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/sample-viewer")
 }
 
-/// `seamlit render NAME.toml` at the reference's size, as compare.sh runs it.
-fn render(name: &str, lighting: Lighting, size: (u32, u32), out: &Path) -> image::RgbImage {
+/// `seamlit render NAME.toml` at the reference's size, as compare.sh runs it, with `pose`'s
+/// flags (`--animation N --time T`, or none).
+fn render(
+    name: &str,
+    lighting: Lighting,
+    pose: &[String],
+    size: (u32, u32),
+    out: &Path,
+) -> image::RgbImage {
     let output = Command::new(env!("CARGO_BIN_EXE_seamlit"))
         .arg("render")
         .arg(data().join(format!("{name}.toml")))
@@ -73,6 +86,7 @@ fn render(name: &str, lighting: Lighting, size: (u32, u32), out: &Path) -> image
         .args(["--exposure", "1", "--ambient", "0"])
         .args(["--shadows", "off"])
         .args(lighting.flags())
+        .args(pose)
         .output()
         .expect("the binary runs");
     assert!(output.status.success(), "{name}: {}", String::from_utf8_lossy(&output.stderr));
@@ -93,16 +107,46 @@ fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, image::Rgb
 }
 
 fn within_aim_of_the_sample_viewer(model: &str, lighting: Lighting) {
-    let reference = image::open(data().join(lighting.reference(model)))
-        .expect("the Sample Viewer's picture")
-        .to_rgb8();
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
-    std::fs::create_dir_all(&dir).unwrap();
     let name = match lighting {
-        Lighting::PunctualOnly => model.to_owned(),
+        Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
         Lighting::Environment => format!("{model}.environment"),
     };
-    let ours = render(model, lighting, reference.dimensions(), &dir.join(format!("{name}.png")));
+    within_aim(model, &name, &lighting.reference(model), lighting, &[]);
+}
+
+/// `model` posed by its animation `animation` at each of `times` (seconds, as the reference
+/// pictures' names write them) against `MODEL@T.viewer.png`, within the aim; and, so that the
+/// comparison sees the pose, closer to it than half the FLIP error of seamlit's unposed
+/// picture (the rest pose) against the same reference.
+fn posed_within_aim_of_the_sample_viewer(model: &str, animation: usize, times: [&str; 3]) {
+    for t in times {
+        let name = format!("{model}@{t}");
+        let reference = format!("{name}.viewer.png");
+        let pose = ["--animation".to_owned(), animation.to_string(), "--time".to_owned(), t.into()];
+        let posed = within_aim(model, &name, &reference, Lighting::PunctualOnly, &pose);
+        let rest = within_aim(model, &format!("{name}.rest"), &reference, Lighting::Loose, &[]);
+        assert!(
+            posed < 0.5 * rest,
+            "{name}: mean FLIP {posed:.4} posed, {rest:.4} unposed: the pose does not bring \
+             seamlit's picture near the Sample Viewer's"
+        );
+    }
+}
+
+/// The mean FLIP error of seamlit's picture against `reference`, asserted under the aim.
+fn within_aim(
+    model: &str,
+    name: &str,
+    reference: &str,
+    lighting: Lighting,
+    pose: &[String],
+) -> f32 {
+    let reference =
+        image::open(data().join(reference)).expect("the Sample Viewer's picture").to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours =
+        render(model, lighting, pose, reference.dimensions(), &dir.join(format!("{name}.png")));
     assert_eq!(ours.dimensions(), reference.dimensions(), "{name}: picture size");
     let (mean, map) = flip(&reference, &ours);
     let aim = lighting.aim();
@@ -119,6 +163,7 @@ fn within_aim_of_the_sample_viewer(model: &str, lighting: Lighting) {
             path.display()
         );
     }
+    mean
 }
 
 #[test]
@@ -149,4 +194,14 @@ fn materials_in_an_environment_match_the_sample_viewer() {
 #[test]
 fn the_khronos_fox_in_an_environment_matches_the_sample_viewer() {
     within_aim_of_the_sample_viewer("Fox", Lighting::Environment);
+}
+
+#[test]
+fn the_khronos_fox_walking_matches_the_sample_viewer_at_three_times() {
+    posed_within_aim_of_the_sample_viewer("Fox", 1, ["0.15", "0.35", "0.55"]);
+}
+
+#[test]
+fn the_simple_morph_triangle_matches_the_sample_viewer_at_three_times() {
+    posed_within_aim_of_the_sample_viewer("SimpleMorph", 0, ["1.5", "2.5", "3.5"]);
 }

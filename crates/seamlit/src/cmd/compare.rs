@@ -27,6 +27,7 @@ pub(crate) fn render_modes(
     loaded: &Loaded,
     flags: &crate::cli::FixFlags,
     view: &crate::cli::ViewFlags,
+    animation: &crate::cli::AnimationFlags,
     input: &std::path::Path,
     gpu: Option<Gpu>,
 ) -> Result<(Vec<RgbaImage>, Gpu), Failure> {
@@ -39,7 +40,10 @@ pub(crate) fn render_modes(
         let asset = loaded.build(&FixOverride { mode: Some(mode), flags: flags.clone() })?;
         let bounds = bounds_of(&asset);
         let camera = pick_camera(&loaded.cameras(bounds, aspect), view.camera.as_deref(), input)?;
-        jobs.push((asset, camera, bounds));
+        let moment = crate::animate::moment(animation, loaded, &asset, input)?;
+        let own = crate::animate::own_moments(animation, loaded, &asset, input)?;
+        let poses = crate::animate::poses(&asset, moment, &own);
+        jobs.push((asset, poses, camera, bounds));
     }
     let mut gpu = match gpu {
         Some(g) => g,
@@ -47,8 +51,8 @@ pub(crate) fn render_modes(
     };
     gpu.set_environment(environment.as_ref())?;
     let mut images = Vec::with_capacity(MODES.len());
-    for (asset, camera, bounds) in &jobs {
-        images.push(gpu.render(asset, camera, *bounds, &settings, size)?.1);
+    for (asset, poses, camera, bounds) in &jobs {
+        images.push(gpu.render(asset, poses.as_deref(), camera, *bounds, &settings, size)?.1);
     }
     Ok((images, gpu))
 }
@@ -110,8 +114,14 @@ const FRAME_COLOUR: [u8; 3] = [255, 210, 60];
 pub(crate) fn run(args: &CompareArgs) -> Result<(), Failure> {
     check_png(&args.output)?;
     let loaded = args.scene.load()?;
-    let (images, _) =
-        render_modes(&loaded, &args.scene.fix, &args.scene.view, &args.scene.input, None)?;
+    let (images, _) = render_modes(
+        &loaded,
+        &args.scene.fix,
+        &args.scene.view,
+        &args.scene.animation,
+        &args.scene.input,
+        None,
+    )?;
     let grid = grid(images);
     save_png(&grid, &args.output).processing()?;
     println!(

@@ -82,7 +82,14 @@ fn write_pictures(args: &DemoArgs, loaded: Loaded) -> Result<(Vec<PathBuf>, Stri
         no_normal_map: false,
         tbn: false,
     };
-    let (images, gpu) = render_modes(&loaded, &demo_flags(), &view, Path::new(TEAPOT_NAME), None)?;
+    let (images, gpu) = render_modes(
+        &loaded,
+        &demo_flags(),
+        &view,
+        &crate::cli::AnimationFlags::default(),
+        Path::new(TEAPOT_NAME),
+        None,
+    )?;
     let mut written: Vec<PathBuf> = Vec::new();
     for (image, (_, name, _)) in images.iter().zip(MODES) {
         let path = args.out.join(format!("{name}.png"));
@@ -117,6 +124,8 @@ fn demo_scene(asset: Asset) -> Loaded {
         transform: Mat4::IDENTITY,
         fix: FixOptions::DEFAULT,
         materials: Vec::new(),
+        animation: None,
+        time: None,
     };
     let scene = Scene {
         source: None,

@@ -18,6 +18,10 @@ pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     let loaded = args.scene.load()?;
     let fix = FixOverride { mode: args.mode.map(Into::into), flags: args.scene.fix.clone() };
     let asset = loaded.build(&fix)?;
+    let (flags, input) = (&args.scene.animation, &args.scene.input);
+    let moment = crate::animate::moment(flags, &loaded, &asset, input)?;
+    let own = crate::animate::own_moments(flags, &loaded, &asset, input)?;
+    let poses = crate::animate::poses(&asset, moment, &own);
     let bounds = bounds_of(&asset);
     let size = args.scene.view.size;
     let aspect = size.0 as f32 / size.1 as f32;
@@ -27,7 +31,7 @@ pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     let environment = Look::new(&args.scene.view, &loaded).read_environment()?;
     let mut gpu = Gpu::open()?;
     gpu.set_environment(environment.as_ref())?;
-    let (scene, image) = gpu.render(&asset, &camera, bounds, &settings, size)?;
+    let (scene, image) = gpu.render(&asset, poses.as_deref(), &camera, bounds, &settings, size)?;
     save_png(&image, &args.output).processing()?;
     println!(
         "wrote {} ({}x{}, camera {:?}, {}, {})",

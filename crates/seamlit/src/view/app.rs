@@ -43,6 +43,8 @@ pub struct Options {
     pub look: Look,
     /// The environment, read before the window opens.
     pub environment: Option<Environment>,
+    /// The animation and time to start at (the panel changes them).
+    pub animation: crate::cli::AnimationFlags,
 }
 
 /// The window's GPU side.
@@ -228,6 +230,12 @@ pub struct Viewer {
     fps: FpsController,
     settings: Settings,
     applied: Settings,
+    /// The model's animations (name, seconds), for the panel.
+    animations: Vec<(String, f32)>,
+    /// The moment the GPU scene is posed at; `None`: not posed since the last upload.
+    posed: Option<crate::animate::Moment>,
+    /// The models posed by their own `animation` key (the panel's animation poses the rest).
+    own_moments: Vec<crate::animate::OwnMoment>,
     held: Held,
     gfx: Option<Gfx>,
     frames: u64,
@@ -263,6 +271,17 @@ impl Viewer {
         let camera_names = cameras.iter().map(|c| c.name.clone()).collect();
         let mut settings = settings;
         settings.camera = index;
+        let moment = crate::animate::moment(&options.animation, &loaded, &asset, &options.input)?;
+        // An animation asked for plays from its start, unless a time was asked for too.
+        let timed = options.animation.time.is_some() || loaded.scene.render.time.is_some();
+        settings.playback = panel::Playback {
+            animation: moment.animation,
+            time: moment.time,
+            playing: moment.animation.is_some() && !timed,
+        };
+        let animations = crate::animate::list(&asset);
+        let own_moments =
+            crate::animate::own_moments(&options.animation, &loaded, &asset, &options.input)?;
         let speed = (bounds.1 - bounds.0).length() * 0.3;
         Ok(Self {
             orbit: OrbitController::looking_at(chosen.position, chosen.target),
@@ -270,6 +289,9 @@ impl Viewer {
             current: chosen,
             applied: settings.clone(),
             settings,
+            animations,
+            posed: None,
+            own_moments,
             options,
             loaded,
             asset,
@@ -349,8 +371,27 @@ impl Viewer {
                     self.status = format!("could not upload the model: {e}");
                 }
                 self.asset = asset;
+                self.posed = None;
             }
             Err(f) => self.status = f.to_string(),
+        }
+    }
+
+    /// Runs the animation's clock and poses the GPU scene where the moment changed.
+    fn pose_if_needed(&mut self, dt: f32) {
+        let playback = &mut self.settings.playback;
+        let duration = playback.animation.and_then(|i| self.animations.get(i)).map_or(0.0, |a| a.1);
+        playback.advance(dt, duration);
+        let moment = crate::animate::Moment { animation: playback.animation, time: playback.time };
+        let Some(gfx) = &mut self.gfx else { return };
+        if self.posed == Some(moment) {
+            return;
+        }
+        self.posed = Some(moment);
+        if let Some(poses) = crate::animate::poses(&self.asset, moment, &self.own_moments)
+            && let Err(e) = gfx.scene.set_pose(&gfx.ctx, &poses)
+        {
+            self.status = format!("could not pose the model: {e}");
         }
     }
 
@@ -432,6 +473,7 @@ impl Viewer {
         };
         self.apply_panel(edited, actions);
         self.refix_if_needed();
+        self.pose_if_needed(dt);
         self.update_camera(dt, pointer_free);
         let Some(size) = self.gfx.as_ref().map(|g| (g.config.width, g.config.height)) else {
             return Ok(None);
@@ -479,6 +521,7 @@ impl Viewer {
         let adapter = gfx.ctx.describe();
         let readout = Readout {
             cameras: &self.camera_names,
+            animations: &self.animations,
             frame_ms: self.frame_ms,
             fix_ms: self.fix_ms,
             objects: self.asset.model.objects.len(),
@@ -671,6 +714,7 @@ impl ApplicationHandler for Viewer {
             Ok(gfx) => {
                 gfx.window.request_redraw();
                 self.gfx = Some(gfx);
+                self.posed = None;
                 self.last_frame = Instant::now();
             }
             Err(f) => self.fail(event_loop, f),

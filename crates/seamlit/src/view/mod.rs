@@ -49,6 +49,7 @@ pub(crate) fn run(args: &ViewArgs) -> Result<(), Failure> {
         lights: loaded.lights(),
         camera: 0,
         controller: panel::Controller::Orbit,
+        playback: panel::Playback::default(),
     };
     let options = app::Options {
         input: args.scene.input.clone(),
@@ -58,6 +59,7 @@ pub(crate) fn run(args: &ViewArgs) -> Result<(), Failure> {
         fix: FixOverride { mode: None, flags: args.scene.fix.clone() },
         look,
         environment,
+        animation: args.scene.animation.clone(),
     };
     let mut viewer =
         app::Viewer::new(loaded, settings, args.scene.view.camera.as_deref(), options)?;

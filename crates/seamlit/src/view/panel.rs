@@ -1,5 +1,5 @@
 //! The viewer's egui panel: processing options (which re-run the fix), shading switches,
-//! lights, cameras, and the frame time.
+//! the animation (which one, play, pause, scrub), lights, cameras, and the frame time.
 
 use egui::{ComboBox, DragValue, Slider, Ui};
 use glam::Vec3;
@@ -13,6 +13,27 @@ pub enum Controller {
     Orbit,
     /// WASD to move, right-drag to look, Shift to go faster.
     Fps,
+}
+
+/// The animation the viewer poses the model by.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Playback {
+    /// An index into the model's animations; `None`: the rest pose.
+    pub animation: Option<usize>,
+    /// Seconds into it.
+    pub time: f32,
+    /// Whether the time runs (looping at the animation's end).
+    pub playing: bool,
+}
+
+impl Playback {
+    /// Runs the clock `dt` seconds on while playing, looping at `duration`.
+    pub(crate) fn advance(&mut self, dt: f32, duration: f32) {
+        if !self.playing || self.animation.is_none() {
+            return;
+        }
+        self.time = if duration > 0.0 { (self.time + dt) % duration } else { 0.0 };
+    }
 }
 
 /// Everything the panel edits.
@@ -44,6 +65,8 @@ pub struct Settings {
     pub camera: usize,
     /// Which controller moves it.
     pub controller: Controller,
+    /// The animation, its time, and whether it plays.
+    pub playback: Playback,
 }
 
 impl Settings {
@@ -58,6 +81,8 @@ impl Settings {
 pub struct Readout<'a> {
     /// Camera names.
     pub cameras: &'a [String],
+    /// The model's animations: name and length in seconds.
+    pub animations: &'a [(String, f32)],
     /// Smoothed frame time, milliseconds.
     pub frame_ms: f32,
     /// Time of the last fix, milliseconds.
@@ -90,6 +115,10 @@ pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     ui.separator();
     shading(ui, s);
     ui.separator();
+    if !r.animations.is_empty() {
+        animation(ui, &mut s.playback, r.animations);
+        ui.separator();
+    }
     actions.reset_camera = camera(ui, s, r.cameras);
     ui.separator();
     lights(ui, &mut s.lights);
@@ -171,6 +200,33 @@ fn shading(ui: &mut Ui, s: &mut Settings) {
         }
     });
     ui.checkbox(&mut s.show_tbn, "TBN lines");
+}
+
+/// Which animation (or the rest pose), play and pause, back to the start, and the time.
+fn animation(ui: &mut Ui, p: &mut Playback, animations: &[(String, f32)]) {
+    ui.strong("Animation");
+    let name = |i: Option<usize>| {
+        i.and_then(|i| animations.get(i)).map_or("rest pose", |(n, _)| n.as_str()).to_owned()
+    };
+    ComboBox::from_label("animation").selected_text(name(p.animation)).show_ui(ui, |ui| {
+        ui.selectable_value(&mut p.animation, None, "rest pose");
+        for (i, (n, _)) in animations.iter().enumerate() {
+            ui.selectable_value(&mut p.animation, Some(i), n);
+        }
+    });
+    let duration = p.animation.and_then(|i| animations.get(i)).map_or(0.0, |a| a.1);
+    p.time = p.time.min(duration);
+    ui.add_enabled_ui(p.animation.is_some(), |ui| {
+        ui.horizontal(|ui| {
+            if ui.button(if p.playing { "pause" } else { "play" }).clicked() {
+                p.playing = !p.playing;
+            }
+            if ui.button("start").clicked() {
+                p.time = 0.0;
+            }
+        });
+        ui.add(Slider::new(&mut p.time, 0.0..=duration).text("time (s)"));
+    });
 }
 
 /// The camera among `cameras`, the controller and its keys; returns whether "reset" was
@@ -296,4 +352,24 @@ fn edit_light(ui: &mut Ui, light: &mut Light) {
         }
         ui.add(Slider::new(intensity, 0.0..=3.0).text("intensity"));
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Playback;
+
+    #[test]
+    fn playback_runs_only_while_playing_and_loops_at_the_end() {
+        let mut p = Playback { animation: Some(0), time: 0.5, playing: true };
+        p.advance(0.25, 1.0);
+        assert!((p.time - 0.75).abs() < 1e-6, "{}", p.time);
+        p.advance(0.5, 1.0);
+        assert!((p.time - 0.25).abs() < 1e-6, "loops: {}", p.time);
+        p.playing = false;
+        p.advance(0.5, 1.0);
+        assert!((p.time - 0.25).abs() < 1e-6, "paused: {}", p.time);
+        let mut rest = Playback { animation: None, time: 0.0, playing: true };
+        rest.advance(0.5, 1.0);
+        assert_eq!(rest.time, 0.0, "the rest pose has no clock");
+    }
 }
