@@ -3,7 +3,7 @@
 //! the CPU.
 //!
 //! The maths is glTF 2.0's ("Skins", "Morph Targets"), and the renderer's vertex shader does
-//! the same (seamlit-render's `mesh.wgsl`; the two are tested against each other):
+//! the same (seamlit-render's `deform.wgsl`; the two are tested against each other):
 //!
 //! 1. morph: `v = base + sum_k w_k * delta_k` (positions, normals, tangents);
 //! 2. skin: `M = sum over sets and lanes of weight * global(joint) * inverse_bind(joint)`

@@ -97,9 +97,21 @@ impl Loaded {
         let mut assets = Vec::with_capacity(self.parts.len());
         for (model, asset) in &self.parts {
             let options = fix.apply(model.fix, asset);
-            let fixed = seamlit_mesh::fix(&asset.model, &options)
-                .map_err(|e| Failure::input(format!("{}: {e}", model.path.display())))?;
-            assets.push(Asset { model: fixed, ..asset.clone() });
+            let bad = |e: seamlit_mesh::MeshError| {
+                Failure::input(format!("{}: {e}", model.path.display()))
+            };
+            let mut fixed = Asset {
+                model: seamlit_mesh::fix(&asset.model, &options).map_err(bad)?,
+                ..asset.clone()
+            };
+            // As `seamlit fix` does by default (--skin-seams match): the copies of a shared
+            // position follow the same joints, so the seam stays closed when posed.
+            if asset.model.objects.iter().any(|o| !o.skin.is_empty()) {
+                let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance)
+                    .map_err(bad)?;
+                seamlit_io::match_skin_seams(&mut fixed, &copies);
+            }
+            assets.push(fixed);
         }
         Ok(self.scene.assemble(assets))
     }
@@ -160,4 +172,27 @@ pub(crate) fn pick_camera(
     Scene::find_camera(cameras, name)
         .cloned()
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::character;
+
+    /// What `render`, `compare` and `view` draw is fixed as `seamlit fix` fixes: the neck's
+    /// copies get one set of skin influences, so the seam stays closed when posed.
+    #[test]
+    fn what_is_drawn_has_its_skin_seams_matched() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("character.gltf");
+        character::write(&path);
+        let loaded = load(&path, &LoadOptions::DEFAULT).unwrap();
+        let skin_seams = |asset: &Asset| {
+            let report = seamlit_mesh::report(&asset.model, &Default::default()).unwrap();
+            report.skin_seams.positions
+        };
+        assert_eq!(skin_seams(&loaded.parts[0].1), 12, "the neck's copies differ as loaded");
+        let built = loaded.build(&FixOverride::default()).unwrap();
+        assert_eq!(skin_seams(&built), 0, "and agree in what is drawn");
+    }
 }
