@@ -26,7 +26,8 @@ WEIGHTINGS = [
     ("uniform", "Uniform", "Every face once (the paper's plain average)"),
 ]
 NORMALS = [
-    ("auto", "Auto", "Keep the objects' normals; repair them only where objects meet"),
+    ("auto", "Auto", "Keep the objects' normals; repair only the seams that smoothing each object alone made (hard edges and custom normals stay)"),
+    ("smooth-shared", "Smooth shared", "As Auto, but average every shared position within the crease, hard edges between objects included"),
     ("keep", "Keep", "Keep every normal the objects have, seams included"),
     ("recompute", "Recompute", "Compute every normal from the faces"),
 ]

@@ -32,58 +32,35 @@ pub struct SeamMotion {
 }
 
 /// Measures the seams of `asset` in animation `animation` at `samples` times (at least 2:
-/// 0 and the duration) (`copies`: [`seamlit_mesh::shared_copies`] of the model;
-/// `crease_angle_deg`: pairs of copies whose normals are further apart than this in the
-/// bind pose meet at a hard edge and are not compared).
+/// 0 and the duration) (`copies`: [`seamlit_mesh::shared_copies`] of the model; `seams`: per
+/// copy, whether it is a side of a seam, [`seamlit_mesh::seam_copies`]; `crease_angle_deg`:
+/// pairs of copies whose normals are further apart than this in the bind pose meet at a hard
+/// edge and are not compared). Gaps are measured between all copies, normals only between
+/// seam sides of different objects: an authored hard edge is no seam, whatever its angle.
 ///
 /// # Panics
 ///
-/// If `copies` names an object or vertex the model lacks.
+/// If `copies` names an object or vertex the model lacks, or `seams` is not shaped as
+/// `copies`.
 #[must_use]
 pub fn seam_motion(
     asset: &Asset,
     animation: usize,
     samples: usize,
     copies: &[Vec<(u32, u32)>],
+    seams: &[Vec<bool>],
     crease_angle_deg: f32,
 ) -> SeamMotion {
     let samples = samples.max(2);
     let duration = asset.animations.get(animation).map_or(0.0, crate::Animation::duration);
     let diagonal = bounds_diagonal(asset);
-    // The pairs whose normals count: different objects, normals within the crease (bind pose).
-    let cos_crease = crease_angle_deg.to_radians().cos();
     let objects: Vec<usize> = {
         let mut o: Vec<usize> = copies.iter().flatten().map(|&(o, _)| o as usize).collect();
         o.sort_unstable();
         o.dedup();
         o
     };
-    let bind_normal = |o: usize, v: usize| -> Option<Vec3> {
-        let object = &asset.model.objects[o];
-        let n = *object.normals.as_ref()?.get(v)?;
-        let linear = glam::Mat3::from_mat4(object.model_transform());
-        Some((crate::pose::normal_matrix(linear) * n).normalize_or_zero())
-    };
-    let smooth_pairs: Vec<Vec<(usize, usize)>> = copies
-        .iter()
-        .map(|group| {
-            let mut pairs = Vec::new();
-            for (i, &(oa, va)) in group.iter().enumerate() {
-                for (j, &(ob, vb)) in group.iter().enumerate().skip(i + 1) {
-                    let (Some(a), Some(b)) = (
-                        bind_normal(oa as usize, va as usize),
-                        bind_normal(ob as usize, vb as usize),
-                    ) else {
-                        continue;
-                    };
-                    if oa != ob && a.dot(b) >= cos_crease {
-                        pairs.push((i, j));
-                    }
-                }
-            }
-            pairs
-        })
-        .collect();
+    let smooth_pairs = smooth_pairs(asset, copies, seams, crease_angle_deg);
     let mut out = SeamMotion {
         animation,
         name: asset.animations.get(animation).map(|a| a.name.clone()).unwrap_or_default(),
@@ -131,6 +108,41 @@ pub fn seam_motion(
     out.max_normal_angle_deg = angle;
     out.max_gap_fraction = if diagonal > 0.0 { out.max_gap / diagonal } else { 0.0 };
     out
+}
+
+/// Per group of `copies`, the pairs of copies whose normals are compared: seam sides (see
+/// `seams`) of different objects whose normals lie within the crease angle in the bind pose.
+fn smooth_pairs(
+    asset: &Asset,
+    copies: &[Vec<(u32, u32)>],
+    seams: &[Vec<bool>],
+    crease_angle_deg: f32,
+) -> Vec<Vec<(usize, usize)>> {
+    let cos_crease = crease_angle_deg.to_radians().cos();
+    let bind_normal = |(o, v): (u32, u32)| -> Option<Vec3> {
+        let object = &asset.model.objects[o as usize];
+        let n = *object.normals.as_ref()?.get(v as usize)?;
+        let linear = glam::Mat3::from_mat4(object.model_transform());
+        Some((crate::pose::normal_matrix(linear) * n).normalize_or_zero())
+    };
+    copies
+        .iter()
+        .zip(seams)
+        .map(|(group, seam)| {
+            let mut pairs = Vec::new();
+            for i in (0..group.len()).filter(|&i| seam[i]) {
+                for j in (i + 1..group.len()).filter(|&j| seam[j] && group[i].0 != group[j].0) {
+                    let (Some(a), Some(b)) = (bind_normal(group[i]), bind_normal(group[j])) else {
+                        continue;
+                    };
+                    if a.dot(b) >= cos_crease {
+                        pairs.push((i, j));
+                    }
+                }
+            }
+            pairs
+        })
+        .collect()
 }
 
 /// The diagonal of the model's bounds in model space (bind pose).

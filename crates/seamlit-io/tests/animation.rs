@@ -145,7 +145,9 @@ fn skins_and_animations_are_read_with_their_nodes() {
 fn motion(asset: &Asset) -> (f32, Option<f32>) {
     let copies = seamlit_mesh::shared_copies(&asset.model, WeldTolerance::default()).unwrap();
     assert_eq!(copies.len(), common::character::SEGMENTS, "the neck ring is shared");
-    let m = seam_motion(asset, 0, 21, &copies, 30.0);
+    // Every copy counts as a seam side (the character's normals are computed, or smooth).
+    let seams: Vec<Vec<bool>> = copies.iter().map(|g| vec![true; g.len()]).collect();
+    let m = seam_motion(asset, 0, 21, &copies, &seams, 30.0);
     (m.max_gap_fraction, m.max_normal_angle_deg)
 }
 
@@ -178,4 +180,44 @@ fn matched_skins_keep_the_neck_closed_in_every_pose() {
     let (gap, angle) = motion(&back);
     assert!(gap < 1e-6, "the gap read back: {gap}");
     assert!(angle.unwrap() < 0.01, "the normal angle read back: {angle:?}");
+}
+
+/// The seams in motion compare the normals of seam sides only (`seamlit_mesh::seam_copies`):
+/// copies that carry their object's smooth normal, or whose normals `fix` computes. Copies
+/// whose authored normals `fix` keeps (flat or custom) are no seam, whatever their angle.
+#[test]
+fn seams_in_motion_compare_seam_sides_only() {
+    let (_dir, mut asset) = character();
+    let options = FixOptions::default();
+    let copies = seamlit_mesh::shared_copies(&asset.model, WeldTolerance::default()).unwrap();
+    let angle = |asset: &Asset, seams: &[Vec<bool>]| {
+        seam_motion(asset, 0, 21, &copies, seams, 30.0).max_normal_angle_deg
+    };
+    // Without normals, every copy is a seam side (fix computes them).
+    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, &options).unwrap();
+    assert!(seams.iter().flatten().all(|&s| s));
+
+    // Smoothed part by part (object mode): the neck ring is a seam, and its normals part.
+    let recompute = options.with_normals(seamlit_mesh::NormalPolicy::Recompute);
+    seamlit_mesh::fix_in_place(&mut asset.model, &recompute.with_mode(seamlit_mesh::Mode::Object))
+        .unwrap();
+    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, &options).unwrap();
+    assert!(seams.iter().flatten().all(|&s| s), "smooth per object: {seams:?}");
+    assert!(angle(&asset, &seams).unwrap() > 1.0);
+
+    // Custom normals (each object's leaning its own way, 20 degrees apart): kept, not measured.
+    for (o, lean) in asset.model.objects.iter_mut().zip([0.2_f32, -0.15]) {
+        let n = Vec3::new(1.0, lean, 0.3).normalize();
+        o.normals = Some(vec![n; o.positions.len()]);
+    }
+    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, &options).unwrap();
+    assert!(seams.iter().flatten().all(|&s| !s), "custom: {seams:?}");
+    assert_eq!(angle(&asset, &seams), None);
+    // Measured as every copy (the rule of before), they were a 20-degree "seam".
+    let all: Vec<Vec<bool>> = copies.iter().map(|g| vec![true; g.len()]).collect();
+    assert!(angle(&asset, &all).unwrap() > 15.0);
+    // `smooth-shared` averages them: then every copy is a seam side.
+    let shared = options.with_normals(seamlit_mesh::NormalPolicy::SmoothShared);
+    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, &shared).unwrap();
+    assert!(seams.iter().flatten().all(|&s| s));
 }

@@ -8,6 +8,38 @@ use serde::{Deserialize, Serialize};
 pub struct Changes {
     /// One entry per object.
     pub objects: Vec<ObjectChanges>,
+    /// What the seam-only repair decided at the positions that objects with kept normals
+    /// share (all zero where it did not run).
+    #[serde(default)]
+    pub shared: SharedNormals,
+}
+
+/// What the seam-only repair of [`crate::NormalPolicy::Auto`] decided at the positions that
+/// two or more objects share (after the weld), counted once per position. Each position is in
+/// exactly one class, the first that applies, in this order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SharedNormals {
+    /// Positions where at least one group of copies from two or more objects, each carrying
+    /// its own object's smooth normal (per-object smoothing), was given one normal: the
+    /// seams the paper is about.
+    pub repaired: usize,
+    /// Positions kept as authored hard edges: a copy carries its own face's normal (flat
+    /// shading), or smooth copies meet at more than the crease angle.
+    pub hard_edges: usize,
+    /// Positions kept because a copy carries a normal that is neither flat nor its object's
+    /// smooth normal (custom, weighted or edited normals: the artist's).
+    pub custom: usize,
+    /// Positions whose copies already carry the same normal (within rounding: 0.05 degrees):
+    /// nothing to do.
+    pub agreeing: usize,
+}
+
+impl SharedNormals {
+    /// All positions visited.
+    #[must_use]
+    pub fn positions(&self) -> usize {
+        self.repaired + self.hard_edges + self.custom + self.agreeing
+    }
 }
 
 /// What a fix changed in one object.

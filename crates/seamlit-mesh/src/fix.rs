@@ -18,7 +18,8 @@ use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
 use crate::weld::{self, diagonal, roots_for_mode};
 use crate::{
-    Changes, FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ObjectChanges, TangentMethod,
+    Changes, FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ObjectChanges,
+    SharedNormals, TangentMethod,
 };
 
 /// Computes seam-free normals and tangents for every object of `model`.
@@ -139,7 +140,9 @@ fn run(
             && model.objects[o].uvs.is_some()
     };
     let tangents_needed: Vec<bool> = (0..model.objects.len()).map(wants_tangents).collect();
-    let repairs = options.normals == NormalPolicy::Auto && options.mode == Mode::Model;
+    let repairs = matches!(options.normals, NormalPolicy::Auto | NormalPolicy::SmoothShared)
+        && options.mode == Mode::Model;
+    let mut shared = SharedNormals::default();
     // 3. The weld, where the repair or the tangents need it.
     let roots =
         (options.mode != Mode::Flat && (repairs || tangents_needed.contains(&true))).then(|| {
@@ -150,14 +153,18 @@ fn run(
         });
     // 4. The seam-only repair.
     if repairs && let Some(roots) = &roots {
-        let repaired = repair::repair_seams(model, &flat, roots, options);
+        let (repaired, decided) =
+            repair::repair_seams(model, &flat, roots, options, &authored.normals);
         for (o, n) in repaired.into_iter().enumerate() {
             changed[o] += n;
         }
+        shared = decided;
     }
     // 5. Tangents where kept normals came without them.
     repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
-    Ok((tally(model, &vertices, &changed, authored), None))
+    let mut changes = tally(model, &vertices, &changed, authored);
+    changes.shared = shared;
+    Ok((changes, None))
 }
 
 /// The [`Changes`]: `vertices` and `changed` per object, before the fix.
@@ -175,7 +182,7 @@ fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Author
             vertices_split: object.vertex_count() - vertices[o],
         })
         .collect();
-    Changes { objects }
+    Changes { objects, shared: SharedNormals::default() }
 }
 
 /// Computes the normals and tangents of every object not marked in `skip` (objects marked

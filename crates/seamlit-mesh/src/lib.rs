@@ -44,6 +44,7 @@ mod fix;
 mod frame;
 mod group;
 mod index;
+mod judge;
 mod mikk;
 mod model;
 mod morph;
@@ -58,11 +59,12 @@ mod smooth;
 mod validate;
 mod weld;
 
-pub use changes::{Changes, ObjectChanges};
+pub use changes::{Changes, ObjectChanges, SharedNormals};
 pub use error::MeshError;
 pub use fix::{fix, fix_in_place};
 pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
+pub use repair::seam_copies;
 pub use report::{CrossObject, ReportOptions, SeamReport, report};
 pub use skin::{SkinMatch, SkinSeamExample, SkinSeams, match_skin_seams, shared_copies};
 

@@ -123,12 +123,21 @@ pub enum TangentMethod {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum NormalPolicy {
-    /// Objects that carry normals keep them, except where objects meet ([`Mode::Model`]
-    /// only): at a position that two or more objects share, the vertices whose normals lie
-    /// within the crease angle of each other get one normal, their weighted average, the same
-    /// on every side (the seam-only repair). Every other normal stays bit for bit.
+    /// Objects that carry normals keep them, except at the seams that smoothing each object
+    /// on its own made ([`Mode::Model`] only). At a position that two or more objects share,
+    /// each copy's normal is judged from its own object's faces there: its face's normal
+    /// (flat shading: an authored hard edge), its object's smooth normal (per-object
+    /// smoothing: the seam), or neither (custom). Only the copies that carry their object's
+    /// smooth normal and lie within the crease angle of each other get one normal, their
+    /// weighted average, the same on every side (the seam-only repair). Every other normal
+    /// stays bit for bit. [`crate::Changes::shared`] counts what was decided.
     #[default]
     Auto,
+    /// As [`Self::Auto`], but at a position that objects share every copy counts as smooth,
+    /// whatever its object's faces say: all copies whose normals lie within the crease angle
+    /// of each other are averaged, authored hard edges between objects included (seamlit's
+    /// rule before it told hard edges from seams).
+    SmoothShared,
     /// Objects that carry normals keep them bit for bit everywhere, seams included; only
     /// missing normals are computed.
     Keep,

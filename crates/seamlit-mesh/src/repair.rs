@@ -5,20 +5,24 @@
 //! # The seam-only repair
 //!
 //! Only positions that vertices of two or more objects share (after the weld) are visited.
-//! At each, the vertices there are grouped: two vertices join when their normals lie within
-//! the crease angle of each other (connected components, as [`crate::group`] groups faces).
-//! A group whose vertices all belong to one object, or whose normals are already bit-equal in
-//! model space, is left alone; every other group gets one normal, the weighted average of its
-//! corners' normals (each corner weighted by [`crate::Weighting`], in corner order), the same
-//! model-space value for every vertex of the group. A kept normal is one value per vertex, so
-//! all corners of a vertex fall into one group and the repair never splits a vertex. Where a
-//! normal changes, the vertex's tangent (if it has one) is made orthogonal to the new normal,
-//! its handedness kept.
+//! At each, every vertex (a *copy*) is first judged from its own object's faces there
+//! ([`crate::judge`]): its face's normal (an authored hard edge), its object's smooth normal
+//! (a seam per-object smoothing made), or neither (custom); copies of objects whose normals
+//! were computed are smooth. Then the smooth copies are grouped: two join when their normals
+//! lie within the crease angle of each other (connected components, as [`crate::group`]
+//! groups faces). A group whose vertices all belong to one object, or whose normals are
+//! already bit-equal in model space, is left alone; every other group gets one normal, the
+//! weighted average of its corners' normals (each corner weighted by [`crate::Weighting`], in
+//! corner order), the same model-space value for every vertex of the group. A kept normal is
+//! one value per vertex, so all corners of a vertex fall into one group and the repair never
+//! splits a vertex. Where a normal changes, the vertex's tangent (if it has one) is made
+//! orthogonal to the new normal, its handedness kept. [`NormalPolicy::SmoothShared`] skips
+//! the judgement: every copy is smooth (the rule before it existed).
 //!
-//! **Invariant:** every vertex not at a shared position, and every vertex whose group lies
-//! within one object, keeps its normal and tangent bit for bit
-//! (`tests/normals.rs`: `auto_repairs_the_seam_and_nothing_else`,
-//! `one_object_with_a_hard_edge_is_left_alone`).
+//! **Invariant:** every vertex not at a shared position, every vertex whose group lies
+//! within one object, and every flat or custom copy keeps its normal and tangent bit for bit
+//! (`tests/normals.rs`: `the_repair_joins_the_seam_and_nothing_else`,
+//! `one_object_with_a_hard_edge_is_left_alone`; `tests/hard_edges.rs`).
 //!
 //! Cost: the corners at shared positions are gathered and sorted ([`Flat::corners_at`]); each
 //! position is settled by one task, its vertices compared pairwise. Nothing is computed for
@@ -31,11 +35,14 @@ use crate::face::face;
 use crate::frame::{Linear, orthogonalise};
 use crate::group::{Frame, Rules, weight};
 use crate::index::{index, low_half};
+use crate::judge::{self, Copy, Corner, Kind, Shading};
 use crate::out::Out;
 use crate::smooth::{self, face_frame};
 use crate::validate::Flat;
 use crate::weld::union;
-use crate::{FixOptions, Mode, Model, NormalPolicy, Object, TangentMethod, Weighting};
+use crate::{
+    FixOptions, Mode, Model, NormalPolicy, Object, SharedNormals, TangentMethod, Weighting,
+};
 
 /// Per object: whether its authored normals and tangents are kept.
 pub(crate) struct Authored {
@@ -91,31 +98,116 @@ struct Update {
     normal: Vec3,
 }
 
-/// The seam-only repair (see the module docs): gives the vertices at every position shared by
-/// two or more objects one normal per group. `flat` holds the model's positions snapped to
-/// their `roots` (welded across the whole model); every object has normals. Returns, per
-/// object, how many vertices' normals changed.
+/// The seam-only repair (see the module docs): at every position shared by two or more
+/// objects, gives the copies that carry their object's smooth normal one normal per group.
+/// `flat` holds the model's positions snapped to their `roots` (welded across the whole
+/// model); every object has normals, authored where `kept` says so (the others' were
+/// computed across the objects: they count as smooth). Returns, per object, how many
+/// vertices' normals changed, and what was decided at the shared positions.
 pub(crate) fn repair_seams(
     model: &mut Model,
     flat: &Flat,
     roots: &[u32],
     options: &FixOptions,
-) -> Vec<usize> {
-    let shared = flat.shared_positions(roots);
-    let entries = flat.corners_at(model, roots, |r| shared[r as usize]);
-    drop(shared);
-    let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
-    let rules = Rules::new(options, false);
+    kept: &[bool],
+) -> (Vec<usize>, SharedNormals) {
     let view: &Model = model;
-    let updates: Vec<Update> = entries
-        .par_chunk_by(|a, b| a >> 32 == b >> 32)
-        .fold(Vec::new, |mut out, run| {
-            repair_position(view, flat, &linear, run, rules.weighting, rules.crease_cos, &mut out);
-            out
+    let judge = options.normals != NormalPolicy::SmoothShared;
+    let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+    let judged: Vec<bool> = kept.iter().map(|&k| k && judge).collect();
+    let positions = judged_positions(view, flat, roots, &linear, options.weighting, &judged);
+    let shading = shading(view, flat, &positions);
+    let rules = Rules::new(options, false);
+    let (updates, shared) = positions
+        .par_iter()
+        .fold(
+            || (Vec::new(), SharedNormals::default()),
+            |(mut out, mut shared), position| {
+                let class = repair_position(position, &shading, rules.crease_cos, &mut out);
+                *class.count(&mut shared) += 1;
+                (out, shared)
+            },
+        )
+        .reduce(|| (Vec::new(), SharedNormals::default()), merge);
+    (apply(model, &linear, &updates), shared)
+}
+
+/// Two partial results of [`repair_seams`] as one.
+fn merge(
+    (mut a, sa): (Vec<Update>, SharedNormals),
+    (b, sb): (Vec<Update>, SharedNormals),
+) -> (Vec<Update>, SharedNormals) {
+    a.extend(b);
+    let shared = SharedNormals {
+        repaired: sa.repaired + sb.repaired,
+        hard_edges: sa.hard_edges + sb.hard_edges,
+        custom: sa.custom + sb.custom,
+        agreeing: sa.agreeing + sb.agreeing,
+    };
+    (a, shared)
+}
+
+/// Which copies of the positions that objects share are sides of a seam, as the seam-only
+/// repair of `options` judges them: per group of `copies` ([`crate::shared_copies`]), per
+/// copy, whether it carries its object's smooth normal (or will: its object's normals are
+/// computed). Copies that carry flat or custom normals, which the repair keeps, are not.
+/// Under [`NormalPolicy::SmoothShared`] and [`NormalPolicy::Recompute`] every copy is.
+///
+/// # Errors
+///
+/// [`MeshError`] where the model is not valid (as [`crate::fix`]).
+pub fn seam_copies(
+    model: &Model,
+    copies: &[Vec<(u32, u32)>],
+    options: &FixOptions,
+) -> Result<Vec<Vec<bool>>, crate::MeshError> {
+    let authored = Authored::of(model, options);
+    let judge = !matches!(options.normals, NormalPolicy::SmoothShared | NormalPolicy::Recompute);
+    let mut sides: Vec<((u32, u32), bool)> = Vec::new();
+    if judge && authored.any() {
+        let mut flat = crate::validate::flatten(model)?;
+        let tolerance = options.weld_tolerance.absolute(crate::weld::diagonal(&flat));
+        let roots = crate::weld::roots(&flat.positions, tolerance);
+        crate::weld::snap_to_roots(&mut flat.positions, &roots);
+        let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+        let positions =
+            judged_positions(model, &flat, &roots, &linear, options.weighting, &authored.normals);
+        let shading = shading(model, &flat, &positions);
+        for p in &positions {
+            for (v, kind) in p.vertices.iter().zip(resolve(p, &shading)) {
+                let object = u32::try_from(v.object).expect("validated: fits u32");
+                sides.push(((object, v.vertex), kind == Kind::Smooth));
+            }
+        }
+        sides.sort_unstable_by_key(|&(copy, _)| copy);
+    }
+    let side = |&(o, v): &(u32, u32)| {
+        !judge
+            || !authored.normals[o as usize]
+            || sides.binary_search_by_key(&(o, v), |&(copy, _)| copy).is_ok_and(|i| sides[i].1)
+    };
+    Ok(copies.iter().map(|group| group.iter().map(side).collect()).collect())
+}
+
+/// The kinds of a position's vertices with the coplanar ones decided by their object's
+/// shading next to them (`shading`, per object; [`judge::Shading::smooth_at`]).
+fn resolve(position: &Position, shading: &[Option<Shading>]) -> Vec<Kind> {
+    let Position { vertices, fans, kinds, .. } = position;
+    (0..vertices.len())
+        .map(|a| match kinds[a] {
+            Kind::Coplanar => {
+                let Some(shading) = &shading[vertices[a].object] else { return Kind::Smooth };
+                let own = fans.iter().filter(|(copy, ..)| *copy == a);
+                let fan = own.flat_map(|(_, t, _)| t.iter().copied());
+                if shading.smooth_at(fan.filter(|&v| v != vertices[a].vertex)) {
+                    Kind::Smooth
+                } else {
+                    Kind::Flat
+                }
+            }
+            kind => kind,
         })
-        .flatten_iter()
-        .collect();
-    apply(model, &linear, &updates)
+        .collect()
 }
 
 /// A vertex at one position, as the repair sees it.
@@ -128,20 +220,65 @@ struct SeamVertex {
     unit: Vec3,
 }
 
-/// Groups the vertices at one position (`run`: its corners, `root << 32 | corner`, ascending)
-/// and pushes an [`Update`] for every vertex of every group that needs one normal.
-fn repair_position(
+/// One shared position, judged: its vertices, each corner's vertex and weight, and what each
+/// vertex's normal is.
+struct Position {
+    vertices: Vec<SeamVertex>,
+    corners: Vec<(usize, f32)>,
+    /// Per corner: its vertex, its triangle's vertices (in its object) and unit normal.
+    fans: Vec<(usize, [u32; 3], Vec3)>,
+    kinds: Vec<Kind>,
+}
+
+/// Every position that two or more objects share, its vertices judged ([`judge::judge`])
+/// where their object is marked in `judged`, [`Kind::Smooth`] elsewhere.
+fn judged_positions(
+    model: &Model,
+    flat: &Flat,
+    roots: &[u32],
+    linear: &[Option<Linear>],
+    weighting: Weighting,
+    judged: &[bool],
+) -> Vec<Position> {
+    let shared = flat.shared_positions(roots);
+    let entries = flat.corners_at(model, roots, |r| shared[r as usize]);
+    drop(shared);
+    entries
+        .par_chunk_by(|a, b| a >> 32 == b >> 32)
+        .map(|run| {
+            let (vertices, faces) = gather(model, flat, linear, run);
+            let corners = faces.iter().map(|c| (c.copy, weight(weighting, &c.face, c.k))).collect();
+            let fans = faces.iter().map(|c| (c.copy, c.triangle, c.face.normal)).collect();
+            // Copies that agree bit for bit need no judging: nothing is done there.
+            let bits = |n: Vec3| n.to_array().map(f32::to_bits);
+            let agree = vertices.iter().all(|v| bits(v.stored) == bits(vertices[0].stored));
+            let kinds = if !agree && vertices.iter().any(|v| judged[v.object]) {
+                let copies: Vec<Copy> =
+                    vertices.iter().map(|v| Copy { object: v.object, unit: v.unit }).collect();
+                let kinds = judge::judge(&copies, &faces);
+                kinds
+                    .iter()
+                    .zip(&vertices)
+                    .map(|(&k, v)| if judged[v.object] { k } else { Kind::Smooth })
+                    .collect()
+            } else {
+                vec![Kind::Smooth; vertices.len()]
+            };
+            Position { vertices, corners, fans, kinds }
+        })
+        .collect()
+}
+
+/// The vertices at one position (`run`: its corners, `root << 32 | corner`, ascending), in
+/// order of first corner, and each corner with its vertex and face.
+fn gather(
     model: &Model,
     flat: &Flat,
     linear: &[Option<Linear>],
     run: &[u64],
-    weighting: Weighting,
-    crease_cos: Option<f32>,
-    out: &mut Vec<Update>,
-) {
-    // The position's vertices, in order of first corner, and each corner's vertex and weight.
+) -> (Vec<SeamVertex>, Vec<Corner>) {
     let mut vertices: Vec<SeamVertex> = Vec::new();
-    let mut corners: Vec<(usize, f32)> = Vec::with_capacity(run.len());
+    let mut corners = Vec::with_capacity(run.len());
     for &e in run {
         let c = low_half(e) as usize;
         let t = c / 3;
@@ -150,7 +287,7 @@ fn repair_position(
         let object = &model.objects[o];
         let v = object.triangles[local][c % 3];
         let at = vertices.iter().position(|x| x.object == o && x.vertex == v);
-        let index = at.unwrap_or_else(|| {
+        let copy = at.unwrap_or_else(|| {
             let n = object.normals.as_ref().map_or(Vec3::Z, |ns| ns[v as usize]);
             let stored = linear[o].as_ref().map_or(n, |l| l.normal_to_model(n));
             let unit = stored.try_normalize().unwrap_or(Vec3::Z);
@@ -158,14 +295,102 @@ fn repair_position(
             vertices.len() - 1
         });
         let positions = flat.corners(model, o, local).positions;
-        corners.push((index, weight(weighting, &face(positions, None, model.v_axis), c % 3)));
+        let (face, k) = (face(positions, None, model.v_axis), c % 3);
+        corners.push(Corner { copy, face, k, triangle: object.triangles[local] });
     }
+    (vertices, corners)
+}
 
-    // Groups: vertices whose normals lie within the crease angle, joined transitively.
+/// Per object: how the other vertices of its coplanar copies' faces join its faces
+/// ([`Shading`]), and where those tell nothing, how the whole object is shaded; `None` for
+/// objects without a coplanar copy at a shared position. The vertices at shared positions
+/// are known from the positions' corners; the object's triangles are scanned only for a fan
+/// that those do not decide.
+fn shading(model: &Model, flat: &Flat, positions: &[Position]) -> Vec<Option<Shading>> {
+    // Per object: each coplanar copy's fan (the other vertices of its faces), and how the
+    // copies at shared positions join their faces.
+    let mut fans: Vec<Vec<Vec<u32>>> = vec![Vec::new(); model.objects.len()];
+    let mut known: Vec<Vec<(u32, Vec<Vec3>)>> = vec![Vec::new(); model.objects.len()];
+    for p in positions {
+        for (a, (v, kind)) in p.vertices.iter().zip(&p.kinds).enumerate() {
+            let own = || p.fans.iter().filter(move |(copy, ..)| *copy == a);
+            known[v.object].push((v.vertex, own().map(|&(.., n)| n).collect()));
+            if *kind == Kind::Coplanar {
+                let fan = own().flat_map(|(_, t, _)| *t).filter(|&u| u != v.vertex);
+                fans[v.object].push(fan.collect());
+            }
+        }
+    }
+    fans.into_par_iter()
+        .zip(known)
+        .enumerate()
+        .map(|(o, (fans, known))| {
+            if fans.is_empty() {
+                return None;
+            }
+            // A curved vertex decides a fan; otherwise its vertices away from the shared
+            // positions may still be: scan for those fans.
+            let at_shared = Shading::known(known);
+            let open: Vec<&Vec<u32>> = fans
+                .iter()
+                .filter(|fan| at_shared.near(fan.iter().copied()) != Some(true))
+                .collect();
+            if open.is_empty() {
+                return Some(at_shared);
+            }
+            let object = &model.objects[o];
+            let normal =
+                |t: usize| face(flat.corners(model, o, t).positions, None, model.v_axis).normal;
+            let mut asked: Vec<u32> = open.iter().copied().flatten().copied().collect();
+            asked.sort_unstable();
+            asked.dedup();
+            let (triangles, n) = (&object.triangles, object.vertex_count());
+            let near = Shading::of(triangles, normal, &asked, n, false);
+            let whole = open.iter().any(|fan| near.near(fan.iter().copied()).is_none());
+            let scanned =
+                if whole { Shading::of(triangles, normal, &asked, n, true) } else { near };
+            Some(scanned.or(at_shared))
+        })
+        .collect()
+}
+
+/// What was decided at one shared position (see [`SharedNormals`]).
+#[derive(Clone, Copy)]
+enum Class {
+    Repaired,
+    HardEdge,
+    Custom,
+    Agreeing,
+}
+
+impl Class {
+    fn count(self, shared: &mut SharedNormals) -> &mut usize {
+        match self {
+            Self::Repaired => &mut shared.repaired,
+            Self::HardEdge => &mut shared.hard_edges,
+            Self::Custom => &mut shared.custom,
+            Self::Agreeing => &mut shared.agreeing,
+        }
+    }
+}
+
+/// Groups the smooth vertices at one position and pushes an [`Update`] for every vertex of
+/// every group that needs one normal; says what was decided there.
+fn repair_position(
+    position: &Position,
+    shading: &[Option<Shading>],
+    crease_cos: Option<f32>,
+    out: &mut Vec<Update>,
+) -> Class {
+    let Position { vertices, corners, .. } = position;
+    // A coplanar vertex is as its object is shaded.
+    let kinds = resolve(position, shading);
+
+    // Groups: smooth vertices whose normals lie within the crease angle, joined transitively.
     let k = vertices.len();
     let mut parent: Vec<u32> = (0..index(k)).collect();
-    for a in 0..k {
-        for b in a + 1..k {
+    for a in (0..k).filter(|&a| kinds[a] == Kind::Smooth) {
+        for b in (a + 1..k).filter(|&b| kinds[b] == Kind::Smooth) {
             if crease_cos.is_none_or(|cos| vertices[a].unit.dot(vertices[b].unit) >= cos) {
                 union(&mut parent, index(a), index(b));
             }
@@ -178,6 +403,7 @@ fn repair_position(
 
     // One normal per group that spans objects and does not agree already.
     let bits = |n: Vec3| n.to_array().map(f32::to_bits);
+    let mut repaired = false;
     for g in 0..k {
         if parent[g] as usize != g {
             continue;
@@ -190,7 +416,7 @@ fn repair_position(
             continue;
         }
         let mut sum = Vec3::ZERO;
-        for &(a, w) in &corners {
+        for &(a, w) in corners {
             if parent[a] as usize == g {
                 sum += vertices[a].unit * w;
             }
@@ -204,6 +430,17 @@ fn repair_position(
             vertex: vertices[a].vertex,
             normal,
         }));
+        repaired = true;
+    }
+    if repaired {
+        Class::Repaired
+    } else if vertices.iter().all(|v| v.unit.dot(vertices[0].unit) >= judge::noise_cos()) {
+        // Equal but for rounding (coplanar faces of two objects): nothing to tell apart.
+        Class::Agreeing
+    } else if kinds.contains(&Kind::Flat) || !kinds.contains(&Kind::Custom) {
+        Class::HardEdge
+    } else {
+        Class::Custom
     }
 }
 

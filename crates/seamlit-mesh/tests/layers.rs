@@ -78,6 +78,7 @@ const MESH_LAYERS: &[&str] = &[
     "face",
     "frame",
     "group",
+    "judge",
     "smooth",
     "skin",
     "report",

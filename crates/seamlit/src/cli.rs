@@ -230,7 +230,8 @@ pub struct FixFlags {
     #[arg(long, value_enum, value_name = "T")]
     pub tangents: Option<TangentsArg>,
     /// Which normals are computed (default auto: objects that carry normals keep them and
-    /// only the seams between objects are repaired; see docs/normals.md).
+    /// only the seams that smoothing each object alone made are repaired; authored hard
+    /// edges and custom normals where objects meet stay; see docs/normals.md).
     #[arg(long, value_enum, value_name = "POLICY")]
     pub normals: Option<NormalsArg>,
 }
@@ -421,9 +422,13 @@ impl From<TangentsArg> for TangentMethod {
 /// `--normals`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NormalsArg {
-    /// Keep the normals objects carry, repair them only where objects meet; compute the
+    /// Keep the normals objects carry, repair them only at the seams per-object smoothing
+    /// made (authored hard edges and custom normals between objects stay); compute the
     /// missing ones.
     Auto,
+    /// As auto, but average every shared position within the crease, authored hard edges
+    /// between objects included (the rule before seamlit told them apart).
+    SmoothShared,
     /// Keep the normals objects carry everywhere, seams included; compute the missing ones.
     Keep,
     /// Compute every normal from the faces, ignoring the file's (the paper's way).
@@ -434,6 +439,7 @@ impl From<NormalsArg> for NormalPolicy {
     fn from(n: NormalsArg) -> Self {
         match n {
             NormalsArg::Auto => Self::Auto,
+            NormalsArg::SmoothShared => Self::SmoothShared,
             NormalsArg::Keep => Self::Keep,
             NormalsArg::Recompute => Self::Recompute,
         }

@@ -39,23 +39,30 @@ pub(crate) fn list(asset: &Asset) -> String {
 }
 
 /// The copies of the positions the model's objects share ([`seamlit_mesh::shared_copies`]),
-/// where something can pull them apart (skins, morph targets or animations); none otherwise,
-/// which costs nothing.
+/// where something can pull them apart (skins, morph targets or animations), and which of
+/// them are sides of a seam as `fix` with `options` judges them, from the normals the file
+/// carries ([`seamlit_mesh::seam_copies`]); none otherwise, which costs nothing.
+pub(crate) struct Copies {
+    /// Per shared position, its copies (object, vertex).
+    pub copies: Vec<Vec<(u32, u32)>>,
+    /// Per copy, whether it is a side of a seam (not an authored hard edge, not custom).
+    pub seams: Vec<Vec<bool>>,
+}
+
+/// The [`Copies`] of `asset`.
 ///
 /// # Errors
 /// [`Failure::BadInput`] naming `file` when the geometry is bad.
-pub(crate) fn copies(
-    asset: &Asset,
-    options: &FixOptions,
-    file: &Path,
-) -> Result<Vec<Vec<(u32, u32)>>, Failure> {
+pub(crate) fn copies(asset: &Asset, options: &FixOptions, file: &Path) -> Result<Copies, Failure> {
     let moves = !asset.animations.is_empty()
         || asset.model.objects.iter().any(|o| !o.skin.is_empty() || !o.morph_targets.is_empty());
     if !moves {
-        return Ok(Vec::new());
+        return Ok(Copies { copies: Vec::new(), seams: Vec::new() });
     }
-    seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance)
-        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))
+    let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
+    let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance).map_err(bad)?;
+    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, options).map_err(bad)?;
+    Ok(Copies { copies, seams })
 }
 
 /// The seams of `asset` in each of `animations`, `samples` times each, at `copies` (see
@@ -65,11 +72,14 @@ pub(crate) fn measure(
     animations: &[usize],
     samples: u32,
     options: &FixOptions,
-    copies: &[Vec<(u32, u32)>],
+    copies: &Copies,
 ) -> Vec<SeamMotion> {
     animations
         .iter()
-        .map(|&a| seam_motion(asset, a, samples as usize, copies, options.crease_angle_deg))
+        .map(|&a| {
+            let Copies { copies, seams } = copies;
+            seam_motion(asset, a, samples as usize, copies, seams, options.crease_angle_deg)
+        })
         .collect()
 }
 

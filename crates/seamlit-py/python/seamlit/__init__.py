@@ -39,7 +39,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 _MODES = ("flat", "object", "model")
 _WEIGHTINGS = ("angle", "area", "angle-area", "uniform")
 _TANGENTS = ("seamlit", "mikktspace", "none")
-_NORMALS = ("auto", "keep", "recompute")
+_NORMALS = ("auto", "smooth-shared", "keep", "recompute")
 
 
 def _choice(name: str, value: Optional[str], allowed: Sequence[str]) -> Optional[str]:
@@ -179,7 +179,10 @@ def fix(
     vertices). The GIL is released while the fix runs.
 
     Without ``normals``, an object's normals are computed; with them, ``normals="auto"``
-    (the default) keeps them and repairs only where objects meet.
+    (the default) keeps them and repairs only the seams that smoothing each object alone
+    made: where objects meet, copies that carry their own face's normal (authored hard
+    edges) or custom normals stay as they are. ``normals="smooth-shared"`` averages every
+    shared position within the crease instead.
     """
     settings = _settings(mode, crease, weld_tolerance, weighting, tangents, normals)
     arrays = []

@@ -10,7 +10,7 @@ PathLike = Union[str, os.PathLike[str]]
 Mode = Literal["flat", "object", "model"]
 Weighting = Literal["angle", "area", "angle-area", "uniform"]
 Tangents = Literal["seamlit", "mikktspace", "none"]
-Normals = Literal["auto", "keep", "recompute"]
+Normals = Literal["auto", "smooth-shared", "keep", "recompute"]
 
 class SeamlitError(ValueError): ...
 

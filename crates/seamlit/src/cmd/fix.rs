@@ -204,22 +204,28 @@ fn fix_file(
     let changes = seamlit_mesh::fix_in_place(&mut asset.model, options)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     let matched = match skins.policy {
-        SkinSeamsArg::Match => Some(seamlit_io::match_skin_seams(&mut asset, &copies)),
+        SkinSeamsArg::Match => Some(seamlit_io::match_skin_seams(&mut asset, &copies.copies)),
         SkinSeamsArg::Keep => None,
     };
     let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
         .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
     let motion_after = crate::motion::measure(&asset, &animations, skins.samples, options, &copies);
-    let morphs = crate::motion::morph_line(&asset, &copies);
+    let morphs = crate::motion::morph_line(&asset, &copies.copies);
     crate::output::prepare_folder_of(output)?;
     let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     for warning in &saved.warnings {
         eprintln!("warning: {warning}");
     }
-    let seams = report
-        .cross_object
-        .max_normal_angle_deg
-        .map_or_else(String::new, |a| format!(", normals across seams within {a:.2}°"));
+    // The report measures every smooth edge between objects; where `auto` kept authored
+    // hard edges or custom normals there, the figure includes them: say so.
+    let kept = changes.shared.hard_edges + changes.shared.custom > 0;
+    let seams = report.cross_object.max_normal_angle_deg.map_or_else(String::new, |a| {
+        if kept {
+            format!(", normals across edges between objects within {a:.2}° (kept ones included)")
+        } else {
+            format!(", normals across seams within {a:.2}°")
+        }
+    });
     let skin_seams = skin_seams_line(&report.skin_seams);
     let matched = matched.filter(|m| m.positions > 0).map_or_else(String::new, |m| {
         format!(

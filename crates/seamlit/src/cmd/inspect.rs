@@ -148,7 +148,7 @@ impl Motion {
         let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
         seamlit_mesh::fix_in_place(&mut fixed.model, &options.with_mode(Mode::Model))
             .map_err(bad)?;
-        let matched = seamlit_io::match_skin_seams(&mut fixed, &copies).positions;
+        let matched = seamlit_io::match_skin_seams(&mut fixed, &copies.copies).positions;
         let after = crate::motion::measure(&fixed, &animations, samples, options, &copies);
         Ok(Self { as_loaded, fixed: after, matched })
     }
