@@ -17,6 +17,10 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("glb_truncated_header.glb", Some("glb_truncated_header.glb")),
     ("gltf_accessor_count_4e9.gltf", Some("accessor 0")),
     ("gltf_accessor_offset_near_u64_max.gltf", Some("accessor 0")),
+    // Issue 32: the gltf crate unwrapped a channel's target node and path unchecked. The
+    // channel that cannot be played is skipped with a warning; the model loads.
+    ("gltf_animation_channel_node_missing.gltf", None),
+    ("gltf_animation_channel_pointer_path_with_node.gltf", None),
     ("gltf_buffer_length_u64_max.gltf", Some("buffer 0")),
     ("gltf_buffer_uri_escapes.gltf", Some("leaves the model's folder")),
     ("gltf_huge_stride.gltf", Some("bufferViews[0]")),
@@ -113,4 +117,26 @@ fn an_oversized_texture_is_not_decoded_and_gets_a_warning() {
         "{:?}",
         asset.warnings
     );
+}
+
+/// Issue 32: of two channels, the one whose target node does not exist, or whose path is
+/// KHR_animation_pointer's `"pointer"` on a node, is skipped and named in a warning; the
+/// other plays.
+#[test]
+fn a_channel_that_cannot_be_played_is_skipped_and_named() {
+    for (file, why) in [
+        ("gltf_animation_channel_node_missing.gltf", "channel 1: its target node 7 does not exist"),
+        (
+            "gltf_animation_channel_pointer_path_with_node.gltf",
+            "channel 1: its target path is not translation, rotation, scale or weights",
+        ),
+    ] {
+        let asset = seamlit_io::load(&Path::new(DIR).join(file), &LoadOptions::DEFAULT).unwrap();
+        assert_eq!(asset.animations[0].channels.len(), 1, "{file}");
+        assert!(
+            asset.warnings.iter().any(|w| w.contains("animations[0]") && w.contains(why)),
+            "{file}: {:?}",
+            asset.warnings
+        );
+    }
 }
