@@ -15,6 +15,7 @@ use seamlit_mesh::{Influences, MorphTarget};
 
 use super::Reader;
 use crate::error::IoError;
+use crate::gltf::decode::quantized::read_floats;
 use crate::gltf::error::GltfKind;
 
 /// How many `JOINTS_n`/`WEIGHTS_n` sets are read (glTF requires support for one; files with
@@ -84,13 +85,13 @@ impl Reader<'_> {
             };
             let name = format!("targets[{k}].POSITION");
             self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
+            // Read from its own accessor: the gltf crate's `read_morph_targets` opens every
+            // target's NORMAL and TANGENT accessors too, which seamlit does not read or check
+            // (a count of 0 there panics in it).
             let deltas: Vec<Vec3> = super::lenient::zeros_without_view(
                 Some(&accessor),
-                reader
-                    .read_morph_targets()
-                    .nth(k)
-                    .and_then(|(positions, _, _)| positions)
-                    .map(|it| it.map(Vec3::from_array).collect()),
+                read_floats::<3>(&accessor, buffers)
+                    .map(|v| v.into_iter().map(Vec3::from_array).collect()),
             )
             .unwrap_or_default();
             if let Some(bad) = deltas.iter().position(|d| !d.is_finite()) {
