@@ -17,6 +17,13 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("glb_truncated_header.glb", Some("glb_truncated_header.glb")),
     ("gltf_accessor_count_4e9.gltf", Some("accessor 0")),
     ("gltf_accessor_offset_near_u64_max.gltf", Some("accessor 0")),
+    // Issue 32: the gltf crate unwrapped a channel's target node and path unchecked. The
+    // channel that cannot be played is skipped with a warning; the model loads.
+    ("gltf_animation_channel_node_missing.gltf", None),
+    ("gltf_animation_channel_pointer_path_with_node.gltf", None),
+    // Found by tests/mutated_gltf.rs (issue 32): the gltf crate unwrapped the type of an
+    // animation's accessor, which the leniency for unused accessors had let through.
+    ("gltf_animation_input_type_invalid.gltf", Some("accessors[0].type")),
     ("gltf_buffer_length_u64_max.gltf", Some("buffer 0")),
     ("gltf_buffer_uri_escapes.gltf", Some("leaves the model's folder")),
     ("gltf_huge_stride.gltf", Some("bufferViews[0]")),
@@ -25,6 +32,9 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("gltf_image_view_without_mime_type.gltf", Some("images[0]: an image in a bufferView needs")),
     // Found by the `gltf` fuzz target: gltf's reader computed `count - 1` for count 0.
     ("gltf_index_accessor_count_0.gltf", Some("accessor 2: indices has count 0")),
+    // Issue 32: the gltf crate's `read_morph_targets` read a target's NORMAL accessor, which
+    // seamlit does not read or check (count 0: `count - 1`).
+    ("gltf_morph_target_normal_count_0.gltf", None),
     ("gltf_node_cycle.gltf", Some("nodes[0]")),
     ("gltf_node_is_its_own_child.gltf", Some("nodes[0]")),
     // Found by the `gltf` fuzz target: gltf-json's validation indexed the accessors unchecked.
@@ -35,6 +45,9 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     // An oversized texture is not decoded: a warning, and the model loads.
     ("gltf_texture_declares_100000x100000.gltf", None),
     ("gltf_view_offset_near_u64_max.gltf", Some("bufferViews[0]")),
+    // Found by tests/mutated_gltf.rs (issue 32): a byteStride below the element's size made
+    // the gltf crate's reader assert.
+    ("gltf_view_stride_below_element.gltf", Some("bufferViews[0] has byteStride 4, less than")),
     ("newell_patch_count_u64_max.bpt", Some("newell_patch_count_u64_max.bpt:1:")),
     ("newell_point_count_huge.bpt", Some("newell_point_count_huge.bpt:3:")),
     ("obj_face_index_huge.obj", Some("obj_face_index_huge.obj:4:")),
@@ -113,4 +126,26 @@ fn an_oversized_texture_is_not_decoded_and_gets_a_warning() {
         "{:?}",
         asset.warnings
     );
+}
+
+/// Issue 32: of two channels, the one whose target node does not exist, or whose path is
+/// KHR_animation_pointer's `"pointer"` on a node, is skipped and named in a warning; the
+/// other plays.
+#[test]
+fn a_channel_that_cannot_be_played_is_skipped_and_named() {
+    for (file, why) in [
+        ("gltf_animation_channel_node_missing.gltf", "channel 1: its target node 7 does not exist"),
+        (
+            "gltf_animation_channel_pointer_path_with_node.gltf",
+            "channel 1: its target path is not translation, rotation, scale or weights",
+        ),
+    ] {
+        let asset = seamlit_io::load(&Path::new(DIR).join(file), &LoadOptions::DEFAULT).unwrap();
+        assert_eq!(asset.animations[0].channels.len(), 1, "{file}");
+        assert!(
+            asset.warnings.iter().any(|w| w.contains("animations[0]") && w.contains(why)),
+            "{file}: {:?}",
+            asset.warnings
+        );
+    }
 }

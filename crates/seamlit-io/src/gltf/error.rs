@@ -66,6 +66,20 @@ pub enum BadAccessor {
         /// The count.
         count: usize,
     },
+    /// Its buffer view's `byteStride` is smaller than one element: the elements would overlap
+    /// (the glTF Validator's `ACCESSOR_SMALL_BYTESTRIDE` error), and the gltf crate's reader
+    /// panics on it.
+    #[error(
+        "bufferViews[{view}] has byteStride {stride}, less than the {element} bytes of one element"
+    )]
+    StrideBelowElement {
+        /// The buffer view.
+        view: usize,
+        /// Its byteStride.
+        stride: usize,
+        /// The bytes of one element of the accessor.
+        element: u64,
+    },
     /// The sparse count is 0 (glTF requires at least 1).
     #[error("{attribute} has sparse count 0; glTF requires at least 1")]
     ZeroSparseCount {

@@ -135,7 +135,7 @@ fn read(
     scene_walk.walk(roots, &mut asset, &mut warnings)?;
     let (instances, mut node_indices) = (scene_walk.instances, scene_walk.node_indices);
     reader.skins_and_animations(
-        document,
+        (document, &json),
         &buffers,
         &mut node_indices,
         &mut asset,

@@ -4,7 +4,8 @@
 //! tobj reads a line at a time on one thread (a `String` per line, a hash lookup per face
 //! corner; figures in BENCHMARKS.md, "Loading"). This parser reads the file in
 //! blocks of about a megabyte cut at line ends ([`blocks`]), on a thread of its own, while
-//! rayon parses the blocks already read ([`statements`], with [`numbers`] and [`corners`]);
+//! rayon parses the blocks already read ([`statements`], with [`numbers`], [`corners`] and
+//! the blanks and words of [`words`]);
 //! then it resolves face indices against the running counts (naming the line of one out of
 //! range) and builds the objects' vertex arrays in parallel ([`dedup`]). It follows tobj's
 //! rules, but for the two marked (*), and tests check that it
@@ -47,6 +48,7 @@ mod dedup;
 pub(crate) mod names;
 mod numbers;
 mod statements;
+mod words;
 
 /// "No colour" for a `v` without one, among others with one.
 const NO_COLOR: Vec4 = Vec4::NAN;

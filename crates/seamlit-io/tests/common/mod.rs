@@ -1,5 +1,6 @@
 //! Helpers shared by the integration tests: model paths, an independent OBJ counter, an
-//! independent glTF reader (`gltf.rs`) and the Khronos glTF Validator.
+//! independent glTF reader (`gltf.rs`), structure-aware mutations of glTF documents
+//! (`mutate.rs`) and the Khronos glTF Validator.
 
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
@@ -11,6 +12,7 @@ use seamlit_mesh::Model;
 
 pub mod character;
 pub mod gltf;
+pub mod mutate;
 
 /// `i`, an index or count a test file holds (JSON numbers are `u64`), as a `usize`.
 pub fn usize_of(i: u64) -> usize {

@@ -114,8 +114,9 @@ impl Reader<'_> {
         let bytes = buffers.get(view.buffer().index()).map_or(&[][..], Vec::as_slice);
         let mut previous: Option<u32> = None;
         for k in 0..sparse.count() {
-            let at = view.offset() + indices.offset() + k * stride;
-            let index = match bytes.get(at..at + size) {
+            // Saturating: a view in a buffer without data is not checked against it.
+            let at = view.offset().saturating_add(indices.offset()).saturating_add(k * stride);
+            let index = match bytes.get(at..at.saturating_add(size)) {
                 Some(&[a]) => u32::from(a),
                 Some(&[a, b]) => u32::from(u16::from_le_bytes([a, b])),
                 Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
@@ -228,6 +229,13 @@ impl AccessorCheck<'_, '_, '_> {
         count: u64,
         element: u64,
     ) -> Result<(), IoError> {
+        if let Some(stride) = view.stride().filter(|&s| (s as u64) < element) {
+            return Err(self.accessor_error(BadAccessor::StrideBelowElement {
+                view: view.index(),
+                stride,
+                element,
+            }));
+        }
         let stride = view.stride().map_or(element, |s| s as u64);
         // Saturating: offsets and strides come from the file and may be near u64::MAX.
         let needed = if count == 0 {

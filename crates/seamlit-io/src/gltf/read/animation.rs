@@ -6,6 +6,8 @@ use std::collections::HashMap;
 
 use glam::Mat4;
 use gltf::accessor::{DataType, Dimensions};
+use gltf::animation::util::ReadOutputs;
+use gltf::json::validation::Checked;
 
 use super::Reader;
 use crate::animation::{Animation, Channel, Interpolation, Property, Sampler, Skin};
@@ -17,7 +19,9 @@ impl Reader<'_> {
     /// Renumbers the objects' joints (document nodes, as `deform::joint_nodes` maps them)
     /// into [`Asset::nodes`], reads the skins (every joint the scene walk did not reach is
     /// added as a root node without objects, with a warning) and the animations (a channel
-    /// whose node is outside the scene is dropped, with a warning).
+    /// that cannot be played, its node missing or outside the scene or its path not one of
+    /// glTF's four, is dropped, with one warning per animation). `json` is the document as
+    /// written, which warnings follow.
     ///
     /// # Errors
     ///
@@ -25,7 +29,7 @@ impl Reader<'_> {
     /// infinity, or with fewer elements than it must have; key times not increasing.
     pub(super) fn skins_and_animations(
         &self,
-        document: &gltf::Document,
+        (document, json): (&gltf::Document, &serde_json::Value),
         buffers: &[Vec<u8>],
         nodes: &mut HashMap<usize, usize>,
         asset: &mut Asset,
@@ -62,8 +66,9 @@ impl Reader<'_> {
         for skin in document.skins() {
             asset.skins.push(self.skin(&skin, buffers, nodes)?);
         }
+        let documents = (document.as_json(), json);
         for animation in document.animations() {
-            asset.animations.push(self.animation(&animation, buffers, nodes, warnings)?);
+            asset.animations.push(self.animation(&animation, documents, buffers, nodes, warnings)?);
         }
         Ok(())
     }
@@ -114,86 +119,99 @@ impl Reader<'_> {
         Ok(Skin { name: skin.name().unwrap_or_default().to_owned(), joints, inverse_bind_matrices })
     }
 
+    /// One animation: each channel whose target can be played (see [`target`]) with its
+    /// sampler read and checked; the others are skipped, named in one warning for the
+    /// animation. Warnings give the file's channel indices (see [`file_channels`]).
     fn animation(
         &self,
         animation: &gltf::Animation<'_>,
+        (root, json): (&gltf::json::Root, &serde_json::Value),
         buffers: &[Vec<u8>],
         nodes: &HashMap<usize, usize>,
         warnings: &mut Vec<String>,
     ) -> Result<Animation, IoError> {
         let mut channels = Vec::new();
+        let mut skipped = Vec::new();
+        let (file_channels, without_node) = file_channels(json, animation.index());
         for channel in animation.channels() {
-            let target = channel.target();
-            let Some(&node) = nodes.get(&target.node().index()) else {
-                warnings.push(format!(
-                    "{}: animations[{}] channel {}: nodes[{}] is not in the scene; the channel is not played",
-                    self.path.display(),
-                    animation.index(),
-                    channel.index(),
-                    target.node().index()
-                ));
-                continue;
-            };
-            let property = match target.property() {
-                gltf::animation::Property::Translation => Property::Translation,
-                gltf::animation::Property::Rotation => Property::Rotation,
-                gltf::animation::Property::Scale => Property::Scale,
-                gltf::animation::Property::MorphTargetWeights => Property::Weights,
-            };
-            let sampler = channel.sampler();
-            let place = format!("animations[{}].samplers[{}]", animation.index(), sampler.index());
-            let interpolation = match sampler.interpolation() {
-                gltf::animation::Interpolation::Step => Interpolation::Step,
-                gltf::animation::Interpolation::Linear => Interpolation::Linear,
-                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-            };
-            let (input, output) = (sampler.input(), sampler.output());
-            self.check_accessor(
-                &input,
-                Dimensions::Scalar,
-                &[DataType::F32],
-                &format!("{place}.input"),
-            )?;
-            self.check_sparse_indices(&input, buffers)?;
-            let output_types: &[DataType] = match property {
-                Property::Translation | Property::Scale => &[DataType::F32],
-                _ => &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16],
-            };
-            let dimensions = match property {
-                Property::Translation | Property::Scale => Dimensions::Vec3,
-                Property::Rotation => Dimensions::Vec4,
-                Property::Weights => Dimensions::Scalar,
-            };
-            self.check_accessor(&output, dimensions, output_types, &format!("{place}.output"))?;
-            self.check_sparse_indices(&output, buffers)?;
-            let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-            // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
-            let times: Vec<f32> = if without_data(&input) {
-                vec![0.0; input.count()]
-            } else {
-                reader.read_inputs().map(Iterator::collect).unwrap_or_default()
-            };
-            let values: Vec<f32> = match reader.read_outputs().filter(|_| !without_data(&output)) {
-                Some(gltf::animation::util::ReadOutputs::Translations(it)) => {
-                    it.flatten().collect()
+            let in_file = file_channels.get(channel.index()).copied().unwrap_or(channel.index());
+            match target(root, animation.index(), channel.index(), nodes) {
+                Ok((node, property)) => {
+                    let sampler = self.sampler(animation, &channel, property, buffers)?;
+                    channels.push(Channel { node, property, sampler });
                 }
-                Some(gltf::animation::util::ReadOutputs::Scales(it)) => it.flatten().collect(),
-                Some(gltf::animation::util::ReadOutputs::Rotations(it)) => {
-                    it.into_f32().flatten().collect()
-                }
-                Some(gltf::animation::util::ReadOutputs::MorphTargetWeights(it)) => {
-                    it.into_f32().collect()
-                }
-                None if without_data(&output) => {
-                    vec![0.0; output.count() * output.dimensions().multiplicity()]
-                }
-                None => Vec::new(),
-            };
-            let sampler = Sampler { interpolation, times, values };
-            self.check_keys(&sampler, property, &place)?;
-            channels.push(Channel { node, property, sampler });
+                Err(reason) => skipped.push(format!("channel {in_file}: {reason}")),
+            }
+        }
+        if without_node > 0 {
+            skipped.push(format!(
+                "{without_node} channel(s) without a target node (KHR_animation_pointer's pointers are not played)"
+            ));
+        }
+        if !skipped.is_empty() {
+            warnings.push(format!(
+                "{}: animations[{}]{}: not played: {}",
+                self.path.display(),
+                animation.index(),
+                animation.name().map(|n| format!(" ({n:?})")).unwrap_or_default(),
+                skipped.join("; ")
+            ));
         }
         Ok(Animation { name: animation.name().unwrap_or_default().to_owned(), channels })
+    }
+
+    /// A channel's sampler: its interpolation, key times and values, read from accessors
+    /// checked first (type, extent, sparse indices) and then checked themselves
+    /// ([`Self::check_keys`]).
+    fn sampler(
+        &self,
+        animation: &gltf::Animation<'_>,
+        channel: &gltf::animation::Channel<'_>,
+        property: Property,
+        buffers: &[Vec<u8>],
+    ) -> Result<Sampler, IoError> {
+        let sampler = channel.sampler();
+        let place = format!("animations[{}].samplers[{}]", animation.index(), sampler.index());
+        let interpolation = match sampler.interpolation() {
+            gltf::animation::Interpolation::Step => Interpolation::Step,
+            gltf::animation::Interpolation::Linear => Interpolation::Linear,
+            gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+        };
+        let (input, output) = (sampler.input(), sampler.output());
+        self.check_accessor(
+            &input,
+            Dimensions::Scalar,
+            &[DataType::F32],
+            &format!("{place}.input"),
+        )?;
+        self.check_sparse_indices(&input, buffers)?;
+        let (dimensions, output_types): (Dimensions, &[DataType]) = match property {
+            Property::Translation | Property::Scale => (Dimensions::Vec3, &[DataType::F32]),
+            Property::Rotation => (Dimensions::Vec4, &NORMALIZED_OR_FLOAT),
+            Property::Weights => (Dimensions::Scalar, &NORMALIZED_OR_FLOAT),
+        };
+        self.check_accessor(&output, dimensions, output_types, &format!("{place}.output"))?;
+        self.check_sparse_indices(&output, buffers)?;
+        let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
+        let times: Vec<f32> = if without_data(&input) {
+            vec![0.0; input.count()]
+        } else {
+            reader.read_inputs().map(Iterator::collect).unwrap_or_default()
+        };
+        let values: Vec<f32> = match reader.read_outputs().filter(|_| !without_data(&output)) {
+            Some(ReadOutputs::Translations(it)) => it.flatten().collect(),
+            Some(ReadOutputs::Scales(it)) => it.flatten().collect(),
+            Some(ReadOutputs::Rotations(it)) => it.into_f32().flatten().collect(),
+            Some(ReadOutputs::MorphTargetWeights(it)) => it.into_f32().collect(),
+            None if without_data(&output) => {
+                vec![0.0; output.count() * output.dimensions().multiplicity()]
+            }
+            None => Vec::new(),
+        };
+        let sampler = Sampler { interpolation, times, values };
+        self.check_keys(&sampler, property, &place)?;
+        Ok(sampler)
     }
 
     /// Key times finite and increasing, values finite and a whole number per key.
@@ -247,6 +265,67 @@ impl Reader<'_> {
             kind: GltfKind::Animation { problem },
         }
     }
+}
+
+/// The component types of rotations and morph weights: floats, or normalised integers.
+const NORMALIZED_OR_FLOAT: [DataType; 5] =
+    [DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16];
+
+/// The node (in [`Asset::nodes`]) and property that channel `c` of animation `a` moves, read
+/// from the document's JSON before the gltf crate would unwrap them: gltf-json's validation
+/// leaves channel targets unchecked, and `Target::node` and `Target::property` panic on a
+/// node that does not exist and a path outside glTF's four. `Err` says why the channel
+/// cannot be played: its node does not exist or is outside the scene, or its path is not
+/// `translation`, `rotation`, `scale` or `weights` (as KHR_animation_pointer's `"pointer"`,
+/// which belongs on a channel without a node).
+fn target(
+    root: &gltf::json::Root,
+    a: usize,
+    c: usize,
+    nodes: &HashMap<usize, usize>,
+) -> Result<(usize, Property), String> {
+    let Some(target) = root.animations.get(a).and_then(|a| a.channels.get(c)).map(|c| &c.target)
+    else {
+        return Err("it is not in the document".to_owned());
+    };
+    let node = target.node.value();
+    if node >= root.nodes.len() {
+        return Err(format!(
+            "its target node {node} does not exist (the file has {} nodes)",
+            root.nodes.len()
+        ));
+    }
+    let property = match target.path {
+        Checked::Valid(gltf::animation::Property::Translation) => Property::Translation,
+        Checked::Valid(gltf::animation::Property::Rotation) => Property::Rotation,
+        Checked::Valid(gltf::animation::Property::Scale) => Property::Scale,
+        Checked::Valid(gltf::animation::Property::MorphTargetWeights) => Property::Weights,
+        Checked::Invalid => {
+            return Err("its target path is not translation, rotation, scale or weights".to_owned());
+        }
+    };
+    match nodes.get(&node) {
+        Some(&node) => Ok((node, property)),
+        None => Err(format!("its target nodes[{node}] is not in the scene")),
+    }
+}
+
+/// Per channel of animation `a` as gltf-json parsed it, its index in the file (`json`, the
+/// document as written): the file's channels that have a target node, in order, since
+/// `lenient.rs` drops the others (KHR_animation_pointer's) before the typed parse; and how
+/// many it dropped.
+fn file_channels(json: &serde_json::Value, a: usize) -> (Vec<usize>, usize) {
+    let Some(channels) = json["animations"][a]["channels"].as_array() else {
+        return (Vec::new(), 0);
+    };
+    let with_node: Vec<usize> = channels
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.get("target").is_none_or(|t| t.get("node").is_some()))
+        .map(|(i, _)| i)
+        .collect();
+    let dropped = channels.len() - with_node.len();
+    (with_node, dropped)
 }
 
 /// An accessor with neither a buffer view nor sparse data: its elements are zeros (glTF 2.0,

@@ -15,6 +15,7 @@ use seamlit_mesh::{Influences, MorphTarget};
 
 use super::Reader;
 use crate::error::IoError;
+use crate::gltf::decode::quantized::read_floats;
 use crate::gltf::error::GltfKind;
 
 /// How many `JOINTS_n`/`WEIGHTS_n` sets are read (glTF requires support for one; files with
@@ -32,6 +33,18 @@ impl Reader<'_> {
         buffers: &[Vec<u8>],
         vertex_count: usize,
     ) -> Result<(Vec<Influences>, Vec<MorphTarget>), IoError> {
+        let skin = self.influences(primitive, buffers, vertex_count)?;
+        let targets = self.morph_targets(mesh, primitive, buffers, vertex_count)?;
+        Ok((skin, targets))
+    }
+
+    /// The `JOINTS_n`/`WEIGHTS_n` sets, up to [`SETS`], until the first `n` without both.
+    fn influences(
+        &self,
+        primitive: &gltf::Primitive<'_>,
+        buffers: &[Vec<u8>],
+        vertex_count: usize,
+    ) -> Result<Vec<Influences>, IoError> {
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let mut skin = Vec::new();
         for set in 0..SETS {
@@ -45,6 +58,7 @@ impl Reader<'_> {
             self.checked(&joints, buffers, &[DataType::U8, DataType::U16], &jn, vertex_count)?;
             let weight_types = [DataType::F32, DataType::U8, DataType::U16];
             self.checked(&weights, buffers, &weight_types, &wn, vertex_count)?;
+            let weights_index = weights.index();
             // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
             let joints: Vec<[u32; 4]> = super::lenient::zeros_without_view(
                 Some(&joints),
@@ -60,9 +74,7 @@ impl Reader<'_> {
                 return Err(IoError::gltf_data(
                     self.path.to_path_buf(),
                     GltfKind::AccessorNotFinite {
-                        accessor: primitive
-                            .get(&gltf::Semantic::Weights(set))
-                            .map_or(0, |a| a.index()),
+                        accessor: weights_index,
                         attribute: "WEIGHTS",
                         element: bad,
                     },
@@ -70,6 +82,18 @@ impl Reader<'_> {
             }
             skin.push(Influences { joints, weights });
         }
+        Ok(skin)
+    }
+
+    /// The morph targets' position deltas (zeros for a target without `POSITION`), named
+    /// after the mesh's `extras.targetNames`.
+    fn morph_targets(
+        &self,
+        mesh: &gltf::Mesh<'_>,
+        primitive: &gltf::Primitive<'_>,
+        buffers: &[Vec<u8>],
+        vertex_count: usize,
+    ) -> Result<Vec<MorphTarget>, IoError> {
         let mut targets = Vec::new();
         let names = target_names(mesh);
         let target_name = |k: usize| names.get(k).cloned().unwrap_or_default();
@@ -84,13 +108,13 @@ impl Reader<'_> {
             };
             let name = format!("targets[{k}].POSITION");
             self.checked(&accessor, buffers, &[DataType::F32], &name, vertex_count)?;
+            // Read from its own accessor: the gltf crate's `read_morph_targets` opens every
+            // target's NORMAL and TANGENT accessors too, which seamlit does not read or check
+            // (a count of 0 there panics in it).
             let deltas: Vec<Vec3> = super::lenient::zeros_without_view(
                 Some(&accessor),
-                reader
-                    .read_morph_targets()
-                    .nth(k)
-                    .and_then(|(positions, _, _)| positions)
-                    .map(|it| it.map(Vec3::from_array).collect()),
+                read_floats::<3>(&accessor, buffers)
+                    .map(|v| v.into_iter().map(Vec3::from_array).collect()),
             )
             .unwrap_or_default();
             if let Some(bad) = deltas.iter().position(|d| !d.is_finite()) {
@@ -109,7 +133,7 @@ impl Reader<'_> {
                 ..MorphTarget::default()
             });
         }
-        Ok((skin, targets))
+        Ok(targets)
     }
 
     /// [`Reader::check_attribute`] for a `VEC3` (positions) or `VEC4` (joints, weights)

@@ -10,8 +10,9 @@
 //! - a primitive without `POSITION` is allowed (its rendering is skipped, glTF 2.0,
 //!   3.7.2.1); the reader skips it with a warning;
 //! - an accessor `type` outside the listed ones is allowed by the schema (`anyOf` with
-//!   `string`); gltf-json refuses it. It is kept only for accessors no mesh primitive uses
-//!   (seamlit never reads those; the gltf crate would panic on one it reads).
+//!   `string`); gltf-json refuses it. It is kept only for accessors seamlit never reads: no
+//!   mesh primitive, skin (`inverseBindMatrices`) or animation sampler uses them (the gltf
+//!   crate panics on the type of one it reads).
 //!
 //! A document gltf-json refuses to parse is parsed again as [`lenient`] patches it: a scene
 //! without `nodes`, whole numbers written as floats. Before that typed parse,
@@ -68,15 +69,22 @@ fn allowed(root: &gltf::json::Root, path: &str, error: &Problem) -> bool {
     match (field, error) {
         ("bufferView", Problem::Missing) => accessor.buffer_view.is_none(),
         ("type", Problem::Invalid) => {
-            matches!(accessor.type_, Checked::Invalid) && !used_by_a_primitive(root, index)
+            matches!(accessor.type_, Checked::Invalid) && !read_by_seamlit(root, index)
         }
         _ => false,
     }
 }
 
-/// Whether accessor `index` is an attribute, the indices or a morph-target attribute of a
-/// mesh primitive.
-fn used_by_a_primitive(root: &gltf::json::Root, index: usize) -> bool {
+/// Whether accessor `index` is one the reader reads: an attribute, the indices or a
+/// morph-target attribute of a mesh primitive, a skin's `inverseBindMatrices`, or an
+/// animation sampler's `input` or `output`.
+fn read_by_seamlit(root: &gltf::json::Root, index: usize) -> bool {
+    let skins = root.skins.iter().filter_map(|s| s.inverse_bind_matrices);
+    let samplers =
+        root.animations.iter().flat_map(|a| &a.samplers).flat_map(|s| [s.input, s.output]);
+    if skins.chain(samplers).any(|a| a.value() == index) {
+        return true;
+    }
     root.meshes.iter().flat_map(|m| &m.primitives).any(|p| {
         p.indices.is_some_and(|i| i.value() == index)
             || p.attributes.values().any(|a| a.value() == index)

@@ -11,6 +11,7 @@ use std::sync::mpsc;
 
 use super::ChunkError;
 use super::numbers::fast_f32;
+use super::words::{blank, end_of_word};
 use crate::NotText;
 
 /// The UTF-8 byte-order mark, which some editors write before the first line.
@@ -95,11 +96,6 @@ fn names_a_thing(statement: &[u8]) -> bool {
     [&b"o"[..], b"g", b"usemtl", b"mtllib"].contains(&keyword)
 }
 
-/// A blank between words (space, tab, carriage return, form feed).
-pub(super) fn blank(b: u8) -> bool {
-    b == b' ' || b == b'\t' || b == b'\r' || b == 0x0c
-}
-
 /// A cursor over a block's text that yields the blank-separated words of the current line
 /// (`None` at its end) and moves to the next line with [`Cursor::next_line`].
 pub(super) struct Cursor<'a> {
@@ -159,14 +155,4 @@ pub(super) enum Number<'a> {
     Plain(f32),
     /// Any other word, for `str::parse`.
     Word(&'a [u8]),
-}
-
-/// A byte that ends a word: a blank or a line end.
-pub(super) fn end_of_word(b: u8) -> bool {
-    blank(b) || b == b'\n'
-}
-
-/// Text of the file (its invalid UTF-8 replaced, as when the whole file is read as text).
-pub(super) fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
-    String::from_utf8_lossy(bytes)
 }

@@ -3,8 +3,8 @@
 //! defined so far.
 
 use super::ChunkError;
-use super::blocks::{end_of_word, text};
 use super::numbers::integer;
+use super::words::{end_of_word, text};
 use crate::Syntax;
 
 /// "No `vt` / `vn` index" in a corner.

@@ -6,7 +6,7 @@
 //! second", Software: Practice and Experience, 2021), with its eight-digits-at-once step
 //! (`parse_eight_digits_unrolled` in fast_float and simdjson).
 
-use super::blocks::{end_of_word, text};
+use super::words::{end_of_word, text};
 
 /// Powers of ten exact in `f64` (up to 1e22; a number of 15 digits needs 1e15 at most).
 const POWERS: [f64; 16] =

@@ -4,9 +4,10 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::blocks::{Cursor, Number, first_line_not_text, text};
+use super::blocks::{Cursor, Number, first_line_not_text};
 use super::corners::{Corner, INVALID, corner, simple_corner};
 use super::numbers::float;
+use super::words::text;
 use super::{Chunk, ChunkError, ChunkResult, Event, FaceRun, NO_COLOR};
 use crate::Syntax;
 
