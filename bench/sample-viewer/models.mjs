@@ -4,7 +4,7 @@
 //                  one constant base colour, one directional light (built here)
 //   materials.glb  emissive with KHR_materials_emissive_strength, textured base colour,
 //                  occlusion and metallic-roughness, alpha MASK and alpha BLEND (built here)
-//   clearcoat.glb, sheen.glb, specular.glb
+//   clearcoat.glb, sheen.glb, specular.glb, anisotropy.glb
 //                  the PBR extensions, three or four spheres each, by factors and by textures
 //                  (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
@@ -415,6 +415,22 @@ function specular() {
   return doc;
 }
 
+/** KHR_materials_anisotropy: brushed copper (a rough metal) without anisotropy, with
+ * strength 0.6 along the tangent (around the sphere) and 0.9 turned a quarter turn (along
+ * the meridians). */
+function anisotropy() {
+  const doc = new Doc();
+  const copper = { baseColorFactor: [0.95, 0.64, 0.54, 1], metallicFactor: 1, roughnessFactor: 0.35 };
+  row(doc, [
+    { name: 'isotropic', pbrMetallicRoughness: copper },
+    { name: 'along', pbrMetallicRoughness: copper,
+      extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.6 } } },
+    { name: 'across', pbrMetallicRoughness: copper,
+      extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.9, anisotropyRotation: Math.PI / 2 } } },
+  ], ['KHR_materials_anisotropy']);
+  return doc;
+}
+
 /** World-space bounds of a document's meshes from the POSITION accessors' min and max (and
  * their morph targets'). */
 function bounds(json) {
@@ -483,6 +499,7 @@ function main() {
     ['clearcoat', clearcoat(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['sheen', sheen(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['specular', specular(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['anisotropy', anisotropy(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = addCameraAndLight(doc.json, eye, target, aspect);

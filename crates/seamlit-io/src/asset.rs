@@ -171,6 +171,8 @@ pub struct PbrExtensions {
     pub clearcoat: Option<Clearcoat>,
     /// KHR_materials_sheen.
     pub sheen: Option<Sheen>,
+    /// KHR_materials_anisotropy.
+    pub anisotropy: Option<Anisotropy>,
 }
 
 impl PbrExtensions {
@@ -190,6 +192,9 @@ impl PbrExtensions {
         }
         if self.sheen.is_some() {
             names.push("KHR_materials_sheen");
+        }
+        if self.anisotropy.is_some() {
+            names.push("KHR_materials_anisotropy");
         }
         names
     }
@@ -223,6 +228,20 @@ pub struct Clearcoat {
     pub normal_texture: Option<TextureRef>,
     /// The clearcoat normal texture's `scale`.
     pub normal_scale: f32,
+}
+
+/// KHR_materials_anisotropy: the specular lobe stretched along a direction of the tangent
+/// plane (brushed metal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// `anisotropyStrength` (default 0), times the texture's blue.
+    pub strength: f32,
+    /// `anisotropyRotation` (radians, default 0): the direction's turn from the tangent
+    /// towards the bitangent.
+    pub rotation: f32,
+    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, blue:
+    /// strength). Read, not yet drawn: the renderer draws the factors.
+    pub texture: Option<TextureRef>,
 }
 
 /// KHR_materials_sheen: a Charlie sheen layer (cloth) over the material.

@@ -209,6 +209,10 @@ fn ior_specular_clearcoat_and_sheen_are_read_with_their_defaults() {
     assert_eq!((velvet.color, velvet.roughness), ([1.0, 0.45, 0.7], 0.8));
     let textured = by_name(&sheen, "textured sheen").sheen.unwrap();
     assert!(textured.color_texture.is_some() && textured.roughness_texture.is_some());
+    let anisotropy = load("anisotropy.glb");
+    let across = by_name(&anisotropy, "across").anisotropy.unwrap();
+    assert_eq!((across.strength, across.rotation), (0.9, FRAC_PI_2));
+    assert_eq!(by_name(&anisotropy, "isotropic"), seamlit_io::PbrExtensions::default());
     // A model without them: nothing.
     let spheres = load("spheres.glb");
     assert!(spheres.materials.iter().all(|m| m.extensions == seamlit_io::PbrExtensions::default()));

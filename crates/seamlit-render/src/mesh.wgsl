@@ -90,6 +90,8 @@ struct Material {
     clearcoat_roughness: f32,
     clearcoat_normal_scale: f32,
     clearcoat_f0: f32,
+    anisotropy: vec3<f32>,
+    pad3: f32,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -138,8 +140,9 @@ const MAT_CLEARCOAT: u32 = 64u;
 const MAT_CLEARCOAT_NORMAL_MAP: u32 = 128u;
 const MAT_SHEEN: u32 = 256u;
 const MAT_SPECULAR: u32 = 512u;
+const MAT_ANISOTROPY: u32 = 1024u;
 // Any of the PBR extensions that add to the BRDF: drawn by shade_layers.
-const MAT_LAYERS: u32 = 832u;
+const MAT_LAYERS: u32 = 1856u;
 
 // The PBR extensions' layers compiled in (pipeline.rs): false for the pipelines that draw
 // materials without them, so that those cost what they did.
@@ -436,6 +439,29 @@ struct Layers {
     clearcoat: f32,
     clearcoat_roughness: f32,
     clearcoat_f0: f32,
+    // KHR_materials_anisotropy: the direction of the stretch (t) and across it (b) in world
+    // space, and the strength (0: none, the isotropic lobe).
+    anisotropy_t: vec3<f32>,
+    anisotropy_b: vec3<f32>,
+    anisotropy: f32,
+}
+
+// KHR_materials_anisotropy's GGX lobe, D times V, stretched along t: alpha along t is
+// mix(alpha, 1, strength^2), across it alpha (the extension's specification, "BRDF").
+fn ggx_dv_anisotropic(alpha: f32, strength: f32, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, h: vec3<f32>, t: vec3<f32>, b: vec3<f32>) -> f32 {
+    let at = mix(alpha, 1.0, strength * strength);
+    let ab = clamp(alpha, 0.001, 1.0);
+    let n_dot_l = clamp(dot(n, l), 0.0, 1.0);
+    let n_dot_h = clamp(dot(n, h), 0.001, 1.0);
+    let n_dot_v = dot(n, v);
+    let a2 = at * ab;
+    let f = vec3<f32>(ab * dot(t, h), at * dot(b, h), a2 * n_dot_h);
+    let w2 = a2 / dot(f, f);
+    let d = a2 * w2 * w2 / PI;
+    let ggx_v = n_dot_l * length(vec3<f32>(at * dot(t, v), ab * dot(b, v), n_dot_v));
+    let ggx_l = n_dot_v * length(vec3<f32>(at * dot(t, l), ab * dot(b, l), n_dot_l));
+    let vis = clamp(0.5 / (ggx_v + ggx_l), 0.0, 1.0);
+    return d * vis;
 }
 
 // GGX distribution times height-correlated Smith visibility (Appendix B), with alpha kept
@@ -537,7 +563,11 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
             let fresnel_dielectric = f0 + (vec3<f32>(f90) - f0) * schlick;
             let fresnel_metal = albedo + (1.0 - albedo) * schlick;
             let diffuse = radiance * n_dot_l * albedo / PI;
-            let specular = radiance * n_dot_l * ggx_dv(alpha, n_dot_l, n_dot_v, n_dot_h);
+            var lobe = ggx_dv(alpha, n_dot_l, n_dot_v, n_dot_h);
+            if layers.anisotropy > 0.0 {
+                lobe = ggx_dv_anisotropic(alpha, layers.anisotropy, n, v, l, h, layers.anisotropy_t, layers.anisotropy_b);
+            }
+            let specular = radiance * n_dot_l * lobe;
             var color = mix(mix(diffuse, specular, fresnel_dielectric), fresnel_metal * specular, metallic);
             if sheen {
                 let lobe = radiance * n_dot_l * layers.sheen_color
@@ -567,7 +597,16 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let lut_size = vec2<f32>(textureDimensions(brdf_lut));
     let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
     let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
-    let r = environment_direction(reflect(-v, n));
+    // Anisotropy reflects about a normal bent towards the stretch (the extension's
+    // image-based approximation).
+    var reflect_n = n;
+    if layers.anisotropy > 0.0 {
+        let across = cross(layers.anisotropy_b, v);
+        let stretched = cross(across, layers.anisotropy_b);
+        let bend = 1.0 - layers.anisotropy * (1.0 - roughness);
+        reflect_n = safe_normalize(mix(stretched, n, bend * bend * bend * bend), n);
+    }
+    let r = environment_direction(reflect(-v, reflect_n));
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
     let fresnel_dielectric = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
@@ -783,7 +822,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     }
     let v = safe_normalize(frame.eye - in.world, n);
     if LAYERS && frame.lighting_model == MODEL_PBR && (material.flags & MAT_LAYERS) != 0u {
-        let layers = material_layers(grads, geometry_n, in);
+        let layers = material_layers(grads, geometry_n, n, in);
         let lit = shade_layers(n, v, in.world, albedo, metallic, roughness * roughness, layers);
         let c_diff = mix(albedo, vec3<f32>(0.0), metallic);
         let f0 = mix(layers.f0_dielectric * layers.specular_weight, albedo, metallic);
@@ -841,7 +880,7 @@ fn sample_slot(t: texture_2d<f32>, rows: array<vec4<f32>, 2>, g: UvGrads) -> vec
 
 // The material's layers at this pixel: factors times textures, and the clearcoat's normal
 // (the geometry's, or its own normal map's in the same tangent frame).
-fn material_layers(g: UvGrads, geometry_n: vec3<f32>, in: VertexOut) -> Layers {
+fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, in: VertexOut) -> Layers {
     var out: Layers;
     let specular = sample_slot(specular_texture, material.specular_uv, g).a;
     let specular_color = sample_slot(specular_color_texture, material.specular_color_uv, g).rgb;
@@ -854,6 +893,18 @@ fn material_layers(g: UvGrads, geometry_n: vec3<f32>, in: VertexOut) -> Layers {
     out.clearcoat_f0 = material.clearcoat_f0;
     out.clearcoat_n = geometry_n;
     let t_len2 = dot(in.tangent, in.tangent);
+    out.anisotropy = 0.0;
+    out.anisotropy_t = vec3<f32>(1.0, 0.0, 0.0);
+    out.anisotropy_b = vec3<f32>(0.0, 1.0, 0.0);
+    if (material.flags & MAT_ANISOTROPY) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
+        // The direction (1, 0) of the tangent plane turned by the rotation, in the frame of
+        // the shading normal; the bitangent across it about the geometry's normal.
+        let t = safe_normalize(in.tangent - dot(in.tangent, shading_n) * shading_n, in.tangent);
+        let b = safe_normalize(in.bitangent, cross(shading_n, t) * in.handedness);
+        out.anisotropy_t = safe_normalize(t * material.anisotropy.x + b * material.anisotropy.y, t);
+        out.anisotropy_b = safe_normalize(cross(geometry_n, out.anisotropy_t), b);
+        out.anisotropy = material.anisotropy.z;
+    }
     if (material.flags & MAT_CLEARCOAT_NORMAL_MAP) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
         var tn = sample_slot(clearcoat_normal_texture, material.clearcoat_normal_uv, g).xyz * 2.0 - 1.0;
         tn = vec3<f32>(tn.xy * material.clearcoat_normal_scale, tn.z);

@@ -83,8 +83,10 @@ const MAT_SHEEN: u32 = 256;
 /// Material flag: KHR_materials_specular or KHR_materials_ior (the dielectric's f0 and f90
 /// are the material's; the specular and specular colour textures are read).
 const MAT_SPECULAR: u32 = 512;
+/// Material flag: KHR_materials_anisotropy.
+const MAT_ANISOTROPY: u32 = 1024;
 /// Any of the flags of the PBR extensions' layers.
-const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR;
+const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -128,6 +130,9 @@ pub(crate) struct MaterialRaw {
     pub clearcoat_roughness: f32,
     pub clearcoat_normal_scale: f32,
     pub clearcoat_f0: f32,
+    /// KHR_materials_anisotropy: cos and sin of its rotation, its strength.
+    pub anisotropy: [f32; 3],
+    pub pad1: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -187,6 +192,9 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     if ext.sheen.is_some() {
         flags |= MAT_SHEEN;
     }
+    if ext.anisotropy.is_some() {
+        flags |= MAT_ANISOTROPY;
+    }
     let specular = ext.specular.as_ref();
     let clearcoat = ext.clearcoat.as_ref();
     let sheen = ext.sheen.as_ref();
@@ -224,6 +232,11 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
         clearcoat_roughness: clearcoat.map_or(0.0, |c| c.roughness.clamp(0.0, 1.0)),
         clearcoat_normal_scale: clearcoat.map_or(1.0, |c| c.normal_scale),
         clearcoat_f0: f0,
+        anisotropy: ext.anisotropy.as_ref().map_or([1.0, 0.0, 0.0], |a| {
+            let (sin, cos) = a.rotation.sin_cos();
+            [cos, sin, a.strength.clamp(0.0, 1.0)]
+        }),
+        pad1: 0.0,
     }
 }
 

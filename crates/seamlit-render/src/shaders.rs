@@ -230,6 +230,7 @@ mod tests {
                     clearcoat_roughness,
                     clearcoat_normal_scale,
                     clearcoat_f0,
+                    anisotropy,
                 }),
             ),
             (MESH, "Object", object.clone()),

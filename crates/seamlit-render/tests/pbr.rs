@@ -400,7 +400,7 @@ fn ior_specular_and_clearcoat_match_their_specifications_on_a_plane() {
                 normal_texture: None,
                 normal_scale: 1.0,
             }),
-            sheen: None,
+            ..PbrExtensions::default()
         };
         let material = Material { extensions, ..uniform(base.map(single), 0.0, single(roughness)) };
         let image = render(&asset(plane(1.5), material, vec![]), &format!("pbr_layers_{name}"));

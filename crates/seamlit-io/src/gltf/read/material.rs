@@ -4,7 +4,8 @@
 //! with each specification's defaults.
 
 use crate::asset::{
-    AlphaMode, Clearcoat, Material, PbrExtensions, Sheen, Specular, TextureRef, UvTransform,
+    AlphaMode, Anisotropy, Clearcoat, Material, PbrExtensions, Sheen, Specular, TextureRef,
+    UvTransform,
 };
 
 /// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]): its
@@ -155,7 +156,7 @@ fn color(value: &serde_json::Value, key: &str, default: [f32; 3]) -> [f32; 3] {
         .unwrap_or(default)
 }
 
-/// KHR_materials_ior, _specular, _clearcoat and _sheen of a material.
+/// KHR_materials_ior, _specular, _clearcoat, _sheen and _anisotropy of a material.
 fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) -> PbrExtensions {
     let texture = |e: &serde_json::Value, key: &str| json_texture(document, images, e.get(key));
     PbrExtensions {
@@ -183,6 +184,11 @@ fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) 
             color_texture: texture(e, "sheenColorTexture"),
             roughness: number(e, "sheenRoughnessFactor", 0.0),
             roughness_texture: texture(e, "sheenRoughnessTexture"),
+        }),
+        anisotropy: m.extension_value("KHR_materials_anisotropy").map(|e| Anisotropy {
+            strength: number(e, "anisotropyStrength", 0.0),
+            rotation: number(e, "anisotropyRotation", 0.0),
+            texture: texture(e, "anisotropyTexture"),
         }),
     }
 }
