@@ -4,7 +4,7 @@
 //                  one constant base colour, one directional light (built here)
 //   materials.glb  emissive with KHR_materials_emissive_strength, textured base colour,
 //                  occlusion and metallic-roughness, alpha MASK and alpha BLEND (built here)
-//   clearcoat.glb, sheen.glb, specular.glb, anisotropy.glb
+//   clearcoat.glb, sheen.glb, specular.glb, anisotropy.glb, transforms.glb
 //                  the PBR extensions, three or four spheres each, by factors and by textures
 //                  (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
@@ -431,6 +431,35 @@ function anisotropy() {
   return doc;
 }
 
+/** KHR_texture_transform on every core slot, and KHR_materials_unlit: a checker base colour
+ * turned, scaled and moved; a rough metal whose metallic-roughness, occlusion, normal and
+ * emissive textures each have their own transform; an unlit sphere with a transformed
+ * base colour texture. */
+function transforms() {
+  const doc = new Doc();
+  doc.json.extensionsUsed = ['KHR_texture_transform', 'KHR_materials_unlit'];
+  const ball = doc.geometry(sphere(0.45));
+  const checker = doc.texture(png(64, (x, y) => (((x >> 3) + (y >> 3)) & 1 ? [230, 200, 60, 255] : [40, 90, 200, 255])));
+  const stripes = doc.texture(png(64, (x) => [(x >> 3) & 1 ? 255 : 60, (x >> 3) & 1 ? 60 : 220, (x >> 3) & 1 ? 0 : 255, 255]));
+  const glow = doc.texture(png(64, (x, y) => (Math.hypot(x - 31.5, y - 31.5) < 10 ? [255, 120, 40, 255] : [0, 0, 0, 255])));
+  const normals = doc.texture(ridges(64, 16));
+  const t = (offset, rotation, scale) => ({ KHR_texture_transform: { offset, rotation, scale } });
+  doc.place(ball, doc.material({ name: 'base transform', pbrMetallicRoughness: {
+    baseColorTexture: { index: checker, extensions: t([0.1, 0.2], 0.4, [2, 3]) }, metallicFactor: 0, roughnessFactor: 0.5 } }),
+  [-1.5, 0, 0], 'base transform');
+  doc.place(ball, doc.material({ name: 'every slot',
+    pbrMetallicRoughness: { baseColorFactor: [0.9, 0.6, 0.4, 1],
+      metallicRoughnessTexture: { index: stripes, extensions: t([0.25, 0], 0.8, [1.5, 1]) } },
+    normalTexture: { index: normals, extensions: t([0, 0], 1.2, [2, 2]) },
+    occlusionTexture: { index: stripes, strength: 0.9, extensions: t([0, 0.5], -0.6, [3, 1]) },
+    emissiveFactor: [1, 1, 1], emissiveTexture: { index: glow, extensions: t([-0.3, 0.1], 0.2, [2, 1]) } }),
+  [0, 0, 0], 'every slot');
+  doc.place(ball, doc.material({ name: 'unlit', pbrMetallicRoughness: {
+    baseColorTexture: { index: checker, extensions: t([0, 0], -0.7, [1, 4]) } },
+    extensions: { KHR_materials_unlit: {} } }), [1.5, 0, 0], 'unlit');
+  return doc;
+}
+
 /** World-space bounds of a document's meshes from the POSITION accessors' min and max (and
  * their morph targets'). */
 function bounds(json) {
@@ -500,6 +529,7 @@ function main() {
     ['sheen', sheen(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['specular', specular(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['anisotropy', anisotropy(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['transforms', transforms(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = addCameraAndLight(doc.json, eye, target, aspect);

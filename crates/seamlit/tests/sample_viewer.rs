@@ -251,3 +251,8 @@ fn anisotropy_matches_the_sample_viewer() {
     // Mean FLIP 0.0098 with anisotropy (streaks), 0.0321 without (round highlights).
     extension_matches_the_sample_viewer("anisotropy", 0.02);
 }
+
+#[test]
+fn texture_transforms_on_every_slot_and_unlit_match_the_sample_viewer() {
+    extension_matches_the_sample_viewer("transforms", EXTENSION_AIM);
+}
