@@ -4,6 +4,9 @@
 //                  one constant base colour, one directional light (built here)
 //   materials.glb  emissive with KHR_materials_emissive_strength, textured base colour,
 //                  occlusion and metallic-roughness, alpha MASK and alpha BLEND (built here)
+//   clearcoat.glb, sheen.glb, specular.glb, anisotropy.glb, transforms.glb
+//                  the PBR extensions, three or four spheres each, by factors and by textures
+//                  (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
 //   and the same directional light added.
 // Usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]
@@ -335,6 +338,128 @@ function materials() {
   return doc;
 }
 
+/** A tangent-space normal map of ridges along V (normals tilted in U), as an RGBA PNG. */
+function ridges(size, period) {
+  return png(size, (x) => {
+    const nx = 0.45 * Math.sin((2 * Math.PI * (x + 0.5)) / period);
+    const nz = Math.sqrt(1 - nx * nx);
+    return [Math.round((nx * 0.5 + 0.5) * 255), 128, Math.round((nz * 0.5 + 0.5) * 255), 255];
+  });
+}
+
+/** Spheres in a row at x = -1.5 .. 1.5 (step 3 / (n - 1)), each a material of `materials`. */
+function row(doc, materials, extensions) {
+  doc.json.extensionsUsed = extensions;
+  const ball = doc.geometry(sphere(0.45));
+  materials.forEach((m, i) => {
+    const x = materials.length === 1 ? 0 : -1.5 + (3 * i) / (materials.length - 1);
+    doc.place(ball, doc.material(m), [x, 0, 0], m.name);
+  });
+}
+
+/** KHR_materials_clearcoat: a smooth coat over a rough red dielectric, a half coat of some
+ * roughness, and a striped coat (clearcoatTexture, red) with its own ridged normal map over
+ * a rough blue metal. */
+function clearcoat() {
+  const doc = new Doc();
+  const stripes = doc.texture(png(64, (x, y) => [(y >> 3) & 1 ? 255 : 0, 0, 0, 255]));
+  const normals = doc.texture(ridges(64, 16));
+  const red = { baseColorFactor: [0.8, 0.1, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.7 };
+  row(doc, [
+    { name: 'coat', pbrMetallicRoughness: red,
+      extensions: { KHR_materials_clearcoat: { clearcoatFactor: 1, clearcoatRoughnessFactor: 0.05 } } },
+    { name: 'half coat', pbrMetallicRoughness: red,
+      extensions: { KHR_materials_clearcoat: { clearcoatFactor: 0.5, clearcoatRoughnessFactor: 0.35 } } },
+    { name: 'striped coat', pbrMetallicRoughness: { baseColorFactor: [0.2, 0.35, 0.8, 1], metallicFactor: 1, roughnessFactor: 0.55 },
+      extensions: { KHR_materials_clearcoat: { clearcoatFactor: 1, clearcoatTexture: { index: stripes },
+        clearcoatRoughnessFactor: 0.1, clearcoatNormalTexture: { index: normals, scale: 1 } } } },
+  ], ['KHR_materials_clearcoat']);
+  return doc;
+}
+
+/** KHR_materials_sheen: velvet (a dark base under a pink sheen) at sheen roughness 0.3 and
+ * 0.8, and a sheen whose colour (checker) and roughness (alpha) come from textures. */
+function sheen() {
+  const doc = new Doc();
+  const colour = doc.texture(png(64, (x, y) => (((x >> 3) + (y >> 3)) & 1 ? [255, 230, 120, 255] : [90, 200, 255, 255])));
+  const rough = doc.texture(png(64, (x) => [255, 255, 255, x < 32 ? 90 : 230]));
+  const velvet = { baseColorFactor: [0.05, 0.03, 0.12, 1], metallicFactor: 0, roughnessFactor: 0.9 };
+  row(doc, [
+    { name: 'sheen 0.3', pbrMetallicRoughness: velvet,
+      extensions: { KHR_materials_sheen: { sheenColorFactor: [1, 0.45, 0.7], sheenRoughnessFactor: 0.3 } } },
+    { name: 'sheen 0.8', pbrMetallicRoughness: velvet,
+      extensions: { KHR_materials_sheen: { sheenColorFactor: [1, 0.45, 0.7], sheenRoughnessFactor: 0.8 } } },
+    { name: 'textured sheen', pbrMetallicRoughness: velvet,
+      extensions: { KHR_materials_sheen: { sheenColorFactor: [1, 1, 1], sheenColorTexture: { index: colour },
+        sheenRoughnessFactor: 1, sheenRoughnessTexture: { index: rough } } } },
+  ], ['KHR_materials_sheen']);
+  return doc;
+}
+
+/** KHR_materials_ior and KHR_materials_specular: a glossy grey dielectric at ior 1.2 and 2.4,
+ * at specularFactor 0.3, and with a specular colour from a texture (red and cyan halves)
+ * times a factor. */
+function specular() {
+  const doc = new Doc();
+  const tint = doc.texture(png(64, (x) => (x < 32 ? [255, 60, 60, 255] : [60, 255, 255, 255])));
+  const grey = { baseColorFactor: [0.25, 0.25, 0.25, 1], metallicFactor: 0, roughnessFactor: 0.3 };
+  row(doc, [
+    { name: 'ior 1.2', pbrMetallicRoughness: grey, extensions: { KHR_materials_ior: { ior: 1.2 } } },
+    { name: 'ior 2.4', pbrMetallicRoughness: grey, extensions: { KHR_materials_ior: { ior: 2.4 } } },
+    { name: 'specular 0.3', pbrMetallicRoughness: grey,
+      extensions: { KHR_materials_ior: { ior: 2.4 }, KHR_materials_specular: { specularFactor: 0.3 } } },
+    { name: 'specular colour', pbrMetallicRoughness: grey,
+      extensions: { KHR_materials_ior: { ior: 2.4 }, KHR_materials_specular: { specularColorFactor: [1, 1, 1],
+        specularColorTexture: { index: tint } } } },
+  ], ['KHR_materials_ior', 'KHR_materials_specular']);
+  return doc;
+}
+
+/** KHR_materials_anisotropy: brushed copper (a rough metal) without anisotropy, with
+ * strength 0.6 along the tangent (around the sphere) and 0.9 turned a quarter turn (along
+ * the meridians). */
+function anisotropy() {
+  const doc = new Doc();
+  const copper = { baseColorFactor: [0.95, 0.64, 0.54, 1], metallicFactor: 1, roughnessFactor: 0.35 };
+  row(doc, [
+    { name: 'isotropic', pbrMetallicRoughness: copper },
+    { name: 'along', pbrMetallicRoughness: copper,
+      extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.6 } } },
+    { name: 'across', pbrMetallicRoughness: copper,
+      extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.9, anisotropyRotation: Math.PI / 2 } } },
+  ], ['KHR_materials_anisotropy']);
+  return doc;
+}
+
+/** KHR_texture_transform on every core slot, and KHR_materials_unlit: a checker base colour
+ * turned, scaled and moved; a rough metal whose metallic-roughness, occlusion, normal and
+ * emissive textures each have their own transform; an unlit sphere with a transformed
+ * base colour texture. */
+function transforms() {
+  const doc = new Doc();
+  doc.json.extensionsUsed = ['KHR_texture_transform', 'KHR_materials_unlit'];
+  const ball = doc.geometry(sphere(0.45));
+  const checker = doc.texture(png(64, (x, y) => (((x >> 3) + (y >> 3)) & 1 ? [230, 200, 60, 255] : [40, 90, 200, 255])));
+  const stripes = doc.texture(png(64, (x) => [(x >> 3) & 1 ? 255 : 60, (x >> 3) & 1 ? 60 : 220, (x >> 3) & 1 ? 0 : 255, 255]));
+  const glow = doc.texture(png(64, (x, y) => (Math.hypot(x - 31.5, y - 31.5) < 10 ? [255, 120, 40, 255] : [0, 0, 0, 255])));
+  const normals = doc.texture(ridges(64, 16));
+  const t = (offset, rotation, scale) => ({ KHR_texture_transform: { offset, rotation, scale } });
+  doc.place(ball, doc.material({ name: 'base transform', pbrMetallicRoughness: {
+    baseColorTexture: { index: checker, extensions: t([0.1, 0.2], 0.4, [2, 3]) }, metallicFactor: 0, roughnessFactor: 0.5 } }),
+  [-1.5, 0, 0], 'base transform');
+  doc.place(ball, doc.material({ name: 'every slot',
+    pbrMetallicRoughness: { baseColorFactor: [0.9, 0.6, 0.4, 1],
+      metallicRoughnessTexture: { index: stripes, extensions: t([0.25, 0], 0.8, [1.5, 1]) } },
+    normalTexture: { index: normals, extensions: t([0, 0], 1.2, [2, 2]) },
+    occlusionTexture: { index: stripes, strength: 0.9, extensions: t([0, 0.5], -0.6, [3, 1]) },
+    emissiveFactor: [1, 1, 1], emissiveTexture: { index: glow, extensions: t([-0.3, 0.1], 0.2, [2, 1]) } }),
+  [0, 0, 0], 'every slot');
+  doc.place(ball, doc.material({ name: 'unlit', pbrMetallicRoughness: {
+    baseColorTexture: { index: checker, extensions: t([0, 0], -0.7, [1, 4]) } },
+    extensions: { KHR_materials_unlit: {} } }), [1.5, 0, 0], 'unlit');
+  return doc;
+}
+
 /** World-space bounds of a document's meshes from the POSITION accessors' min and max (and
  * their morph targets'). */
 function bounds(json) {
@@ -400,6 +525,11 @@ function main() {
   const models = [
     ['spheres', spheres(), { eye: [0, 0, 10.5], target: [0, 0, 0] }],
     ['materials', materials(), { eye: [0, 1.6, 6.2], target: [0, 0.5, 0] }],
+    ['clearcoat', clearcoat(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['sheen', sheen(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['specular', specular(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['anisotropy', anisotropy(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['transforms', transforms(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = addCameraAndLight(doc.json, eye, target, aspect);

@@ -16,10 +16,6 @@ import { fileURLToPath } from 'node:url';
 import puppeteer from 'puppeteer-core';
 
 const here = dirname(fileURLToPath(import.meta.url));
-// A 1 x 1 PNG: the sheen lookup table the viewer loads with an environment (no material
-// here uses sheen).
-const BLANK_PNG = Buffer.from(
-  'iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==', 'base64');
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript',
   '.wasm': 'application/wasm', '.png': 'image/png' };
 
@@ -34,7 +30,6 @@ function serve(jobs) {
     const job = url.match(/^\/job\/(\d+)\/(model\.glb|env\.hdr)$/);
     let file;
     if (job) file = job[2] === 'model.glb' ? jobs[job[1]].model : jobs[job[1]].environment;
-    else if (url === '/blank.png') { res.writeHead(200, { 'content-type': 'image/png' }); res.end(BLANK_PNG); return; }
     else if (!url.includes('..')) file = join(here, url);
     try {
       let body = readFileSync(file);

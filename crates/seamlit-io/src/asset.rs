@@ -153,6 +153,108 @@ pub struct Material {
     pub alpha_mode: AlphaMode,
     /// KHR_materials_unlit: the base colour is shown as it is, without lighting.
     pub unlit: bool,
+    /// The glTF PBR extensions the material uses beyond metallic-roughness (ior, specular,
+    /// clearcoat, sheen); all `None` for a material without them.
+    pub extensions: PbrExtensions,
+}
+
+/// glTF material extensions that add to the metallic-roughness BRDF, as their specifications
+/// define them (each `None` where the material does not use it).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PbrExtensions {
+    /// KHR_materials_ior: the dielectric's index of refraction (glTF's default is 1.5, which
+    /// gives the core f0 of 0.04).
+    pub ior: Option<f32>,
+    /// KHR_materials_specular.
+    pub specular: Option<Specular>,
+    /// KHR_materials_clearcoat.
+    pub clearcoat: Option<Clearcoat>,
+    /// KHR_materials_sheen.
+    pub sheen: Option<Sheen>,
+    /// KHR_materials_anisotropy.
+    pub anisotropy: Option<Anisotropy>,
+}
+
+impl PbrExtensions {
+    /// The names of the extensions in use, in the order of this struct's fields (for the
+    /// viewer's panel and messages).
+    #[must_use]
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        if self.ior.is_some() {
+            names.push("KHR_materials_ior");
+        }
+        if self.specular.is_some() {
+            names.push("KHR_materials_specular");
+        }
+        if self.clearcoat.is_some() {
+            names.push("KHR_materials_clearcoat");
+        }
+        if self.sheen.is_some() {
+            names.push("KHR_materials_sheen");
+        }
+        if self.anisotropy.is_some() {
+            names.push("KHR_materials_anisotropy");
+        }
+        names
+    }
+}
+
+/// KHR_materials_specular: the dielectric's specular strength and colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Specular {
+    /// `specularFactor` (default 1), times the texture's alpha.
+    pub factor: f32,
+    /// `specularTexture` (linear; alpha).
+    pub texture: Option<TextureRef>,
+    /// `specularColorFactor` (linear RGB, default 1), times the colour texture.
+    pub color: [f32; 3],
+    /// `specularColorTexture` (sRGB; RGB).
+    pub color_texture: Option<TextureRef>,
+}
+
+/// KHR_materials_clearcoat: a clear GGX layer over the material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clearcoat {
+    /// `clearcoatFactor` (default 0), times the texture's red.
+    pub factor: f32,
+    /// `clearcoatTexture` (linear; red).
+    pub texture: Option<TextureRef>,
+    /// `clearcoatRoughnessFactor` (default 0), times the texture's green.
+    pub roughness: f32,
+    /// `clearcoatRoughnessTexture` (linear; green).
+    pub roughness_texture: Option<TextureRef>,
+    /// `clearcoatNormalTexture` (tangent space, linear); the geometry's normal without it.
+    pub normal_texture: Option<TextureRef>,
+    /// The clearcoat normal texture's `scale`.
+    pub normal_scale: f32,
+}
+
+/// KHR_materials_anisotropy: the specular lobe stretched along a direction of the tangent
+/// plane (brushed metal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// `anisotropyStrength` (default 0), times the texture's blue.
+    pub strength: f32,
+    /// `anisotropyRotation` (radians, default 0): the direction's turn from the tangent
+    /// towards the bitangent.
+    pub rotation: f32,
+    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, blue:
+    /// strength). Read, not yet drawn: the renderer draws the factors.
+    pub texture: Option<TextureRef>,
+}
+
+/// KHR_materials_sheen: a Charlie sheen layer (cloth) over the material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sheen {
+    /// `sheenColorFactor` (linear RGB, default 0), times the colour texture.
+    pub color: [f32; 3],
+    /// `sheenColorTexture` (sRGB; RGB).
+    pub color_texture: Option<TextureRef>,
+    /// `sheenRoughnessFactor` (default 0), times the texture's alpha.
+    pub roughness: f32,
+    /// `sheenRoughnessTexture` (linear; alpha).
+    pub roughness_texture: Option<TextureRef>,
 }
 
 /// A light from a glTF file (KHR_lights_punctual), placed by its node in model space.
@@ -227,6 +329,7 @@ impl Default for Material {
             emissive_texture: None,
             alpha_mode: AlphaMode::Opaque,
             unlit: false,
+            extensions: PbrExtensions::default(),
         }
     }
 }

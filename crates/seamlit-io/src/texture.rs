@@ -1,5 +1,6 @@
 //! Textures in and out. Decoding: every image of an asset decoded in parallel (rayon)
-//! through the image crate. A texture that is missing, cannot be decoded, is larger than
+//! through the image crate (PNG, JPEG), or [`ktx2`] for KTX2 files (uncompressed or
+//! Zstandard-supercompressed 8-bit formats; Basis Universal named in its warning). A texture that is missing, cannot be decoded, is larger than
 //! [`LoadOptions::max_texture_size`] or does not fit the model's
 //! [`LoadOptions::max_texture_bytes`] keeps `image: None` and adds a warning; renderers then
 //! use a neutral default (white, or the flat normal (0.5, 0.5, 1)).
@@ -10,7 +11,11 @@
 //!
 //! Encoding, for the generic writers: a texture's bytes as PNG or JPEG ([`encoded`]).
 
-use std::io::{BufRead, BufReader, Cursor, Seek};
+mod ktx2;
+
+use std::borrow::Cow;
+use std::fmt::Display;
+use std::io::{BufRead, BufReader, Cursor, Read, Seek};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -47,6 +52,63 @@ impl Encoded {
                 f(image::ImageReader::new(&mut cursor as &mut dyn BufReadSeek)
                     .with_guessed_format()?)
             }
+        }
+    }
+}
+
+/// Why a texture was not decoded: the image crate's error or the KTX2 reader's.
+enum DecodeError {
+    Image(image::ImageError),
+    Ktx2(ktx2::Ktx2Error),
+}
+
+impl Display for DecodeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Image(err) => err.fmt(f),
+            Self::Ktx2(err) => err.fmt(f),
+        }
+    }
+}
+
+impl Encoded {
+    /// The whole encoded bytes where they are a KTX2 file (a file's first 12 bytes read to
+    /// tell), `None` for any other format.
+    fn ktx2_bytes(&self) -> std::io::Result<Option<Cow<'_, [u8]>>> {
+        match self {
+            Self::Bytes(bytes) => Ok(ktx2::is_ktx2(bytes).then_some(Cow::Borrowed(&bytes[..]))),
+            Self::File(path) => {
+                let mut file = std::fs::File::open(path)?;
+                let mut signature = [0; ktx2::SIGNATURE.len()];
+                let is_ktx2 = match file.read_exact(&mut signature) {
+                    Ok(()) => ktx2::is_ktx2(&signature),
+                    Err(err) if err.kind() == std::io::ErrorKind::UnexpectedEof => false,
+                    Err(err) => return Err(err),
+                };
+                if !is_ktx2 {
+                    return Ok(None);
+                }
+                Ok(Some(Cow::Owned(std::fs::read(path)?)))
+            }
+        }
+    }
+
+    /// The image's width and height, from its header.
+    fn dimensions(&self) -> Result<(u32, u32), DecodeError> {
+        match self.ktx2_bytes().map_err(|e| DecodeError::Image(e.into()))? {
+            Some(bytes) => ktx2::dimensions(&bytes).map_err(DecodeError::Ktx2),
+            None => self.read(|reader| reader.into_dimensions()).map_err(DecodeError::Image),
+        }
+    }
+
+    /// The image as RGBA8, at most `max_size` wide and high.
+    fn decode(&self, max_size: u32) -> Result<image::RgbaImage, DecodeError> {
+        match self.ktx2_bytes().map_err(|e| DecodeError::Image(e.into()))? {
+            Some(bytes) => ktx2::decode(&bytes, max_size).map_err(DecodeError::Ktx2),
+            None => self
+                .read(|reader| decode(reader, max_size))
+                .map(image::DynamicImage::into_rgba8)
+                .map_err(DecodeError::Image),
         }
     }
 }
@@ -146,8 +208,8 @@ fn locate(
     Ok(sources)
 }
 
-/// The warning for a texture the image crate cannot decode.
-fn cannot_decode(model: &Path, texture: &Texture, err: &image::ImageError) -> String {
+/// The warning for a texture that cannot be decoded.
+fn cannot_decode(model: &Path, texture: &Texture, err: &impl Display) -> String {
     format!(
         "{}: texture {:?} cannot be decoded: {err}; using a neutral default",
         model.display(),
@@ -167,9 +229,8 @@ fn probe(
         .map(|(source, texture)| {
             source.map(|source| {
                 let source = source?;
-                let (width, height) = source
-                    .read(|reader| reader.into_dimensions())
-                    .map_err(|e| cannot_decode(model, texture, &e))?;
+                let (width, height) =
+                    source.dimensions().map_err(|e| cannot_decode(model, texture, &e))?;
                 Ok(Probed { source, width, height })
             })
         })
@@ -236,9 +297,9 @@ fn decode_admitted(
         .zip(admitted.into_par_iter())
         .map(|(texture, source)| {
             let source = source?;
-            match source.read(|reader| decode(reader, max_size)) {
+            match source.decode(max_size) {
                 Ok(image) => {
-                    texture.image = Some(Arc::new(image.into_rgba8()));
+                    texture.image = Some(Arc::new(image));
                     None
                 }
                 Err(err) => Some(cannot_decode(model, texture, &err)),

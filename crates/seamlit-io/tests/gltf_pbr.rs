@@ -176,3 +176,44 @@ fn punctual_lights_are_placed_by_their_nodes() {
     assert!(warned("nodes[4]") && warned("\"laser\""), "{:?}", asset.warnings);
     assert!(warned("nodes[5]") && warned("does not exist"), "{:?}", asset.warnings);
 }
+
+/// The material extensions that add to the BRDF (issue 34), read from the Sample Viewer
+/// comparison's models with each specification's defaults for what a model leaves out.
+#[test]
+fn ior_specular_clearcoat_and_sheen_are_read_with_their_defaults() {
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/sample-viewer");
+    let load = |name: &str| seamlit_io::load(&models.join(name), &LoadOptions::default()).unwrap();
+    let by_name = |asset: &seamlit_io::Asset, name: &str| {
+        asset.materials.iter().find(|m| m.name == name).unwrap().extensions.clone()
+    };
+
+    let specular = load("specular.glb");
+    assert_eq!(by_name(&specular, "ior 2.4").ior, Some(2.4));
+    assert_eq!(by_name(&specular, "ior 2.4").specular, None);
+    let weak = by_name(&specular, "specular 0.3").specular.unwrap();
+    assert_eq!((weak.factor, weak.color, weak.texture), (0.3, [1.0; 3], None));
+    let tinted = by_name(&specular, "specular colour").specular.unwrap();
+    assert_eq!(tinted.factor, 1.0, "specularFactor defaults to 1");
+    assert!(tinted.color_texture.is_some());
+
+    let clearcoat = load("clearcoat.glb");
+    let coat = by_name(&clearcoat, "half coat").clearcoat.unwrap();
+    assert_eq!((coat.factor, coat.roughness, coat.normal_texture), (0.5, 0.35, None));
+    let striped = by_name(&clearcoat, "striped coat").clearcoat.unwrap();
+    assert!(striped.texture.is_some() && striped.normal_texture.is_some());
+    assert_eq!(striped.normal_scale, 1.0);
+    assert_eq!(by_name(&clearcoat, "coat").names(), ["KHR_materials_clearcoat"]);
+
+    let sheen = load("sheen.glb");
+    let velvet = by_name(&sheen, "sheen 0.8").sheen.unwrap();
+    assert_eq!((velvet.color, velvet.roughness), ([1.0, 0.45, 0.7], 0.8));
+    let textured = by_name(&sheen, "textured sheen").sheen.unwrap();
+    assert!(textured.color_texture.is_some() && textured.roughness_texture.is_some());
+    let anisotropy = load("anisotropy.glb");
+    let across = by_name(&anisotropy, "across").anisotropy.unwrap();
+    assert_eq!((across.strength, across.rotation), (0.9, FRAC_PI_2));
+    assert_eq!(by_name(&anisotropy, "isotropic"), seamlit_io::PbrExtensions::default());
+    // A model without them: nothing.
+    let spheres = load("spheres.glb");
+    assert!(spheres.materials.iter().all(|m| m.extensions == seamlit_io::PbrExtensions::default()));
+}

@@ -203,7 +203,8 @@ pub(crate) struct Layouts {
     /// sampler and their matrices.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1: material uniforms, base colour and normal textures, sampler, then the
-    /// metallic-roughness, occlusion and emissive textures.
+    /// metallic-roughness, occlusion and emissive textures, the PBR extensions' textures
+    /// and the sheen albedo table.
     pub material: wgpu::BindGroupLayout,
     /// Group 2: object uniforms, the object's vertices (read as storage for TBN lines and
     /// the posed-vertex readback), its skin influences and morph target deltas, and its
@@ -259,6 +260,18 @@ fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             texture(4, D2),
             texture(5, D2),
             texture(6, D2),
+            // The PBR extensions' textures (specular, specular colour, clearcoat, clearcoat
+            // roughness, clearcoat normal, sheen colour, sheen roughness), and the sheen's
+            // albedo table (a storage buffer: lavapipe allows 16 sampled textures a stage,
+            // and the fragment stage has them all).
+            texture(7, D2),
+            texture(8, D2),
+            texture(9, D2),
+            texture(10, D2),
+            texture(11, D2),
+            texture(12, D2),
+            texture(13, D2),
+            buffer(14, S::FRAGMENT, STORAGE),
         ],
     })
 }

@@ -8,7 +8,11 @@
 //! (Blinn-Phong, Phong, Lambert) or per vertex (Gouraud), see [`LightingModel`]. For glTF
 //! materials, [`LightingModel::Pbr`] is the metallic-roughness model of the glTF 2.0
 //! specification's Appendix B in the same pass (base colour, metallic-roughness, occlusion and
-//! emissive textures, alpha MASK and BLEND, unlit), tone mapped as [`ToneMapping`] says. Normal maps
+//! emissive textures, alpha MASK and BLEND, unlit), tone mapped as [`ToneMapping`] says, with the
+//! glTF extensions that add to that BRDF (KHR_materials_ior, _specular, _clearcoat, _sheen,
+//! _anisotropy:
+//! `seamlit_io::PbrExtensions`) drawn by pipeline variants made on first use, so that a material
+//! without them costs what it did. Normal maps
 //! are read in the tangent frame built in the vertex shader (section 5.3: Gram-Schmidt,
 //! `B = cross(N, T) * w`, times the sign of the transform's determinant). Shaders live in
 //! `src/mesh.wgsl`.
@@ -87,6 +91,7 @@ mod scene;
 mod settings;
 mod shaders;
 mod shadow;
+mod sheen;
 mod texture;
 
 pub use context::GpuContext;

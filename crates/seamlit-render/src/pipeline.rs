@@ -1,6 +1,7 @@
 //! The render pipelines: meshes in eight variants (front faces counter-clockwise or clockwise,
 //! culled or double-sided, opaque or alpha-blended), each without and (made on first use)
-//! with skinning and morphing in the vertex stage, the environment behind them and the TBN
+//! with skinning and morphing in the vertex stage, and without and (made on first use) with
+//! the PBR extensions' layers in the fragment stage; the environment behind them and the TBN
 //! lines.
 
 use crate::GpuContext;
@@ -12,11 +13,13 @@ pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 /// All pipelines for one target format and sample count.
 #[derive(Debug)]
 pub(crate) struct Pipelines {
-    /// Indexed by [`Pipelines::mesh`]'s variant, `deform.wgsl`'s `DEFORM` false: for objects
-    /// without a pose.
+    /// Indexed by [`Pipelines::mesh`]'s variant, `deform.wgsl`'s `DEFORM` false and
+    /// `mesh.wgsl`'s `LAYERS` false: for objects without a pose whose materials use no PBR
+    /// extension.
     mesh: [wgpu::RenderPipeline; 8],
-    /// The same with `DEFORM` true, for posed objects; made by [`Pipelines::prepare_posed`].
-    posed: Option<[wgpu::RenderPipeline; 8]>,
+    /// The same with `DEFORM` true (posed objects), `LAYERS` true (materials with layers), or
+    /// both, indexed by [`Features::index`] less one; each made by [`Pipelines::prepare`].
+    more: [Option<[wgpu::RenderPipeline; 8]>; 3],
     /// What making the posed variants needs.
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
@@ -40,15 +43,16 @@ impl Pipelines {
         let shared = Shared { device, module: &module, layout: &layout, format, multisample };
         let vertices = [Some(VertexRaw::layout())];
         let mesh = std::array::from_fn(|index| {
-            shared.create(&PipelineDescriptor { deform: false, ..mesh_pipeline(index, &vertices) })
+            shared.create(&mesh_pipeline(index, &vertices, Features::default()))
         });
         let (tbn, sky) = (shared.create(&tbn_pipeline()), shared.create(&sky_pipeline()));
-        Self { mesh, posed: None, module, layout, format, multisample, tbn, sky }
+        Self { mesh, more: [None, None, None], module, layout, format, multisample, tbn, sky }
     }
 
-    /// Makes the posed variants of the mesh pipelines if they are not made yet.
-    pub(crate) fn prepare_posed(&mut self, device: &wgpu::Device) {
-        if self.posed.is_some() {
+    /// Makes the mesh pipelines of `features` if they are not made yet.
+    pub(crate) fn prepare(&mut self, device: &wgpu::Device, features: Features) {
+        let Some(slot) = features.index().checked_sub(1) else { return };
+        if self.more[slot].is_some() {
             return;
         }
         let shared = Shared {
@@ -59,8 +63,9 @@ impl Pipelines {
             multisample: self.multisample,
         };
         let vertices = [Some(VertexRaw::layout())];
-        self.posed =
-            Some(std::array::from_fn(|index| shared.create(&mesh_pipeline(index, &vertices))));
+        self.more[slot] = Some(std::array::from_fn(|index| {
+            shared.create(&mesh_pipeline(index, &vertices, features))
+        }));
     }
 
     /// Front face, whether back faces are culled and whether colour is blended, for a
@@ -70,20 +75,40 @@ impl Pipelines {
         (front, index & 2 == 0, index & 4 != 0)
     }
 
-    /// The mesh pipeline for an object: a posed object's skins and morphs in the vertex stage
-    /// (once [`Pipelines::prepare_posed`] has made those variants; before, the unposed ones);
-    /// a transform with a negative determinant turns counter-clockwise triangles clockwise on
-    /// screen; double-sided materials are not culled; alphaMode BLEND materials blend by alpha
-    /// and leave the depth buffer alone.
+    /// The mesh pipeline for an object: a posed object's skins and morphs in the vertex stage,
+    /// a material's PBR extensions in the fragment stage (once [`Pipelines::prepare`] has made
+    /// those variants; before, the plain ones); a transform with a negative determinant turns
+    /// counter-clockwise triangles clockwise on screen; double-sided materials are not culled;
+    /// alphaMode BLEND materials blend by alpha and leave the depth buffer alone.
     pub(crate) fn mesh(
         &self,
-        posed: bool,
+        features: Features,
         mirrored: bool,
         double_sided: bool,
         blend: bool,
     ) -> &wgpu::RenderPipeline {
-        let set = if posed { self.posed.as_ref().unwrap_or(&self.mesh) } else { &self.mesh };
+        let set = features
+            .index()
+            .checked_sub(1)
+            .and_then(|slot| self.more[slot].as_ref())
+            .unwrap_or(&self.mesh);
         &set[usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
+    }
+}
+
+/// What a mesh pipeline compiles in besides the metallic-roughness and lighting-model shading.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Features {
+    /// Skinning and morphing in the vertex stage (`deform.wgsl`'s `DEFORM`).
+    pub deform: bool,
+    /// The PBR extensions' layers in the fragment stage (`mesh.wgsl`'s `LAYERS`).
+    pub layers: bool,
+}
+
+impl Features {
+    /// 0 for none, 1 deform, 2 layers, 3 both.
+    fn index(self) -> usize {
+        usize::from(self.deform) | (usize::from(self.layers) << 1)
     }
 }
 
@@ -125,8 +150,9 @@ struct PipelineDescriptor<'a> {
     depth_stencil: wgpu::DepthStencilState,
     /// How colour is blended into the target (`None`: replaced).
     blend: Option<wgpu::BlendState>,
-    /// `deform.wgsl`'s `DEFORM` in the vertex stage: skinning and morphing compiled in.
-    deform: bool,
+    /// `deform.wgsl`'s `DEFORM` in the vertex stage and `mesh.wgsl`'s `LAYERS` in the
+    /// fragment stage.
+    features: Features,
 }
 
 impl Shared<'_> {
@@ -137,7 +163,7 @@ impl Shared<'_> {
             vertex: wgpu::VertexState {
                 module: self.module,
                 entry_point: Some(desc.vertex),
-                compilation_options: deform_option(desc.deform),
+                compilation_options: deform_option(desc.features.deform),
                 buffers: desc.buffers,
             },
             primitive: desc.primitive,
@@ -146,7 +172,7 @@ impl Shared<'_> {
             fragment: Some(wgpu::FragmentState {
                 module: self.module,
                 entry_point: Some(desc.fragment),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                compilation_options: layers_option(desc.features.layers),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: self.format,
                     blend: desc.blend,
@@ -169,6 +195,16 @@ pub(crate) fn deform_option(deform: bool) -> wgpu::PipelineCompilationOptions<'s
     }
 }
 
+/// The fragment stage's options: `LAYERS` false where `layers` is (the shader's default is
+/// true).
+fn layers_option(layers: bool) -> wgpu::PipelineCompilationOptions<'static> {
+    const OFF: &[(&str, f64)] = &[("LAYERS", 0.0)];
+    wgpu::PipelineCompilationOptions {
+        constants: if layers { &[] } else { OFF },
+        ..wgpu::PipelineCompilationOptions::default()
+    }
+}
+
 /// Depth tested (less) and written.
 fn depth() -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
@@ -180,10 +216,12 @@ fn depth() -> wgpu::DepthStencilState {
     }
 }
 
-/// The mesh pipeline of a variant index (see [`Pipelines::mesh`]), reading `vertices`.
+/// The mesh pipeline of a variant index (see [`Pipelines::mesh`]), reading `vertices`, with
+/// `features` compiled in.
 fn mesh_pipeline<'a>(
     index: usize,
     vertices: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    features: Features,
 ) -> PipelineDescriptor<'a> {
     let (front_face, cull, blend) = Pipelines::variant(index);
     PipelineDescriptor {
@@ -201,7 +239,7 @@ fn mesh_pipeline<'a>(
         // lies behind them.
         depth_stencil: wgpu::DepthStencilState { depth_write_enabled: Some(!blend), ..depth() },
         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
-        deform: true,
+        features,
     }
 }
 
@@ -222,7 +260,7 @@ fn tbn_pipeline() -> PipelineDescriptor<'static> {
             ..depth()
         },
         blend: None,
-        deform: true,
+        features: Features { deform: true, layers: false },
     }
 }
 
@@ -241,6 +279,6 @@ fn sky_pipeline() -> PipelineDescriptor<'static> {
             ..depth()
         },
         blend: None,
-        deform: false,
+        features: Features::default(),
     }
 }

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use image::RgbaImage;
 
 use crate::light::LightRaw;
-use crate::pipeline::{DEPTH_FORMAT, Pipelines};
+use crate::pipeline::{DEPTH_FORMAT, Features, Pipelines};
 use crate::settings::{FrameInputs, FrameRaw};
 use crate::shadow::{SHADOW_SIZE, Shadows};
 use crate::{CameraView, FrameSettings, GpuContext, GpuEnvironment, GpuScene, RenderError};
@@ -220,8 +220,11 @@ impl Renderer {
         let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
         self.prepare(ctx, frame);
-        if scene.meshes.iter().any(|m| m.posed) {
-            self.pipelines.prepare_posed(ctx.device());
+        for mesh in &scene.meshes {
+            let features = mesh_features(scene, mesh);
+            if features != Features::default() {
+                self.pipelines.prepare(ctx.device(), features);
+            }
         }
         self.shadows.encode(encoder, scene, self.shadows_used);
         let Some(attachments) = &self.attachments else { return Ok(()) };
@@ -243,7 +246,7 @@ impl Renderer {
         for mesh in draw_order(scene, eye) {
             let material = &scene.materials[mesh.material];
             pass.set_pipeline(self.pipelines.mesh(
-                mesh.posed,
+                mesh_features(scene, mesh),
                 mesh.mirrored,
                 material.double_sided,
                 material.blend,
@@ -519,4 +522,10 @@ fn frame_bind_group(
             wgpu::BindGroupEntry { binding: 4, resource: shadows.matrices.as_entire_binding() },
         ],
     })
+}
+
+/// What a mesh's pipeline compiles in: skinning and morphing for a posed object, the PBR
+/// extensions' layers for a material that uses one.
+fn mesh_features(scene: &GpuScene, mesh: &crate::scene::GpuMesh) -> Features {
+    Features { deform: mesh.posed, layers: scene.materials[mesh.material].layers }
 }

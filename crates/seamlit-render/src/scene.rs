@@ -74,6 +74,19 @@ const MAT_ALPHA_MASK: u32 = 8;
 const MAT_ALPHA_BLEND: u32 = 16;
 /// Material flag: KHR_materials_unlit.
 const MAT_UNLIT: u32 = 32;
+/// Material flag: KHR_materials_clearcoat (a coat layer is drawn).
+const MAT_CLEARCOAT: u32 = 64;
+/// Material flag: the clearcoat has a normal map.
+const MAT_CLEARCOAT_NORMAL_MAP: u32 = 128;
+/// Material flag: KHR_materials_sheen.
+const MAT_SHEEN: u32 = 256;
+/// Material flag: KHR_materials_specular or KHR_materials_ior (the dielectric's f0 and f90
+/// are the material's; the specular and specular colour textures are read).
+const MAT_SPECULAR: u32 = 512;
+/// Material flag: KHR_materials_anisotropy.
+const MAT_ANISOTROPY: u32 = 1024;
+/// Any of the flags of the PBR extensions' layers.
+const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -95,6 +108,31 @@ pub(crate) struct MaterialRaw {
     pub alpha_cutoff: f32,
     pub flags: u32,
     pub pad: [u32; 3],
+    /// KHR_materials_specular's texture slots (alpha: strength; RGB: colour), then
+    /// clearcoat's (factor, roughness, normal) and sheen's (colour, roughness).
+    pub specular_uv: [[f32; 4]; 2],
+    pub specular_color_uv: [[f32; 4]; 2],
+    pub clearcoat_uv: [[f32; 4]; 2],
+    pub clearcoat_roughness_uv: [[f32; 4]; 2],
+    pub clearcoat_normal_uv: [[f32; 4]; 2],
+    pub sheen_color_uv: [[f32; 4]; 2],
+    pub sheen_roughness_uv: [[f32; 4]; 2],
+    /// The dielectric's f0 (KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0.04 by default)
+    /// times KHR_materials_specular's colour, and its strength (`specularFactor`).
+    pub f0_dielectric: [f32; 3],
+    pub specular_weight: f32,
+    /// KHR_materials_sheen's colour and roughness.
+    pub sheen_color: [f32; 3],
+    pub sheen_roughness: f32,
+    /// KHR_materials_clearcoat's factor, roughness and normal scale, and its f0 (from the
+    /// material's ior).
+    pub clearcoat: f32,
+    pub clearcoat_roughness: f32,
+    pub clearcoat_normal_scale: f32,
+    pub clearcoat_f0: f32,
+    /// KHR_materials_anisotropy: cos and sin of its rotation, its strength.
+    pub anisotropy: [f32; 3],
+    pub pad1: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -139,6 +177,28 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
         }
     };
     let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref());
+    let ext = &material.extensions;
+    // KHR_materials_ior: f0 = ((ior - 1) / (ior + 1))^2; glTF's default 1.5 gives 0.04.
+    let f0 = ext.ior.map_or(0.04, |ior| ((ior - 1.0) / (ior + 1.0)).powi(2));
+    if ext.ior.is_some() || ext.specular.is_some() {
+        flags |= MAT_SPECULAR;
+    }
+    if ext.clearcoat.is_some() {
+        flags |= MAT_CLEARCOAT;
+    }
+    if ext.clearcoat.as_ref().is_some_and(|c| c.normal_texture.is_some()) {
+        flags |= MAT_CLEARCOAT_NORMAL_MAP;
+    }
+    if ext.sheen.is_some() {
+        flags |= MAT_SHEEN;
+    }
+    if ext.anisotropy.is_some() {
+        flags |= MAT_ANISOTROPY;
+    }
+    let specular = ext.specular.as_ref();
+    let clearcoat = ext.clearcoat.as_ref();
+    let sheen = ext.sheen.as_ref();
+    let none = &None;
     MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
@@ -157,6 +217,26 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
         alpha_cutoff,
         flags,
         pad: [0; 3],
+        specular_uv: slot_uv(specular.map_or(none, |s| &s.texture)),
+        specular_color_uv: slot_uv(specular.map_or(none, |s| &s.color_texture)),
+        clearcoat_uv: slot_uv(clearcoat.map_or(none, |c| &c.texture)),
+        clearcoat_roughness_uv: slot_uv(clearcoat.map_or(none, |c| &c.roughness_texture)),
+        clearcoat_normal_uv: slot_uv(clearcoat.map_or(none, |c| &c.normal_texture)),
+        sheen_color_uv: slot_uv(sheen.map_or(none, |s| &s.color_texture)),
+        sheen_roughness_uv: slot_uv(sheen.map_or(none, |s| &s.roughness_texture)),
+        f0_dielectric: specular.map_or([f0; 3], |s| s.color.map(|c| (f0 * c).clamp(0.0, 1.0))),
+        specular_weight: specular.map_or(1.0, |s| s.factor.max(0.0)),
+        sheen_color: sheen.map_or([0.0; 3], |s| s.color.map(|c| c.max(0.0))),
+        sheen_roughness: sheen.map_or(0.0, |s| s.roughness.clamp(0.0, 1.0)),
+        clearcoat: clearcoat.map_or(0.0, |c| c.factor.clamp(0.0, 1.0)),
+        clearcoat_roughness: clearcoat.map_or(0.0, |c| c.roughness.clamp(0.0, 1.0)),
+        clearcoat_normal_scale: clearcoat.map_or(1.0, |c| c.normal_scale),
+        clearcoat_f0: f0,
+        anisotropy: ext.anisotropy.as_ref().map_or([1.0, 0.0, 0.0], |a| {
+            let (sin, cos) = a.rotation.sin_cos();
+            [cos, sin, a.strength.clamp(0.0, 1.0)]
+        }),
+        pad1: 0.0,
     }
 }
 
@@ -195,6 +275,9 @@ pub(crate) struct GpuMaterial {
     pub double_sided: bool,
     /// alphaMode BLEND: drawn after the opaque objects, back to front, blended.
     pub blend: bool,
+    /// It uses a PBR extension (ior, specular, clearcoat, sheen): drawn by the pipelines
+    /// with `mesh.wgsl`'s `LAYERS` compiled in.
+    pub layers: bool,
 }
 
 /// A model uploaded to the GPU: geometry, materials and textures, ready for
@@ -400,7 +483,8 @@ fn upload_materials(
     textures: &[Texture],
     options: &TextureOptions,
 ) -> Result<Vec<GpuMaterial>, RenderError> {
-    let defaults = DefaultTextures::new(ctx, options)?;
+    let sheen = materials.iter().any(|m| m.extensions.sheen.is_some());
+    let defaults = DefaultTextures::new(ctx, options, sheen)?;
     let mut cache = TextureCache { textures, options, views: HashMap::new() };
     let default = Material::default();
     materials
@@ -438,11 +522,15 @@ fn upload_material(
             material.emissive_texture.as_ref(),
             TexelKind::Color,
         )?,
+        layers: layer_views(ctx, material, cache)?,
     };
     let mut raw = material_to_raw(material);
     if views.normal.is_none() {
         // A normal map that could not be loaded is no normal map.
         raw.flags &= !MAT_NORMAL_MAP;
+    }
+    if views.layers.clearcoat_normal.is_none() {
+        raw.flags &= !MAT_CLEARCOAT_NORMAL_MAP;
     }
     let uniform = ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("seamlit material"),
@@ -453,6 +541,7 @@ fn upload_material(
         bind_group: material_bind_group(ctx, &material.name, &uniform, &views, defaults),
         double_sided: material.double_sided,
         blend: material.alpha_mode == AlphaMode::Blend,
+        layers: raw.flags & MAT_LAYERS != 0,
     })
 }
 
@@ -464,15 +553,20 @@ struct DefaultTextures {
     flat: wgpu::TextureView,
     /// White linear data: metallic-roughness and occlusion multiply their factors by it.
     white_data: wgpu::TextureView,
+    /// The sheen's directional albedo E(cos, roughness) (`sheen.rs`), a storage buffer.
+    sheen_albedo: wgpu::Buffer,
     sampler: wgpu::Sampler,
 }
 
 impl DefaultTextures {
-    fn new(ctx: &GpuContext, options: &TextureOptions) -> Result<Self, RenderError> {
+    /// The defaults; the sheen's albedo table is computed (once per process) only where a
+    /// material uses `sheen`, and is one zero otherwise.
+    fn new(ctx: &GpuContext, options: &TextureOptions, sheen: bool) -> Result<Self, RenderError> {
         Ok(Self {
             white: texture::solid(ctx, "default base colour", [255; 4], TexelKind::Color)?,
             flat: texture::solid(ctx, "default normal", [128, 128, 255, 255], TexelKind::Normal)?,
             white_data: texture::solid(ctx, "default data", [255; 4], TexelKind::Data)?,
+            sheen_albedo: crate::sheen::albedo_table(ctx, sheen),
             sampler: texture::sampler(ctx, options),
         })
     }
@@ -519,6 +613,46 @@ struct MaterialViews {
     metallic_roughness: Option<wgpu::TextureView>,
     occlusion: Option<wgpu::TextureView>,
     emissive: Option<wgpu::TextureView>,
+    layers: LayerViews,
+}
+
+/// The texture views of a material's PBR extensions, `None` where it has none.
+struct LayerViews {
+    specular: Option<wgpu::TextureView>,
+    specular_color: Option<wgpu::TextureView>,
+    clearcoat: Option<wgpu::TextureView>,
+    clearcoat_roughness: Option<wgpu::TextureView>,
+    clearcoat_normal: Option<wgpu::TextureView>,
+    sheen_color: Option<wgpu::TextureView>,
+    sheen_roughness: Option<wgpu::TextureView>,
+}
+
+/// The textures of a material's specular, clearcoat and sheen extensions.
+fn layer_views(
+    ctx: &GpuContext,
+    material: &Material,
+    cache: &mut TextureCache<'_>,
+) -> Result<LayerViews, RenderError> {
+    let ext = &material.extensions;
+    let mut view = |r: Option<&TextureRef>, kind| cache.view(ctx, material, r, kind);
+    let specular = ext.specular.as_ref();
+    let clearcoat = ext.clearcoat.as_ref();
+    let sheen = ext.sheen.as_ref();
+    Ok(LayerViews {
+        specular: view(specular.and_then(|s| s.texture.as_ref()), TexelKind::Data)?,
+        specular_color: view(specular.and_then(|s| s.color_texture.as_ref()), TexelKind::Color)?,
+        clearcoat: view(clearcoat.and_then(|c| c.texture.as_ref()), TexelKind::Data)?,
+        clearcoat_roughness: view(
+            clearcoat.and_then(|c| c.roughness_texture.as_ref()),
+            TexelKind::Data,
+        )?,
+        clearcoat_normal: view(
+            clearcoat.and_then(|c| c.normal_texture.as_ref()),
+            TexelKind::Normal,
+        )?,
+        sheen_color: view(sheen.and_then(|s| s.color_texture.as_ref()), TexelKind::Color)?,
+        sheen_roughness: view(sheen.and_then(|s| s.roughness_texture.as_ref()), TexelKind::Data)?,
+    })
 }
 
 /// Group 1 of `mesh.wgsl`: the material's uniforms, its textures (or the defaults) and the
@@ -550,6 +684,17 @@ fn material_bind_group<'a>(
             view(4, &views.metallic_roughness, &defaults.white_data),
             view(5, &views.occlusion, &defaults.white_data),
             view(6, &views.emissive, &defaults.white),
+            view(7, &views.layers.specular, &defaults.white_data),
+            view(8, &views.layers.specular_color, &defaults.white),
+            view(9, &views.layers.clearcoat, &defaults.white_data),
+            view(10, &views.layers.clearcoat_roughness, &defaults.white_data),
+            view(11, &views.layers.clearcoat_normal, &defaults.flat),
+            view(12, &views.layers.sheen_color, &defaults.white),
+            view(13, &views.layers.sheen_roughness, &defaults.white_data),
+            wgpu::BindGroupEntry {
+                binding: 14,
+                resource: defaults.sheen_albedo.as_entire_binding(),
+            },
         ],
     })
 }

@@ -295,3 +295,122 @@ fn blended_objects_are_drawn_back_to_front_and_unlit_ones_show_their_base_colour
         assert_pixel(&image, x, y, expected, 2.0, "near green over far red");
     }
 }
+
+/// The extensions that change the BRDF (issue 34), as their glTF specifications compose it
+/// with Appendix B: KHR_materials_ior gives the dielectric f0 = ((ior - 1) / (ior + 1))^2,
+/// KHR_materials_specular scales it by its colour and both f0 and f90 by its factor w
+/// (`F = f0 w + (w - f0 w) (1 - v.h)^5`), and KHR_materials_clearcoat lays a GGX lobe of its
+/// own roughness over the result, mixed by `clearcoat * Fresnel(n.v)` (f0 from the ior,
+/// f90 = 1; the coat's normal is the plane's).
+struct Layered {
+    ior: f64,
+    specular: f64,
+    specular_color: [f64; 3],
+    clearcoat: f64,
+    clearcoat_roughness: f64,
+}
+
+fn layered(
+    n: [f64; 3],
+    v: [f64; 3],
+    l: [f64; 3],
+    base: [f64; 3],
+    roughness: f64,
+    x: &Layered,
+) -> [f64; 3] {
+    use std::f64::consts::PI;
+    let h = normalize([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+    let (n_l, n_v, n_h, v_h) = (dot(n, l), dot(n, v), dot(n, h), dot(v, h));
+    if n_l <= 0.0 {
+        return [0.0; 3];
+    }
+    let ggx = |alpha: f64| {
+        let a2 = alpha.max(1e-3).powi(2);
+        let d = a2 / (PI * (n_h * n_h * (a2 - 1.0) + 1.0).powi(2));
+        let vis = 0.5
+            / (n_l * (n_v * n_v * (1.0 - a2) + a2).sqrt()
+                + n_v * (n_l * n_l * (1.0 - a2) + a2).sqrt());
+        d * vis
+    };
+    let f0_ior = ((x.ior - 1.0) / (x.ior + 1.0)).powi(2);
+    let schlick = (1.0 - v_h).powi(5);
+    let specular_brdf = ggx(roughness * roughness);
+    let coat_fresnel = f0_ior + (1.0 - f0_ior) * (1.0 - n_v).powi(5);
+    let k = x.clearcoat * coat_fresnel;
+    let coat = ggx(x.clearcoat_roughness * x.clearcoat_roughness);
+    std::array::from_fn(|c| {
+        let f0 = (f0_ior * x.specular_color[c]).min(1.0) * x.specular;
+        let fresnel = f0 + (x.specular - f0) * schlick;
+        let dielectric = base[c] / PI * (1.0 - fresnel) + specular_brdf * fresnel;
+        ((1.0 - k) * dielectric + k * coat) * n_l
+    })
+}
+
+#[test]
+fn ior_specular_and_clearcoat_match_their_specifications_on_a_plane() {
+    use seamlit_io::{Clearcoat, PbrExtensions, Specular};
+    let base = [0.6, 0.3, 0.2];
+    let roughness = 0.5;
+    let cases = [
+        (
+            "ior",
+            Layered {
+                ior: 2.4,
+                specular: 1.0,
+                specular_color: [1.0; 3],
+                clearcoat: 0.0,
+                clearcoat_roughness: 0.0,
+            },
+        ),
+        (
+            "specular",
+            Layered {
+                ior: 1.8,
+                specular: 0.4,
+                specular_color: [1.0, 0.3, 0.6],
+                clearcoat: 0.0,
+                clearcoat_roughness: 0.0,
+            },
+        ),
+        (
+            "clearcoat",
+            Layered {
+                ior: 1.5,
+                specular: 1.0,
+                specular_color: [1.0; 3],
+                clearcoat: 0.8,
+                clearcoat_roughness: 0.3,
+            },
+        ),
+    ];
+    for (name, x) in cases {
+        let extensions = PbrExtensions {
+            ior: Some(single(x.ior)),
+            specular: Some(Specular {
+                factor: single(x.specular),
+                texture: None,
+                color: x.specular_color.map(single),
+                color_texture: None,
+            }),
+            clearcoat: (x.clearcoat > 0.0).then(|| Clearcoat {
+                factor: single(x.clearcoat),
+                texture: None,
+                roughness: single(x.clearcoat_roughness),
+                roughness_texture: None,
+                normal_texture: None,
+                normal_scale: 1.0,
+            }),
+            ..PbrExtensions::default()
+        };
+        let material = Material { extensions, ..uniform(base.map(single), 0.0, single(roughness)) };
+        let image = render(&asset(plane(1.5), material, vec![]), &format!("pbr_layers_{name}"));
+        for (px, py) in PIXELS {
+            let p = pixel_world(px, py, SIZE, HALF);
+            let v = normalize([EYE[0] - p[0], EYE[1] - p[1], EYE[2] - p[2]]);
+            let l = normalize(LIGHT_DIR.map(|d| -d));
+            let f = layered([0.0, 0.0, 1.0], v, l, base, roughness, &x);
+            let e = std::array::from_fn(|c| srgb(f[c] * LIGHT_COLOR[c] * LIGHT_INTENSITY));
+            assert_pixel(&image, px, py, e, 2.0, &format!("{name} plane, its specification"));
+        }
+    }
+}

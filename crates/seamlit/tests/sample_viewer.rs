@@ -8,7 +8,9 @@
 //! by side (Sample Viewer | seamlit | FLIP error) are left in the test's temporary folder,
 //! named in the message. Animated models are compared at three times of an animation
 //! (`NAME@T.viewer.png`: the Sample Viewer at T seconds; seamlit `--animation N --time T`),
-//! punctual light only, under 0.05 too.
+//! punctual light only, under 0.05 too. The glTF material extensions (issue 34: clearcoat,
+//! sheen, ior and specular, one model each) are held to a mean FLIP under 0.035 under the
+//! punctual light.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -111,7 +113,24 @@ fn within_aim_of_the_sample_viewer(model: &str, lighting: Lighting) {
         Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
         Lighting::Environment => format!("{model}.environment"),
     };
-    within_aim(model, &name, &lighting.reference(model), lighting, &[]);
+    within_aim(model, &name, &lighting.reference(model), lighting, &[], lighting.aim());
+}
+
+/// Issue 34's aim for the material extensions' models.
+const EXTENSION_AIM: f32 = 0.035;
+
+/// `model` (a model of material extensions) under the punctual light alone, under `aim`:
+/// [`EXTENSION_AIM`], or less where the picture drawn without the extension (its layers
+/// switched off in the renderer) also stays under that, so that the test fails without it.
+/// (Its `NAME.environment.viewer.png` is checked in too; the comparison
+/// with the environment is not asserted yet: on the machine these were made on, lavapipe
+/// returned black for every prefiltered level but the first, before issue 34's changes as
+/// after (`a_white_furnace_returns_the_environment_times_the_albedo` in
+/// seamlit-render/tests/ibl.rs fails there), so the figure could not be measured.)
+fn extension_matches_the_sample_viewer(model: &str, aim: f32) {
+    assert!(aim <= EXTENSION_AIM);
+    let lighting = Lighting::PunctualOnly;
+    within_aim(model, model, &lighting.reference(model), lighting, &[], aim);
 }
 
 /// `model` posed by its animation `animation` at each of `times` (seconds, as the reference
@@ -123,8 +142,9 @@ fn posed_within_aim_of_the_sample_viewer(model: &str, animation: usize, times: [
         let name = format!("{model}@{t}");
         let reference = format!("{name}.viewer.png");
         let pose = ["--animation".to_owned(), animation.to_string(), "--time".to_owned(), t.into()];
-        let posed = within_aim(model, &name, &reference, Lighting::PunctualOnly, &pose);
-        let rest = within_aim(model, &format!("{name}.rest"), &reference, Lighting::Loose, &[]);
+        let (punctual, loose) = (Lighting::PunctualOnly, Lighting::Loose);
+        let posed = within_aim(model, &name, &reference, punctual, &pose, punctual.aim());
+        let rest = within_aim(model, &format!("{name}.rest"), &reference, loose, &[], loose.aim());
         assert!(
             posed < 0.5 * rest,
             "{name}: mean FLIP {posed:.4} posed, {rest:.4} unposed: the pose does not bring \
@@ -133,13 +153,14 @@ fn posed_within_aim_of_the_sample_viewer(model: &str, animation: usize, times: [
     }
 }
 
-/// The mean FLIP error of seamlit's picture against `reference`, asserted under the aim.
+/// The mean FLIP error of seamlit's picture against `reference`, asserted under `aim`.
 fn within_aim(
     model: &str,
     name: &str,
     reference: &str,
     lighting: Lighting,
     pose: &[String],
+    aim: f32,
 ) -> f32 {
     let reference =
         image::open(data().join(reference)).expect("the Sample Viewer's picture").to_rgb8();
@@ -149,7 +170,8 @@ fn within_aim(
         render(model, lighting, pose, reference.dimensions(), &dir.join(format!("{name}.png")));
     assert_eq!(ours.dimensions(), reference.dimensions(), "{name}: picture size");
     let (mean, map) = flip(&reference, &ours);
-    let aim = lighting.aim();
+    // The figure, for BENCHMARKS.md (`cargo test ... -- --nocapture` shows it).
+    eprintln!("{name}: mean FLIP {mean:.4} against the Sample Viewer");
     if mean >= aim {
         let (w, h) = reference.dimensions();
         let mut sheet = image::RgbImage::new(w * 3, h);
@@ -204,4 +226,33 @@ fn the_khronos_fox_walking_matches_the_sample_viewer_at_three_times() {
 #[test]
 fn the_simple_morph_triangle_matches_the_sample_viewer_at_three_times() {
     posed_within_aim_of_the_sample_viewer("SimpleMorph", 0, ["1.5", "2.5", "3.5"]);
+}
+
+#[test]
+fn clearcoat_matches_the_sample_viewer() {
+    // Mean FLIP 0.0088 with the clearcoat, 0.0140 without (lavapipe, 2026-11-27).
+    extension_matches_the_sample_viewer("clearcoat", 0.0115);
+}
+
+#[test]
+fn sheen_matches_the_sample_viewer() {
+    // Mean FLIP 0.0157 with the sheen, 0.0557 without.
+    extension_matches_the_sample_viewer("sheen", EXTENSION_AIM);
+}
+
+#[test]
+fn ior_and_specular_match_the_sample_viewer() {
+    // Mean FLIP 0.0073 with ior and specular, 0.0169 without.
+    extension_matches_the_sample_viewer("specular", 0.012);
+}
+
+#[test]
+fn anisotropy_matches_the_sample_viewer() {
+    // Mean FLIP 0.0098 with anisotropy (streaks), 0.0321 without (round highlights).
+    extension_matches_the_sample_viewer("anisotropy", 0.02);
+}
+
+#[test]
+fn texture_transforms_on_every_slot_and_unlit_match_the_sample_viewer() {
+    extension_matches_the_sample_viewer("transforms", EXTENSION_AIM);
 }

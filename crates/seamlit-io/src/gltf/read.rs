@@ -119,7 +119,7 @@ fn read(
     let mut asset = Asset::default();
     let mut warnings = Vec::new();
     asset.textures = reader.images(document, &buffers)?;
-    asset.materials = document.materials().map(|m| material(&m)).collect();
+    asset.materials = document.materials().map(|m| material(&m, document)).collect();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let roots: Vec<gltf::Node<'_>> = match &scene {
         Some(scene) => scene.nodes().collect(),

@@ -528,6 +528,7 @@ impl Viewer {
             triangles: self.asset.model.triangle_count(),
             adapter: &adapter,
             status: &self.status,
+            materials: &self.asset.materials,
         };
         let mut actions = Actions::default();
         let mut panel_right = 0.0;

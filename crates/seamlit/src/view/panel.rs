@@ -95,6 +95,8 @@ pub struct Readout<'a> {
     pub adapter: &'a str,
     /// The last message (an error of the last fix, a screenshot written).
     pub status: &'a str,
+    /// The model's materials, for the list of the glTF extensions each uses.
+    pub materials: &'a [seamlit_io::Material],
 }
 
 /// What the user asked for with a button.
@@ -123,6 +125,8 @@ pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     ui.separator();
     lights(ui, &mut s.lights);
     ui.separator();
+    materials(ui, r.materials);
+    ui.separator();
     if ui.button("screenshot (F12)").clicked() {
         actions.screenshot = true;
     }
@@ -130,6 +134,20 @@ pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
         ui.label(r.status);
     }
     actions
+}
+
+/// Each material with the glTF material extensions it uses (drawn by the PBR lighting).
+fn materials(ui: &mut Ui, materials: &[seamlit_io::Material]) {
+    egui::CollapsingHeader::new(format!("materials ({})", materials.len())).show(ui, |ui| {
+        for m in materials {
+            let mut names = m.extensions.names();
+            if m.unlit {
+                names.insert(0, "KHR_materials_unlit");
+            }
+            let used = if names.is_empty() { "core".to_owned() } else { names.join(", ") };
+            ui.label(format!("{}: {used}", m.name));
+        }
+    });
 }
 
 /// The heading, the model's size, the frame and fix times, the adapter.

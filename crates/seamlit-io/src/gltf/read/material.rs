@@ -1,21 +1,37 @@
 //! glTF materials as seamlit's [`Material`]: metallic-roughness with its textures and their
-//! KHR_texture_transform, emissive strength, alpha mode, unlit.
+//! KHR_texture_transform, emissive strength, alpha mode, unlit, and the extensions that add
+//! to the BRDF (ior, specular, clearcoat, sheen: [`PbrExtensions`]), read from their raw JSON
+//! with each specification's defaults.
 
-use crate::asset::{AlphaMode, Material, TextureRef, UvTransform};
+use crate::asset::{
+    AlphaMode, Anisotropy, Clearcoat, Material, PbrExtensions, Sheen, Specular, TextureRef,
+    UvTransform,
+};
 
-/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]);
-/// `None` for a texture whose image only an extension names (no `source`: KTX2 through
-/// KHR_texture_basisu, WebP), which seamlit does not decode. The coordinate set is the texture
+/// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]): its
+/// `source`, else the image its KHR_texture_basisu names (Basis Universal KTX2, which the
+/// decoder then names in a warning); `None` for a texture whose image only another extension
+/// names (EXT_texture_webp), which seamlit does not decode. The coordinate set is the texture
 /// info's `texCoord` unless its KHR_texture_transform gives its own, which then overrides it
 /// (the extension's specification).
 fn texture_ref(
+    images: usize,
     texture: &gltf::Texture<'_>,
     tex_coord: u32,
     transform: Option<(UvTransform, Option<u32>)>,
 ) -> Option<TextureRef> {
     let tex_coord = transform.and_then(|(_, own)| own).unwrap_or(tex_coord);
     let transform = transform.map(|(t, _)| t);
-    Some(TextureRef { texture: texture.source()?.index(), tex_coord, transform })
+    let image = match texture.source() {
+        Some(image) => image.index(),
+        None => texture
+            .extension_value("KHR_texture_basisu")?
+            .get("source")?
+            .as_u64()
+            .and_then(|i| usize::try_from(i).ok())
+            .filter(|&i| i < images)?,
+    };
+    Some(TextureRef { texture: image, tex_coord, transform })
 }
 
 /// KHR_texture_transform as the gltf crate types it, with its `texCoord` override.
@@ -52,17 +68,18 @@ fn uv_transform_json(value: &serde_json::Value) -> (UvTransform, Option<u32>) {
     (transform, tex_coord)
 }
 
-/// A glTF material as seamlit's.
-pub(super) fn material(m: &gltf::Material<'_>) -> Material {
+/// A glTF material of `document` as seamlit's.
+pub(super) fn material(m: &gltf::Material<'_>, document: &gltf::Document) -> Material {
+    let images = document.images().len();
     let pbr = m.pbr_metallic_roughness();
     let base_color_texture = pbr.base_color_texture().and_then(|info| {
         let transform = info.texture_transform().map(|t| uv_transform(&t));
-        texture_ref(&info.texture(), info.tex_coord(), transform)
+        texture_ref(images, &info.texture(), info.tex_coord(), transform)
     });
     let normal = m.normal_texture();
     let normal_texture = normal.as_ref().and_then(|n| {
         let transform = n.extension_value("KHR_texture_transform").map(uv_transform_json);
-        texture_ref(&n.texture(), n.tex_coord(), transform)
+        texture_ref(images, &n.texture(), n.tex_coord(), transform)
     });
     let base = pbr.base_color_factor();
     let metallic = pbr.metallic_factor();
@@ -82,14 +99,16 @@ pub(super) fn material(m: &gltf::Material<'_>) -> Material {
         metallic,
         roughness,
         double_sided: m.double_sided(),
-        metallic_roughness_texture: pbr.metallic_roughness_texture().and_then(|i| info_ref(&i)),
+        metallic_roughness_texture: pbr
+            .metallic_roughness_texture()
+            .and_then(|i| info_ref(images, &i)),
         occlusion_texture: m.occlusion_texture().and_then(|o| {
             let transform = o.extension_value("KHR_texture_transform").map(uv_transform_json);
-            texture_ref(&o.texture(), o.tex_coord(), transform)
+            texture_ref(images, &o.texture(), o.tex_coord(), transform)
         }),
         occlusion_strength: m.occlusion_texture().map_or(1.0, |o| o.strength()),
         emissive: m.emissive_factor().map(|c| c * emissive_strength(m)),
-        emissive_texture: m.emissive_texture().and_then(|i| info_ref(&i)),
+        emissive_texture: m.emissive_texture().and_then(|i| info_ref(images, &i)),
         alpha_mode: match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => {
@@ -98,13 +117,86 @@ pub(super) fn material(m: &gltf::Material<'_>) -> Material {
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         },
         unlit: m.extension_value("KHR_materials_unlit").is_some(),
+        extensions: extensions(m, document, images),
+    }
+}
+
+/// A texture info of an extension (`{ "index", "texCoord", "extensions":
+/// { "KHR_texture_transform" } }`) as a reference; `None` where it names no texture of the
+/// document.
+fn json_texture(
+    document: &gltf::Document,
+    images: usize,
+    info: Option<&serde_json::Value>,
+) -> Option<TextureRef> {
+    let info = info?;
+    let index = usize::try_from(info.get("index")?.as_u64()?).ok()?;
+    let texture = document.textures().nth(index)?;
+    let tex_coord = info
+        .get("texCoord")
+        .and_then(serde_json::Value::as_u64)
+        .and_then(|set| u32::try_from(set).ok())
+        .unwrap_or(0);
+    let transform =
+        info.get("extensions").and_then(|e| e.get("KHR_texture_transform")).map(uv_transform_json);
+    texture_ref(images, &texture, tex_coord, transform)
+}
+
+/// A number of an extension's JSON, or its default.
+fn number(value: &serde_json::Value, key: &str, default: f32) -> f32 {
+    value.get(key).and_then(json_f32).unwrap_or(default)
+}
+
+/// An RGB colour of an extension's JSON, or its default.
+fn color(value: &serde_json::Value, key: &str, default: [f32; 3]) -> [f32; 3] {
+    value
+        .get(key)
+        .and_then(serde_json::Value::as_array)
+        .and_then(|a| Some([json_f32(a.first()?)?, json_f32(a.get(1)?)?, json_f32(a.get(2)?)?]))
+        .unwrap_or(default)
+}
+
+/// KHR_materials_ior, _specular, _clearcoat, _sheen and _anisotropy of a material.
+fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) -> PbrExtensions {
+    let texture = |e: &serde_json::Value, key: &str| json_texture(document, images, e.get(key));
+    PbrExtensions {
+        ior: m.extension_value("KHR_materials_ior").map(|e| number(e, "ior", 1.5)),
+        // The gltf crate types this one (its KHR_materials_specular feature is on), and so
+        // keeps it out of the raw extension JSON.
+        specular: m.specular().map(|s| Specular {
+            factor: s.specular_factor(),
+            texture: s.specular_texture().and_then(|i| info_ref(images, &i)),
+            color: s.specular_color_factor(),
+            color_texture: s.specular_color_texture().and_then(|i| info_ref(images, &i)),
+        }),
+        clearcoat: m.extension_value("KHR_materials_clearcoat").map(|e| Clearcoat {
+            factor: number(e, "clearcoatFactor", 0.0),
+            texture: texture(e, "clearcoatTexture"),
+            roughness: number(e, "clearcoatRoughnessFactor", 0.0),
+            roughness_texture: texture(e, "clearcoatRoughnessTexture"),
+            normal_texture: texture(e, "clearcoatNormalTexture"),
+            normal_scale: e
+                .get("clearcoatNormalTexture")
+                .map_or(1.0, |info| number(info, "scale", 1.0)),
+        }),
+        sheen: m.extension_value("KHR_materials_sheen").map(|e| Sheen {
+            color: color(e, "sheenColorFactor", [0.0; 3]),
+            color_texture: texture(e, "sheenColorTexture"),
+            roughness: number(e, "sheenRoughnessFactor", 0.0),
+            roughness_texture: texture(e, "sheenRoughnessTexture"),
+        }),
+        anisotropy: m.extension_value("KHR_materials_anisotropy").map(|e| Anisotropy {
+            strength: number(e, "anisotropyStrength", 0.0),
+            rotation: number(e, "anisotropyRotation", 0.0),
+            texture: texture(e, "anisotropyTexture"),
+        }),
     }
 }
 
 /// A texture slot's reference with its KHR_texture_transform.
-fn info_ref(info: &gltf::texture::Info<'_>) -> Option<TextureRef> {
+fn info_ref(images: usize, info: &gltf::texture::Info<'_>) -> Option<TextureRef> {
     let transform = info.texture_transform().map(|t| uv_transform(&t));
-    texture_ref(&info.texture(), info.tex_coord(), transform)
+    texture_ref(images, &info.texture(), info.tex_coord(), transform)
 }
 
 /// KHR_materials_emissive_strength's `emissiveStrength`, 1 without it. Read from the raw

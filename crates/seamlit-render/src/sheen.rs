@@ -1,0 +1,115 @@
+//! The directional albedo of KHR_materials_sheen's BRDF, E(cos theta, roughness), which
+//! scales the layers under the sheen by `1 - max(sheen colour) * E` (the extension's
+//! "Albedo-scaling technique"; the Khronos Sample Viewer reads the same quantity from its
+//! `lut_sheen_E.png`). Computed here once per process: the sheen BRDF of the specification
+//! (the Charlie distribution of Estevez and Kulla, "Production Friendly Microfacet Sheen
+//! BRDF", 2017, with their fitted visibility) integrated over the hemisphere on a grid.
+
+use std::f32::consts::PI;
+use std::sync::OnceLock;
+
+use wgpu::util::DeviceExt;
+
+use crate::GpuContext;
+
+/// Entries a side: x is cos theta (n.v or n.l), y the sheen roughness, each at the centres
+/// of SIZE equal steps (`SHEEN_TABLE_SIZE` in `mesh.wgsl`).
+pub(crate) const SIZE: u32 = 32;
+
+/// The Charlie distribution D(h) for a sheen roughness.
+#[must_use]
+pub(crate) fn charlie(roughness: f32, n_dot_h: f32) -> f32 {
+    let alpha = roughness.max(1e-6).powi(2);
+    let inv = 1.0 / alpha;
+    let sin2 = (1.0 - n_dot_h * n_dot_h).max(0.0);
+    (2.0 + inv) * sin2.powf(inv * 0.5) / (2.0 * PI)
+}
+
+/// Estevez and Kulla's fitted lambda, interpolated between the fits at alpha 0 and 1.
+fn lambda(cos: f32, alpha: f32) -> f32 {
+    let helper = |x: f32| {
+        let t = (1.0 - alpha) * (1.0 - alpha);
+        let mix = |a: f32, b: f32| a + (b - a) * t;
+        let (a, b, c) = (mix(21.5473, 25.3245), mix(3.82987, 3.32435), mix(0.19823, 0.16801));
+        let (d, e) = (mix(-1.97760, -1.27393), mix(-4.32054, -4.85967));
+        a / (1.0 + b * x.powf(c)) + d * x + e
+    };
+    if cos.abs() < 0.5 { helper(cos).exp() } else { (2.0 * helper(0.5) - helper(1.0 - cos)).exp() }
+}
+
+/// The sheen visibility term V(l, v).
+#[must_use]
+pub(crate) fn visibility(n_dot_l: f32, n_dot_v: f32, roughness: f32) -> f32 {
+    let alpha = roughness.max(1e-6).powi(2);
+    let denom = (1.0 + lambda(n_dot_v, alpha) + lambda(n_dot_l, alpha)) * (4.0 * n_dot_v * n_dot_l);
+    (1.0 / denom).clamp(0.0, 1.0)
+}
+
+/// E(mu, roughness): the integral over the hemisphere of D V (n.l) for a view at cos = mu
+/// (a midpoint rule, 64 steps in theta and 64 in phi over the half the symmetry leaves).
+#[must_use]
+pub(crate) fn albedo(mu: f32, roughness: f32) -> f32 {
+    const THETA: u32 = 64;
+    const PHI: u32 = 64;
+    let v = [(1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu];
+    let (dt, dp) = (0.5 * PI / THETA as f32, PI / PHI as f32);
+    let mut sum = 0.0;
+    for i in 0..THETA {
+        let theta = (i as f32 + 0.5) * dt;
+        let (sin_t, cos_t) = theta.sin_cos();
+        for j in 0..PHI {
+            let (sin_p, cos_p) = ((j as f32 + 0.5) * dp).sin_cos();
+            let l = [sin_t * cos_p, sin_t * sin_p, cos_t];
+            let h = [l[0] + v[0], l[1] + v[1], l[2] + v[2]];
+            let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
+            if len <= 0.0 {
+                continue;
+            }
+            let n_dot_h = h[2] / len;
+            sum += charlie(roughness, n_dot_h) * visibility(cos_t, mu, roughness) * cos_t * sin_t;
+        }
+    }
+    // Twice the half hemisphere (phi in 0..pi).
+    2.0 * sum * dt * dp
+}
+
+/// The table, row by row: entry (x, y) is E at cos = (x + 0.5) / SIZE and roughness
+/// (y + 0.5) / SIZE (texel centres, as a texture's would be).
+fn table() -> &'static [f32] {
+    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let at = |i: u32| (i as f32 + 0.5) / SIZE as f32;
+        (0..SIZE * SIZE).map(|i| albedo(at(i % SIZE), at(i / SIZE)).clamp(0.0, 1.0)).collect()
+    })
+}
+
+/// The table on the GPU as a storage buffer of `SIZE * SIZE` floats (`mesh.wgsl` filters
+/// it bilinearly); where no material uses sheen (`used` false), one zero, and the table is
+/// not computed.
+pub(crate) fn albedo_table(ctx: &GpuContext, used: bool) -> wgpu::Buffer {
+    let zero = [0.0_f32];
+    let contents: &[f32] = if used { table() } else { &zero };
+    ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("sheen albedo"),
+        contents: bytemuck::cast_slice(contents),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_albedo_stays_within_energy_and_grows_with_roughness() {
+        for mu in [0.1, 0.5, 0.9] {
+            let mut last = 0.0;
+            for r in [0.3, 0.6, 1.0] {
+                let e = albedo(mu, r);
+                assert!((0.0..=1.0).contains(&e), "E({mu}, {r}) = {e}");
+                assert!(e >= last, "E({mu}, {r}) = {e} < {last}");
+                last = e;
+            }
+        }
+    }
+}
