@@ -298,11 +298,14 @@ pub fn use_asset(mut asset: seamlit_io::Asset, out: &Path) {
         let Ok(copies) = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance) else {
             return;
         };
+        let Ok(seams) = seamlit_mesh::seam_copies(&asset.model, &copies, &options) else {
+            return;
+        };
         if seamlit_mesh::fix_in_place(&mut asset.model, &options).is_err() {
             return;
         }
         for a in 0..asset.animations.len() {
-            let _ = seamlit_io::motion::seam_motion(&asset, a, 3, &copies, 60.0);
+            let _ = seamlit_io::motion::seam_motion(&asset, a, 3, &copies, &seams, 60.0);
         }
         let _ = seamlit_io::match_skin_seams(&mut asset, &copies);
         let _ = seamlit_mesh::report(&asset.model, &seamlit_mesh::ReportOptions::from(&options));
