@@ -23,15 +23,20 @@ import numpy as np  # noqa: E402
 import bpy  # noqa: E402
 
 
-def quad(name, corners, location=(0.0, 0.0, 0.0)):
+def strip(name, profile, location=(0.0, 0.0, 0.0)):
+    """A smooth-shaded strip of quads along x through the (x, z) points of `profile`, y from
+    0 to 1: bent, so its shading is smooth across its middle."""
+    corners = [(x, y, z) for x, z in profile for y in (0.0, 1.0)]
+    faces = [(2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1) for i in range(len(profile) - 1)]
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
+    mesh.from_pydata(corners, [], faces)
     mesh.shade_smooth()
     obj = bpy.data.objects.new(name, mesh)
     obj.location = location
     bpy.context.scene.collection.objects.link(obj)
     obj.select_set(True)
     bpy.context.view_layer.objects.active = obj
+    bpy.context.view_layer.update()  # matrix_world from the location
     return obj
 
 
@@ -73,9 +78,10 @@ def main(zip_path):
     assert Path(seamlit.__file__).resolve().is_relative_to(USER), (
         f"seamlit was imported from {seamlit.__file__}, not the extension's wheel"
     )
+    # Two objects each smoothed on its own, meeting at x = 1 at 30 degrees: a seam.
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
-    flat = quad("flat", [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
-    tilted = quad("tilted", [(0, 0, 0), (c, 0, s), (c, 1, s), (0, 1, 0)], location=(1, 0, 0))
+    flat = strip("flat", [(0.0, -0.1), (0.5, 0.0), (1.0, 0.0)])
+    tilted = strip("tilted", [(0.0, 0.0), (c, s), (c + 0.5, s + 0.1)], location=(1, 0, 0))
     before = seam(flat, tilted)
     assert bpy.ops.object.seamlit_fix_seams(crease=180.0) == {"FINISHED"}
     after = seam(flat, tilted)

@@ -24,17 +24,26 @@ def add_on():
     seamlit_seams.unregister()
 
 
-def quad(name, corners, location=(0.0, 0.0, 0.0)):
-    """A mesh object of one quad with smooth shading, placed at `location`."""
+def quad(name, corners, location=(0.0, 0.0, 0.0), faces=((0, 1, 2, 3),)):
+    """A mesh object of quads with smooth shading, placed at `location`."""
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
+    mesh.from_pydata([tuple(c) for c in corners], [], [tuple(f) for f in faces])
     mesh.shade_smooth()
     obj = bpy.data.objects.new(name, mesh)
     obj.location = location
     bpy.context.scene.collection.objects.link(obj)
     obj.select_set(True)
     bpy.context.view_layer.objects.active = obj
+    bpy.context.view_layer.update()  # matrix_world from the location
     return obj
+
+
+def strip(name, profile, location=(0.0, 0.0, 0.0)):
+    """A smooth-shaded strip of quads along x through the (x, z) points of `profile`, y from
+    0 to 1: bent, so its shading is smooth across its middle (per-object smoothing)."""
+    corners = [(x, y, z) for x, z in profile for y in (0.0, 1.0)]
+    faces = [(2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1) for i in range(len(profile) - 1)]
+    return quad(name, corners, location, faces)
 
 
 def corner_normals(obj):
@@ -65,11 +74,12 @@ def seam(a, b):
 
 
 def scene():
+    """Two objects each smoothed on its own, meeting at x = 1 at 30 degrees: a seam."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
-    flat = quad("flat", [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
-    # The tilted quad is modelled around its own origin and placed by its object transform.
-    tilted = quad("tilted", [(0, 0, 0), (c, 0, s), (c, 1, s), (0, 1, 0)], location=(1.0, 0.0, 0.0))
+    flat = strip("flat", [(0.0, -0.1), (0.5, 0.0), (1.0, 0.0)])
+    # The tilted strip is modelled around its own origin and placed by its object transform.
+    tilted = strip("tilted", [(0.0, 0.0), (c, s), (c + 0.5, s + 0.1)], location=(1.0, 0.0, 0.0))
     return flat, tilted
 
 
@@ -80,18 +90,31 @@ def test_the_operator_closes_the_seam_and_keeps_every_other_corner(capfd):
     uvs_before = len(flat.data.uv_layers)
     assert bpy.ops.object.seamlit_fix_seams(crease=180.0) == {"FINISHED"}
     assert seam(flat, tilted) < 0.01
-    # Corners away from the shared edge (x = 0 of the flat quad, the far edge of the tilted
-    # one) keep their normals.
-    for obj in (flat, tilted):
+    # Corners away from the shared edge (x = 1 of the flat strip, x = 0 of the tilted one)
+    # keep their normals.
+    for obj, x in ((flat, 1.0), (tilted, 1.0)):
         world, _ = world_corners(obj)
-        away = ~np.isclose(world[:, 0], 1.0, atol=1e-5)
-        assert away.sum() == 2
+        away = ~np.isclose(world[:, 0], x, atol=1e-5)
+        assert away.sum() == 6
         np.testing.assert_allclose(corner_normals(obj)[away], before[obj.name][away], atol=1e-6)
     # The objects stay separate, their vertices and UV layers untouched.
-    assert len(flat.data.vertices) == 4 and len(tilted.data.vertices) == 4
+    assert len(flat.data.vertices) == 6 and len(tilted.data.vertices) == 6
     assert len(flat.data.uv_layers) == uvs_before
     out = capfd.readouterr()
     assert "seams 30.00° before, 0.00° after" in out.out + out.err
+
+
+def test_a_hard_edge_between_flat_objects_stays_unless_asked():
+    # One flat quad each: their normals are their faces', an authored hard edge (issue 31).
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    flat = quad("flat", [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    tilted = quad("tilted", [(0, 0, 0), (c, 0, s), (c, 1, s), (0, 1, 0)], location=(1.0, 0.0, 0.0))
+    assert seam(flat, tilted) > 29.0
+    assert bpy.ops.object.seamlit_fix_seams(crease=180.0) == {"FINISHED"}
+    assert seam(flat, tilted) > 29.0
+    assert bpy.ops.object.seamlit_fix_seams(crease=180.0, normals="smooth-shared") == {"FINISHED"}
+    assert seam(flat, tilted) < 0.01
 
 
 def test_per_object_mode_leaves_the_seam():

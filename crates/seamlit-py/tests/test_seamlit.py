@@ -263,7 +263,13 @@ def test_fix_scene_fixes_a_trimesh_scene_in_place():
         mesh = trimesh.Trimesh(o["positions"], o["triangles"], process=False)
         scene.add_geometry(mesh, geom_name=o["name"], node_name=o["name"])
     before = [scene.geometry[o["name"]].vertex_normals.copy() for o in objects]
-    result = st.fix_scene(scene, crease=180)
+    # One flat quad each: trimesh's normals are the faces', an authored hard edge that the
+    # default keeps (issue 31); "smooth-shared" averages it, which shows the write-back.
+    kept = st.fix_scene(scene, crease=180)
+    assert kept == {"objects": 2, "copied": []}
+    for o, b in zip(objects, before):
+        np.testing.assert_allclose(scene.geometry[o["name"]].vertex_normals, b, atol=1e-6)
+    result = st.fix_scene(scene, crease=180, normals="smooth-shared")
     assert result == {"objects": 2, "copied": []}
     after = [scene.geometry[o["name"]].vertex_normals for o in objects]
     # trimesh's own normals disagree on the shared edge; seamlit's agree.
