@@ -284,14 +284,24 @@ fn fix_keeps_authored_normals_repairs_the_seam_and_says_so() {
         assert_eq!(o.status.code(), Some(0), "{policy:?}: {}", String::from_utf8_lossy(&o.stderr));
         stdout(&o)
     };
+    // Each side carries its own face's normal: an authored hard edge, which the default
+    // keeps and says so (issue 31); `smooth-shared` (the rule before) averages it.
     let auto = run(None);
     assert_eq!(run(Some("auto")), auto);
-    assert!(auto.contains("normals across seams within 0.00°"), "{auto}");
     assert!(
         auto.contains(
-            "normals (auto): kept in every object; changed at 4 of 8 vertices; 0 vertices split"
+            "normals (auto): kept in every object; changed at 0 of 8 vertices; 0 vertices split"
         ),
         "{auto}"
+    );
+    assert!(auto.contains("0 seams repaired, 2 kept as authored hard edges"), "{auto}");
+    assert!(auto.contains("within 11.31° (kept ones included)"), "{auto}");
+    let shared = run(Some("smooth-shared"));
+    assert!(shared.contains("normals across seams within 0.00°"), "{shared}");
+    assert!(
+        shared
+            .contains("normals (smooth-shared): kept in every object; changed at 4 of 8 vertices"),
+        "{shared}"
     );
     let keep = run(Some("keep"));
     assert!(keep.contains("normals across seams within 11.31°"), "{keep}");
@@ -337,9 +347,10 @@ fn inspect_says_what_fix_keeps_in_text_and_json() {
         let line = text.lines().find(|l| l.starts_with(name)).unwrap_or_default();
         line.split_whitespace().map(str::to_owned).collect::<Vec<_>>()
     };
-    // object, normals, tangents, vertices, normals changed, split
-    assert_eq!(row("a "), ["a", "kept", "computed", "4", "2", "0"], "{text}");
-    assert_eq!(row("b "), ["b", "kept", "computed", "4", "2", "0"], "{text}");
+    // object, normals, tangents, vertices, normals changed, split: flat sides, kept.
+    assert_eq!(row("a "), ["a", "kept", "computed", "4", "0", "0"], "{text}");
+    assert_eq!(row("b "), ["b", "kept", "computed", "4", "0", "0"], "{text}");
+    assert!(text.contains("2 kept as authored hard edges"), "{text}");
 
     let o = seamlit(&["inspect", &input, "--json", "--normals", "recompute"]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
