@@ -83,6 +83,7 @@ mod context;
 mod environment;
 mod error;
 mod light;
+mod material;
 mod pipeline;
 mod pose;
 mod readback;

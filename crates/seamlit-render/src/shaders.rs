@@ -8,13 +8,15 @@
 //! `Object` / `ObjectRaw`, `Params` / `ParamsRaw`): the same size and each member at the
 //! same offset, checked with naga by the test `gpu_structs_have_the_layout_of_their_rust_structs`.
 
-/// The scene pass: meshes, the sky and the TBN lines (`mesh.wgsl`).
+/// The scene pass: meshes, the sky and the TBN lines (`mesh.wgsl`), with the PBR extension
+/// layers (`layers.wgsl`).
 pub(crate) const MESH: Source = Source {
     label: "seamlit mesh.wgsl",
     text: concat!(
         include_str!("object.wgsl"),
         include_str!("deform.wgsl"),
-        include_str!("mesh.wgsl")
+        include_str!("mesh.wgsl"),
+        include_str!("layers.wgsl")
     ),
 };
 
@@ -68,8 +70,9 @@ mod tests {
     use super::*;
     use crate::environment::ParamsRaw;
     use crate::light::LightRaw;
+    use crate::material::MaterialRaw;
     use crate::pose::SkinRaw;
-    use crate::scene::{MaterialRaw, ObjectRaw};
+    use crate::scene::ObjectRaw;
     use crate::settings::FrameRaw;
 
     const ALL: [Source; 4] = [MESH, SHADOW, POSED, IBL];

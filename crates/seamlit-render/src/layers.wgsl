@@ -1,0 +1,206 @@
+// The PBR extension layers of the scene pass: mesh.wgsl's fragment stage calls them, and
+// shaders.rs appends this file to it (same bindings and structs).
+
+// The PBR extensions that add to the metallic-roughness BRDF, as their glTF specifications
+// define them and the Khronos glTF Sample Viewer composes them (read for the maths, written
+// here anew): KHR_materials_ior and _specular change the dielectric's Fresnel term
+// (f0 = ((ior - 1) / (ior + 1))^2 times the specular colour, both f0 and f90 times the
+// specular strength); KHR_materials_sheen adds a Charlie sheen lobe over the material and
+// scales what lies under it by 1 - max(sheen colour) * E (its directional albedo, sheen.rs);
+// KHR_materials_clearcoat mixes a clear GGX layer (its own roughness and normal) over all of
+// it by clearcoat * Fresnel(n_c.v). Drawn only for materials that use one (MAT_LAYERS): a
+// material without them takes shade_pbr and shade_environment as before.
+struct Layers {
+    // The dielectric's f0 (ior, specular colour) and its strength (the specular factor).
+    f0_dielectric: vec3<f32>,
+    specular_weight: f32,
+    sheen_color: vec3<f32>,
+    sheen_roughness: f32,
+    // The clearcoat's normal, factor, roughness and f0.
+    clearcoat_n: vec3<f32>,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
+    clearcoat_f0: f32,
+    // KHR_materials_anisotropy: the direction of the stretch (t) and across it (b) in world
+    // space, and the strength (0: none, the isotropic lobe).
+    anisotropy_t: vec3<f32>,
+    anisotropy_b: vec3<f32>,
+    anisotropy: f32,
+}
+
+// KHR_materials_anisotropy's GGX lobe, D times V, stretched along t: alpha along t is
+// mix(alpha, 1, strength^2), across it alpha (the extension's specification, "BRDF").
+fn ggx_dv_anisotropic(alpha: f32, strength: f32, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, h: vec3<f32>, t: vec3<f32>, b: vec3<f32>) -> f32 {
+    let at = mix(alpha, 1.0, strength * strength);
+    let ab = clamp(alpha, 0.001, 1.0);
+    let n_dot_l = clamp(dot(n, l), 0.0, 1.0);
+    let n_dot_h = clamp(dot(n, h), 0.001, 1.0);
+    let n_dot_v = dot(n, v);
+    let a2 = at * ab;
+    let f = vec3<f32>(ab * dot(t, h), at * dot(b, h), a2 * n_dot_h);
+    let w2 = a2 / dot(f, f);
+    let d = a2 * w2 * w2 / PI;
+    let ggx_v = n_dot_l * length(vec3<f32>(at * dot(t, v), ab * dot(b, v), n_dot_v));
+    let ggx_l = n_dot_v * length(vec3<f32>(at * dot(t, l), ab * dot(b, l), n_dot_l));
+    let vis = clamp(0.5 / (ggx_v + ggx_l), 0.0, 1.0);
+    return d * vis;
+}
+
+// GGX distribution times height-correlated Smith visibility (Appendix B), with alpha kept
+// above 1e-3 as in shade_pbr.
+fn ggx_dv(alpha: f32, n_dot_l: f32, n_dot_v: f32, n_dot_h: f32) -> f32 {
+    let a2 = max(alpha, 1e-3) * max(alpha, 1e-3);
+    let dd = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    let distribution = a2 / (PI * dd * dd);
+    let vis_denom = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2)
+        + n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+    return distribution * select(0.0, 0.5 / vis_denom, vis_denom > 0.0);
+}
+
+// The sheen's Charlie distribution (Estevez and Kulla 2017).
+fn charlie_d(roughness: f32, n_dot_h: f32) -> f32 {
+    let inv = 1.0 / (max(roughness, 1e-6) * max(roughness, 1e-6));
+    let sin2 = max(1.0 - n_dot_h * n_dot_h, 0.0);
+    return (2.0 + inv) * pow(sin2, inv * 0.5) / (2.0 * PI);
+}
+
+// Estevez and Kulla's fitted lambda for the sheen's visibility.
+fn sheen_lambda_fit(x: f32, alpha: f32) -> f32 {
+    let t = (1.0 - alpha) * (1.0 - alpha);
+    let a = mix(21.5473, 25.3245, t);
+    let b = mix(3.82987, 3.32435, t);
+    let c = mix(0.19823, 0.16801, t);
+    let d = mix(-1.97760, -1.27393, t);
+    let e = mix(-4.32054, -4.85967, t);
+    return a / (1.0 + b * pow(x, c)) + d * x + e;
+}
+
+fn sheen_lambda(cos_theta: f32, alpha: f32) -> f32 {
+    if abs(cos_theta) < 0.5 {
+        return exp(sheen_lambda_fit(cos_theta, alpha));
+    }
+    return exp(2.0 * sheen_lambda_fit(0.5, alpha) - sheen_lambda_fit(1.0 - cos_theta, alpha));
+}
+
+fn sheen_v(n_dot_l: f32, n_dot_v: f32, roughness: f32) -> f32 {
+    let alpha = max(roughness, 1e-6) * max(roughness, 1e-6);
+    let denom = (1.0 + sheen_lambda(n_dot_v, alpha) + sheen_lambda(n_dot_l, alpha)) * (4.0 * n_dot_v * n_dot_l);
+    return clamp(1.0 / denom, 0.0, 1.0);
+}
+
+// Entries a side of the sheen's albedo table (sheen.rs SIZE).
+const SHEEN_TABLE_SIZE: u32 = 32u;
+
+// The sheen's directional albedo E(cos, roughness) from its table, filtered bilinearly
+// between entry centres and clamped at the edges (as the reference viewer's texture lookup
+// is).
+fn sheen_albedo(cos_theta: f32, roughness: f32) -> f32 {
+    let last = f32(SHEEN_TABLE_SIZE - 1u);
+    let p = clamp(vec2<f32>(cos_theta, roughness) * f32(SHEEN_TABLE_SIZE) - 0.5, vec2<f32>(0.0), vec2<f32>(last));
+    let i0 = vec2<u32>(floor(p));
+    let i1 = min(i0 + 1u, vec2<u32>(SHEEN_TABLE_SIZE - 1u));
+    let f = p - floor(p);
+    let row0 = mix(sheen_albedo_table[i0.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[i0.y * SHEEN_TABLE_SIZE + i1.x], f.x);
+    let row1 = mix(sheen_albedo_table[i1.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[i1.y * SHEEN_TABLE_SIZE + i1.x], f.x);
+    return mix(row0, row1, f.y);
+}
+
+fn max3(c: vec3<f32>) -> f32 {
+    return max(c.r, max(c.g, c.b));
+}
+
+// Direct light with the layers: rgb the colour under the clearcoat (base, specular, sheen),
+// summed over the lights, and (second) the clearcoat's own lobe, summed likewise; the caller
+// mixes them by clearcoat * Fresnel.
+struct LayeredLight {
+    base: vec3<f32>,
+    coat: vec3<f32>,
+}
+
+fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, metallic: f32, alpha: f32, layers: Layers) -> LayeredLight {
+    var out: LayeredLight;
+    out.base = vec3<f32>(0.0);
+    out.coat = vec3<f32>(0.0);
+    let n_dot_v = max(abs(dot(n, v)), 1e-4);
+    let cc_n_dot_v = max(dot(layers.clearcoat_n, v), 1e-4);
+    let sheen = (material.flags & MAT_SHEEN) != 0u;
+    let sheen_max = max3(layers.sheen_color);
+    let sheen_e_v = select(0.0, sheen_albedo(n_dot_v, layers.sheen_roughness), sheen);
+    let f0 = layers.f0_dielectric * layers.specular_weight;
+    let f90 = layers.specular_weight;
+    for (var i = 0u; i < frame.light_count; i = i + 1u) {
+        let light = lights[i];
+        let inc = incidence(light, p);
+        if inc.w <= 0.0 {
+            continue;
+        }
+        let l = inc.xyz;
+        let radiance = light.color * inc.w * shadow_factor(light, p, n);
+        let h = safe_normalize(l + v, n);
+        let v_dot_h = max(dot(v, h), 0.0);
+        let schlick = pow(1.0 - v_dot_h, 5.0);
+        let n_dot_l = max(dot(n, l), 0.0);
+        if n_dot_l > 0.0 {
+            let n_dot_h = max(dot(n, h), 0.0);
+            let fresnel_dielectric = f0 + (vec3<f32>(f90) - f0) * schlick;
+            let fresnel_metal = albedo + (1.0 - albedo) * schlick;
+            let diffuse = radiance * n_dot_l * albedo / PI;
+            var lobe = ggx_dv(alpha, n_dot_l, n_dot_v, n_dot_h);
+            if layers.anisotropy > 0.0 {
+                lobe = ggx_dv_anisotropic(alpha, layers.anisotropy, n, v, l, h, layers.anisotropy_t, layers.anisotropy_b);
+            }
+            let specular = radiance * n_dot_l * lobe;
+            var color = mix(mix(diffuse, specular, fresnel_dielectric), fresnel_metal * specular, metallic);
+            if sheen {
+                let lobe = radiance * n_dot_l * layers.sheen_color
+                    * charlie_d(layers.sheen_roughness, n_dot_h) * sheen_v(n_dot_l, n_dot_v, layers.sheen_roughness);
+                let scale = min(1.0 - sheen_max * sheen_e_v, 1.0 - sheen_max * sheen_albedo(n_dot_l, layers.sheen_roughness));
+                color = lobe + color * scale;
+            }
+            out.base = out.base + color;
+        }
+        let cc_n_dot_l = max(dot(layers.clearcoat_n, l), 0.0);
+        if layers.clearcoat > 0.0 && cc_n_dot_l > 0.0 {
+            let cc_n_dot_h = max(dot(layers.clearcoat_n, h), 0.0);
+            let cc_alpha = layers.clearcoat_roughness * layers.clearcoat_roughness;
+            out.coat = out.coat + radiance * cc_n_dot_l * ggx_dv(cc_alpha, cc_n_dot_l, cc_n_dot_v, cc_n_dot_h);
+        }
+    }
+    return out;
+}
+
+// The environment's light with the layers, under (base) and of (coat) the clearcoat. The
+// sheen's environment term is the irradiance times the sheen colour and its albedo (the
+// reference viewer prefilters a cube with the Charlie lobe for it; this is the diffuse limit
+// of that lobe).
+fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> LayeredLight {
+    var out: LayeredLight;
+    let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
+    let lut_size = vec2<f32>(textureDimensions(brdf_lut));
+    let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
+    let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
+    // Anisotropy reflects about a normal bent towards the stretch (the extension's
+    // image-based approximation).
+    var reflect_n = n;
+    if layers.anisotropy > 0.0 {
+        let across = cross(layers.anisotropy_b, v);
+        let stretched = cross(across, layers.anisotropy_b);
+        let bend = 1.0 - layers.anisotropy * (1.0 - roughness);
+        reflect_n = safe_normalize(mix(stretched, n, bend * bend * bend * bend), n);
+    }
+    let r = environment_direction(reflect(-v, reflect_n));
+    let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
+    let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
+    let fresnel_dielectric = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
+    let dielectric = mix(irradiance * albedo, specular, fresnel_dielectric);
+    let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
+    var color = mix(dielectric, metal, metallic);
+    if (material.flags & MAT_SHEEN) != 0u {
+        let e = sheen_albedo(n_dot_v, layers.sheen_roughness);
+        color = irradiance * layers.sheen_color * e + color * (1.0 - max3(layers.sheen_color) * e);
+    }
+    out.base = color * frame.environment_intensity;
+    let rc = environment_direction(reflect(-v, layers.clearcoat_n));
+    out.coat = textureSampleLevel(environment_specular, environment_sampler, rc, layers.clearcoat_roughness * frame.environment_max_lod).rgb * frame.environment_intensity;
+    return out;
+}

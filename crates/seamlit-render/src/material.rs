@@ -1,0 +1,183 @@
+//! A material as the shaders read it (`Material` in `mesh.wgsl`): its flags, factors, texture
+//! transforms and the PBR extensions' parameters, from seamlit-io's `Material`.
+
+use bytemuck::{Pod, Zeroable};
+use seamlit_io::{AlphaMode, Material, TextureRef};
+
+/// Material flag: the material has a normal map.
+pub(crate) const MAT_NORMAL_MAP: u32 = 1;
+/// Material flag: the normal map is green-down (DirectX).
+const MAT_GREEN_DOWN: u32 = 2;
+/// Material flag: back faces are drawn and lit from behind.
+const MAT_DOUBLE_SIDED: u32 = 4;
+/// Material flag: alphaMode MASK, pixels under the cutoff are discarded.
+const MAT_ALPHA_MASK: u32 = 8;
+/// Material flag: alphaMode BLEND, the pixel's alpha is written for blending.
+const MAT_ALPHA_BLEND: u32 = 16;
+/// Material flag: KHR_materials_unlit.
+const MAT_UNLIT: u32 = 32;
+/// Material flag: KHR_materials_clearcoat (a coat layer is drawn).
+const MAT_CLEARCOAT: u32 = 64;
+/// Material flag: the clearcoat has a normal map.
+pub(crate) const MAT_CLEARCOAT_NORMAL_MAP: u32 = 128;
+/// Material flag: KHR_materials_sheen.
+const MAT_SHEEN: u32 = 256;
+/// Material flag: KHR_materials_specular or KHR_materials_ior (the dielectric's f0 and f90
+/// are the material's; the specular and specular colour textures are read).
+const MAT_SPECULAR: u32 = 512;
+/// Material flag: KHR_materials_anisotropy.
+const MAT_ANISOTROPY: u32 = 1024;
+/// Any of the flags of the PBR extensions' layers.
+pub(crate) const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY;
+
+/// Material uniforms (`Material` in `mesh.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub(crate) struct MaterialRaw {
+    pub base_color: [f32; 4],
+    pub specular: [f32; 3],
+    pub shininess: f32,
+    pub base_uv: [[f32; 4]; 2],
+    pub normal_uv: [[f32; 4]; 2],
+    pub metallic_roughness_uv: [[f32; 4]; 2],
+    pub occlusion_uv: [[f32; 4]; 2],
+    pub emissive_uv: [[f32; 4]; 2],
+    pub emissive: [f32; 3],
+    pub normal_scale: f32,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub occlusion_strength: f32,
+    pub alpha_cutoff: f32,
+    pub flags: u32,
+    pub pad: [u32; 3],
+    /// KHR_materials_specular's texture slots (alpha: strength; RGB: colour), then
+    /// clearcoat's (factor, roughness, normal) and sheen's (colour, roughness).
+    pub specular_uv: [[f32; 4]; 2],
+    pub specular_color_uv: [[f32; 4]; 2],
+    pub clearcoat_uv: [[f32; 4]; 2],
+    pub clearcoat_roughness_uv: [[f32; 4]; 2],
+    pub clearcoat_normal_uv: [[f32; 4]; 2],
+    pub sheen_color_uv: [[f32; 4]; 2],
+    pub sheen_roughness_uv: [[f32; 4]; 2],
+    /// The dielectric's f0 (KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0.04 by default)
+    /// times KHR_materials_specular's colour, and its strength (`specularFactor`).
+    pub f0_dielectric: [f32; 3],
+    pub specular_weight: f32,
+    /// KHR_materials_sheen's colour and roughness.
+    pub sheen_color: [f32; 3],
+    pub sheen_roughness: f32,
+    /// KHR_materials_clearcoat's factor, roughness and normal scale, and its f0 (from the
+    /// material's ior).
+    pub clearcoat: f32,
+    pub clearcoat_roughness: f32,
+    pub clearcoat_normal_scale: f32,
+    pub clearcoat_f0: f32,
+    /// KHR_materials_anisotropy: cos and sin of its rotation, its strength.
+    pub anisotropy: [f32; 3],
+    pub pad1: f32,
+}
+
+/// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
+/// first row's `w` the texture coordinate set the slot reads (1: TEXCOORD_1, else
+/// TEXCOORD_0).
+fn uv_rows(texture: Option<&TextureRef>) -> [[f32; 4]; 2] {
+    let set = texture.map_or(0.0, |r| if r.tex_coord == 1 { 1.0 } else { 0.0 });
+    let Some(t) = texture.and_then(|r| r.transform.as_ref()) else {
+        return [[1.0, 0.0, 0.0, set], [0.0, 1.0, 0.0, 0.0]];
+    };
+    let (s, c) = t.rotation.sin_cos();
+    [
+        [c * t.scale[0], s * t.scale[1], t.offset[0], set],
+        [-s * t.scale[0], c * t.scale[1], t.offset[1], 0.0],
+    ]
+}
+
+/// Builds a material's uniforms.
+pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
+    let mut flags = 0;
+    if material.normal_texture.is_some() {
+        flags |= MAT_NORMAL_MAP;
+    }
+    if material.normal_green_down {
+        flags |= MAT_GREEN_DOWN;
+    }
+    if material.double_sided {
+        flags |= MAT_DOUBLE_SIDED;
+    }
+    if material.unlit {
+        flags |= MAT_UNLIT;
+    }
+    let alpha_cutoff = match material.alpha_mode {
+        AlphaMode::Opaque => 0.0,
+        AlphaMode::Mask { cutoff } => {
+            flags |= MAT_ALPHA_MASK;
+            cutoff
+        }
+        AlphaMode::Blend => {
+            flags |= MAT_ALPHA_BLEND;
+            0.0
+        }
+    };
+    let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref());
+    let ext = &material.extensions;
+    // KHR_materials_ior: f0 = ((ior - 1) / (ior + 1))^2; glTF's default 1.5 gives 0.04.
+    let f0 = ext.ior.map_or(0.04, |ior| ((ior - 1.0) / (ior + 1.0)).powi(2));
+    if ext.ior.is_some() || ext.specular.is_some() {
+        flags |= MAT_SPECULAR;
+    }
+    if ext.clearcoat.is_some() {
+        flags |= MAT_CLEARCOAT;
+    }
+    if ext.clearcoat.as_ref().is_some_and(|c| c.normal_texture.is_some()) {
+        flags |= MAT_CLEARCOAT_NORMAL_MAP;
+    }
+    if ext.sheen.is_some() {
+        flags |= MAT_SHEEN;
+    }
+    if ext.anisotropy.is_some() {
+        flags |= MAT_ANISOTROPY;
+    }
+    let specular = ext.specular.as_ref();
+    let clearcoat = ext.clearcoat.as_ref();
+    let sheen = ext.sheen.as_ref();
+    let none = &None;
+    MaterialRaw {
+        base_color: material.base_color,
+        specular: material.specular,
+        // pow(0, 0) is undefined in WGSL: keep the exponent positive.
+        shininess: material.shininess.max(1e-3),
+        base_uv: slot_uv(&material.base_color_texture),
+        normal_uv: slot_uv(&material.normal_texture),
+        metallic_roughness_uv: slot_uv(&material.metallic_roughness_texture),
+        occlusion_uv: slot_uv(&material.occlusion_texture),
+        emissive_uv: slot_uv(&material.emissive_texture),
+        emissive: material.emissive,
+        normal_scale: material.normal_scale,
+        metallic: material.metallic.clamp(0.0, 1.0),
+        roughness: material.roughness.clamp(0.0, 1.0),
+        occlusion_strength: material.occlusion_strength.clamp(0.0, 1.0),
+        alpha_cutoff,
+        flags,
+        pad: [0; 3],
+        specular_uv: slot_uv(specular.map_or(none, |s| &s.texture)),
+        specular_color_uv: slot_uv(specular.map_or(none, |s| &s.color_texture)),
+        clearcoat_uv: slot_uv(clearcoat.map_or(none, |c| &c.texture)),
+        clearcoat_roughness_uv: slot_uv(clearcoat.map_or(none, |c| &c.roughness_texture)),
+        clearcoat_normal_uv: slot_uv(clearcoat.map_or(none, |c| &c.normal_texture)),
+        sheen_color_uv: slot_uv(sheen.map_or(none, |s| &s.color_texture)),
+        sheen_roughness_uv: slot_uv(sheen.map_or(none, |s| &s.roughness_texture)),
+        f0_dielectric: specular.map_or([f0; 3], |s| s.color.map(|c| (f0 * c).clamp(0.0, 1.0))),
+        specular_weight: specular.map_or(1.0, |s| s.factor.max(0.0)),
+        sheen_color: sheen.map_or([0.0; 3], |s| s.color.map(|c| c.max(0.0))),
+        sheen_roughness: sheen.map_or(0.0, |s| s.roughness.clamp(0.0, 1.0)),
+        clearcoat: clearcoat.map_or(0.0, |c| c.factor.clamp(0.0, 1.0)),
+        clearcoat_roughness: clearcoat.map_or(0.0, |c| c.roughness.clamp(0.0, 1.0)),
+        clearcoat_normal_scale: clearcoat.map_or(1.0, |c| c.normal_scale),
+        clearcoat_f0: f0,
+        anisotropy: ext.anisotropy.as_ref().map_or([1.0, 0.0, 0.0], |a| {
+            let (sin, cos) = a.rotation.sin_cos();
+            [cos, sin, a.strength.clamp(0.0, 1.0)]
+        }),
+        pad1: 0.0,
+    }
+}
