@@ -44,23 +44,15 @@ pub(crate) fn skin_seams(model: &Model, flat: &Flat, roots: &[u32], shared: &[bo
     if model.objects.iter().all(|o| o.skin.is_empty()) {
         return SkinSeams::default();
     }
-    let mut at_shared: Vec<u64> = roots
-        .par_iter()
-        .enumerate()
-        .filter(|&(_, &r)| shared[r as usize])
-        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
-        .collect();
-    at_shared.par_sort_unstable();
-    let object_of = |v: usize| flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    let at_shared = at_shared_positions(roots, shared);
     let disagreeing: Vec<(u32, usize, usize)> = at_shared
         .par_chunk_by(|a, b| a >> 32 == b >> 32)
         .filter_map(|run| {
             let vertices: Vec<(usize, Vec<(u32, f32)>)> = run
                 .iter()
                 .map(|&e| {
-                    let v = low_half(e) as usize;
-                    let o = object_of(v);
-                    (o, influences(&model.objects[o], v - flat.vertex_start[o] as usize))
+                    let (o, v) = copy_of(flat, e);
+                    (o, influences(&model.objects[o], v))
                 })
                 .collect();
             for (i, (oa, a)) in vertices.iter().enumerate() {
@@ -80,6 +72,27 @@ pub(crate) fn skin_seams(model: &Model, flat: &Flat, roots: &[u32], shared: &[bo
             objects: [a, b].map(|o| model.objects[o].name.clone()),
         }),
     }
+}
+
+/// Every vertex at a shared welded position as `root << 32 | vertex`, sorted: the copies of
+/// one position are one run (equal high halves), in vertex order, the positions in the order
+/// of their roots. `roots` and `shared` are the report's weld.
+fn at_shared_positions(roots: &[u32], shared: &[bool]) -> Vec<u64> {
+    let mut at_shared: Vec<u64> = roots
+        .par_iter()
+        .enumerate()
+        .filter(|&(_, &r)| shared[r as usize])
+        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
+        .collect();
+    at_shared.par_sort_unstable();
+    at_shared
+}
+
+/// An entry of [`at_shared_positions`] as (object, vertex within the object).
+fn copy_of(flat: &Flat, entry: u64) -> (usize, usize) {
+    let v = low_half(entry) as usize;
+    let o = flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    (o, v - flat.vertex_start[o] as usize)
 }
 
 /// Vertex `v`'s weight per joint node, sorted by joint, weights of one joint added, zero
@@ -219,24 +232,16 @@ pub fn shared_copies(
     let tolerance = tolerance.absolute(crate::weld::diagonal(&flat));
     let roots = crate::weld::roots(&flat.positions, tolerance);
     let shared = flat.shared_positions(&roots);
-    let mut at_shared: Vec<u64> = roots
-        .par_iter()
-        .enumerate()
-        .filter(|&(_, &r)| shared[r as usize])
-        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
-        .collect();
-    at_shared.par_sort_unstable();
-    let object_of = |v: usize| flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    let at_shared = at_shared_positions(&roots, &shared);
     Ok(at_shared
         .chunk_by(|a, b| a >> 32 == b >> 32)
         .map(|run| {
             run.iter()
                 .map(|&e| {
-                    let v = low_half(e) as usize;
-                    let o = object_of(v);
+                    let (o, v) = copy_of(&flat, e);
                     // Both fit u32: the model's vertex count does (validate).
                     #[expect(clippy::cast_possible_truncation, reason = "checked by validate")]
-                    (o as u32, (v - flat.vertex_start[o] as usize) as u32)
+                    (o as u32, v as u32)
                 })
                 .collect()
         })
