@@ -14,70 +14,8 @@ use std::path::Path;
 
 use anyhow::Context as _;
 use glam::{Mat4, Quat, Vec3};
-use serde_json::{Value, json};
-
-/// The buffer, its views and accessors.
-#[derive(Default)]
-struct Data {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
-}
-
-impl Data {
-    fn push(&mut self, bytes: &[u8], mut accessor: Value, target: Option<u32>) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        let mut view =
-            json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
-        if let Some(target) = target {
-            view["target"] = json!(target);
-        }
-        self.bin.extend_from_slice(bytes);
-        self.views.push(view);
-        accessor["bufferView"] = json!(self.views.len() - 1);
-        self.accessors.push(accessor);
-        self.accessors.len() - 1
-    }
-
-    /// A `FLOAT` accessor of `width` components per element; vertex data (`bounds`: with min
-    /// and max, as POSITION needs) gets the vertex-buffer target.
-    fn floats(&mut self, values: &[f32], kind: &str, width: usize, bounds: bool) -> usize {
-        self.floats_for(values, kind, width, bounds, Some(34962))
-    }
-
-    /// Animation keys and matrices: no buffer-view target.
-    fn keys(&mut self, values: &[f32], kind: &str, width: usize, bounds: bool) -> usize {
-        self.floats_for(values, kind, width, bounds, None)
-    }
-
-    fn floats_for(
-        &mut self,
-        values: &[f32],
-        kind: &str,
-        width: usize,
-        bounds: bool,
-        target: Option<u32>,
-    ) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|f| f.to_le_bytes()).collect();
-        let count = values.len() / width;
-        let mut accessor = json!({"componentType": 5126, "count": count, "type": kind});
-        if bounds {
-            let mut lo = vec![f32::INFINITY; width];
-            let mut hi = vec![f32::NEG_INFINITY; width];
-            for chunk in values.chunks(width) {
-                for (i, &v) in chunk.iter().enumerate() {
-                    lo[i] = lo[i].min(v);
-                    hi[i] = hi[i].max(v);
-                }
-            }
-            accessor["min"] = json!(lo);
-            accessor["max"] = json!(hi);
-        }
-        self.push(&bytes, accessor, target)
-    }
-}
+use seamlit_testkit::{ARRAY_BUFFER, Buffer, ELEMENT_ARRAY_BUFFER};
+use serde_json::json;
 
 /// The size of the character.
 pub(crate) struct Shape {
@@ -97,7 +35,7 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
     anyhow::ensure!(joints <= 65536, "at most 65536 joints (JOINTS_0 is UNSIGNED_SHORT)");
     let neck = rings * 9 / 10;
     let spacing = HEIGHT / (joints - 1) as f32;
-    let mut data = Data::default();
+    let mut data = Buffer::default();
     let mut meshes = Vec::new();
     for (ring_range, head) in [(0..neck + 1, false), (neck..rings, true)] {
         let (mut positions, mut uvs, mut lanes, mut weights) =
@@ -142,23 +80,23 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
                 indices.extend([a, d, c, a, c, b]);
             }
         }
-        let position = data.floats(&positions, "VEC3", 3, true);
-        let uv = data.floats(&uvs, "VEC2", 2, false);
+        let position = data.floats(&positions, "VEC3", true, Some(ARRAY_BUFFER));
+        let uv = data.floats(&uvs, "VEC2", false, Some(ARRAY_BUFFER));
         let bytes: Vec<u8> = lanes.iter().flat_map(|j| j.to_le_bytes()).collect();
         let vertices = positions.len() / 3;
         let joint_accessor = data.push(
             &bytes,
             json!({"componentType": 5123, "count": vertices, "type": "VEC4"}),
-            Some(34962),
+            Some(ARRAY_BUFFER),
         );
-        let weight_accessor = data.floats(&weights, "VEC4", 4, false);
-        let bulge = data.floats(&bulge, "VEC3", 3, true);
-        let lift = data.floats(&lift, "VEC3", 3, true);
+        let weight_accessor = data.floats(&weights, "VEC4", false, Some(ARRAY_BUFFER));
+        let bulge = data.floats(&bulge, "VEC3", true, Some(ARRAY_BUFFER));
+        let lift = data.floats(&lift, "VEC3", true, Some(ARRAY_BUFFER));
         let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
         let index_accessor = data.push(
             &bytes,
             json!({"componentType": 5125, "count": indices.len(), "type": "SCALAR"}),
-            Some(34963),
+            Some(ELEMENT_ARRAY_BUFFER),
         );
         meshes.push(json!({
             "name": if head { "head" } else { "body" },
@@ -176,10 +114,10 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
     let inverse_bind: Vec<f32> = (0..joints)
         .flat_map(|k| Mat4::from_translation(Vec3::Y * -(k as f32 * spacing)).to_cols_array())
         .collect();
-    let ibm = data.keys(&inverse_bind, "MAT4", 16, false);
+    let ibm = data.floats(&inverse_bind, "MAT4", false, None);
     let keys = 21;
     let times: Vec<f32> = (0..keys).map(|k| 2.0 * k as f32 / (keys - 1) as f32).collect();
-    let input = data.keys(&times, "SCALAR", 1, true);
+    let input = data.floats(&times, "SCALAR", true, None);
     let (mut samplers, mut channels) = (Vec::new(), Vec::new());
     for k in 0..joints {
         let rotations: Vec<f32> = times
@@ -190,14 +128,14 @@ pub(crate) fn write(shape: &Shape, path: &Path) -> anyhow::Result<()> {
                     .to_array()
             })
             .collect();
-        let output = data.keys(&rotations, "VEC4", 4, false);
+        let output = data.floats(&rotations, "VEC4", false, None);
         samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
         channels.push(json!({"sampler": samplers.len() - 1,
             "target": {"node": 2 + k, "path": "rotation"}}));
     }
     let morph: Vec<f32> =
         times.iter().flat_map(|&t| [0.5 - 0.5 * (TAU * t / 2.0).cos(), 0.5 * t / 2.0]).collect();
-    let output = data.keys(&morph, "SCALAR", 1, false);
+    let output = data.floats(&morph, "SCALAR", false, None);
     samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
     for node in [0, 1] {
         channels.push(json!({"sampler": samplers.len() - 1,

@@ -111,7 +111,7 @@ fn a_morph_at_half_weight_is_base_plus_half_the_delta() {
 fn character() -> (tempfile::TempDir, Asset) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("character.gltf");
-    common::character::write(&path);
+    seamlit_testkit::character::write(&path);
     let asset = seamlit_io::load(&path, &LoadOptions::DEFAULT).unwrap();
     (dir, asset)
 }
@@ -144,7 +144,7 @@ fn skins_and_animations_are_read_with_their_nodes() {
 /// The largest gap and normal angle across the neck over 21 times of the nod.
 fn motion(asset: &Asset) -> (f32, Option<f32>) {
     let copies = seamlit_mesh::shared_copies(&asset.model, WeldTolerance::default()).unwrap();
-    assert_eq!(copies.len(), common::character::SEGMENTS, "the neck ring is shared");
+    assert_eq!(copies.len(), seamlit_testkit::character::SEGMENTS, "the neck ring is shared");
     // Every copy counts as a seam side (the character's normals are computed, or smooth).
     let seams: Vec<Vec<bool>> = copies.iter().map(|g| vec![true; g.len()]).collect();
     let m = seam_motion(asset, 0, 21, &copies, &seams, 30.0);
@@ -161,7 +161,7 @@ fn matched_skins_keep_the_neck_closed_in_every_pose() {
 
     let copies = seamlit_mesh::shared_copies(&asset.model, WeldTolerance::default()).unwrap();
     let matched = seamlit_io::match_skin_seams(&mut asset, &copies);
-    assert_eq!(matched.positions, common::character::SEGMENTS);
+    assert_eq!(matched.positions, seamlit_testkit::character::SEGMENTS);
     let (gap, angle) = motion(&asset);
     assert!(gap < 1e-6, "the gap after matching: {gap}");
     assert!(angle.unwrap() < 0.01, "the normal angle after matching: {angle:?}");

@@ -9,6 +9,7 @@ use common::validate;
 use glam::Vec3;
 use seamlit_io::{LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, fix, fix_in_place};
+use seamlit_testkit::Buffer;
 use serde_json::{Value, json};
 
 /// A bump centred on the seam x = 2, y = 1.
@@ -17,59 +18,19 @@ fn bulge(p: Vec3) -> Vec3 {
     Vec3::new(0.0, 0.0, 0.6 * (-d2).exp())
 }
 
-/// A buffer under construction, with its views and accessors.
-#[derive(Default)]
-struct Data {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
-}
-
-impl Data {
-    /// A view of `bytes` and an accessor of `count` elements over it; returns the accessor.
-    fn push(&mut self, bytes: &[u8], mut accessor: Value) -> usize {
-        let at = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        self.views.push(json!({"buffer": 0, "byteOffset": at, "byteLength": bytes.len()}));
-        accessor["bufferView"] = json!(self.views.len() - 1);
-        self.accessors.push(accessor);
-        self.accessors.len() - 1
+/// The document around `meshes` and `nodes`, `data`'s buffer in a `data:` URI.
+fn document(data: Buffer, meshes: Vec<Value>, nodes: Vec<Value>, extra: Value) -> Value {
+    let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&data.bin));
+    let mut document = json!({
+        "asset": {"version": "2.0"}, "scene": 0,
+        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes, "meshes": meshes, "accessors": data.accessors,
+        "bufferViews": data.views, "buffers": [{"byteLength": data.bin.len(), "uri": uri}],
+    });
+    for (key, value) in extra.as_object().into_iter().flatten() {
+        document[key] = value.clone();
     }
-
-    /// A `FLOAT` `VEC3` accessor with its bounds.
-    fn vec3(&mut self, values: &[Vec3]) -> usize {
-        let bytes: Vec<u8> =
-            values.iter().flat_map(|v| v.to_array()).flat_map(f32::to_le_bytes).collect();
-        let (lo, hi) = values
-            .iter()
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-        self.push(
-            &bytes,
-            json!({"componentType": 5126, "count": values.len(), "type": "VEC3",
-            "min": lo.to_array(), "max": hi.to_array()}),
-        )
-    }
-
-    /// An `UNSIGNED_SHORT` index accessor.
-    fn indices(&mut self, indices: &[u16]) -> usize {
-        let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        self.push(&bytes, json!({"componentType": 5123, "count": indices.len(), "type": "SCALAR"}))
-    }
-
-    /// The document around `meshes` and `nodes`, its buffer in a `data:` URI.
-    fn document(self, meshes: Vec<Value>, nodes: Vec<Value>, extra: Value) -> Value {
-        let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&self.bin));
-        let mut document = json!({
-            "asset": {"version": "2.0"}, "scene": 0,
-            "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
-            "nodes": nodes, "meshes": meshes, "accessors": self.accessors,
-            "bufferViews": self.views, "buffers": [{"byteLength": self.bin.len(), "uri": uri}],
-        });
-        for (key, value) in extra.as_object().into_iter().flatten() {
-            document[key] = value.clone();
-        }
-        document
-    }
+    document
 }
 
 /// The triangles of a grid of `n` x `n` vertices.
@@ -97,7 +58,7 @@ fn sheet_positions(x0: f32) -> Vec<Vec3> {
 /// Two 4 x 4 sheets of quads meeting at x = 2, each a mesh of its own node with one morph
 /// target ([`bulge`]) and no normals, as a `.gltf` with its buffer in a `data:` URI.
 fn two_sheets(path: &Path) {
-    let mut data = Data::default();
+    let mut data = Buffer::default();
     let (mut meshes, mut nodes) = (Vec::new(), Vec::new());
     for (m, x0) in [0.0f32, 2.0].into_iter().enumerate() {
         let positions = sheet_positions(x0);
@@ -109,7 +70,7 @@ fn two_sheets(path: &Path) {
             "targets": [{"POSITION": delta}]}], "weights": [0.0]}));
         nodes.push(json!({"mesh": m, "name": format!("sheet{m}")}));
     }
-    let document = data.document(meshes, nodes, json!({}));
+    let document = document(data, meshes, nodes, json!({}));
     std::fs::write(path, serde_json::to_vec_pretty(&document).unwrap()).unwrap();
 }
 

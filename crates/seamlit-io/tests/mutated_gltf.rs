@@ -31,7 +31,7 @@ struct Seed {
 /// and the validator's valid files on animations, skins, joints and KHR_animation_pointer.
 fn seeds(dir: &Path) -> Vec<Seed> {
     let character = dir.join("character.gltf");
-    common::character::write_with(&character, true);
+    seamlit_testkit::character::write_with(&character, true);
     let mut files = vec![character, common::model("simple_morph/SimpleMorph.gltf")];
     let corpus =
         PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/validator-corpus"));

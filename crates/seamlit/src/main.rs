@@ -3,11 +3,9 @@
 //! design. Exit status: 0 success, 1 processing failure, 2 bad input or usage.
 
 mod animate;
-// The two-object character of seamlit-io's tests, for the unit tests here.
+// The two-object character of the animation tests, for the unit tests here.
 #[cfg(test)]
-#[allow(dead_code, reason = "the tests use part of it")]
-#[path = "../../seamlit-io/tests/common/character.rs"]
-mod character;
+use seamlit_testkit::character;
 mod cli;
 mod cmd;
 mod draw;

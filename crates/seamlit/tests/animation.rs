@@ -2,14 +2,12 @@
 //! character at its neck and says how far the seam opened in its animation before and after;
 //! `--skin-seams keep` leaves the weights as authored; `inspect --animation` measures.
 
-#[path = "../../seamlit-io/tests/common/character.rs"]
-mod character;
-
 use std::path::Path;
 use std::process::Command;
 
 use seamlit_io::LoadOptions;
 use seamlit_mesh::WeldTolerance;
+use seamlit_testkit::character;
 
 fn seamlit(args: &[&str]) -> (i32, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_seamlit")).args(args).output().unwrap();

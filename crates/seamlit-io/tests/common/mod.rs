@@ -10,7 +10,6 @@ use std::process::Command;
 
 use seamlit_mesh::Model;
 
-pub mod character;
 pub mod gltf;
 pub mod mutate;
 

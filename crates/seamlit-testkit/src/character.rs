@@ -8,6 +8,7 @@
 use std::f32::consts::TAU;
 use std::path::Path;
 
+use crate::Buffer;
 use glam::{Mat4, Quat, Vec3};
 use serde_json::{Value, json};
 
@@ -36,47 +37,9 @@ const JOINT_Y: [f32; 3] = [0.0, 0.75, NECK_Y];
 /// The nod's keys: (time, angle about X in degrees).
 pub const NOD: [(f32, f32); 3] = [(0.0, 0.0), (1.0, 60.0), (2.0, 0.0)];
 
-#[derive(Default)]
-struct Data {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
-}
-
-impl Data {
-    fn push(&mut self, bytes: &[u8], mut accessor: Value) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        let at = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        self.views.push(json!({"buffer": 0, "byteOffset": at, "byteLength": bytes.len()}));
-        accessor["bufferView"] = json!(self.views.len() - 1);
-        self.accessors.push(accessor);
-        self.accessors.len() - 1
-    }
-
-    fn floats(&mut self, values: &[f32], kind: &str, count: usize, bounds: bool) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|f| f.to_le_bytes()).collect();
-        let mut accessor = json!({"componentType": 5126, "count": count, "type": kind});
-        if bounds {
-            let n = values.len() / count;
-            let lo: Vec<f32> = (0..n)
-                .map(|i| values.iter().skip(i).step_by(n).fold(f32::INFINITY, |a, &b| a.min(b)))
-                .collect();
-            let hi: Vec<f32> = (0..n)
-                .map(|i| values.iter().skip(i).step_by(n).fold(f32::NEG_INFINITY, |a, &b| a.max(b)))
-                .collect();
-            accessor["min"] = json!(lo);
-            accessor["max"] = json!(hi);
-        }
-        self.push(&bytes, accessor)
-    }
-}
-
 /// One mesh of the tube: its rings, with joints given as indices into its skin's joints
 /// (`slots`: root, chest, neck -> skin slot).
-fn tube(data: &mut Data, rings: &[(f32, [f32; 3])], slots: [u8; 3]) -> Value {
+fn tube(data: &mut Buffer, rings: &[(f32, [f32; 3])], slots: [u8; 3]) -> Value {
     let (mut positions, mut joints, mut weights) = (Vec::new(), Vec::new(), Vec::new());
     for &(y, w) in rings {
         for i in 0..SEGMENTS {
@@ -99,12 +62,11 @@ fn tube(data: &mut Data, rings: &[(f32, [f32; 3])], slots: [u8; 3]) -> Value {
         }
     }
     let count = positions.len() / 3;
-    let position = data.floats(&positions, "VEC3", count, true);
-    let joints = data.push(&joints, json!({"componentType": 5121, "count": count, "type": "VEC4"}));
-    let weights = data.floats(&weights, "VEC4", count, false);
-    let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-    let indices =
-        data.push(&bytes, json!({"componentType": 5123, "count": indices.len(), "type": "SCALAR"}));
+    let position = data.floats(&positions, "VEC3", true, None);
+    let joints =
+        data.push(&joints, json!({"componentType": 5121, "count": count, "type": "VEC4"}), None);
+    let weights = data.floats(&weights, "VEC4", false, None);
+    let indices = data.indices(&indices);
     json!({"primitives": [{"indices": indices,
         "attributes": {"POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights}}]})
 }
@@ -117,7 +79,7 @@ pub fn write(path: &Path) {
 /// [`write`], and with `swell` the body (only) gets a morph target named "swell" that pushes
 /// every vertex out by a tenth of the radius: a seam that opens at the neck while it is active.
 pub fn write_with(path: &Path, swell: bool) {
-    let mut data = Data::default();
+    let mut data = Buffer::default();
     // Skin 0 (body): root, chest, neck. Skin 1 (head): neck only.
     let mut body = tube(&mut data, &BODY, [0, 1, 2]);
     if swell {
@@ -130,8 +92,7 @@ pub fn write_with(path: &Path, swell: bool) {
                 })
             })
             .collect();
-        let count = deltas.len() / 3;
-        let target = data.floats(&deltas, "VEC3", count, true);
+        let target = data.floats(&deltas, "VEC3", true, None);
         body["primitives"][0]["targets"] = json!([{"POSITION": target}]);
         body["weights"] = json!([0.0]);
         body["extras"] = json!({"targetNames": ["swell"]});
@@ -139,13 +100,13 @@ pub fn write_with(path: &Path, swell: bool) {
     let head = tube(&mut data, &HEAD, [0, 0, 0]);
     let inverse_bind = |y: f32| Mat4::from_translation(Vec3::new(0.0, -y, 0.0)).to_cols_array();
     let body_ibm: Vec<f32> = JOINT_Y.iter().flat_map(|&y| inverse_bind(y)).collect();
-    let body_ibm = data.floats(&body_ibm, "MAT4", 3, false);
-    let head_ibm = data.floats(&inverse_bind(NECK_Y), "MAT4", 1, false);
+    let body_ibm = data.floats(&body_ibm, "MAT4", false, None);
+    let head_ibm = data.floats(&inverse_bind(NECK_Y), "MAT4", false, None);
     let times: Vec<f32> = NOD.iter().map(|k| k.0).collect();
-    let times = data.floats(&times, "SCALAR", NOD.len(), true);
+    let times = data.floats(&times, "SCALAR", true, None);
     let rotations: Vec<f32> =
         NOD.iter().flat_map(|k| Quat::from_rotation_x(k.1.to_radians()).to_array()).collect();
-    let rotations = data.floats(&rotations, "VEC4", NOD.len(), false);
+    let rotations = data.floats(&rotations, "VEC4", false, None);
     let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&data.bin));
     let document = json!({
         "asset": {"version": "2.0", "generator": "seamlit tests (character.rs)"},
