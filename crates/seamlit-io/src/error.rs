@@ -167,6 +167,18 @@ pub enum IoError {
         path: PathBuf,
     },
 
+    /// A `.vrm` output of a model that is not a VRM avatar, or whose objects no longer match
+    /// its source: VRM's extensions (humanoid bones, expressions, spring bones, MToon) refer
+    /// to the input's nodes, meshes and morph targets, so only the pass-through writes them.
+    /// Nothing was written.
+    #[error("{}: a .vrm is written only from a VRM input, as the glTF pass-through keeps its VRM extensions, and {reason}; write .glb instead", path.display())]
+    VrmOutput {
+        /// The output path.
+        path: PathBuf,
+        /// Why the pass-through cannot write it.
+        reason: String,
+    },
+
     /// A glTF URI points outside the model's folder (`../`, an absolute path) or uses a scheme
     /// other than a relative file or a `data:` URI.
     #[error("{}: {what} URI {uri:?} is refused: {kind}", path.display())]

@@ -100,8 +100,8 @@ pub enum Format {
 }
 
 impl Format {
-    /// The format of `path`, from its extension (case-insensitive): `.obj`, `.gltf`, `.glb`,
-    /// `.fbx` (with the `fbx` feature), and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
+    /// The format of `path`, from its extension (case-insensitive): `.obj`, `.gltf`, `.glb`
+    /// (and `.vrm`, a VRM avatar: a GLB with VRM's extensions), `.fbx` (with the `fbx` feature), and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
     /// extension is a Newell patch file if its first token is an integer (the patch count).
     ///
     /// Returns `None` for anything else (and for an extension-less file that cannot be read).
@@ -111,7 +111,7 @@ impl Format {
         match extension.as_deref() {
             Some("obj") => Some(Self::Obj),
             Some("gltf") => Some(Self::Gltf),
-            Some("glb") => Some(Self::Glb),
+            Some("glb" | "vrm") => Some(Self::Glb),
             Some("fbx") if cfg!(feature = "fbx") => Some(Self::Fbx),
             Some("bpt" | "patch" | "patches" | "newell") => Some(Self::Newell),
             None => {
@@ -157,8 +157,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 }
 
 /// Writes an asset, choosing the writer by the extension of `path`: `.gltf` (JSON, with a
-/// `.bin` buffer and the textures beside it), `.glb` (one binary file, textures embedded) or
-/// `.obj` (with a `.mtl` and the textures beside it).
+/// `.bin` buffer and the textures beside it), `.glb` (one binary file, textures embedded),
+/// `.vrm` (a VRM avatar loaded from a `.vrm`, through the pass-through, which keeps every VRM
+/// extension) or `.obj` (with a `.mtl` and the textures beside it).
 ///
 /// An asset loaded from glTF or GLB ([`Asset::gltf_source`]) and saved as `.gltf` or `.glb`
 /// goes through the pass-through writer: the output is the input document with only NORMAL,
@@ -181,6 +182,8 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// `options.overwrite_input` is not set; [`IoError::CannotKeepCompression`] with
 /// `options.keep_compression` for a Draco-compressed source or an `.obj` path;
 /// [`IoError::FbxOutput`] for an `.fbx` path (seamlit writes no FBX);
+/// [`IoError::VrmOutput`] for a `.vrm` path when the asset is not a VRM avatar the
+/// pass-through can write back;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
@@ -195,6 +198,19 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     let mut report = SaveReport::default();
     match extension.as_deref() {
+        Some("vrm") => {
+            let source = asset.gltf_source.as_ref().filter(|s| s.is_vrm()).ok_or_else(|| {
+                IoError::VrmOutput {
+                    path: path.to_path_buf(),
+                    reason: "the model is not a VRM avatar".into(),
+                }
+            })?;
+            source
+                .check_model(&asset.model)
+                .map_err(|reason| IoError::VrmOutput { path: path.to_path_buf(), reason })?;
+            report.warnings =
+                gltf::passthrough::save(asset, source, path, true, options.keep_compression)?;
+        }
         Some(extension @ ("gltf" | "glb")) => {
             let binary = extension == "glb";
             if let Some(source) = &asset.gltf_source {

@@ -79,6 +79,15 @@ pub fn write(path: &Path) {
 /// [`write`], and with `swell` the body (only) gets a morph target named "swell" that pushes
 /// every vertex out by a tenth of the radius: a seam that opens at the neck while it is active.
 pub fn write_with(path: &Path, swell: bool) {
+    let (mut document, bin) = document(swell);
+    let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&bin));
+    document["buffers"][0]["uri"] = json!(uri);
+    std::fs::write(path, serde_json::to_vec_pretty(&document).unwrap()).unwrap();
+}
+
+/// The character's document (see [`write_with`]) and its one buffer's bytes; the buffer has
+/// no `uri` (a GLB's BIN chunk: [`crate::glb`]).
+pub fn document(swell: bool) -> (Value, Vec<u8>) {
     let mut data = Buffer::default();
     // Skin 0 (body): root, chest, neck. Skin 1 (head): neck only.
     let mut body = tube(&mut data, &BODY, [0, 1, 2]);
@@ -107,7 +116,6 @@ pub fn write_with(path: &Path, swell: bool) {
     let rotations: Vec<f32> =
         NOD.iter().flat_map(|k| Quat::from_rotation_x(k.1.to_radians()).to_array()).collect();
     let rotations = data.floats(&rotations, "VEC4", false, None);
-    let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&data.bin));
     let document = json!({
         "asset": {"version": "2.0", "generator": "seamlit tests (character.rs)"},
         "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
@@ -127,7 +135,7 @@ pub fn write_with(path: &Path, swell: bool) {
             "channels": [{"sampler": 0, "target": {"node": 4, "path": "rotation"}}]}],
         "meshes": [body, head],
         "accessors": data.accessors, "bufferViews": data.views,
-        "buffers": [{"byteLength": data.bin.len(), "uri": uri}],
+        "buffers": [{"byteLength": data.bin.len()}],
     });
-    std::fs::write(path, serde_json::to_vec_pretty(&document).unwrap()).unwrap();
+    (document, data.bin)
 }

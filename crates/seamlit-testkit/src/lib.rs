@@ -106,6 +106,36 @@ impl Buffer {
     }
 }
 
+/// A GLB file of `document` and `bin` (the BIN chunk, buffer 0), each chunk padded to 4 bytes
+/// (the JSON with spaces, the BIN with zeros), as the GLB container requires.
+///
+/// # Panics
+///
+/// Never for a document `serde_json` can write and a file under 4 GiB.
+#[must_use]
+pub fn glb(document: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut json = serde_json::to_vec(document).expect("a JSON value");
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let length = |n: usize| u32::try_from(n).expect("a GLB under 4 GiB").to_le_bytes();
+    let mut out = Vec::with_capacity(28 + json.len() + bin.len());
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&length(12 + 8 + json.len() + 8 + bin.len()));
+    out.extend_from_slice(&length(json.len()));
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&length(bin.len()));
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
 /// The number of components of an accessor type.
 fn components(kind: &str) -> usize {
     match kind {

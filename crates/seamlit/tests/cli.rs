@@ -431,6 +431,42 @@ fn fix_a_folder_goes_on_past_a_bad_file_and_says_so() {
     assert!(stdout(&o).contains("fixed 1 of 2 models"));
 }
 
+/// A VRM avatar stays a `.vrm` (file and folder mode); a GLB that is no avatar is refused as
+/// one, in one line, before anything is written.
+#[test]
+fn fix_writes_a_vrm_as_a_vrm_and_refuses_one_from_a_plain_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut document, bin) = seamlit_testkit::character::document(false);
+    let plain = dir.path().join("plain.glb");
+    std::fs::write(&plain, seamlit_testkit::glb(&document, &bin)).unwrap();
+    document["extensionsUsed"] = serde_json::json!(["VRMC_vrm"]);
+    document["extensions"] = serde_json::json!({"VRMC_vrm": {"specVersion": "1.0",
+        "meta": {"name": "tube"}, "humanoid": {"humanBones": {"hips": {"node": 2}}}}});
+    let models = dir.path().join("models");
+    std::fs::create_dir(&models).unwrap();
+    std::fs::write(models.join("avatar.vrm"), seamlit_testkit::glb(&document, &bin)).unwrap();
+
+    let fixed = dir.path().join("avatar-fixed.vrm");
+    let o = seamlit(&[
+        "fix",
+        &models.join("avatar.vrm").display().to_string(),
+        "-o",
+        &fixed.display().to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(&std::fs::read(&fixed).unwrap()[..4], b"glTF");
+
+    let out_dir = dir.path().join("fixed");
+    let o = seamlit(&["fix", &models.display().to_string(), "-o", &out_dir.display().to_string()]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(listing(&out_dir), ["avatar.vrm"]);
+
+    let refused = dir.path().join("plain.vrm");
+    let o = seamlit(&["fix", &plain.display().to_string(), "-o", &refused.display().to_string()]);
+    assert_bad_input(&o, &["plain.vrm", "VRM input", "write .glb"]);
+    assert!(!refused.exists());
+}
+
 /// Every file under `dir`, relative, sorted.
 fn tree(dir: &Path) -> Vec<String> {
     let mut out = Vec::new();

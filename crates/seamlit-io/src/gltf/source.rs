@@ -66,6 +66,13 @@ impl GltfSource {
         Self(Arc::new(Source { json, buffers, path: path.to_path_buf(), instances, nodes }))
     }
 
+    /// Whether the document is a VRM avatar: VRM 0.x's `VRM` or VRM 1.0's `VRMC_vrm`
+    /// extension on the root.
+    pub(crate) fn is_vrm(&self) -> bool {
+        let extensions = &self.0.json["extensions"];
+        extensions.get("VRM").is_some() || extensions.get("VRMC_vrm").is_some()
+    }
+
     /// Whether `model` is still the model of this source: one object per primitive instance,
     /// each with the input's vertices first (plus split copies of them). Returns why not.
     pub(crate) fn check_model(&self, model: &Model) -> Result<(), String> {

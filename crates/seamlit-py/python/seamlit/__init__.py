@@ -96,7 +96,7 @@ def fix_file(
 ) -> Dict[str, Any]:
     """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does.
 
-    The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``). A
+    The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``, ``.vrm``). A
     glTF or GLB input written as glTF or GLB is the input document with only normals,
     tangents, split vertices and indices changed. Meshopt-compressed geometry is written
     uncompressed unless ``keep_compression`` is set (``--keep-compression``); a Draco input

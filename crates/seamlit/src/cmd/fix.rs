@@ -23,7 +23,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use seamlit_io::{Format, InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, ReportOptions};
 
-use crate::cli::{FixArgs, SkinSeamsArg};
+use crate::cli::{FixArgs, OutFormat, SkinSeamsArg};
 use crate::failure::{Classify, Failure};
 use crate::prepare::default_tangents;
 use crate::table::{changes_line, count};
@@ -60,13 +60,13 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
 fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("glb" | "gltf" | "obj") => Ok(()),
+        Some("glb" | "gltf" | "obj" | "vrm") => Ok(()),
         // The library's own line: seamlit writes no FBX, write .glb.
         Some("fbx") => {
             Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
         }
         _ => Err(Failure::input(format!(
-            "{}: unknown output format (expected a .glb, .gltf or .obj file name)",
+            "{}: unknown output format (expected a .glb, .gltf, .obj or .vrm file name)",
             output.display()
         ))),
     }
@@ -274,6 +274,7 @@ fn classify_save(e: IoError) -> Failure {
         // input's shape, and the line says to write .gltf.
         IoError::UnknownFormat { .. }
         | IoError::FbxOutput { .. }
+        | IoError::VrmOutput { .. }
         | IoError::CannotKeepCompression { .. }
         | IoError::InvalidAsset {
             kind: InvalidAsset::HostInGlb | InvalidAsset::HostCannotGrow,
@@ -307,7 +308,8 @@ fn run_folder(
     for input in &inputs {
         let relative = input.strip_prefix(&args.input).unwrap_or(input);
         bar.set_message(relative.display().to_string());
-        let output = output_name(relative, &args.output, args.format.extension(), &mut used);
+        let output =
+            output_name(relative, &args.output, folder_extension(input, args.format), &mut used);
         let asked = args.fix.tangents.is_some();
         let skins = Skins { policy: args.skin_seams, samples: args.samples };
         match guarded(input, || fix_file(input, &output, options, asked, load, save, skins)) {
@@ -360,11 +362,18 @@ fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>,
     if files.is_empty() {
         let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
-            "{}: no model files (.obj, .gltf, .glb, .fbx, Newell patches) {where_}",
+            "{}: no model files (.obj, .gltf, .glb, .vrm, .fbx, Newell patches) {where_}",
             dir.display()
         )));
     }
     Ok(files)
+}
+
+/// The extension of a folder input's output: `format`'s, but a VRM avatar written as GLB
+/// stays a `.vrm` (the same bytes a `.glb` would hold, under the name avatar tools look for).
+fn folder_extension(input: &Path, format: OutFormat) -> &'static str {
+    let vrm = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("vrm"));
+    if vrm && format == OutFormat::Glb { "vrm" } else { format.extension() }
 }
 
 /// `out/sub/stem.ext` for the input `sub/stem.srcext` (relative to the input folder), or
