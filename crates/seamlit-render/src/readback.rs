@@ -54,16 +54,7 @@ impl PendingReadback {
     /// # Errors
     /// [`RenderError::Gpu`] when the buffer cannot be mapped.
     pub fn finish(self, ctx: &GpuContext) -> Result<RgbaImage, RenderError> {
-        let (sender, receiver) = std::sync::mpsc::channel();
-        self.buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-            // The receiver lives until after the poll below; a send error cannot happen.
-            let _ = sender.send(result);
-        });
-        ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
-        receiver.recv().map_err(|_| RenderError::Gpu {
-            during: "reading back",
-            message: "the map callback never ran".into(),
-        })??;
+        map_for_reading(ctx, &self.buffer, "reading back")?;
         let row = (self.width * 4) as usize;
         let mut pixels = Vec::with_capacity(row * self.height as usize);
         {
@@ -98,27 +89,94 @@ pub(crate) fn read_texture(
     pending.finish(ctx)
 }
 
+/// Maps `buffer` (whose copies have been submitted) for reading and waits until it is.
+fn map_for_reading(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    during: &'static str,
+) -> Result<(), RenderError> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+        // The receiver lives until after the poll below; a send error cannot happen.
+        let _ = sender.send(result);
+    });
+    ctx.device().poll(wgpu::PollType::wait_indefinitely())?;
+    receiver
+        .recv()
+        .map_err(|_| RenderError::Gpu { during, message: "the map callback never ran".into() })??;
+    Ok(())
+}
+
+/// The bytes of each posed vertex `posed.wgsl` writes: position, normal (each padded to 4
+/// floats) and tangent.
+const POSED_STRIDE: u64 = 48;
+
 /// Runs `posed.wgsl` over the first `count` vertices of the object whose group-2 bind group
-/// is `object` and reads back what it wrote (12 floats a vertex).
+/// is `object` and reads back what it wrote.
 pub(crate) fn read_posed(
     ctx: &GpuContext,
     object: &wgpu::BindGroup,
     count: u32,
 ) -> Result<crate::PosedVertices, RenderError> {
+    let size = u64::from(count.max(1)) * POSED_STRIDE;
+    let output = buffer(
+        ctx,
+        "seamlit posed vertices",
+        size,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    );
+    let read = buffer(
+        ctx,
+        "seamlit posed readback",
+        size,
+        wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+    );
+    let (pipeline, output_group) = posed_pipeline(ctx, &output);
+    let mut encoder = ctx
+        .device()
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("seamlit posed") });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("seamlit posed"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, object, &[]);
+        pass.set_bind_group(1, &output_group, &[]);
+        let (x, y) = workgroups(count);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
+    ctx.queue().submit([encoder.finish()]);
+    map_for_reading(ctx, &read, "reading back posed vertices")?;
+    let floats: Vec<f32> = {
+        let mapped = read.slice(..).get_mapped_range().map_err(|e| RenderError::Gpu {
+            during: "reading back posed vertices",
+            message: e.to_string(),
+        })?;
+        bytemuck::cast_slice(&mapped).to_vec()
+    };
+    read.unmap();
+    Ok(posed_vertices(&floats, count as usize))
+}
+
+/// A buffer of `size` bytes, not mapped.
+fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// The compute pipeline of `posed.wgsl` (group 0: the object, group 1: `output`) and the bind
+/// group of `output`.
+fn posed_pipeline(
+    ctx: &GpuContext,
+    output: &wgpu::Buffer,
+) -> (wgpu::ComputePipeline, wgpu::BindGroup) {
     let device = ctx.device();
-    let size = u64::from(count.max(1)) * 48;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("seamlit posed vertices"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("seamlit posed readback"),
-        size,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
     let output_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("seamlit posed output"),
         entries: &[wgpu::BindGroupLayoutEntry {
@@ -150,47 +208,39 @@ pub(crate) fn read_posed(
         compilation_options: wgpu::PipelineCompilationOptions::default(),
         cache: None,
     });
-    let mut encoder = device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("seamlit posed") });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("seamlit posed"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, object, &[]);
-        pass.set_bind_group(1, &output_group, &[]);
-        // At most 65535 groups a dimension: rows of 65535 groups of 64 vertices.
-        let groups = count.div_ceil(64);
-        let (x, y) =
-            if groups <= 65535 { (groups.max(1), 1) } else { (65535, groups.div_ceil(65535)) };
-        pass.dispatch_workgroups(x, y, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
-    ctx.queue().submit([encoder.finish()]);
-    let (sender, receiver) = std::sync::mpsc::channel();
-    read.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-        // The receiver lives until after the poll below; a send error cannot happen.
-        let _ = sender.send(result);
-    });
-    device.poll(wgpu::PollType::wait_indefinitely())?;
-    receiver.recv().map_err(|_| RenderError::Gpu {
-        during: "reading back posed vertices",
-        message: "the map callback never ran".into(),
-    })??;
-    let floats: Vec<f32> = {
-        let mapped = read.slice(..).get_mapped_range().map_err(|e| RenderError::Gpu {
-            during: "reading back posed vertices",
-            message: e.to_string(),
-        })?;
-        bytemuck::cast_slice(&mapped).to_vec()
-    };
-    read.unmap();
+    (pipeline, output_group)
+}
+
+/// The workgroups for `count` vertices, 64 a group: at most 65535 groups a dimension, so rows
+/// of 65535 groups.
+fn workgroups(count: u32) -> (u32, u32) {
+    let groups = count.div_ceil(64);
+    if groups <= 65535 { (groups.max(1), 1) } else { (65535, groups.div_ceil(65535)) }
+}
+
+/// The first `count` posed vertices of what `posed.wgsl` wrote (12 floats a vertex).
+fn posed_vertices(floats: &[f32], count: usize) -> crate::PosedVertices {
     let mut out = crate::PosedVertices::default();
-    for v in floats.chunks_exact(12).take(count as usize) {
+    for v in floats.chunks_exact(12).take(count) {
         out.positions.push(glam::Vec3::new(v[0], v[1], v[2]));
         out.normals.push(glam::Vec3::new(v[4], v[5], v[6]));
         out.tangents.push(glam::Vec4::new(v[8], v[9], v[10], v[11]));
     }
-    Ok(out)
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::workgroups;
+
+    #[test]
+    fn workgroups_cover_every_vertex_within_the_dimension_limit() {
+        assert_eq!(workgroups(0), (1, 1));
+        assert_eq!(workgroups(64), (1, 1));
+        assert_eq!(workgroups(65), (2, 1));
+        assert_eq!(workgroups(65535 * 64), (65535, 1));
+        let (x, y) = workgroups(65535 * 64 + 1);
+        assert_eq!((x, y), (65535, 2));
+        assert!(u64::from(x) * u64::from(y) * 64 > 65535 * 64, "every vertex has a lane");
+    }
 }
