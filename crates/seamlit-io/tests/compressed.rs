@@ -402,20 +402,7 @@ fn edited_glb(source: &Path, path: &Path, edit: impl FnOnce(&mut Value, &mut Vec
     let mut json: Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
     let mut bin = bytes[20 + length + 8..].to_vec();
     edit(&mut json, &mut bin);
-    let mut text = serde_json::to_vec(&json).unwrap();
-    text.resize(text.len().next_multiple_of(4), b' ');
-    let mut glb = Vec::new();
-    let total = 12 + 8 + text.len() + 8 + bin.len();
-    glb.extend_from_slice(b"glTF");
-    glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&u32::try_from(total).unwrap().to_le_bytes());
-    glb.extend_from_slice(&u32::try_from(text.len()).unwrap().to_le_bytes());
-    glb.extend_from_slice(b"JSON");
-    glb.extend_from_slice(&text);
-    glb.extend_from_slice(&u32::try_from(bin.len()).unwrap().to_le_bytes());
-    glb.extend_from_slice(b"BIN\0");
-    glb.extend_from_slice(&bin);
-    std::fs::write(path, glb).unwrap();
+    std::fs::write(path, seamlit_testkit::glb(&json, &bin)).unwrap();
     path.to_path_buf()
 }
 

@@ -57,23 +57,6 @@ fn seeds(dir: &Path) -> Vec<Seed> {
     seeds
 }
 
-/// The bytes of a GLB of `json` and `bin`.
-fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
-    let mut chunks = Vec::new();
-    for (kind, data, pad) in [(b"JSON", json, b' '), (b"BIN\0", bin, 0)] {
-        let padded = data.len().next_multiple_of(4);
-        chunks.extend_from_slice(&u32::try_from(padded).unwrap().to_le_bytes());
-        chunks.extend_from_slice(kind);
-        chunks.extend_from_slice(data);
-        chunks.resize(chunks.len() + padded - data.len(), pad);
-    }
-    let mut file = b"glTF".to_vec();
-    file.extend_from_slice(&2u32.to_le_bytes());
-    file.extend_from_slice(&u32::try_from(12 + chunks.len()).unwrap().to_le_bytes());
-    file.extend(chunks);
-    file
-}
-
 /// While alive, a panic's message and place are kept for [`QuietPanics::take`] instead of
 /// being printed; the previous hook is restored on drop.
 struct QuietPanics {
@@ -119,7 +102,10 @@ fn mutated_animated_and_skinned_gltf_loads_or_fails_in_one_line() {
             let mut choices = Choices::new((s as u64) << 32 | case);
             let mutations = mutate(&mut json, &mut choices);
             let text = serde_json::to_vec(&json).unwrap();
-            let bytes = seed.bin.as_ref().map_or_else(|| text.clone(), |bin| glb(&text, bin));
+            let bytes = seed
+                .bin
+                .as_ref()
+                .map_or_else(|| text.clone(), |bin| seamlit_testkit::glb_of_text(&text, bin));
             let out = work.path().join("out");
             std::fs::create_dir_all(&out).unwrap();
             let result = std::panic::catch_unwind(|| {

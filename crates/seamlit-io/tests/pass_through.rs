@@ -139,27 +139,11 @@ impl Builder {
             std::fs::write(path.with_file_name(&name), &self.bin).unwrap();
             json!([{ "byteLength": self.bin.len(), "uri": name }])
         };
-        let mut text = serde_json::to_vec(&self.json).unwrap();
-        if !glb {
-            std::fs::write(path, text).unwrap();
-            return;
+        if glb {
+            std::fs::write(path, seamlit_testkit::glb(&self.json, &self.bin)).unwrap();
+        } else {
+            std::fs::write(path, serde_json::to_vec(&self.json).unwrap()).unwrap();
         }
-        while !text.len().is_multiple_of(4) {
-            text.push(b' ');
-        }
-        let mut out = Vec::new();
-        out.extend_from_slice(b"glTF");
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(
-            &u32::try_from(12 + 8 + text.len() + 8 + self.bin.len()).unwrap().to_le_bytes(),
-        );
-        out.extend_from_slice(&u32::try_from(text.len()).unwrap().to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&text);
-        out.extend_from_slice(&u32::try_from(self.bin.len()).unwrap().to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&self.bin);
-        std::fs::write(path, out).unwrap();
     }
 }
 

@@ -114,7 +114,17 @@ impl Buffer {
 /// Never for a document `serde_json` can write and a file under 4 GiB.
 #[must_use]
 pub fn glb(document: &Value, bin: &[u8]) -> Vec<u8> {
-    let mut json = serde_json::to_vec(document).expect("a JSON value");
+    glb_of_text(&serde_json::to_vec(document).expect("a JSON value"), bin)
+}
+
+/// [`glb`] of JSON text as it is (valid or not: the mutation tests' inputs).
+///
+/// # Panics
+///
+/// For a file of 4 GiB or more.
+#[must_use]
+pub fn glb_of_text(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let mut json = json.to_vec();
     while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }

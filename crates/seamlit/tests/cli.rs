@@ -975,21 +975,7 @@ fn skinned_glb(path: &Path) -> serde_json::Value {
         "scenes": [{ "nodes": [0, 1] }],
         "scene": 0,
     });
-    let mut json = serde_json::to_vec(&document).unwrap();
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut bytes = Vec::new();
-    bytes.extend_from_slice(b"glTF");
-    bytes.extend_from_slice(&2u32.to_le_bytes());
-    bytes.extend_from_slice(&u32::try_from(28 + json.len() + bin.len()).unwrap().to_le_bytes());
-    bytes.extend_from_slice(&u32::try_from(json.len()).unwrap().to_le_bytes());
-    bytes.extend_from_slice(b"JSON");
-    bytes.extend_from_slice(&json);
-    bytes.extend_from_slice(&u32::try_from(bin.len()).unwrap().to_le_bytes());
-    bytes.extend_from_slice(b"BIN\0");
-    bytes.extend_from_slice(&bin);
-    std::fs::write(path, bytes).unwrap();
+    std::fs::write(path, seamlit_testkit::glb(&document, &bin)).unwrap();
     document
 }
 
