@@ -146,8 +146,13 @@ pub fn glb_of_text(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The number of components of an accessor type.
-fn components(kind: &str) -> usize {
+/// The number of components of an accessor type (`SCALAR` 1 ... `MAT4` 16).
+///
+/// # Panics
+///
+/// On a string that is no accessor type.
+#[must_use]
+pub fn components(kind: &str) -> usize {
     match kind {
         "SCALAR" => 1,
         "VEC2" => 2,

@@ -874,62 +874,32 @@ fn a_screenshot_that_cannot_be_written_fails_the_viewer() {
 /// vertices of the hard edge) with JOINTS_0 and WEIGHTS_0, a two-joint skin with inverse
 /// bind matrices, and an animation of one joint.
 fn skinned_glb(path: &Path) -> serde_json::Value {
+    use seamlit_testkit::{ARRAY_BUFFER, Buffer, ELEMENT_ARRAY_BUFFER};
     use serde_json::json;
-    struct Glb {
-        bin: Vec<u8>,
-        views: Vec<serde_json::Value>,
-        accessors: Vec<serde_json::Value>,
-    }
-    impl Glb {
-        fn add(&mut self, bytes: &[u8], target: Option<u32>, accessor: serde_json::Value) -> usize {
-            while !self.bin.len().is_multiple_of(4) {
-                self.bin.push(0);
-            }
-            let mut view =
-                json!({ "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len() });
-            if let Some(target) = target {
-                view["target"] = json!(target);
-            }
-            self.bin.extend_from_slice(bytes);
-            self.views.push(view);
-            let mut accessor = accessor;
-            accessor["bufferView"] = json!(self.views.len() - 1);
-            self.accessors.push(accessor);
-            self.accessors.len() - 1
-        }
-    }
-    fn f32s(values: &[f32]) -> Vec<u8> {
-        values.iter().flat_map(|x| x.to_le_bytes()).collect()
-    }
-    let mut glb = Glb { bin: Vec::new(), views: Vec::new(), accessors: Vec::new() };
+    let mut glb = Buffer::default();
     let positions =
         [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0];
-    let position = glb.add(
-        &f32s(&positions),
-        Some(34962),
-        json!({ "componentType": 5126, "count": 6, "type": "VEC3", "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0] }),
-    );
+    let position = glb.floats(&positions, "VEC3", true, Some(ARRAY_BUFFER));
     let indices: Vec<u8> =
         [0u16, 3, 2, 0, 2, 1, 0, 4, 5, 0, 5, 3].iter().flat_map(|i| i.to_le_bytes()).collect();
-    let indices = glb.add(
+    let indices = glb.push(
         &indices,
-        Some(34963),
         json!({ "componentType": 5123, "count": 12, "type": "SCALAR" }),
+        Some(ELEMENT_ARRAY_BUFFER),
     );
     let joints: Vec<u8> = (0..6u8).flat_map(|v| [v % 2, 1 - v % 2, 0, 0]).collect();
-    let joints =
-        glb.add(&joints, Some(34962), json!({ "componentType": 5121, "count": 6, "type": "VEC4" }));
+    let joints = glb.push(
+        &joints,
+        json!({ "componentType": 5121, "count": 6, "type": "VEC4" }),
+        Some(ARRAY_BUFFER),
+    );
     let weights: Vec<f32> = (0..6)
         .flat_map(|v| {
             let a = 0.125 * (v + 1) as f32;
             [a, 1.0 - a, 0.0, 0.0]
         })
         .collect();
-    let weights = glb.add(
-        &f32s(&weights),
-        Some(34962),
-        json!({ "componentType": 5126, "count": 6, "type": "VEC4" }),
-    );
+    let weights = glb.floats(&weights, "VEC4", false, Some(ARRAY_BUFFER));
     let mut ibm = [0.0f32; 32];
     for m in 0..2 {
         for d in 0..4 {
@@ -937,22 +907,10 @@ fn skinned_glb(path: &Path) -> serde_json::Value {
         }
     }
     ibm[16 + 13] = -1.0;
-    let ibm =
-        glb.add(&f32s(&ibm), None, json!({ "componentType": 5126, "count": 2, "type": "MAT4" }));
-    let times = glb.add(
-        &f32s(&[0.0, 1.0]),
-        None,
-        json!({ "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0.0], "max": [1.0] }),
-    );
-    let rotations = glb.add(
-        &f32s(&[0.0, 0.0, 0.0, 1.0, 0.6, 0.0, 0.0, 0.8]),
-        None,
-        json!({ "componentType": 5126, "count": 2, "type": "VEC4" }),
-    );
-    let mut bin = glb.bin;
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
+    let ibm = glb.floats(&ibm, "MAT4", false, None);
+    let times = glb.floats(&[0.0, 1.0], "SCALAR", true, None);
+    let rotations = glb.floats(&[0.0, 0.0, 0.0, 1.0, 0.6, 0.0, 0.0, 0.8], "VEC4", false, None);
+    let bin = glb.bin;
     let document = json!({
         "asset": { "version": "2.0" },
         "buffers": [{ "byteLength": bin.len() }],

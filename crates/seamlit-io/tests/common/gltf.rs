@@ -89,18 +89,7 @@ pub fn component_size(component_type: u64) -> usize {
     }
 }
 
-/// Components per element of an accessor `type`.
-pub fn components(accessor_type: &str) -> usize {
-    match accessor_type {
-        "SCALAR" => 1,
-        "VEC2" => 2,
-        "VEC3" => 3,
-        "VEC4" | "MAT2" => 4,
-        "MAT3" => 9,
-        "MAT4" => 16,
-        other => panic!("type {other}"),
-    }
-}
+use seamlit_testkit::components;
 
 impl File {
     /// A buffer view's bytes.
