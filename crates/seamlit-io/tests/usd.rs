@@ -179,7 +179,20 @@ fn the_neck_is_closed_in_the_layer_pxr_composes() {
         assert!(after["largest_degrees"].as_f64().unwrap() < 0.005, "{name}: {after}");
         let diff = pxr("compare", &[&input, &output]);
         assert_eq!(diff["differences"], serde_json::json!([]), "{name}: {diff:#}");
-        assert!(!diff["normals"].as_array().unwrap().is_empty(), "{name}: the normals changed");
+        let normals: Vec<&str> =
+            diff["normals"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+        // The head's indexed primvar, values and indices new; the body's plain `normals`
+        // blocked under its new primvar.
+        for changed in [
+            "/World/HeadPivot/Head primvars:normals: valued -> valued",
+            "/World/HeadPivot/Head primvars:normals:indices: valued -> valued",
+            "/World/Body primvars:normals: absent -> valued",
+            "/World/Body primvars:normals:indices: absent -> valued",
+            "/World/Body normals: valued -> blocked",
+        ] {
+            assert!(normals.contains(&changed), "{name}: {changed} in {normals:#?}");
+        }
+        assert_eq!(normals.len(), 5, "{name}: {normals:#?}");
         let errors_in = pxr("validate", &[&input]);
         let errors_out = pxr("validate", &[&output]);
         for e in errors_out.as_array().unwrap() {

@@ -63,7 +63,7 @@ pub struct DemoArgs {
 /// `seamlit fix`.
 #[derive(Debug, Args)]
 pub struct FixArgs {
-    /// The model (.obj, .gltf, .glb, .fbx or a Newell patch file), or a folder of models.
+    /// The model (.obj, .gltf, .glb, .fbx, .usda/.usdc/.usdz or a Newell patch file), or a folder of models.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Where to write: a .glb, .gltf or .obj file; for a folder INPUT, a folder (created if
@@ -113,7 +113,7 @@ pub struct FixArgs {
 /// `seamlit inspect`.
 #[derive(Debug, Args)]
 pub struct InspectArgs {
-    /// The model (.obj, .gltf, .glb, .fbx or a Newell patch file).
+    /// The model (.obj, .gltf, .glb, .fbx, .usda/.usdc/.usdz or a Newell patch file).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Print JSON instead of a table: { "file", "as_loaded", "flat", "object", "model" },

@@ -1,7 +1,9 @@
 """Pixar's USD (pip install usd-core; import pxr) as the oracle of the USD tests (tests/usd.rs).
 
     pxr_check.py points STAGE OUT.json        world-space points of every drawn mesh, +Y up
-    pxr_check.py compare INPUT OUTPUT OUT.json every prim, property and stage metadata compared
+    pxr_check.py compare INPUT OUTPUT OUT.json every prim, property and stage metadata compared;
+                                              normals properties listed apart, as
+                                              `PRIM PROPERTY: STATE -> STATE`
     pxr_check.py validate STAGE OUT.json      UsdValidation's errors
     pxr_check.py seam STAGE OUT.json          the largest angle between normals of different
                                               meshes at shared positions, world space
@@ -90,6 +92,13 @@ def describe(stage):
     return out
 
 
+def state(record):
+    """A normals property as `absent`, `blocked` (no value) or `valued`."""
+    if record is None:
+        return "absent"
+    return "blocked" if record.get("value") is None else "valued"
+
+
 def compare(input_path, output_path, out):
     a = describe(Usd.Stage.Open(input_path))
     b = describe(Usd.Stage.Open(output_path))
@@ -102,8 +111,10 @@ def compare(input_path, output_path, out):
             left, right = a[path].get(key), b[path].get(key)
             if left == right:
                 continue
-            line = f"{path} {key}: {json.dumps(left)[:200]} -> {json.dumps(right)[:200]}"
-            (normals if key in NORMAL_PROPERTIES else differences).append(line)
+            if key in NORMAL_PROPERTIES:
+                normals.append(f"{path} {key}: {state(left)} -> {state(right)}")
+            else:
+                differences.append(f"{path} {key}: {json.dumps(left)[:200]} -> {json.dumps(right)[:200]}")
     json.dump({"differences": differences, "normals": normals}, open(out, "w"), indent=1)
 
 
