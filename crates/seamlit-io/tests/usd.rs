@@ -389,6 +389,35 @@ fn stages_that_do_not_compose_fail_in_one_line() {
     assert!(asset.warnings.iter().any(|w| w.contains("gone_payload.usda")), "{:?}", asset.warnings);
 }
 
+/// Points with time samples and no default (an animated mesh) are read at the earliest
+/// sample, with a warning that the normals hold for that shape only.
+#[test]
+fn time_sampled_points_are_read_at_the_earliest_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("animated.usda");
+    let samples = |dy: f32| {
+        format!("[(0, {dy}, 0), (1, {dy}, 0), (1, {y1}, 0), (0, {y1}, 0)]", y1 = dy + 1.0)
+    };
+    std::fs::write(
+        &path,
+        format!(
+            "#usda 1.0\n\ndef Mesh \"Quad\"\n{{\n    int[] faceVertexCounts = [4]\n    int[] faceVertexIndices = [0, 1, 2, 3]\n    point3f[] points.timeSamples = {{\n        2: {},\n        1: {},\n    }}\n    uniform token subdivisionScheme = \"none\"\n}}\n",
+            samples(5.0),
+            samples(-3.0)
+        ),
+    )
+    .unwrap();
+    let asset = load(&path);
+    let [quad] = &asset.model.objects[..] else { panic!("one object") };
+    let lowest = quad.positions.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+    assert_eq!(lowest, -3.0, "the sample at time 1");
+    assert!(
+        asset.warnings.iter().any(|w| w.contains("</Quad>") && w.contains("time-sampled")),
+        "{:?}",
+        asset.warnings
+    );
+}
+
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400
 /// copies of the package and the text with four bytes overwritten (a fixed pseudo-random
 /// sequence), either loads or fails with one line: never a panic inside openusd (which the

@@ -131,10 +131,12 @@ fn value(attribute: &usd::Attribute) -> anyhow::Result<Option<sdf::Value>> {
     if let Some(v) = attribute.get::<sdf::Value>()? {
         return Ok(Some(v));
     }
-    if attribute.num_time_samples()? == 0 {
-        return Ok(None);
-    }
-    attribute.get_at::<sdf::Value>(usd::TimeCode::EARLIEST)
+    // The sample of the smallest time, found here: openusd 0.6 keeps a layer's samples in the
+    // order the file writes them, and its lookups by time assume them sorted.
+    let samples = attribute.time_samples()?.unwrap_or_default();
+    let earliest =
+        samples.into_iter().filter(|(t, _)| t.is_finite()).min_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(earliest.map(|(_, v)| v).filter(|v| !matches!(v, sdf::Value::ValueBlock | sdf::Value::None)))
 }
 
 /// A double rounded to the `f32` seamlit stores.

@@ -150,6 +150,14 @@ pub(super) fn read(
     let openusd = |e: anyhow::Error| bad(format!("{e:#}"));
     let points = vec3s(&prim.attribute("points")).context("points").map_err(openusd)?;
     let points = points.unwrap_or_default();
+    let samples = prim.attribute("points").time_samples().map_err(openusd)?;
+    if samples.is_some_and(|s| !s.is_empty()) {
+        warnings.push(format!(
+            "{}: mesh <{}>: its points are time-sampled; read at their default, else their earliest sample, and the normals fixed (and written) for that shape only",
+            file.display(),
+            path.as_str()
+        ));
+    }
     let counts = ints(&prim.attribute("faceVertexCounts"))
         .context("faceVertexCounts")
         .map_err(openusd)?
