@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use crate::fbx::error::FbxKind;
 use crate::gltf::error::{BadUri, GltfKind};
+use crate::usd::error::{UsdKind, UsdOutput};
 
 /// Why a file could not be read or written.
 ///
@@ -25,7 +26,7 @@ pub enum IoError {
 
     /// The file's extension (or, for extension-less files, its first token) names no format
     /// this crate reads or writes.
-    #[error("{}: unknown model format (expected .obj, .gltf, .glb, .fbx or a Newell patch file)", path.display())]
+    #[error("{}: unknown model format (expected .obj, .gltf, .glb, .fbx, .usda, .usdc, .usdz or a Newell patch file)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -157,6 +158,27 @@ pub enum IoError {
         path: PathBuf,
         /// What is wrong.
         kind: FbxKind,
+    },
+
+    /// A USD stage that cannot be read: a layer openusd cannot read (missing, truncated,
+    /// corrupted), a stage that does not compose (a missing reference or sublayer, a cycle),
+    /// a mesh whose values do not fit it.
+    #[error("{}: USD: {kind}", path.display())]
+    Usd {
+        /// The stage's root layer.
+        path: PathBuf,
+        /// What is wrong, naming the layer and the prim where known.
+        kind: UsdKind,
+    },
+
+    /// A USD output seamlit does not write (`.usdc`, `.usdz`), or a `.usda` output for a model
+    /// that did not come from USD. Nothing was written.
+    #[error("{}: cannot write USD: {kind}", path.display())]
+    UsdOutput {
+        /// The output path.
+        path: PathBuf,
+        /// Why, and what to write instead.
+        kind: UsdOutput,
     },
 
     /// An `.fbx` output path: seamlit writes no FBX (no maintained FBX writer exists in

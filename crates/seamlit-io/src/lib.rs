@@ -2,8 +2,9 @@
 //!
 //! Model files in and out for seamlit: Wavefront OBJ through seamlit's own parser (MTL through
 //! tobj), glTF 2.0 and GLB through the gltf crate (written back as a pass-through of the input
-//! document when the model came from glTF), Newell's Bezier patch files, and textures through
-//! the image crate.
+//! document when the model came from glTF), Newell's Bezier patch files, Autodesk FBX (read,
+//! through ufbx), OpenUSD stages (read through openusd, written as a `.usda` layer over the
+//! input), and textures through the image crate.
 //! Every file becomes an [`Asset`]: a [`seamlit_mesh::Model`] of named objects plus the
 //! materials and textures that lighting needs.
 //!
@@ -65,6 +66,7 @@ mod paths;
 pub mod pose;
 mod skins;
 mod texture;
+pub mod usd;
 
 use std::path::Path;
 
@@ -83,6 +85,7 @@ pub use gltf::source::GltfSource;
 pub use obj::source::ObjSource;
 pub use options::{LoadOptions, SaveOptions};
 pub use skins::match_skin_seams;
+pub use usd::error::{UsdKind, UsdOutput};
 
 /// A model file format this crate reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,11 +100,16 @@ pub enum Format {
     Newell,
     /// Autodesk FBX, binary or ASCII (read only, with the `fbx` feature).
     Fbx,
+    /// An OpenUSD stage: `.usda` (text), `.usdc` (binary), `.usdz` (package) or `.usd`
+    /// (either), with the `usd` feature; written as a `.usda` layer over the input.
+    Usd,
 }
 
 impl Format {
     /// The format of `path`, from its extension (case-insensitive): `.obj`, `.gltf`, `.glb`
-    /// (and `.vrm`, a VRM avatar: a GLB with VRM's extensions), `.fbx` (with the `fbx` feature), and for Newell patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
+    /// (and `.vrm`, a VRM avatar: a GLB with VRM's extensions), `.fbx` (with the `fbx`
+    /// feature), `.usda`, `.usdc`, `.usdz`, `.usd` (with the `usd` feature), and for Newell
+    /// patches `.bpt`, `.patch`, `.patches`, `.newell`. A file without an
     /// extension is a Newell patch file if its first token is an integer (the patch count).
     ///
     /// Returns `None` for anything else (and for an extension-less file that cannot be read).
@@ -113,6 +121,7 @@ impl Format {
             Some("gltf") => Some(Self::Gltf),
             Some("glb" | "vrm") => Some(Self::Glb),
             Some("fbx") if cfg!(feature = "fbx") => Some(Self::Fbx),
+            Some("usda" | "usdc" | "usdz" | "usd") if cfg!(feature = "usd") => Some(Self::Usd),
             Some("bpt" | "patch" | "patches" | "newell") => Some(Self::Newell),
             None => {
                 let mut head = [0u8; 64];
@@ -133,7 +142,8 @@ impl Format {
 /// # Errors
 ///
 /// [`IoError::UnknownFormat`] for an extension no reader handles, the errors of
-/// [`obj::load`], [`gltf::load`], [`newell::load`] and (with the `fbx` feature) `fbx::load`,
+/// [`obj::load`], [`gltf::load`], [`newell::load`], (with the `fbx` feature) `fbx::load` and
+/// (with the `usd` feature) `usd::load`,
 /// and [`IoError::NoTriangles`] for a
 /// file that holds no triangle (those readers return such a file as an empty model).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
@@ -145,6 +155,10 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         Some(Format::Fbx) => fbx::load(path, options),
         #[cfg(not(feature = "fbx"))]
         Some(Format::Fbx) => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
+        #[cfg(feature = "usd")]
+        Some(Format::Usd) => usd::load(path, options),
+        #[cfg(not(feature = "usd"))]
+        Some(Format::Usd) => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
         None if !path.exists() => {
             Err(IoError::io(path, std::io::Error::from(std::io::ErrorKind::NotFound)))
         }
@@ -184,6 +198,8 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::FbxOutput`] for an `.fbx` path (seamlit writes no FBX);
 /// [`IoError::VrmOutput`] for a `.vrm` path when the asset is not a VRM avatar the
 /// pass-through can write back;
+/// [`IoError::UsdOutput`] for a `.usdc` or `.usdz` path (not written yet), and for a `.usda`
+/// path when the asset did not come from USD or no longer matches its stage;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
@@ -252,6 +268,12 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
             obj::write::save(asset, path)?;
         }
         Some("fbx") => return Err(IoError::FbxOutput { path: path.to_path_buf() }),
+        #[cfg(feature = "usd")]
+        Some("usda" | "usd") => report.warnings = usd::write::save(asset, path)?,
+        Some(extension @ ("usdc" | "usdz")) if cfg!(feature = "usd") => {
+            let kind = if extension == "usdc" { UsdOutput::Usdc } else { UsdOutput::Usdz };
+            return Err(IoError::UsdOutput { path: path.to_path_buf(), kind });
+        }
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)

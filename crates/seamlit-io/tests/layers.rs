@@ -19,6 +19,7 @@ const LAYERS: &[&str] = &[
     // What goes wrong, the options, and the pieces every format shares.
     "gltf::error",
     "fbx::error",
+    "usd::error",
     "error",
     "options",
     "paths",
@@ -52,10 +53,15 @@ const LAYERS: &[&str] = &[
     "obj::write",
     // FBX: the reader (ufbx's scene to an asset); no writer.
     "fbx::read",
+    // USD: the reader (openusd's composed stage to an asset), then the `.usda` writer, which
+    // reads the stage again to place the normals on its meshes.
+    "usd::read",
+    "usd::write",
     // The formats' public functions, and the entry points.
     "gltf",
     "obj",
     "fbx",
+    "usd",
     "newell",
     "lib",
 ];

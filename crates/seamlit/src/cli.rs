@@ -63,14 +63,14 @@ pub struct DemoArgs {
 /// `seamlit fix`.
 #[derive(Debug, Args)]
 pub struct FixArgs {
-    /// The model (.obj, .gltf, .glb, .vrm, .fbx or a Newell patch file), or a folder of
-    /// models.
+    /// The model (.obj, .gltf, .glb, .vrm, .fbx, .usda/.usdc/.usdz or a Newell patch file), or
+    /// a folder of models.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// Where to write: a .glb, .gltf, .obj or .vrm (from a .vrm) file; for a folder INPUT, a
-    /// folder (created if missing) that receives one file per model, in the same subfolders as
-    /// the input's, with each model's textures beside it (.gltf, .obj) or inside it (.glb; a
-    /// VRM avatar stays a .vrm). glTF geometry that
+    /// Where to write: a .glb, .gltf, .obj, .vrm (from a .vrm) or .usda (from USD: a layer over
+    /// the input) file; for a folder INPUT, a folder (created if missing) that receives one
+    /// file per model, in the same subfolders as the input's, with each model's textures beside
+    /// it (.gltf, .obj) or inside it (.glb; a VRM avatar stays a .vrm). glTF geometry that
     /// came meshopt- or Draco-compressed is written uncompressed (a line says so) unless
     /// --keep-compression is given; quantised attributes (KHR_mesh_quantization) stay
     /// quantised.
@@ -115,7 +115,7 @@ pub struct FixArgs {
 /// `seamlit inspect`.
 #[derive(Debug, Args)]
 pub struct InspectArgs {
-    /// The model (.obj, .gltf, .glb, .vrm, .fbx or a Newell patch file).
+    /// The model (.obj, .gltf, .glb, .vrm, .fbx, .usda/.usdc/.usdz or a Newell patch file).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
     /// Print JSON instead of a table: { "file", "as_loaded", "flat", "object", "model" },

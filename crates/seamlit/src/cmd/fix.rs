@@ -60,13 +60,22 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
 fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("glb" | "gltf" | "obj" | "vrm") => Ok(()),
+        Some("glb" | "gltf" | "obj" | "vrm" | "usda" | "usd") => Ok(()),
+        // The library's own line: .usdc and .usdz are not written yet.
+        Some(extension @ ("usdc" | "usdz")) => {
+            let kind = if extension == "usdc" {
+                seamlit_io::UsdOutput::Usdc
+            } else {
+                seamlit_io::UsdOutput::Usdz
+            };
+            Err(Failure::BadInput(IoError::UsdOutput { path: output.to_path_buf(), kind }.into()))
+        }
         // The library's own line: seamlit writes no FBX, write .glb.
         Some("fbx") => {
             Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
         }
         _ => Err(Failure::input(format!(
-            "{}: unknown output format (expected a .glb, .gltf, .obj or .vrm file name)",
+            "{}: unknown output format (expected a .glb, .gltf, .obj, .vrm or .usda file name)",
             output.display()
         ))),
     }
@@ -362,7 +371,7 @@ fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>,
     if files.is_empty() {
         let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
-            "{}: no model files (.obj, .gltf, .glb, .vrm, .fbx, Newell patches) {where_}",
+            "{}: no model files (.obj, .gltf, .glb, .vrm, .fbx, .usda, .usdc, .usdz, Newell patches) {where_}",
             dir.display()
         )));
     }

@@ -1,0 +1,146 @@
+//! `usd::load`: the stage opened and composed by openusd (`stage.rs`), its prims walked as
+//! USD's default traversal does (active, loaded, defined, not abstract), instance proxies
+//! included, and every `Mesh` a renderer draws read as one object (`mesh.rs`) in world space
+//! (`xform.rs`) with its bound material (`material.rs`).
+
+mod material;
+mod mesh;
+mod stage;
+mod xform;
+
+use std::path::Path;
+
+use openusd::{sdf, usd};
+use seamlit_mesh::{Model, VAxis};
+
+pub(crate) use mesh::MeshSource;
+
+/// What the `.usda` writer needs of the stage: its meshes' sources, in the order of the
+/// objects, and the root layer's stage metadata (which a layer over it must repeat: USD reads
+/// stage metadata from the root layer only), as `(key, usda value)`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct StageSource {
+    pub meshes: Vec<MeshSource>,
+    pub metadata: Vec<(String, String)>,
+}
+
+use crate::asset::Asset;
+use crate::error::IoError;
+use crate::options::LoadOptions;
+
+/// Reads a USD stage (`.usda`, `.usdc` or `.usdz`, by its content) and the textures its
+/// materials use. A stage without a triangle loads as an empty model here; [`crate::load`]
+/// refuses it.
+///
+/// What comes in: one object per `Mesh` prim a renderer draws (not invisible, not of purpose
+/// guide or proxy), named by its prim path, in traversal order; an instance's meshes (instance
+/// proxies) are objects of their own. Positions are the mesh's points in its local space, the
+/// object's transform its world matrix (xformOps, `!resetXformStack!`), turned to +Y up where
+/// the stage's `upAxis` is Z; lengths stay in the stage's units (`metersPerUnit` is not
+/// applied, so a weld tolerance is in the stage's units). Normals from `primvars:normals`,
+/// else `normals`, none on a subdivision surface (a warning says so); UVs from `primvars:st`
+/// (else the first `texCoord2f[]` primvar), V up. Values are the default, else the earliest
+/// time sample. Materials from UsdPreviewSurface.
+///
+/// # Errors
+///
+/// [`IoError::TooLarge`] for a root layer over `options.max_file_bytes`; [`IoError::Usd`]
+/// for a layer openusd cannot read, a stage that does not compose (a missing reference or
+/// sublayer, a cycle; a missing payload is a warning), a mesh whose values do not fit it;
+/// [`IoError::TooManyElements`] past the limits; the texture errors of
+/// [`crate::LoadOptions::strict`].
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    Ok(read(path, options)?.0)
+}
+
+/// [`load`], with what the `.usda` writer needs of each object's mesh.
+pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
+    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
+    if size > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: size,
+        });
+    }
+    let (mut asset, sources) = stage::guarded(path, || read_stage(path, options))?;
+    let mut warnings = std::mem::take(&mut asset.warnings);
+    warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
+    asset.warnings = warnings;
+    Ok((asset, sources))
+}
+
+fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
+    let stage = stage::open(path)?;
+    let mut warnings = Vec::new();
+    let root = sdf::Path::abs_root();
+    let at_root = |e: anyhow::Error| stage::prim_error(path, &root, &e);
+    let mut prims = Vec::new();
+    stage
+        .traverse(usd::PrimPredicate::DEFAULT_PROXIES, |p| prims.push(p.clone()))
+        .map_err(at_root)?;
+    stage::composition(&stage, path, &mut warnings)?;
+    let up = stage::up_axis(&stage).map_err(at_root)?;
+    let mut xforms = xform::Xforms::new(&stage);
+    let mut materials = material::Materials::new(&stage, path);
+    let mut objects = Vec::new();
+    let mut sources = Vec::new();
+    let mut triangles = 0usize;
+    for prim_path in prims {
+        let prim = stage.prim(prim_path.clone());
+        let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
+        if prim.type_name().map_err(at)?.is_none_or(|t| t.as_str() != "Mesh") {
+            continue;
+        }
+        if xforms.hidden(&prim_path).map_err(at)? {
+            continue;
+        }
+        let world = xforms.world(&prim_path).map_err(at)?;
+        let read = mesh::read(&prim, world, up, path, options, &mut warnings)?;
+        let mut object = read.object;
+        object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
+        triangles += object.triangle_count();
+        if triangles > options.max_model_triangles {
+            return Err(IoError::TooManyElements {
+                path: path.to_path_buf(),
+                what: "the model (every mesh)".to_owned(),
+                limit: options.max_model_triangles,
+                actual: triangles,
+            });
+        }
+        objects.push(object);
+        sources.push(read.source);
+    }
+    // Reading values composes prims' arcs too: their errors count as the walk's.
+    stage::composition(&stage, path, &mut warnings)?;
+    let asset = Asset {
+        model: Model { objects, v_axis: VAxis::Up },
+        materials: std::mem::take(&mut materials.list),
+        textures: std::mem::take(&mut materials.textures),
+        source: Some(path.to_path_buf()),
+        warnings,
+        ..Asset::default()
+    };
+    let metadata = stage::metadata(&stage).map_err(at_root)?;
+    Ok((asset, StageSource { meshes: sources, metadata }))
+}
+
+/// An attribute's value: its default, else its earliest time sample (the rest pose of a
+/// skinned or animated mesh, the first frame of time-sampled points).
+fn value(attribute: &usd::Attribute) -> anyhow::Result<Option<sdf::Value>> {
+    if let Some(v) = attribute.get::<sdf::Value>()? {
+        return Ok(Some(v));
+    }
+    // The sample of the smallest time, found here: openusd 0.6 keeps a layer's samples in the
+    // order the file writes them, and its lookups by time assume them sorted.
+    let samples = attribute.time_samples()?.unwrap_or_default();
+    let earliest =
+        samples.into_iter().filter(|(t, _)| t.is_finite()).min_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(earliest.map(|(_, v)| v).filter(|v| !matches!(v, sdf::Value::ValueBlock | sdf::Value::None)))
+}
+
+/// A double rounded to the `f32` seamlit stores.
+#[expect(clippy::cast_possible_truncation, reason = "rounding to f32 is the point")]
+fn f32_of(x: f64) -> f32 {
+    x as f32
+}

@@ -1,0 +1,271 @@
+//! The `.usda` output: a layer of opinions over the input stage, USD's own non-destructive
+//! way. It sublayers the input by its path relative to the output, repeats the root layer's
+//! stage metadata (USD reads `upAxis`, `metersPerUnit`, `defaultPrim` from the root layer
+//! only), and holds an `over` per mesh whose normals seamlit changed, authoring there only
+//! `primvars:normals` (faceVarying, its values and `primvars:normals:indices`, so that the
+//! weaker layer's indices never apply) and, where the input has a plain `normals` attribute,
+//! a block of it (`primvars:normals` wins over it anyway; the block keeps tools that read
+//! `normals` from reading the old values).
+//!
+//! The text is written here, not by openusd's usda writer (which writes `apiSchemas`
+//! without brackets, `uniform rel`, and other text Pixar's USD does not read): it is a small
+//! document of a fully known shape. Meshes that are subdivision surfaces get no normals
+//! (renderers ignore them); meshes inside instances cannot be overridden per instance and
+//! are reported.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Component, Path, PathBuf};
+
+use glam::Vec3;
+use seamlit_mesh::Object;
+
+use super::error::UsdOutput;
+use super::read::{MeshSource, StageSource};
+use crate::asset::Asset;
+use crate::error::IoError;
+use crate::options::LoadOptions;
+
+/// Writes `asset` (loaded from a USD stage) as a `.usda` layer over that stage at `path`.
+/// Returns the warnings: meshes whose normals are not written, and why.
+///
+/// # Errors
+///
+/// [`IoError::UsdOutput`] when the asset did not come from USD or no longer matches its
+/// stage or holds a normal that is not finite; the errors of reading the stage again;
+/// [`IoError::Io`] when writing fails.
+pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+    let refuse = |kind| IoError::UsdOutput { path: path.to_path_buf(), kind };
+    let Some(input) = asset.source.as_deref().filter(|s| is_usd(s)) else {
+        return Err(refuse(UsdOutput::NotFromUsd));
+    };
+    let (_, stage) = super::read::read(input, &LoadOptions::GEOMETRY)?;
+    check_model(&asset.model.objects, &stage)
+        .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
+    let mut warnings = Vec::new();
+    let mut overs = Vec::new();
+    for (object, mesh) in asset.model.objects.iter().zip(&stage.meshes) {
+        let Some(normals) = corner_normals(object, mesh) else { continue };
+        if !normals.iter().all(|n| n.is_finite()) {
+            return Err(refuse(UsdOutput::NotFinite { object: object.name.clone() }));
+        }
+        if mesh.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
+            continue;
+        }
+        if let Some(scheme) = &mesh.subdivision {
+            warnings.push(format!(
+                "{}: mesh <{}> is a subdivision surface (subdivisionScheme {scheme}): no normals are written on it (renderers ignore them)",
+                path.display(),
+                mesh.prim
+            ));
+            continue;
+        }
+        if mesh.instance_proxy {
+            warnings.push(format!(
+                "{}: mesh <{}> is inside an instance, whose prims a layer cannot override one by one: its normals are not written",
+                path.display(),
+                mesh.prim
+            ));
+            continue;
+        }
+        overs.push((mesh, normals));
+    }
+    let text = document(input, path, &stage.metadata, &overs);
+    crate::files::write(path, text.as_bytes())?;
+    Ok(warnings)
+}
+
+/// Whether `path` names a USD file by its extension.
+fn is_usd(path: &Path) -> bool {
+    let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    matches!(extension.as_deref(), Some("usda" | "usdc" | "usdz" | "usd"))
+}
+
+/// Why the model's objects are not the stage's meshes, if they are not.
+fn check_model(objects: &[Object], stage: &StageSource) -> Result<(), String> {
+    if objects.len() != stage.meshes.len() {
+        return Err(format!(
+            "{} objects, the stage has {} meshes",
+            objects.len(),
+            stage.meshes.len()
+        ));
+    }
+    for (object, mesh) in objects.iter().zip(&stage.meshes) {
+        if object.name != mesh.prim {
+            return Err(format!("object {:?} is not mesh <{}>", object.name, mesh.prim));
+        }
+        if object.triangles.len() != mesh.triangle_corners.len() {
+            return Err(format!(
+                "object {:?} has {} triangles, the mesh {}",
+                object.name,
+                object.triangles.len(),
+                mesh.triangle_corners.len()
+            ));
+        }
+        let loaded = mesh
+            .corner_vertex
+            .iter()
+            .filter(|&&v| v != u32::MAX)
+            .max()
+            .map_or(0, |&v| v as usize + 1);
+        if object.input_vertex_count() != loaded {
+            return Err(format!(
+                "object {:?} has {} vertices, the mesh {loaded}",
+                object.name,
+                object.input_vertex_count()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The object's normal at each face corner of its mesh: the normal of the vertex the
+/// corner's first triangle gives it (after `fix`, a split vertex's copy), for a corner of no
+/// triangle its input vertex's, else the input's value. `None` for an object without normals.
+fn corner_normals(object: &Object, mesh: &MeshSource) -> Option<Vec<Vec3>> {
+    let normals = object.normals.as_ref()?;
+    let mut out: Vec<Option<Vec3>> = vec![None; mesh.corner_vertex.len()];
+    for (triangle, corners) in object.triangles.iter().zip(&mesh.triangle_corners) {
+        for (&v, &c) in triangle.iter().zip(corners) {
+            let slot = &mut out[c as usize];
+            if slot.is_none() {
+                *slot = normals.get(v as usize).copied();
+            }
+        }
+    }
+    Some(
+        out.iter()
+            .enumerate()
+            .map(|(c, n)| {
+                n.or_else(|| normals.get(mesh.corner_vertex[c] as usize).copied())
+                    .or_else(|| mesh.corner_normals.as_ref().map(|old| old[c]))
+                    .unwrap_or(Vec3::ZERO)
+            })
+            .collect(),
+    )
+}
+
+fn same_bits(a: &[Vec3], b: &[Vec3]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
+}
+
+/// A prim of the override tree: its name, the properties it authors, its children.
+#[derive(Default)]
+struct Over {
+    name: String,
+    body: String,
+    children: Vec<Over>,
+}
+
+impl Over {
+    fn at(&mut self, name: &str) -> &mut Over {
+        let i = match self.children.iter().position(|c| c.name == name) {
+            Some(i) => i,
+            None => {
+                self.children.push(Over { name: name.to_owned(), ..Over::default() });
+                self.children.len() - 1
+            }
+        };
+        &mut self.children[i]
+    }
+
+    fn write(&self, out: &mut String, depth: usize) {
+        let pad = "    ".repeat(depth);
+        let _ = writeln!(out, "{pad}over \"{}\"\n{pad}{{", self.name);
+        for line in self.body.lines() {
+            let _ = writeln!(out, "{pad}    {line}");
+        }
+        for (k, child) in self.children.iter().enumerate() {
+            if k > 0 || !self.body.is_empty() {
+                out.push('\n');
+            }
+            child.write(out, depth + 1);
+        }
+        let _ = writeln!(out, "{pad}}}");
+    }
+}
+
+/// The layer's text.
+fn document(
+    input: &Path,
+    output: &Path,
+    metadata: &[(String, String)],
+    overs: &[(&MeshSource, Vec<Vec3>)],
+) -> String {
+    let mut out = String::from("#usda 1.0\n(\n");
+    for (key, value) in metadata {
+        let _ = writeln!(out, "    {key} = {value}");
+    }
+    let _ = writeln!(out, "    subLayers = [\n        @{}@\n    ]\n)\n", relative(input, output));
+    let mut root = Over::default();
+    for (mesh, normals) in overs {
+        let mut node = &mut root;
+        for name in mesh.prim.split('/').filter(|n| !n.is_empty()) {
+            node = node.at(name);
+        }
+        node.body = normals_text(normals, mesh.plain_normals);
+    }
+    for (k, prim) in root.children.iter().enumerate() {
+        if k > 0 {
+            out.push('\n');
+        }
+        prim.write(&mut out, 0);
+    }
+    out
+}
+
+/// The properties of one mesh's override.
+fn normals_text(normals: &[Vec3], block_plain: bool) -> String {
+    let mut values: Vec<Vec3> = Vec::new();
+    let mut index_of: HashMap<[u32; 3], usize> = HashMap::new();
+    let indices: Vec<usize> = normals
+        .iter()
+        .map(|n| {
+            *index_of.entry(n.to_array().map(f32::to_bits)).or_insert_with(|| {
+                values.push(*n);
+                values.len() - 1
+            })
+        })
+        .collect();
+    let mut out = String::from("normal3f[] primvars:normals = [");
+    for (k, v) in values.iter().enumerate() {
+        let sep = if k == 0 { "" } else { ", " };
+        let _ = write!(out, "{sep}({}, {}, {})", v.x, v.y, v.z);
+    }
+    out.push_str("] (\n    interpolation = \"faceVarying\"\n)\nint[] primvars:normals:indices = [");
+    for (k, i) in indices.iter().enumerate() {
+        let sep = if k == 0 { "" } else { ", " };
+        let _ = write!(out, "{sep}{i}");
+    }
+    out.push_str("]\n");
+    if block_plain {
+        out.push_str("normal3f[] normals = None\n");
+    }
+    out
+}
+
+/// `input` as an asset path relative to the folder of `output` (`./` first; `/` between
+/// parts), or absolute where no relative path exists (another drive).
+fn relative(input: &Path, output: &Path) -> String {
+    let absolute = |p: &Path| -> PathBuf {
+        let folder = p.parent().filter(|f| !f.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let folder = folder.canonicalize().unwrap_or_else(|_| folder.to_path_buf());
+        folder.join(p.file_name().unwrap_or_default())
+    };
+    let (input, output) = (absolute(input), absolute(output));
+    let from: Vec<Component<'_>> =
+        output.parent().map(|p| p.components().collect()).unwrap_or_default();
+    let to: Vec<Component<'_>> = input.components().collect();
+    let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return input.display().to_string().replace('\\', "/");
+    }
+    let up = from.len() - common;
+    let mut parts: Vec<String> = if up == 0 { vec![".".to_owned()] } else { Vec::new() };
+    parts.extend(std::iter::repeat_n("..".to_owned(), up));
+    parts.extend(to[common..].iter().map(|c| c.as_os_str().to_string_lossy().into_owned()));
+    parts.join("/")
+}

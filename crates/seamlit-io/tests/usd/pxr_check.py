@@ -1,0 +1,181 @@
+"""Pixar's USD (pip install usd-core; import pxr) as the oracle of the USD tests (tests/usd.rs).
+
+    pxr_check.py points STAGE OUT.json        world-space points of every drawn mesh, +Y up
+    pxr_check.py compare INPUT OUTPUT OUT.json every prim, property and stage metadata compared;
+                                              normals properties listed apart, as
+                                              `PRIM PROPERTY: STATE -> STATE`
+    pxr_check.py validate STAGE OUT.json      UsdValidation's errors
+    pxr_check.py seam STAGE OUT.json          the largest angle between normals of different
+                                              meshes at shared positions, world space
+
+Each writes JSON to OUT.json. Nothing here uses seamlit.
+"""
+
+import json
+import math
+import sys
+
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdValidation
+
+NORMAL_PROPERTIES = ("primvars:normals", "primvars:normals:indices", "normals")
+
+
+def drawn_meshes(stage):
+    """The meshes a renderer draws, instance proxies included, in traversal order."""
+    predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
+    cache = UsdGeom.XformCache(Usd.TimeCode.Default())
+    for prim in Usd.PrimRange.Stage(stage, predicate):
+        if not prim.IsA(UsdGeom.Mesh):
+            continue
+        imageable = UsdGeom.Imageable(prim)
+        if imageable.ComputeVisibility() == UsdGeom.Tokens.invisible:
+            continue
+        if imageable.ComputePurpose() in (UsdGeom.Tokens.guide, UsdGeom.Tokens.proxy):
+            continue
+        yield prim, cache.GetLocalToWorldTransform(prim)
+
+
+def up(stage):
+    """The map to +Y up: (x, y, z) to (x, z, -y) for a Z-up stage."""
+    if UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z:
+        return lambda p: [p[0], p[2], -p[1]]
+    return lambda p: [p[0], p[1], p[2]]
+
+
+def points(stage_path, out):
+    stage = Usd.Stage.Open(stage_path)
+    to_y = up(stage)
+    result = {}
+    for prim, world in drawn_meshes(stage):
+        pts = UsdGeom.Mesh(prim).GetPointsAttr().Get() or []
+        result[str(prim.GetPath())] = [to_y(world.Transform(Gf.Vec3d(p))) for p in pts]
+    json.dump(result, open(out, "w"))
+
+
+def plain(value):
+    """A value as JSON-comparable data."""
+    if value is None:
+        return None
+    if isinstance(value, (bool, int, float, str)):
+        return value
+    if isinstance(value, Sdf.AssetPath):
+        return ["asset", value.path]
+    if isinstance(value, Sdf.Path):
+        return str(value)
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in sorted(value.items())}
+    if hasattr(value, "__len__") and not isinstance(value, str):
+        return [plain(v) for v in value]
+    return str(value)
+
+
+def describe(stage):
+    """Per prim: type, specifier, metadata, and per property its metadata, value, time
+    samples and targets. Plus the stage's own metadata (the root layer's)."""
+    out = {"<stage>": {k: plain(v) for k, v in stage.GetPseudoRoot().GetAllMetadata().items() if k not in ("subLayers", "subLayerOffsets")}}
+    for prim in Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate)):
+        entry = {
+            "<type>": str(prim.GetTypeName()),
+            "<specifier>": str(prim.GetSpecifier()),
+            "<metadata>": {k: plain(v) for k, v in prim.GetAllMetadata().items()},
+        }
+        for prop in prim.GetProperties():
+            record = {"metadata": {k: plain(v) for k, v in prop.GetAllMetadata().items()}}
+            if isinstance(prop, Usd.Attribute):
+                record["value"] = plain(prop.Get())
+                record["samples"] = {str(t): plain(prop.Get(t)) for t in prop.GetTimeSamples()}
+                record["connections"] = [str(p) for p in prop.GetConnections()]
+            else:
+                record["targets"] = [str(p) for p in prop.GetTargets()]
+            entry[prop.GetName()] = record
+        out[str(prim.GetPath())] = entry
+    return out
+
+
+def state(record):
+    """A normals property as `absent`, `blocked` (no value) or `valued`."""
+    if record is None:
+        return "absent"
+    return "blocked" if record.get("value") is None else "valued"
+
+
+def compare(input_path, output_path, out):
+    a = describe(Usd.Stage.Open(input_path))
+    b = describe(Usd.Stage.Open(output_path))
+    differences, normals = [], []
+    for path in sorted(set(a) | set(b)):
+        if path not in a or path not in b:
+            differences.append(f"{path}: only in the {'output' if path in b else 'input'}")
+            continue
+        for key in sorted(set(a[path]) | set(b[path])):
+            left, right = a[path].get(key), b[path].get(key)
+            if left == right:
+                continue
+            if key in NORMAL_PROPERTIES:
+                normals.append(f"{path} {key}: {state(left)} -> {state(right)}")
+            else:
+                differences.append(f"{path} {key}: {json.dumps(left)[:200]} -> {json.dumps(right)[:200]}")
+    json.dump({"differences": differences, "normals": normals}, open(out, "w"), indent=1)
+
+
+def validate(stage_path, out):
+    stage = Usd.Stage.Open(stage_path)
+    validators = UsdValidation.ValidationRegistry().GetOrLoadAllValidators()
+    errors = UsdValidation.ValidationContext(validators).Validate(stage)
+    found = sorted({e.GetName() for e in errors if e.GetType() == UsdValidation.ValidationErrorType.Error})
+    json.dump(found, open(out, "w"))
+
+
+def corner_normals(mesh):
+    """Per face corner: the normal a renderer uses (primvars:normals, else normals), None for
+    a mesh without normals."""
+    counts = mesh.GetFaceVertexCountsAttr().Get() or []
+    indices = mesh.GetFaceVertexIndicesAttr().Get() or []
+    primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("normals")
+    if primvar and primvar.HasValue():
+        values, interpolation = primvar.ComputeFlattened(), primvar.GetInterpolation()
+    elif mesh.GetNormalsAttr().HasValue():
+        values, interpolation = mesh.GetNormalsAttr().Get(), mesh.GetNormalsInterpolation()
+    else:
+        return None
+    result, corner = [], 0
+    for face, n in enumerate(counts):
+        for _ in range(n):
+            element = {"faceVarying": corner, "uniform": face, "constant": 0}.get(interpolation, indices[corner])
+            result.append(values[element])
+            corner += 1
+    return result
+
+
+def seam(stage_path, out):
+    stage = Usd.Stage.Open(stage_path)
+    corners = []  # (mesh, world position, world unit normal)
+    for prim, world in drawn_meshes(stage):
+        mesh = UsdGeom.Mesh(prim)
+        normals = corner_normals(mesh)
+        if normals is None:
+            continue
+        pts = mesh.GetPointsAttr().Get()
+        normal_matrix = world.GetInverse().GetTranspose()
+        for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
+            n = normal_matrix.TransformDir(Gf.Vec3d(normals[c]))
+            corners.append((str(prim.GetPath()), world.Transform(Gf.Vec3d(pts[p])), n.GetNormalized()))
+    by_position = {}
+    for mesh, p, n in corners:
+        key = tuple(round(x, 4) for x in p)
+        by_position.setdefault(key, []).append((mesh, n))
+    largest, pairs = 0.0, 0
+    for group in by_position.values():
+        for i in range(len(group)):
+            for j in range(i + 1, len(group)):
+                if group[i][0] == group[j][0]:
+                    continue
+                pairs += 1
+                d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
+                largest = max(largest, math.degrees(math.acos(d)))
+    json.dump({"largest_degrees": largest, "pairs": pairs}, open(out, "w"))
+
+
+if __name__ == "__main__":
+    command, args = sys.argv[1], sys.argv[2:]
+    {"points": points, "compare": compare, "validate": validate, "seam": seam}[command](*args)

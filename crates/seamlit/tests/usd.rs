@@ -1,0 +1,125 @@
+//! OpenUSD through the command line: a stage goes through every command that reads a model
+//! (inspect, fix, render, compare, the folder mode), `fix` writes a `.usda` layer over it,
+//! and `.usdc`/`.usdz` outputs and broken stages are bad input in one line (exit status 2).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn seamlit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_seamlit"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs")
+}
+
+fn usd(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/models/usd")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Exit status 2 and exactly one error line holding every one of `needles`.
+fn assert_bad_input(o: &Output, needles: &[&str]) {
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "stdout: {}\nstderr: {stderr}", stdout(o));
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: ") && !l.contains("XDG_RUNTIME_DIR"))
+        .collect();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    for n in needles {
+        assert!(errors[0].contains(n), "{:?} lacks {n:?}", errors[0]);
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// Pixels that differ clearly from the top-left (background) pixel.
+fn foreground_fraction(img: &image::RgbaImage) -> f64 {
+    let bg = img.get_pixel(0, 0).0;
+    let differs = img
+        .pixels()
+        .filter(|p| p.0.iter().zip(bg).any(|(&a, b)| (i32::from(a) - i32::from(b)).abs() > 12))
+        .count();
+    differs as f64 / f64::from(img.width() * img.height())
+}
+
+#[test]
+fn usd_is_read_by_every_command_and_fixed_as_a_layer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    for stage in ["head_body.usda", "head_body.usdc", "head_body.usdz"] {
+        let o = seamlit(&["inspect", &usd(stage), "--json"]);
+        assert!(o.status.success(), "{stage}: {}", String::from_utf8_lossy(&o.stderr));
+        let report: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        assert!(report.to_string().contains("/World/"), "{stage}: {report}");
+    }
+    let layer = out("fixed.usda");
+    let o = seamlit(&["fix", &usd("head_body.usdz"), "-o", &layer]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).starts_with("wrote "), "{}", stdout(&o));
+    let text = std::fs::read_to_string(&layer).unwrap();
+    assert!(text.contains("subLayers") && text.contains("head_body.usdz@"), "{text}");
+    // The layer is itself a stage seamlit reads: the seam it authors is closed.
+    let o = seamlit(&["inspect", &layer, "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("fixed.glb")]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for command in ["render", "compare"] {
+        let png = out(&format!("{command}.png"));
+        let o = seamlit(&[command, &usd("head_body.usdc"), "-o", &png, "--size", "160x120"]);
+        assert!(o.status.success(), "{command}: {}", String::from_utf8_lossy(&o.stderr));
+        let img = image::open(&png).unwrap().to_rgba8();
+        assert!(foreground_fraction(&img) > 0.01, "{command}: the model is drawn");
+    }
+}
+
+#[test]
+fn usd_outputs_not_written_and_broken_stages_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("out.usdc")]);
+    assert_bad_input(&o, &["out.usdc", "does not write .usdc", ".usda"]);
+    let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("out.usdz")]);
+    assert_bad_input(&o, &["out.usdz", "does not write .usdz"]);
+    let bytes = std::fs::read(usd("head_body.usdc")).unwrap();
+    let truncated = out("truncated.usdc");
+    std::fs::write(&truncated, &bytes[..bytes.len() / 3]).unwrap();
+    let o = seamlit(&["inspect", &truncated]);
+    assert_bad_input(&o, &["truncated.usdc", "USD"]);
+    let missing = out("missing.usda");
+    std::fs::write(
+        &missing,
+        "#usda 1.0\n\ndef Xform \"World\" (\n    references = @./nowhere.usda@\n)\n{\n}\n",
+    )
+    .unwrap();
+    let o = seamlit(&["fix", &missing, "-o", &out("never.usda")]);
+    assert_bad_input(&o, &["missing.usda", "nowhere.usda", "/World"]);
+    assert!(!PathBuf::from(out("never.usda")).exists());
+}
+
+/// The folder mode finds USD stages beside other models.
+#[test]
+fn the_folder_mode_fixes_usd_stages() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir(&input).unwrap();
+    for name in ["head_body.usdc", "faceted.usda"] {
+        std::fs::copy(usd(name), input.join(name)).unwrap();
+    }
+    let output = dir.path().join("out");
+    let o = seamlit(&["fix", &input.display().to_string(), "-o", &output.display().to_string()]);
+    assert!(o.status.success(), "{}{}", stdout(&o), String::from_utf8_lossy(&o.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(&output)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["faceted.glb", "head_body.glb"]);
+}
