@@ -73,8 +73,9 @@ pub use animation::{
 };
 pub use asset::{
     AlphaMode, Anisotropy, Asset, Clearcoat, Material, Node, PbrExtensions, PunctualKind,
-    PunctualLight, Sheen, Specular, Texture, TextureRef, TextureSource, UvTransform,
-    roughness_to_shininess, shininess_to_roughness,
+    PunctualLight, Sheen, Specular, Texture, TextureRef, TextureSource, Transmission,
+    UnknownVariant, UvTransform, VariantObject, Variants, Volume, roughness_to_shininess,
+    shininess_to_roughness,
 };
 pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
 pub use fbx::error::FbxKind;
