@@ -120,6 +120,8 @@ pub struct SceneModel {
     pub animation: Option<AnimationChoice>,
     /// `time`: seconds into it (>= 0), instead of `[render]`'s.
     pub time: Option<f32>,
+    /// `variant`: the KHR_materials_variants variant drawn (`None`: the default materials).
+    pub variant: Option<String>,
 }
 
 /// Changes to one material of a model (or all of them).
@@ -243,6 +245,7 @@ impl Scene {
                 materials: Vec::new(),
                 animation: None,
                 time: None,
+                variant: None,
             }],
             lights: Vec::new(),
             cameras: Vec::new(),
@@ -459,7 +462,8 @@ impl Ctx<'_> {
             AnimationDef::Index(i) => AnimationChoice::Index(i),
             AnimationDef::Name(n) => AnimationChoice::Name(n),
         });
-        Ok(SceneModel { name, path, transform, fix, materials, animation, time: def.time })
+        let (time, variant) = (def.time, def.variant);
+        Ok(SceneModel { name, path, transform, fix, materials, animation, time, variant })
     }
 
     fn material(

@@ -78,9 +78,21 @@ fn render(
     size: (u32, u32),
     out: &Path,
 ) -> image::RgbImage {
+    render_scene(&data().join(format!("{name}.toml")), lighting, pose, size, out)
+}
+
+/// As [`render`], of the scene file `scene`.
+fn render_scene(
+    scene: &Path,
+    lighting: Lighting,
+    pose: &[String],
+    size: (u32, u32),
+    out: &Path,
+) -> image::RgbImage {
+    let name = scene.display();
     let output = Command::new(env!("CARGO_BIN_EXE_seamlit"))
         .arg("render")
-        .arg(data().join(format!("{name}.toml")))
+        .arg(scene)
         .arg("-o")
         .arg(out)
         .args(["--size", &format!("{}x{}", size.0, size.1), "--camera", "compare"])
@@ -255,4 +267,74 @@ fn anisotropy_matches_the_sample_viewer() {
 #[test]
 fn texture_transforms_on_every_slot_and_unlit_match_the_sample_viewer() {
     extension_matches_the_sample_viewer("transforms", EXTENSION_AIM);
+}
+
+/// The mean colour, less the background, of the pixels of one third (0, 1, 2 from the left)
+/// of a picture that are not the background: the sphere drawn there.
+fn sphere_colour(picture: &image::RgbImage, third: u32) -> [f32; 3] {
+    let (w, h) = picture.dimensions();
+    let background = [39.0, 39.0, 44.0];
+    let (mut sum, mut n) = ([0.0f32; 3], 0.0f32);
+    for y in 0..h {
+        for x in third * w / 3..(third + 1) * w / 3 {
+            let p = picture.get_pixel(x, y).0.map(f32::from);
+            if (0..3).map(|c| (p[c] - background[c]).abs()).sum::<f32>() > 30.0 {
+                (0..3).for_each(|c| sum[c] += p[c]);
+                n += 1.0;
+            }
+        }
+    }
+    assert!(n > 100.0, "a sphere in third {third}");
+    sum.map(|s| s / n)
+}
+
+/// KHR_materials_variants: `seamlit render --variant NAME` draws each variant's materials
+/// (the body red in "ruby", blue in "sapphire", the trim silver in "sapphire" only, the third
+/// sphere unmapped), within the aim of the Sample Viewer with that variant selected,
+/// and closer to it than half the error of the default materials' picture.
+#[test]
+fn each_material_variant_matches_the_sample_viewer() {
+    let lighting = Lighting::PunctualOnly;
+    let default = within_aim("variants", "variants", "variants.viewer.png", lighting, &[], 0.02);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    let picture = |name: &str| image::open(dir.join(format!("{name}.png"))).unwrap().to_rgb8();
+    let plain = picture("variants");
+    for variant in ["ruby", "sapphire"] {
+        let name = format!("variants.{variant}");
+        let reference = format!("{name}.viewer.png");
+        let flags = ["--variant".to_owned(), variant.to_owned()];
+        let chosen = within_aim("variants", &name, &reference, lighting, &flags, 0.02);
+        let unchosen = within_aim(
+            "variants",
+            &format!("{name}.default"),
+            &reference,
+            Lighting::Loose,
+            &[],
+            1.0,
+        );
+        assert!(
+            chosen < 0.5 * unchosen,
+            "{name}: mean FLIP {chosen:.4} with the variant, {unchosen:.4} without"
+        );
+        let drawn = picture(&name);
+        let [body, trim, third] = [0, 1, 2].map(|i| sphere_colour(&drawn, i));
+        // The third sphere is mapped by no variant: as the default draws it.
+        let unmapped = sphere_colour(&plain, 2);
+        assert!((0..3).all(|c| (third[c] - unmapped[c]).abs() < 2.0), "{name}: {third:?}");
+        match variant {
+            "ruby" => {
+                assert!(body[0] > 2.0 * body[2], "{name}: a red body, {body:?}");
+                assert_eq!(trim, sphere_colour(&plain, 1), "{name}: the gold trim unmapped");
+            }
+            _ => {
+                assert!(body[2] > 2.0 * body[0], "{name}: a blue body, {body:?}");
+                let gold = sphere_colour(&plain, 1);
+                assert!(
+                    gold[0] > gold[2] * 1.3 && trim[0] < trim[2] * 1.15,
+                    "{name}: silver trim, {trim:?}"
+                );
+            }
+        }
+    }
+    eprintln!("variants (default): mean FLIP {default:.4}");
 }
