@@ -269,6 +269,59 @@ fn texture_transforms_on_every_slot_and_unlit_match_the_sample_viewer() {
     extension_matches_the_sample_viewer("transforms", EXTENSION_AIM);
 }
 
+/// A copy of assets/sample-viewer's `model` (GLB) with the material extension `extension`
+/// taken out of every material, and its scene (`model.toml`) beside it, in the test's
+/// temporary folder: the model as a renderer that ignores the extension draws it.
+fn without_extension(model: &str, extension: &str) -> PathBuf {
+    let bytes = std::fs::read(data().join(format!("{model}.glb"))).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    for material in json["materials"].as_array_mut().unwrap() {
+        if let Some(extensions) = material.get_mut("extensions").and_then(|e| e.as_object_mut()) {
+            extensions.remove(extension);
+        }
+    }
+    json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != extension);
+    let mut text = serde_json::to_vec(&json).unwrap();
+    text.resize(text.len().next_multiple_of(4), b' ');
+    let rest = &bytes[20 + length..];
+    let mut glb = bytes[..12].to_vec();
+    glb[8..12].copy_from_slice(&u32::try_from(20 + text.len() + rest.len()).unwrap().to_le_bytes());
+    glb.extend_from_slice(&u32::try_from(text.len()).unwrap().to_le_bytes());
+    glb.extend_from_slice(&bytes[16..20]);
+    glb.extend_from_slice(&text);
+    glb.extend_from_slice(rest);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("sample_viewer")
+        .join(format!("{model}-without"));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(format!("{model}.glb")), glb).unwrap();
+    let scene = dir.join(format!("{model}.toml"));
+    std::fs::copy(data().join(format!("{model}.toml")), &scene).unwrap();
+    scene
+}
+
+/// `model` under the punctual light within `aim` of the Sample Viewer (as
+/// [`extension_matches_the_sample_viewer`]), and drawn without `extension` (taken out of
+/// the file) at least `aim` away from it: the comparison sees the extension.
+fn extension_seen_by_the_comparison(model: &str, extension: &str, aim: f32) {
+    extension_matches_the_sample_viewer(model, aim);
+    let reference = image::open(data().join(format!("{model}.viewer.png"))).unwrap().to_rgb8();
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("sample_viewer")
+        .join(format!("{model}.without.png"));
+    let scene = without_extension(model, extension);
+    let ours = render_scene(&scene, Lighting::PunctualOnly, &[], reference.dimensions(), &out);
+    let (without, _) = flip(&reference, &ours);
+    eprintln!("{model}: mean FLIP {without:.4} without {extension}");
+    assert!(without >= aim, "{model}: mean FLIP {without:.4} without {extension}, aim {aim}");
+}
+
+#[test]
+fn emissive_strength_matches_the_sample_viewer() {
+    extension_seen_by_the_comparison("emissive", "KHR_materials_emissive_strength", EXTENSION_AIM);
+}
+
 /// The mean colour, less the background, of the pixels of one third (0, 1, 2 from the left)
 /// of a picture that are not the background: the sphere drawn there.
 fn sphere_colour(picture: &image::RgbImage, third: u32) -> [f32; 3] {
