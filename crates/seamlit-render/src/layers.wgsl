@@ -26,6 +26,15 @@ struct Layers {
     anisotropy_t: vec3<f32>,
     anisotropy_b: vec3<f32>,
     anisotropy: f32,
+    // KHR_materials_transmission's factor (0: opaque), and with KHR_materials_volume the
+    // path through the volume from this point (refracted by the ior, as long as the thickness
+    // in world units: zero for a thin wall) and how it absorbs (attenuation distance, 0: it
+    // does not, and colour).
+    transmission: f32,
+    ior: f32,
+    volume_ray: vec3<f32>,
+    attenuation_distance: f32,
+    attenuation_color: vec3<f32>,
 }
 
 // KHR_materials_anisotropy's GGX lobe, D times V, stretched along t: alpha along t is
@@ -140,11 +149,21 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
         let v_dot_h = max(dot(v, h), 0.0);
         let schlick = pow(1.0 - v_dot_h, 5.0);
         let n_dot_l = max(dot(n, l), 0.0);
-        if n_dot_l > 0.0 {
+        // A transmissive surface is lit through from behind too.
+        if n_dot_l > 0.0 || layers.transmission > 0.0 {
             let n_dot_h = max(dot(n, h), 0.0);
             let fresnel_dielectric = f0 + (vec3<f32>(f90) - f0) * schlick;
             let fresnel_metal = albedo + (1.0 - albedo) * schlick;
-            let diffuse = radiance * n_dot_l * albedo / PI;
+            var diffuse = radiance * n_dot_l * albedo / PI;
+            if layers.transmission > 0.0 {
+                // KHR_materials_transmission: the light that reaches the point through the
+                // surface (towards the light from where the view leaves the volume), by the
+                // transmission lobe, mixed into the diffuse by the factor.
+                let to_light = select(light.position - p, -light.direction, light.kind == LIGHT_DIRECTIONAL);
+                let lt = safe_normalize(to_light - layers.volume_ray, n);
+                let through = radiance * transmission_lobe(n, v, lt, alpha, albedo, layers);
+                diffuse = mix(diffuse, volume_attenuation(through, length(layers.volume_ray), layers), layers.transmission);
+            }
             var lobe = ggx_dv(alpha, n_dot_l, n_dot_v, n_dot_h);
             if layers.anisotropy > 0.0 {
                 lobe = ggx_dv_anisotropic(alpha, layers.anisotropy, n, v, l, h, layers.anisotropy_t, layers.anisotropy_b);
@@ -176,9 +195,7 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
 fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> LayeredLight {
     var out: LayeredLight;
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
-    let lut_size = vec2<f32>(textureDimensions(brdf_lut));
-    let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
-    let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
+    let ab = brdf_lut_ab(n_dot_v, roughness);
     // Anisotropy reflects about a normal bent towards the stretch (the extension's
     // image-based approximation).
     var reflect_n = n;
@@ -192,7 +209,9 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
     let fresnel_dielectric = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
-    let dielectric = mix(irradiance * albedo, specular, fresnel_dielectric);
+    // What transmission sees through replaces the diffuse by its factor (added by the
+    // caller, transmission_ambient).
+    let dielectric = mix(irradiance * albedo * (1.0 - layers.transmission), specular, fresnel_dielectric);
     let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
     var color = mix(dielectric, metal, metallic);
     if (material.flags & MAT_SHEEN) != 0u {
@@ -203,4 +222,70 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let rc = environment_direction(reflect(-v, layers.clearcoat_n));
     out.coat = textureSampleLevel(environment_specular, environment_sampler, rc, layers.clearcoat_roughness * frame.environment_max_lod).rgb * frame.environment_intensity;
     return out;
+}
+
+// KHR_materials_transmission's lobe for light from `l` behind the surface: GGX about the
+// direction mirrored through the surface, at the roughness the ior widens (alpha times
+// clamp(2 ior - 2, 0, 1), as the Sample Viewer's applyIorToRoughness), times what the
+// dielectric's Fresnel term lets in and the base colour.
+fn transmission_lobe(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, alpha: f32, albedo: vec3<f32>, layers: Layers) -> vec3<f32> {
+    let rough = alpha * clamp(layers.ior * 2.0 - 2.0, 0.0, 1.0);
+    let l_mirror = safe_normalize(l + 2.0 * n * dot(-l, n), n);
+    let h = safe_normalize(l_mirror + v, n);
+    let fresnel = layers.f0_dielectric + (1.0 - layers.f0_dielectric) * pow(1.0 - clamp(dot(v, h), 0.0, 1.0), 5.0);
+    let lobe = ggx_dv(rough, clamp(dot(n, l_mirror), 0.0, 1.0), clamp(dot(n, v), 0.0, 1.0), clamp(dot(n, h), 0.0, 1.0));
+    return (1.0 - fresnel) * albedo * lobe;
+}
+
+// KHR_materials_volume's absorption over `distance`: the attenuation colour to the power of
+// the distance over the attenuation distance (none without one).
+fn volume_attenuation(radiance: vec3<f32>, distance: f32, layers: Layers) -> vec3<f32> {
+    if layers.attenuation_distance <= 0.0 {
+        return radiance;
+    }
+    return pow(layers.attenuation_color, vec3<f32>(distance / layers.attenuation_distance)) * radiance;
+}
+
+// The view's path through the volume from a point: the view direction refracted by the ior,
+// as long as the thickness scaled by the object's transform (zero for a thin wall).
+fn volume_ray(n: vec3<f32>, v: vec3<f32>, thickness: f32, ior: f32) -> vec3<f32> {
+    let r = safe_normalize(refract(-v, n, 1.0 / ior), -v);
+    let scale = vec3<f32>(length(object.model[0].xyz), length(object.model[1].xyz), length(object.model[2].xyz));
+    return r * thickness * scale;
+}
+
+// The split-sum scale and bias (Karis' analytic fit, as env_specular uses it): for the
+// transmission's Fresnel terms, which the Sample Viewer takes from its table under punctual
+// light too, where seamlit has no environment and so no table.
+fn split_sum_fit(roughness: f32, n_dot_v: f32) -> vec2<f32> {
+    let c0 = vec4<f32>(-1.0, -0.0275, -0.572, 0.022);
+    let c1 = vec4<f32>(1.0, 0.0425, 1.04, -0.04);
+    let r = roughness * c0 + c1;
+    let a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
+    return vec2<f32>(-1.04, 1.04) * a004 + r.zw;
+}
+
+// What transmission shows of the scene behind (the transmission target, rendered without
+// the transmissive objects): read where the view leaves the volume, as blurred as the
+// roughness (widened by the ior) says, absorbed by the volume, through the surface's
+// Fresnel term and the base colour; then, as the diffuse it replaces, under the dielectric's
+// environment Fresnel term, by the transmission factor and one less metallic (the Sample
+// Viewer's getIBLVolumeRefraction and its composition).
+fn transmission_ambient(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> vec3<f32> {
+    let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
+    let exit = p + layers.volume_ray;
+    let clip = frame.view_proj * vec4<f32>(exit, 1.0);
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let size = f32(textureDimensions(transmission_target).x);
+    let lod = log2(size) * roughness * clamp(layers.ior * 2.0 - 2.0, 0.0, 1.0);
+    let behind = textureSampleLevel(transmission_target, environment_sampler, uv, lod).rgb;
+    let ab = split_sum_fit(roughness, n_dot_v);
+    let refraction = (1.0 - (layers.f0_dielectric * ab.x + ab.y)) * volume_attenuation(behind, length(layers.volume_ray), layers) * albedo;
+    let fresnel = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
+    var through = (1.0 - fresnel) * refraction * layers.transmission * (1.0 - metallic);
+    if (material.flags & MAT_SHEEN) != 0u {
+        through = through * (1.0 - max3(layers.sheen_color) * sheen_albedo(n_dot_v, layers.sheen_roughness));
+    }
+    return through;
 }

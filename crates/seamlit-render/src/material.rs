@@ -27,8 +27,12 @@ const MAT_SHEEN: u32 = 256;
 const MAT_SPECULAR: u32 = 512;
 /// Material flag: KHR_materials_anisotropy.
 const MAT_ANISOTROPY: u32 = 1024;
+/// Material flag: KHR_materials_transmission (and _volume): what lies behind is seen through
+/// the surface, from the renderer's transmission target.
+pub(crate) const MAT_TRANSMISSION: u32 = 2048;
 /// Any of the flags of the PBR extensions' layers.
-pub(crate) const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY;
+pub(crate) const MAT_LAYERS: u32 =
+    MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY | MAT_TRANSMISSION;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -75,6 +79,15 @@ pub(crate) struct MaterialRaw {
     /// KHR_materials_anisotropy: cos and sin of its rotation, its strength.
     pub anisotropy: [f32; 3],
     pub pad1: f32,
+    /// KHR_materials_transmission's factor; KHR_materials_volume's thickness (mesh units),
+    /// attenuation distance (0: none) and colour; the ior (KHR_materials_ior, 1.5 by
+    /// default) that refracts the view through the volume.
+    pub transmission: f32,
+    pub thickness: f32,
+    pub attenuation_distance: f32,
+    pub ior: f32,
+    pub attenuation_color: [f32; 3],
+    pub pad2: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -137,6 +150,12 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     if ext.anisotropy.is_some() {
         flags |= MAT_ANISOTROPY;
     }
+    if ext.transmission.is_some() {
+        flags |= MAT_TRANSMISSION;
+    }
+    // KHR_materials_volume needs KHR_materials_transmission (its specification): alone it
+    // changes nothing.
+    let volume = ext.volume.as_ref().filter(|_| ext.transmission.is_some());
     let specular = ext.specular.as_ref();
     let clearcoat = ext.clearcoat.as_ref();
     let sheen = ext.sheen.as_ref();
@@ -179,5 +198,12 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
             [cos, sin, a.strength.clamp(0.0, 1.0)]
         }),
         pad1: 0.0,
+        transmission: ext.transmission.as_ref().map_or(0.0, |t| t.factor.clamp(0.0, 1.0)),
+        thickness: volume.map_or(0.0, |v| v.thickness.max(0.0)),
+        attenuation_distance: volume.and_then(|v| v.attenuation_distance).unwrap_or(0.0),
+        ior: ext.ior.unwrap_or(1.5).max(1.0),
+        attenuation_color: volume
+            .map_or([1.0; 3], |v| v.attenuation_color.map(|c| c.clamp(0.0, 1.0))),
+        pad2: 0.0,
     }
 }

@@ -391,3 +391,10 @@ fn each_material_variant_matches_the_sample_viewer() {
     }
     eprintln!("variants (default): mean FLIP {default:.4}");
 }
+
+#[test]
+fn transmission_and_volume_match_the_sample_viewer() {
+    // Thin glass, a solid amber sphere (thickness, attenuation) and a rough tinted one before
+    // a striped backdrop, seen through the transmission target.
+    extension_seen_by_the_comparison("transmission", "KHR_materials_transmission", EXTENSION_AIM);
+}
