@@ -11,6 +11,8 @@
 //   variants.glb   KHR_materials_variants: three spheres, two variants (built here)
 //   transmission.glb  KHR_materials_transmission and _volume: three glass spheres before a
 //                  striped backdrop (built here)
+//   iridescence.glb  KHR_materials_iridescence: two films over a dark dielectric, one over a
+//                  metal (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
 //   and the same directional light added.
 // Usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]
@@ -507,6 +509,21 @@ function transmission() {
   return doc;
 }
 
+/** KHR_materials_iridescence: a dark rough dielectric (broad highlights) under a film of 400 nm (ior 1.3, the
+ * defaults) and of 700 nm (ior 1.8), and a rough metal under a film of 300 nm at factor 0.8. */
+function iridescence() {
+  const doc = new Doc();
+  const dark = { baseColorFactor: [0.04, 0.04, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.6 };
+  row(doc, [
+    { name: 'film 400', pbrMetallicRoughness: dark, extensions: { KHR_materials_iridescence: { iridescenceFactor: 1 } } },
+    { name: 'film 700', pbrMetallicRoughness: dark, extensions: { KHR_materials_iridescence: {
+      iridescenceFactor: 1, iridescenceIor: 1.8, iridescenceThicknessMaximum: 700 } } },
+    { name: 'metal film', pbrMetallicRoughness: { baseColorFactor: [0.9, 0.9, 0.92, 1], metallicFactor: 1, roughnessFactor: 0.6 },
+      extensions: { KHR_materials_iridescence: { iridescenceFactor: 0.8, iridescenceThicknessMaximum: 300 } } },
+  ], ['KHR_materials_iridescence']);
+  return doc;
+}
+
 /** KHR_materials_variants: three spheres, two variants. The body (a white dielectric by
  * default) is red in "ruby" and a clear-coated blue in "sapphire"; the trim (gold) is silver
  * in "sapphire" and unmapped in "ruby"; the third sphere (green) is mapped by neither. */
@@ -613,6 +630,7 @@ function main() {
     ['emissive', emissive(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['variants', variants(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['transmission', transmission(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['iridescence', iridescence(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = { ...addCameraAndLight(doc.json, eye, target, aspect), variants: variantNames(doc.json) };

@@ -247,6 +247,8 @@ pub struct PbrExtensions {
     pub transmission: Option<Transmission>,
     /// KHR_materials_volume (read only with transmission, as the renderer draws it).
     pub volume: Option<Volume>,
+    /// KHR_materials_iridescence.
+    pub iridescence: Option<Iridescence>,
 }
 
 impl PbrExtensions {
@@ -275,6 +277,9 @@ impl PbrExtensions {
         }
         if self.volume.is_some() {
             names.push("KHR_materials_volume");
+        }
+        if self.iridescence.is_some() {
+            names.push("KHR_materials_iridescence");
         }
         names
     }
@@ -333,6 +338,26 @@ pub struct Transmission {
     /// `transmissionTexture` (linear; red). Read, not yet drawn: the renderer draws the
     /// factor.
     pub texture: Option<TextureRef>,
+}
+
+/// KHR_materials_iridescence: a thin film over the surface whose interference colours its
+/// Fresnel term by the viewing angle (soap bubbles, oil, anodised metal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Iridescence {
+    /// `iridescenceFactor` (default 0), times the texture's red.
+    pub factor: f32,
+    /// `iridescenceTexture` (linear; red). Read, not yet drawn.
+    pub texture: Option<TextureRef>,
+    /// `iridescenceIor` (default 1.3): the film's index of refraction.
+    pub ior: f32,
+    /// `iridescenceThicknessMinimum` (default 100 nm).
+    pub thickness_minimum: f32,
+    /// `iridescenceThicknessMaximum` (default 400 nm): the film's thickness without a
+    /// thickness texture.
+    pub thickness_maximum: f32,
+    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum). Read,
+    /// not yet drawn: the renderer draws the maximum.
+    pub thickness_texture: Option<TextureRef>,
 }
 
 /// KHR_materials_volume: the thickness of the solid under a transmissive surface and how it

@@ -35,6 +35,11 @@ struct Layers {
     volume_ray: vec3<f32>,
     attenuation_distance: f32,
     attenuation_color: vec3<f32>,
+    // KHR_materials_iridescence's factor (0: none) and the film's Fresnel terms at this
+    // pixel's view angle over the dielectric and over the metal (iridescence_fresnel).
+    iridescence: f32,
+    iridescence_dielectric: vec3<f32>,
+    iridescence_metal: vec3<f32>,
 }
 
 // KHR_materials_anisotropy's GGX lobe, D times V, stretched along t: alpha along t is
@@ -169,7 +174,13 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
                 lobe = ggx_dv_anisotropic(alpha, layers.anisotropy, n, v, l, h, layers.anisotropy_t, layers.anisotropy_b);
             }
             let specular = radiance * n_dot_l * lobe;
-            var color = mix(mix(diffuse, specular, fresnel_dielectric), fresnel_metal * specular, metallic);
+            var dielectric = mix(diffuse, specular, fresnel_dielectric);
+            var metal = fresnel_metal * specular;
+            if layers.iridescence > 0.0 {
+                dielectric = mix(dielectric, rgb_mix(diffuse, specular, layers.iridescence_dielectric), layers.iridescence);
+                metal = mix(metal, specular * layers.iridescence_metal, layers.iridescence);
+            }
+            var color = mix(dielectric, metal, metallic);
             if sheen {
                 let lobe = radiance * n_dot_l * layers.sheen_color
                     * charlie_d(layers.sheen_roughness, n_dot_h) * sheen_v(n_dot_l, n_dot_v, layers.sheen_roughness);
@@ -211,8 +222,13 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let fresnel_dielectric = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
     // What transmission sees through replaces the diffuse by its factor (added by the
     // caller, transmission_ambient).
-    let dielectric = mix(irradiance * albedo * (1.0 - layers.transmission), specular, fresnel_dielectric);
-    let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
+    let diffuse = irradiance * albedo * (1.0 - layers.transmission);
+    var dielectric = mix(diffuse, specular, fresnel_dielectric);
+    var metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
+    if layers.iridescence > 0.0 {
+        dielectric = mix(dielectric, rgb_mix(diffuse, specular, layers.iridescence_dielectric), layers.iridescence);
+        metal = mix(metal, specular * layers.iridescence_metal, layers.iridescence);
+    }
     var color = mix(dielectric, metal, metallic);
     if (material.flags & MAT_SHEEN) != 0u {
         let e = sheen_albedo(n_dot_v, layers.sheen_roughness);
@@ -288,4 +304,67 @@ fn transmission_ambient(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f
         through = through * (1.0 - max3(layers.sheen_color) * sheen_albedo(n_dot_v, layers.sheen_roughness));
     }
     return through;
+}
+
+// A layer over a base by a colour's weights: the layer times them, over the base times one
+// less their largest (the Sample Viewer's rgb_mix).
+fn rgb_mix(base: vec3<f32>, layer: vec3<f32>, weights: vec3<f32>) -> vec3<f32> {
+    return (1.0 - max3(weights)) * base + weights * layer;
+}
+
+fn sq3(x: vec3<f32>) -> vec3<f32> {
+    return x * x;
+}
+
+// The CIE sensitivity of an optical path difference (nm) at a phase shift, as linear Rec. 709
+// (L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of
+// Varying Iridescence", 2017: Gaussian fits of the colour matching functions, as the
+// KHR_materials_iridescence specification gives them).
+fn iridescence_sensitivity(opd: f32, shift: vec3<f32>) -> vec3<f32> {
+    let phase = 2.0 * PI * opd * 1.0e-9;
+    let val = vec3<f32>(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    let pos = vec3<f32>(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    let var_ = vec3<f32>(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    var xyz = val * sqrt(2.0 * PI * var_) * cos(pos * phase + shift) * exp(-phase * phase * var_);
+    xyz.x = xyz.x + 9.7470e-14 * sqrt(2.0 * PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift.x) * exp(-4.5282e+09 * phase * phase);
+    xyz = xyz / 1.0685e-7;
+    let xyz_to_rec709 = mat3x3<f32>(3.2404542, -0.9692660, 0.0556434, -1.5371385, 1.8760108, -0.2040259, -0.4985314, 0.0415560, 1.0572252);
+    return xyz_to_rec709 * xyz;
+}
+
+// KHR_materials_iridescence's Fresnel term: air over a film of ior `film_ior` and thickness
+// `thickness` (nm) over a base of reflectance `base_f0`, at cos theta = `cos1`: the Airy
+// sum of the film's two interfaces to the second order (Belcour and Barla; the
+// specification's and the Sample Viewer's evalIridescence, written anew).
+fn iridescence_fresnel(film_ior_in: f32, cos1: f32, thickness: f32, base_f0: vec3<f32>) -> vec3<f32> {
+    let outside = 1.0;
+    // The film fades in over its first 30 nm.
+    let film_ior = mix(outside, film_ior_in, smoothstep(0.0, 0.03, thickness));
+    let sin2_sq = (outside / film_ior) * (outside / film_ior) * (1.0 - cos1 * cos1);
+    let cos2_sq = 1.0 - sin2_sq;
+    if cos2_sq < 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let cos2 = sqrt(cos2_sq);
+    let r0 = ((film_ior - outside) / (film_ior + outside)) * ((film_ior - outside) / (film_ior + outside));
+    let r12 = r0 + (1.0 - r0) * pow(1.0 - cos1, 5.0);
+    let t121 = 1.0 - r12;
+    let phi12 = select(0.0, PI, film_ior < outside);
+    let phi21 = PI - phi12;
+    let sqrt_f0 = sqrt(clamp(base_f0, vec3<f32>(0.0), vec3<f32>(0.9999)));
+    let base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0);
+    let r1 = sq3((base_ior - film_ior) / (base_ior + film_ior));
+    let r23 = r1 + (1.0 - r1) * pow(1.0 - cos2, 5.0);
+    let phi23 = select(vec3<f32>(0.0), vec3<f32>(PI), base_ior < vec3<f32>(film_ior));
+    let opd = 2.0 * film_ior * thickness * cos2;
+    let phi = vec3<f32>(phi21) + phi23;
+    let r123 = clamp(r12 * r23, vec3<f32>(1e-5), vec3<f32>(0.9999));
+    let rs = t121 * t121 * r23 / (1.0 - r123);
+    var intensity = r12 + rs;
+    var cm = rs - t121;
+    for (var m = 1; m <= 2; m = m + 1) {
+        cm = cm * sqrt(r123);
+        intensity = intensity + cm * 2.0 * iridescence_sensitivity(f32(m) * opd, f32(m) * phi);
+    }
+    return max(intensity, vec3<f32>(0.0));
 }

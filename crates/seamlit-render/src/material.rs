@@ -30,9 +30,11 @@ const MAT_ANISOTROPY: u32 = 1024;
 /// Material flag: KHR_materials_transmission (and _volume): what lies behind is seen through
 /// the surface, from the renderer's transmission target.
 pub(crate) const MAT_TRANSMISSION: u32 = 2048;
+/// Material flag: KHR_materials_iridescence.
+const MAT_IRIDESCENCE: u32 = 4096;
 /// Any of the flags of the PBR extensions' layers.
 pub(crate) const MAT_LAYERS: u32 =
-    MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY | MAT_TRANSMISSION;
+    MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY | MAT_TRANSMISSION | MAT_IRIDESCENCE;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -88,6 +90,12 @@ pub(crate) struct MaterialRaw {
     pub ior: f32,
     pub attenuation_color: [f32; 3],
     pub pad2: f32,
+    /// KHR_materials_iridescence: its factor, the film's ior and its thickness (nm; the
+    /// maximum, the thickness texture not being drawn).
+    pub iridescence: f32,
+    pub iridescence_ior: f32,
+    pub iridescence_thickness: f32,
+    pub pad3: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -153,6 +161,9 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     if ext.transmission.is_some() {
         flags |= MAT_TRANSMISSION;
     }
+    if ext.iridescence.is_some() {
+        flags |= MAT_IRIDESCENCE;
+    }
     // KHR_materials_volume needs KHR_materials_transmission (its specification): alone it
     // changes nothing.
     let volume = ext.volume.as_ref().filter(|_| ext.transmission.is_some());
@@ -205,5 +216,12 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
         attenuation_color: volume
             .map_or([1.0; 3], |v| v.attenuation_color.map(|c| c.clamp(0.0, 1.0))),
         pad2: 0.0,
+        iridescence: ext.iridescence.as_ref().map_or(0.0, |i| i.factor.clamp(0.0, 1.0)),
+        iridescence_ior: ext.iridescence.as_ref().map_or(1.3, |i| i.ior.max(1.0)),
+        iridescence_thickness: ext
+            .iridescence
+            .as_ref()
+            .map_or(0.0, |i| i.thickness_maximum.max(0.0)),
+        pad3: 0.0,
     }
 }

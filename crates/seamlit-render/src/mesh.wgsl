@@ -98,6 +98,10 @@ struct Material {
     ior: f32,
     attenuation_color: vec3<f32>,
     pad4: f32,
+    iridescence: f32,
+    iridescence_ior: f32,
+    iridescence_thickness: f32,
+    pad5: f32,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -148,8 +152,9 @@ const MAT_SHEEN: u32 = 256u;
 const MAT_SPECULAR: u32 = 512u;
 const MAT_ANISOTROPY: u32 = 1024u;
 const MAT_TRANSMISSION: u32 = 2048u;
+const MAT_IRIDESCENCE: u32 = 4096u;
 // Any of the PBR extensions that add to the BRDF: drawn by shade_layers.
-const MAT_LAYERS: u32 = 3904u;
+const MAT_LAYERS: u32 = 8000u;
 
 // The PBR extensions' layers compiled in (pipeline.rs): false for the pipelines that draw
 // materials without them, so that those cost what they did.
@@ -662,7 +667,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     }
     let v = safe_normalize(frame.eye - in.world, n);
     if LAYERS && frame.lighting_model == MODEL_PBR && (material.flags & MAT_LAYERS) != 0u {
-        let layers = material_layers(grads, geometry_n, n, in);
+        let layers = material_layers(grads, geometry_n, n, albedo, in);
         let lit = shade_layers(n, v, in.world, albedo, metallic, roughness * roughness, layers);
         let c_diff = mix(albedo, vec3<f32>(0.0), metallic);
         let f0 = mix(layers.f0_dielectric * layers.specular_weight, albedo, metallic);
@@ -723,7 +728,7 @@ fn sample_slot(t: texture_2d<f32>, rows: array<vec4<f32>, 2>, g: UvGrads) -> vec
 
 // The material's layers at this pixel: factors times textures, and the clearcoat's normal
 // (the geometry's, or its own normal map's in the same tangent frame).
-fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, in: VertexOut) -> Layers {
+fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, albedo: vec3<f32>, in: VertexOut) -> Layers {
     var out: Layers;
     let specular = sample_slot(specular_texture, material.specular_uv, g).a;
     let specular_color = sample_slot(specular_color_texture, material.specular_color_uv, g).rgb;
@@ -756,6 +761,17 @@ fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, in: 
     if (material.flags & MAT_TRANSMISSION) != 0u {
         out.transmission = material.transmission;
         out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), material.thickness, material.ior);
+    }
+    out.iridescence = 0.0;
+    out.iridescence_dielectric = vec3<f32>(0.0);
+    out.iridescence_metal = vec3<f32>(0.0);
+    if (material.flags & MAT_IRIDESCENCE) != 0u && material.iridescence_thickness > 0.0 {
+        // The film's Fresnel terms at this view angle, over the dielectric and over the metal.
+        let v = safe_normalize(frame.eye - in.world, shading_n);
+        let n_dot_v = clamp(dot(shading_n, v), 0.0, 1.0);
+        out.iridescence = material.iridescence;
+        out.iridescence_dielectric = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, out.f0_dielectric);
+        out.iridescence_metal = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, albedo);
     }
     if (material.flags & MAT_CLEARCOAT_NORMAL_MAP) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
         var tn = sample_slot(clearcoat_normal_texture, material.clearcoat_normal_uv, g).xyz * 2.0 - 1.0;

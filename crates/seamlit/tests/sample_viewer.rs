@@ -398,3 +398,11 @@ fn transmission_and_volume_match_the_sample_viewer() {
     // a striped backdrop, seen through the transmission target.
     extension_seen_by_the_comparison("transmission", "KHR_materials_transmission", EXTENSION_AIM);
 }
+
+#[test]
+fn iridescence_matches_the_sample_viewer() {
+    // Films of 400 nm (ior 1.3) and 700 nm (ior 1.8) over a dark dielectric, 300 nm over a
+    // rough metal, under the one sun: mean FLIP 0.0096 with the films, 0.0208 without (they
+    // show in the highlights and rims only), so the aim is under the latter.
+    extension_seen_by_the_comparison("iridescence", "KHR_materials_iridescence", 0.015);
+}

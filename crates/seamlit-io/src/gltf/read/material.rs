@@ -5,8 +5,8 @@
 //! each primitive instance's mappings, [`variants`]).
 
 use crate::asset::{
-    AlphaMode, Anisotropy, Clearcoat, Material, PbrExtensions, Sheen, Specular, TextureRef,
-    Transmission, UvTransform, VariantObject, Variants, Volume,
+    AlphaMode, Anisotropy, Clearcoat, Iridescence, Material, PbrExtensions, Sheen, Specular,
+    TextureRef, Transmission, UvTransform, VariantObject, Variants, Volume,
 };
 use crate::gltf::source::Instance;
 
@@ -158,8 +158,8 @@ fn color(value: &serde_json::Value, key: &str, default: [f32; 3]) -> [f32; 3] {
         .unwrap_or(default)
 }
 
-/// KHR_materials_ior, _specular, _clearcoat, _sheen, _anisotropy, _transmission and _volume
-/// of a material.
+/// KHR_materials_ior, _specular, _clearcoat, _sheen, _anisotropy, _transmission, _volume and
+/// _iridescence of a material.
 fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) -> PbrExtensions {
     let texture = |e: &serde_json::Value, key: &str| json_texture(document, images, e.get(key));
     PbrExtensions {
@@ -205,6 +205,14 @@ fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) 
                 .and_then(json_f32)
                 .filter(|d| d.is_finite() && *d > 0.0),
             attenuation_color: color(e, "attenuationColor", [1.0; 3]),
+        }),
+        iridescence: m.extension_value("KHR_materials_iridescence").map(|e| Iridescence {
+            factor: number(e, "iridescenceFactor", 0.0),
+            texture: texture(e, "iridescenceTexture"),
+            ior: number(e, "iridescenceIor", 1.3),
+            thickness_minimum: number(e, "iridescenceThicknessMinimum", 100.0),
+            thickness_maximum: number(e, "iridescenceThicknessMaximum", 400.0),
+            thickness_texture: texture(e, "iridescenceThicknessTexture"),
         }),
     }
 }
