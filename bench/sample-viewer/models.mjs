@@ -11,6 +11,8 @@
 //   variants.glb   KHR_materials_variants: three spheres, two variants (built here)
 //   transmission.glb  KHR_materials_transmission and _volume: three glass spheres before a
 //                  striped backdrop (built here)
+//   dispersion.glb KHR_materials_dispersion: three clear solid spheres before the same panel
+//                  (built here)
 //   iridescence.glb  KHR_materials_iridescence: two films over a dark dielectric, one over a
 //                  metal (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
@@ -486,16 +488,18 @@ function emissive() {
 /** KHR_materials_transmission and KHR_materials_volume: three spheres of glass in front of a
  * striped opaque backdrop (pastel colours): thin-walled (no volume), a solid amber one (thickness 0.9, its
  * diameter, absorbing towards orange within 0.5), and a rough, blue-tinted solid one. */
-function transmission() {
+function transmission({ only } = {}) {
   const doc = new Doc();
   doc.json.extensionsUsed = ['KHR_materials_transmission', 'KHR_materials_volume'];
   // Pastel colours (no channel near 0, where the tone mapping's toe magnifies what the two
   // renderers' shading of a lit wall differs by).
-  const stripes = doc.texture(png(64, (x, y) => [[235, 140, 120, 255], [240, 215, 130, 255], [125, 155, 235, 255], [235, 235, 235, 255]][((x >> 3) + (y >> 4)) & 3]));
+  const shift = only === 'panel' ? 1 : 3; // dispersion's panel: finer stripes, more edges
+  const stripes = doc.texture(png(64, (x, y) => [[235, 140, 120, 255], [240, 215, 130, 255], [125, 155, 235, 255], [235, 235, 235, 255]][((x >> shift) + (y >> 4)) & 3]));
   doc.place(doc.geometry(quad(4.6)), doc.material({ name: 'backdrop', pbrMetallicRoughness: {
     baseColorTexture: { index: stripes }, metallicFactor: 0, roughnessFactor: 0.9 } }), [0, 0, -1.5], 'backdrop');
   // A panel 4.6 x 1.84 behind the spheres, not the whole frame.
   doc.json.nodes[doc.json.nodes.length - 1].scale = [1, 0.4, 1];
+  if (only === 'panel') return doc;
   const glass = (name, extensions, baseColorFactor = [1, 1, 1, 1], roughnessFactor = 0) => ({ name,
     pbrMetallicRoughness: { baseColorFactor, metallicFactor: 0, roughnessFactor }, extensions });
   const ball = doc.geometry(sphere(0.45));
@@ -506,6 +510,22 @@ function transmission() {
     glass('frosted', { KHR_materials_transmission: { transmissionFactor: 0.9 },
       KHR_materials_volume: { thicknessFactor: 0.9 } }, [0.6, 0.85, 1, 1], 0.35),
   ].forEach((m, i) => doc.place(ball, doc.material(m), [-1.5 + 1.5 * i, 0, 0], m.name));
+  return doc;
+}
+
+/** KHR_materials_dispersion: three clear solid spheres (transmission, thickness 0.9, ior 1.5)
+ * before transmission's panel with finer stripes, at dispersion 0, 20 and 60 (colour fringes
+ * where the stripes' edges are seen through them). */
+function dispersion() {
+  const doc = transmission({ only: 'panel' });
+  doc.json.extensionsUsed.push('KHR_materials_dispersion');
+  const ball = doc.geometry(sphere(0.45));
+  [0, 20, 60].forEach((d, i) => {
+    const m = { name: `dispersion ${d}`, pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0 },
+      extensions: { KHR_materials_transmission: { transmissionFactor: 1 }, KHR_materials_volume: { thicknessFactor: 0.9 },
+        KHR_materials_dispersion: { dispersion: d } } };
+    doc.place(ball, doc.material(m), [-1.5 + 1.5 * i, 0, 0], m.name);
+  });
   return doc;
 }
 
@@ -631,6 +651,7 @@ function main() {
     ['variants', variants(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['transmission', transmission(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['iridescence', iridescence(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['dispersion', dispersion(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = { ...addCameraAndLight(doc.json, eye, target, aspect), variants: variantNames(doc.json) };

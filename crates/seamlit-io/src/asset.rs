@@ -249,6 +249,9 @@ pub struct PbrExtensions {
     pub volume: Option<Volume>,
     /// KHR_materials_iridescence.
     pub iridescence: Option<Iridescence>,
+    /// KHR_materials_dispersion's `dispersion` (default 0): how far the volume's ior spreads
+    /// between red and blue (20 / Abbe number); drawn with transmission's volume.
+    pub dispersion: Option<f32>,
 }
 
 impl PbrExtensions {
@@ -280,6 +283,9 @@ impl PbrExtensions {
         }
         if self.iridescence.is_some() {
             names.push("KHR_materials_iridescence");
+        }
+        if self.dispersion.is_some() {
+            names.push("KHR_materials_dispersion");
         }
         names
     }

@@ -1,4 +1,4 @@
-//! KHR_materials_transmission and KHR_materials_volume as the reader keeps them: factors,
+//! KHR_materials_transmission, _volume and _dispersion as the reader keeps them: factors,
 //! textures and the specifications' defaults (bench/sample-viewer/models.mjs's
 //! `transmission`: thin glass, a solid amber sphere, a rough tinted one).
 
@@ -34,4 +34,10 @@ fn transmission_and_volume_are_read_with_their_defaults() {
         ["KHR_materials_transmission", "KHR_materials_volume"]
     );
     assert!(by_name("backdrop").extensions.transmission.is_none());
+    let dispersion =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/sample-viewer/dispersion.glb");
+    let asset = seamlit_io::load(&dispersion, &LoadOptions::DEFAULT).unwrap();
+    let spread: Vec<Option<f32>> =
+        asset.materials.iter().map(|m| m.extensions.dispersion).collect();
+    assert_eq!(spread, [None, Some(0.0), Some(20.0), Some(60.0)], "KHR_materials_dispersion");
 }

@@ -35,6 +35,9 @@ struct Layers {
     volume_ray: vec3<f32>,
     attenuation_distance: f32,
     attenuation_color: vec3<f32>,
+    // The volume's thickness (mesh units) and KHR_materials_dispersion's spread of its ior.
+    thickness: f32,
+    dispersion: f32,
     // KHR_materials_iridescence's factor (0: none) and the film's Fresnel terms at this
     // pixel's view angle over the dielectric and over the metal (iridescence_fresnel).
     iridescence: f32,
@@ -281,6 +284,17 @@ fn split_sum_fit(roughness: f32, n_dot_v: f32) -> vec2<f32> {
     return vec2<f32>(-1.04, 1.04) * a004 + r.zw;
 }
 
+// The transmission target where `ray` from `p` leaves the volume, at the mip of the
+// roughness widened by the ior.
+fn transmission_sample(p: vec3<f32>, ray: vec3<f32>, roughness: f32, ior: f32) -> vec3<f32> {
+    let clip = frame.view_proj * vec4<f32>(p + ray, 1.0);
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let size = f32(textureDimensions(transmission_target).x);
+    let lod = log2(size) * roughness * clamp(ior * 2.0 - 2.0, 0.0, 1.0);
+    return textureSampleLevel(transmission_target, environment_sampler, uv, lod).rgb;
+}
+
 // What transmission shows of the scene behind (the transmission target, rendered without
 // the transmissive objects): read where the view leaves the volume, as blurred as the
 // roughness (widened by the ior) says, absorbed by the volume, through the surface's
@@ -289,15 +303,22 @@ fn split_sum_fit(roughness: f32, n_dot_v: f32) -> vec2<f32> {
 // Viewer's getIBLVolumeRefraction and its composition).
 fn transmission_ambient(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> vec3<f32> {
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
-    let exit = p + layers.volume_ray;
-    let clip = frame.view_proj * vec4<f32>(exit, 1.0);
-    let ndc = clip.xy / clip.w;
-    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let size = f32(textureDimensions(transmission_target).x);
-    let lod = log2(size) * roughness * clamp(layers.ior * 2.0 - 2.0, 0.0, 1.0);
-    let behind = textureSampleLevel(transmission_target, environment_sampler, uv, lod).rgb;
+    var behind = transmission_sample(p, layers.volume_ray, roughness, layers.ior);
+    var path = length(layers.volume_ray);
+    if layers.dispersion > 0.0 && layers.thickness > 0.0 {
+        // KHR_materials_dispersion: red, green and blue each refracted by their own ior,
+        // spread about the material's by (ior - 1) * 0.025 * dispersion (the Sample Viewer's
+        // getIBLVolumeRefraction); the path is blue's.
+        let half_spread = (layers.ior - 1.0) * 0.025 * layers.dispersion;
+        let iors = vec3<f32>(layers.ior - half_spread, layers.ior, layers.ior + half_spread);
+        for (var i = 0; i < 3; i = i + 1) {
+            let ray = volume_ray(n, v, layers.thickness, iors[i]);
+            behind[i] = transmission_sample(p, ray, roughness, iors[i])[i];
+            path = length(ray);
+        }
+    }
     let ab = split_sum_fit(roughness, n_dot_v);
-    let refraction = (1.0 - (layers.f0_dielectric * ab.x + ab.y)) * volume_attenuation(behind, length(layers.volume_ray), layers) * albedo;
+    let refraction = (1.0 - (layers.f0_dielectric * ab.x + ab.y)) * volume_attenuation(behind, path, layers) * albedo;
     let fresnel = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
     var through = (1.0 - fresnel) * refraction * layers.transmission * (1.0 - metallic);
     if (material.flags & MAT_SHEEN) != 0u {

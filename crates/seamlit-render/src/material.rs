@@ -95,7 +95,8 @@ pub(crate) struct MaterialRaw {
     pub iridescence: f32,
     pub iridescence_ior: f32,
     pub iridescence_thickness: f32,
-    pub pad3: f32,
+    /// KHR_materials_dispersion (with a volume): the ior's spread, 20 / Abbe number.
+    pub dispersion: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -222,6 +223,6 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
             .iridescence
             .as_ref()
             .map_or(0.0, |i| i.thickness_maximum.max(0.0)),
-        pad3: 0.0,
+        dispersion: volume.and(ext.dispersion).map_or(0.0, |d| d.max(0.0)),
     }
 }

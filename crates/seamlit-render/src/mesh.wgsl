@@ -101,7 +101,7 @@ struct Material {
     iridescence: f32,
     iridescence_ior: f32,
     iridescence_thickness: f32,
-    pad5: f32,
+    dispersion: f32,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -758,6 +758,8 @@ fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, albe
     out.volume_ray = vec3<f32>(0.0);
     out.attenuation_distance = material.attenuation_distance;
     out.attenuation_color = material.attenuation_color;
+    out.thickness = material.thickness;
+    out.dispersion = material.dispersion;
     if (material.flags & MAT_TRANSMISSION) != 0u {
         out.transmission = material.transmission;
         out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), material.thickness, material.ior);

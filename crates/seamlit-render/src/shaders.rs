@@ -246,6 +246,7 @@ mod tests {
                     iridescence,
                     iridescence_ior,
                     iridescence_thickness,
+                    dispersion,
                 }),
             ),
             (MESH, "Object", object.clone()),

@@ -406,3 +406,9 @@ fn iridescence_matches_the_sample_viewer() {
     // show in the highlights and rims only), so the aim is under the latter.
     extension_seen_by_the_comparison("iridescence", "KHR_materials_iridescence", 0.015);
 }
+
+#[test]
+fn dispersion_matches_the_sample_viewer() {
+    // Clear solid spheres at dispersion 0, 20 and 60 before a finely striped panel.
+    extension_seen_by_the_comparison("dispersion", "KHR_materials_dispersion", EXTENSION_AIM);
+}

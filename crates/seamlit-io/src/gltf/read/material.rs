@@ -158,8 +158,8 @@ fn color(value: &serde_json::Value, key: &str, default: [f32; 3]) -> [f32; 3] {
         .unwrap_or(default)
 }
 
-/// KHR_materials_ior, _specular, _clearcoat, _sheen, _anisotropy, _transmission, _volume and
-/// _iridescence of a material.
+/// KHR_materials_ior, _specular, _clearcoat, _sheen, _anisotropy, _transmission, _volume,
+/// _iridescence and _dispersion of a material.
 fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) -> PbrExtensions {
     let texture = |e: &serde_json::Value, key: &str| json_texture(document, images, e.get(key));
     PbrExtensions {
@@ -214,6 +214,9 @@ fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) 
             thickness_maximum: number(e, "iridescenceThicknessMaximum", 400.0),
             thickness_texture: texture(e, "iridescenceThicknessTexture"),
         }),
+        dispersion: m
+            .extension_value("KHR_materials_dispersion")
+            .map(|e| number(e, "dispersion", 0.0)),
     }
 }
 
