@@ -75,3 +75,38 @@ fn the_scene_file_s_variant_key_draws_the_variant_and_the_flag_overrides_it() {
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stderr).contains("\"opal\""));
 }
+
+/// The viewer starts with the variant asked for (its panel lists the variants and switches
+/// them): under Xvfb, `view --variant ruby`'s screenshot shows the red body and no white one,
+/// `view`'s the white one.
+#[test]
+fn view_draws_the_variant_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let reddish = |flags: &[&str], name: &str| {
+        let shot = dir.path().join(name);
+        let o = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_seamlit"), "view"])
+            .arg(model())
+            .args(["--size", "800x600", "--exit-after-frames", "10", "--screenshot"])
+            .arg(&shot)
+            .args(flags)
+            .env("RUST_BACKTRACE", "0")
+            .output()
+            .expect("xvfb-run is installed (.ci/run installs the xvfb package)");
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        let img = image::open(&shot).unwrap().to_rgb8();
+        // Right of the panel: pixels clearly red (the ruby body) and clearly white-grey
+        // (the default body).
+        let count = |f: &dyn Fn([u8; 3]) -> bool| {
+            img.enumerate_pixels().filter(|&(x, _, p)| x > 320 && f(p.0)).count()
+        };
+        let red = count(&|[r, g, b]| r > 120 && u16::from(g) + u16::from(b) < u16::from(r) / 2);
+        let white = count(&|[r, g, b]| r > 140 && g > 140 && b > 140);
+        (red, white)
+    };
+    let (red, white) = reddish(&["--variant", "ruby"], "ruby.png");
+    assert!(red > 300, "ruby: {red} red pixels");
+    let (plain_red, plain_white) = reddish(&[], "default.png");
+    assert!(plain_red < red / 10, "default: {plain_red} red pixels against {red}");
+    assert!(plain_white > white, "default: {plain_white} white pixels against {white}");
+}
