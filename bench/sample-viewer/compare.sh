@@ -78,18 +78,26 @@ bench=${SEAMLIT_BENCH:-$(pick seamlit-bench)}
 
 mkdir -p "$out/models" "$out/viewer" "$out/seamlit" "$out/side-by-side"
 ASPECT="$width/$height" node "$here/models.mjs" "$out/models" "${models[@]}"
-names=(spheres materials clearcoat sheen specular anisotropy transforms)
+names=(spheres materials clearcoat sheen specular anisotropy transforms emissive variants transmission iridescence dispersion)
 [ -n "$animation" ] && names=()
 for m in "${models[@]}"; do names+=("${m%%=*}"); done
-# Each picture: NAME (unposed) or NAME@T (animation $animation at T seconds).
+# Each picture: NAME (unposed) or NAME@T (animation $animation at T seconds); and for a
+# model with KHR_materials_variants, NAME%V for each variant V (picture NAME.V.png).
 shots=()
 for name in "${names[@]}"; do
     if [ -n "$animation" ]; then
         for t in ${times//,/ }; do shots+=("$name@$t"); done
     else
         shots+=("$name")
+        while IFS= read -r v; do
+            [ -n "$v" ] && shots+=("$name%$v")
+        done < <(node -e "for (const v of JSON.parse(require('fs').readFileSync(process.argv[1])).variants ?? []) console.log(v)" "$out/models/$name.camera.json")
     fi
 done
+# A shot's model, pose flags and picture name.
+shot_name() { local n=${1%@*}; echo "${n%%%*}"; }
+shot_variant() { case $1 in *%*) echo "${1#*%}" ;; esac; }
+shot_file() { echo "${1/\%/.}"; }
 sky=$out/models/sky.hdr
 
 echo "Sample Viewer: ${names[*]} at ${width}x${height}"
@@ -97,13 +105,15 @@ echo "Sample Viewer: ${names[*]} at ${width}x${height}"
     echo "["
     sep=""
     for shot in "${shots[@]}"; do
-        name=${shot%@*}
+        name=$(shot_name "$shot")
         pose=""
-        [ "$shot" != "$name" ] && pose=",\"animation\":$animation,\"time\":${shot#*@}"
+        case $shot in *@*) pose=",\"animation\":$animation,\"time\":${shot#*@}" ;; esac
+        variant=$(shot_variant "$shot")
+        [ -n "$variant" ] && pose="$pose,\"variant\":$(node -e 'console.log(JSON.stringify(process.argv[1]))' "$variant")"
         camera=$(node -e "console.log(JSON.parse(require('fs').readFileSync(process.argv[1])).index)" "$out/models/$name.camera.json")
         printf '%s{"model":"%s","camera":%s,"width":%s,"height":%s,"clearColor":[%s,%s,%s],"environment":"%s","useIBL":%s,"environmentIntensity":1,"environmentRotation":90%s,"out":"%s"}\n' \
             "$sep" "$out/models/$name.glb" "$camera" "$width" "$height" "${background[@]}" "$sky" \
-            "$([ $environment = 1 ] && echo true || echo false)" "$pose" "$out/viewer/$shot.png"
+            "$([ $environment = 1 ] && echo true || echo false)" "$pose" "$out/viewer/$(shot_file "$shot").png"
         sep=","
     done
     echo "]"
@@ -131,10 +141,12 @@ for name in "${names[@]}"; do
     " "$out/models/$name.camera.json" "$name.glb" > "$out/models/$name.toml"
 done
 for shot in "${shots[@]}"; do
-    name=${shot%@*}
+    name=$(shot_name "$shot")
     pose=()
-    [ "$shot" != "$name" ] && pose=(--animation "$animation" --time "${shot#*@}")
-    "$seamlit" render "$out/models/$name.toml" -o "$out/seamlit/$shot.png" --size "$size" \
+    case $shot in *@*) pose=(--animation "$animation" --time "${shot#*@}") ;; esac
+    variant=$(shot_variant "$shot")
+    [ -n "$variant" ] && pose+=(--variant "$variant")
+    "$seamlit" render "$out/models/$name.toml" -o "$out/seamlit/$(shot_file "$shot").png" --size "$size" \
         --camera compare "${lighting[@]}" "${pose[@]}" > /dev/null
 done
 
@@ -143,8 +155,9 @@ mode=$([ $environment = 1 ] && echo "punctual light + sky.hdr" || echo "punctual
     echo "| model ($mode, ${width}x${height}) | mean FLIP |"
     echo "|---|---:|"
     for shot in "${shots[@]}"; do
-        flip=$("$bench" flip "$out/viewer/$shot.png" "$out/seamlit/$shot.png" --side-by-side "$out/side-by-side/$shot.png")
-        echo "| $shot | $flip |"
+        file=$(shot_file "$shot")
+        flip=$("$bench" flip "$out/viewer/$file.png" "$out/seamlit/$file.png" --side-by-side "$out/side-by-side/$file.png")
+        echo "| $file | $flip |"
     done
 } | tee "$out/flip.md"
 echo "pictures: $out/side-by-side/ (Sample Viewer | seamlit | FLIP error)"

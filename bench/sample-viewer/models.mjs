@@ -7,10 +7,19 @@
 //   clearcoat.glb, sheen.glb, specular.glb, anisotropy.glb, transforms.glb
 //                  the PBR extensions, three or four spheres each, by factors and by textures
 //                  (built here)
+//   emissive.glb   KHR_materials_emissive_strength at 1, 4 and 2.5 (textured) (built here)
+//   variants.glb   KHR_materials_variants: three spheres, two variants (built here)
+//   transmission.glb  KHR_materials_transmission and _volume: three glass spheres before a
+//                  striped backdrop (built here)
+//   dispersion.glb KHR_materials_dispersion: three clear solid spheres before the same panel
+//                  (built here)
+//   iridescence.glb  KHR_materials_iridescence: two films over a dark dielectric, one over a
+//                  metal (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
 //   and the same directional light added.
 // Usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]
-// Writes OUT_DIR/NAME.glb, OUT_DIR/NAME.camera.json (the camera for seamlit's scene file) and
+// Writes OUT_DIR/NAME.glb, OUT_DIR/NAME.camera.json (the camera for seamlit's scene file, and
+// the model's KHR_materials_variants names) and
 // OUT_DIR/sky.hdr (128 x 64, the environment of the second mode).
 
 import { readFileSync, writeFileSync, mkdirSync } from 'node:fs';
@@ -460,6 +469,109 @@ function transforms() {
   return doc;
 }
 
+/** KHR_materials_emissive_strength: a dark base glowing blue at strength 1 (the core's
+ * limit), orange at strength 4, and a striped emissive texture at strength 2.5. */
+function emissive() {
+  const doc = new Doc();
+  const stripes = doc.texture(png(64, (x, y) => ((y >> 3) & 1 ? [255, 200, 120, 255] : [40, 40, 40, 255])));
+  const dark = { baseColorFactor: [0.05, 0.05, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.5 };
+  const strength = (s) => ({ KHR_materials_emissive_strength: { emissiveStrength: s } });
+  row(doc, [
+    { name: 'strength 1', pbrMetallicRoughness: dark, emissiveFactor: [0.1, 0.25, 0.5], extensions: strength(1) },
+    { name: 'strength 4', pbrMetallicRoughness: dark, emissiveFactor: [0.3, 0.12, 0.03], extensions: strength(4) },
+    { name: 'textured 2.5', pbrMetallicRoughness: dark, emissiveFactor: [0.4, 0.4, 0.4],
+      emissiveTexture: { index: stripes }, extensions: strength(2.5) },
+  ], ['KHR_materials_emissive_strength']);
+  return doc;
+}
+
+/** KHR_materials_transmission and KHR_materials_volume: three spheres of glass in front of a
+ * striped opaque backdrop (pastel colours): thin-walled (no volume), a solid amber one (thickness 0.9, its
+ * diameter, absorbing towards orange within 0.5), and a rough, blue-tinted solid one. */
+function transmission({ only } = {}) {
+  const doc = new Doc();
+  doc.json.extensionsUsed = ['KHR_materials_transmission', 'KHR_materials_volume'];
+  // Pastel colours (no channel near 0, where the tone mapping's toe magnifies what the two
+  // renderers' shading of a lit wall differs by).
+  const shift = only === 'panel' ? 1 : 3; // dispersion's panel: finer stripes, more edges
+  const stripes = doc.texture(png(64, (x, y) => [[235, 140, 120, 255], [240, 215, 130, 255], [125, 155, 235, 255], [235, 235, 235, 255]][((x >> shift) + (y >> 4)) & 3]));
+  doc.place(doc.geometry(quad(4.6)), doc.material({ name: 'backdrop', pbrMetallicRoughness: {
+    baseColorTexture: { index: stripes }, metallicFactor: 0, roughnessFactor: 0.9 } }), [0, 0, -1.5], 'backdrop');
+  // A panel 4.6 x 1.84 behind the spheres, not the whole frame.
+  doc.json.nodes[doc.json.nodes.length - 1].scale = [1, 0.4, 1];
+  if (only === 'panel') return doc;
+  const glass = (name, extensions, baseColorFactor = [1, 1, 1, 1], roughnessFactor = 0) => ({ name,
+    pbrMetallicRoughness: { baseColorFactor, metallicFactor: 0, roughnessFactor }, extensions });
+  const ball = doc.geometry(sphere(0.45));
+  [
+    glass('thin glass', { KHR_materials_transmission: { transmissionFactor: 1 } }),
+    glass('amber', { KHR_materials_transmission: { transmissionFactor: 1 },
+      KHR_materials_volume: { thicknessFactor: 0.9, attenuationDistance: 0.5, attenuationColor: [0.95, 0.55, 0.2] } }),
+    glass('frosted', { KHR_materials_transmission: { transmissionFactor: 0.9 },
+      KHR_materials_volume: { thicknessFactor: 0.9 } }, [0.6, 0.85, 1, 1], 0.35),
+  ].forEach((m, i) => doc.place(ball, doc.material(m), [-1.5 + 1.5 * i, 0, 0], m.name));
+  return doc;
+}
+
+/** KHR_materials_dispersion: three clear solid spheres (transmission, thickness 0.9, ior 1.5)
+ * before transmission's panel with finer stripes, at dispersion 0, 20 and 60 (colour fringes
+ * where the stripes' edges are seen through them). */
+function dispersion() {
+  const doc = transmission({ only: 'panel' });
+  doc.json.extensionsUsed.push('KHR_materials_dispersion');
+  const ball = doc.geometry(sphere(0.45));
+  [0, 20, 60].forEach((d, i) => {
+    const m = { name: `dispersion ${d}`, pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0 },
+      extensions: { KHR_materials_transmission: { transmissionFactor: 1 }, KHR_materials_volume: { thicknessFactor: 0.9 },
+        KHR_materials_dispersion: { dispersion: d } } };
+    doc.place(ball, doc.material(m), [-1.5 + 1.5 * i, 0, 0], m.name);
+  });
+  return doc;
+}
+
+/** KHR_materials_iridescence: a dark rough dielectric (broad highlights) under a film of 400 nm (ior 1.3, the
+ * defaults) and of 700 nm (ior 1.8), and a rough metal under a film of 300 nm at factor 0.8. */
+function iridescence() {
+  const doc = new Doc();
+  const dark = { baseColorFactor: [0.04, 0.04, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.6 };
+  row(doc, [
+    { name: 'film 400', pbrMetallicRoughness: dark, extensions: { KHR_materials_iridescence: { iridescenceFactor: 1 } } },
+    { name: 'film 700', pbrMetallicRoughness: dark, extensions: { KHR_materials_iridescence: {
+      iridescenceFactor: 1, iridescenceIor: 1.8, iridescenceThicknessMaximum: 700 } } },
+    { name: 'metal film', pbrMetallicRoughness: { baseColorFactor: [0.9, 0.9, 0.92, 1], metallicFactor: 1, roughnessFactor: 0.6 },
+      extensions: { KHR_materials_iridescence: { iridescenceFactor: 0.8, iridescenceThicknessMaximum: 300 } } },
+  ], ['KHR_materials_iridescence']);
+  return doc;
+}
+
+/** KHR_materials_variants: three spheres, two variants. The body (a white dielectric by
+ * default) is red in "ruby" and a clear-coated blue in "sapphire"; the trim (gold) is silver
+ * in "sapphire" and unmapped in "ruby"; the third sphere (green) is mapped by neither. */
+function variants() {
+  const doc = new Doc();
+  doc.json.extensionsUsed = ['KHR_materials_variants', 'KHR_materials_clearcoat'];
+  doc.json.extensions = { KHR_materials_variants: { variants: [{ name: 'ruby' }, { name: 'sapphire' }] } };
+  const ball = doc.geometry(sphere(0.45));
+  const pbr = (baseColorFactor, metallicFactor, roughnessFactor) => ({ baseColorFactor, metallicFactor, roughnessFactor });
+  const white = doc.material({ name: 'white', pbrMetallicRoughness: pbr([0.8, 0.8, 0.8, 1], 0, 0.4) });
+  const ruby = doc.material({ name: 'ruby', pbrMetallicRoughness: pbr([0.8, 0.03, 0.05, 1], 0, 0.25) });
+  const sapphire = doc.material({ name: 'sapphire', pbrMetallicRoughness: pbr([0.05, 0.15, 0.8, 1], 0, 0.6),
+    extensions: { KHR_materials_clearcoat: { clearcoatFactor: 1, clearcoatRoughnessFactor: 0.05 } } });
+  const gold = doc.material({ name: 'gold', pbrMetallicRoughness: pbr([1, 0.77, 0.34, 1], 1, 0.3) });
+  const silver = doc.material({ name: 'silver', pbrMetallicRoughness: pbr([0.95, 0.95, 0.95, 1], 1, 0.3) });
+  const green = doc.material({ name: 'green', pbrMetallicRoughness: pbr([0.1, 0.6, 0.15, 1], 0, 0.5) });
+  const mapped = (material, mappings, x, name) => {
+    doc.json.meshes.push({ name, primitives: [{ ...ball, material,
+      ...(mappings.length ? { extensions: { KHR_materials_variants: { mappings } } } : {}) }] });
+    doc.json.nodes.push({ name, mesh: doc.json.meshes.length - 1, translation: [x, 0, 0] });
+    doc.json.scenes[0].nodes.push(doc.json.nodes.length - 1);
+  };
+  mapped(white, [{ material: ruby, variants: [0] }, { material: sapphire, variants: [1] }], -1.5, 'body');
+  mapped(gold, [{ material: silver, variants: [1] }], 0, 'trim');
+  mapped(green, [], 1.5, 'plain');
+  return doc;
+}
+
 /** World-space bounds of a document's meshes from the POSITION accessors' min and max (and
  * their morph targets'). */
 function bounds(json) {
@@ -515,6 +627,11 @@ function framingEye(json) {
   return { eye: centre.map((x, i) => x + dir[i] * dist), target: centre };
 }
 
+/** The names of a document's KHR_materials_variants (none: []). */
+function variantNames(json) {
+  return (json.extensions?.KHR_materials_variants?.variants ?? []).map((v, i) => v.name ?? `variant${i}`);
+}
+
 function main() {
   const [out, ...inputs] = process.argv.slice(2);
   if (!out) { console.error('usage: node models.mjs OUT_DIR [NAME=FILE.glb|FILE.gltf (data: URIs) ...]'); process.exit(2); }
@@ -530,9 +647,14 @@ function main() {
     ['specular', specular(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['anisotropy', anisotropy(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['transforms', transforms(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['emissive', emissive(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['variants', variants(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['transmission', transmission(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['iridescence', iridescence(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['dispersion', dispersion(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
-    const camera = addCameraAndLight(doc.json, eye, target, aspect);
+    const camera = { ...addCameraAndLight(doc.json, eye, target, aspect), variants: variantNames(doc.json) };
     writeFileSync(join(out, `${name}.glb`), doc.glb());
     writeFileSync(join(out, `${name}.camera.json`), JSON.stringify(camera));
   }
@@ -554,7 +676,7 @@ function main() {
       }
     }
     const { eye, target } = framingEye(glb.json);
-    const camera = addCameraAndLight(glb.json, eye, target, aspect);
+    const camera = { ...addCameraAndLight(glb.json, eye, target, aspect), variants: variantNames(glb.json) };
     writeFileSync(join(out, `${name}.glb`), packGlb(glb.json, glb.bin));
     writeFileSync(join(out, `${name}.camera.json`), JSON.stringify(camera));
   }

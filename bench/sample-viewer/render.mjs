@@ -5,7 +5,8 @@
 // JOBS.json: [{ "model": "FILE.glb", "camera": N, "width": W, "height": H,
 //               "clearColor": [r, g, b] (0..255), "out": "OUT.png",
 //               "environment": "FILE.hdr", "useIBL": true|false, "environmentIntensity": X,
-//               "environmentRotation": DEGREES, "animation": N (optional), "time": SECONDS }, ...]
+//               "environmentRotation": DEGREES, "animation": N (optional), "time": SECONDS,
+//               "variant": NAME (optional: a KHR_materials_variants variant) }, ...]
 // With useIBL false the environment lights nothing (the viewer needs one loaded all the same).
 // CHROMIUM names the browser (default /usr/bin/chromium).
 
@@ -77,7 +78,7 @@ async function main() {
         model: `${base}/job/${i}/model.glb`, camera: job.camera, width: job.width, height: job.height,
         clearColor: job.clearColor, environment: `${base}/job/${i}/env.hdr`, useIBL: job.useIBL,
         environmentIntensity: job.environmentIntensity ?? 1, environmentRotation: job.environmentRotation ?? 90,
-        animation: job.animation ?? null, time: job.time ?? 0,
+        animation: job.animation ?? null, time: job.time ?? 0, variant: job.variant ?? null,
       }).catch((e) => { console.error(`${job.model}: ${e.stack ?? e.message}`); failed = true; return null; });
       if (png) writeFileSync(job.out, Buffer.from(png.split(',')[1], 'base64'));
       await page.close();

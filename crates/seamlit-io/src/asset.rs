@@ -51,6 +51,76 @@ pub struct Asset {
     /// `None` for other formats; set it to `None` to write with the generic writer instead.
     /// See [`ObjSource`].
     pub obj_source: Option<ObjSource>,
+    /// glTF KHR_materials_variants: the file's variants and the material each gives the
+    /// objects it maps ([`Asset::select_variant`]); empty for a file without them.
+    pub variants: Variants,
+}
+
+/// KHR_materials_variants: named sets of materials for the same geometry.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Variants {
+    /// The variants' names, in file order (a variant index counts them).
+    pub names: Vec<String>,
+    /// The objects some variant maps, each with its own material (the primitive's
+    /// `material`, which the default draws) and its mappings.
+    pub objects: Vec<VariantObject>,
+}
+
+/// One object's KHR_materials_variants mappings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VariantObject {
+    /// Index into `model.objects`.
+    pub object: usize,
+    /// The object's material without a variant.
+    pub default: Option<usize>,
+    /// `(variant, material)`: the material (an index into [`Asset::materials`]) each
+    /// variant (an index into [`Variants::names`]) gives the object.
+    pub mappings: Vec<(usize, usize)>,
+}
+
+/// A variant name that the asset does not have; its message lists those it has.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no material variant {name:?}; {}", list_variants(.known))]
+pub struct UnknownVariant {
+    /// The name asked for.
+    pub name: String,
+    /// The variants the asset has.
+    pub known: Vec<String>,
+}
+
+/// `the variants are "a", "b"`, or that there are none.
+fn list_variants(known: &[String]) -> String {
+    if known.is_empty() {
+        return "the model has no variants (KHR_materials_variants)".to_owned();
+    }
+    let names: Vec<String> = known.iter().map(|n| format!("{n:?}")).collect();
+    format!("the variants are {}", names.join(", "))
+}
+
+impl Asset {
+    /// Gives each object the material of the variant called `name` (KHR_materials_variants),
+    /// or with `None` its own material (the default); objects the variant does not map keep
+    /// their own material.
+    ///
+    /// # Errors
+    /// [`UnknownVariant`] for a name the asset has no variant of; nothing is changed then.
+    pub fn select_variant(&mut self, name: Option<&str>) -> Result<(), UnknownVariant> {
+        let index = match name {
+            None => None,
+            Some(name) => {
+                Some(self.variants.names.iter().position(|n| n == name).ok_or_else(|| {
+                    UnknownVariant { name: name.to_owned(), known: self.variants.names.clone() }
+                })?)
+            }
+        };
+        for v in &self.variants.objects {
+            let mapped = index.and_then(|i| v.mappings.iter().find(|(variant, _)| *variant == i));
+            if let Some(object) = self.model.objects.get_mut(v.object) {
+                object.material = mapped.map_or(v.default, |&(_, material)| Some(material));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A node of the scene hierarchy (glTF): its name, local transform and parent.
@@ -173,6 +243,15 @@ pub struct PbrExtensions {
     pub sheen: Option<Sheen>,
     /// KHR_materials_anisotropy.
     pub anisotropy: Option<Anisotropy>,
+    /// KHR_materials_transmission.
+    pub transmission: Option<Transmission>,
+    /// KHR_materials_volume (read only with transmission, as the renderer draws it).
+    pub volume: Option<Volume>,
+    /// KHR_materials_iridescence.
+    pub iridescence: Option<Iridescence>,
+    /// KHR_materials_dispersion's `dispersion` (default 0): how far the volume's ior spreads
+    /// between red and blue (20 / Abbe number); drawn with transmission's volume.
+    pub dispersion: Option<f32>,
 }
 
 impl PbrExtensions {
@@ -195,6 +274,18 @@ impl PbrExtensions {
         }
         if self.anisotropy.is_some() {
             names.push("KHR_materials_anisotropy");
+        }
+        if self.transmission.is_some() {
+            names.push("KHR_materials_transmission");
+        }
+        if self.volume.is_some() {
+            names.push("KHR_materials_volume");
+        }
+        if self.iridescence.is_some() {
+            names.push("KHR_materials_iridescence");
+        }
+        if self.dispersion.is_some() {
+            names.push("KHR_materials_dispersion");
         }
         names
     }
@@ -242,6 +333,54 @@ pub struct Anisotropy {
     /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, blue:
     /// strength). Read, not yet drawn: the renderer draws the factors.
     pub texture: Option<TextureRef>,
+}
+
+/// KHR_materials_transmission: light passing through the surface (thin glass, and with
+/// [`Volume`] a solid one), refracted by the material's ior.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transmission {
+    /// `transmissionFactor` (default 0), times the texture's red.
+    pub factor: f32,
+    /// `transmissionTexture` (linear; red). Read, not yet drawn: the renderer draws the
+    /// factor.
+    pub texture: Option<TextureRef>,
+}
+
+/// KHR_materials_iridescence: a thin film over the surface whose interference colours its
+/// Fresnel term by the viewing angle (soap bubbles, oil, anodised metal).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Iridescence {
+    /// `iridescenceFactor` (default 0), times the texture's red.
+    pub factor: f32,
+    /// `iridescenceTexture` (linear; red). Read, not yet drawn.
+    pub texture: Option<TextureRef>,
+    /// `iridescenceIor` (default 1.3): the film's index of refraction.
+    pub ior: f32,
+    /// `iridescenceThicknessMinimum` (default 100 nm).
+    pub thickness_minimum: f32,
+    /// `iridescenceThicknessMaximum` (default 400 nm): the film's thickness without a
+    /// thickness texture.
+    pub thickness_maximum: f32,
+    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum). Read,
+    /// not yet drawn: the renderer draws the maximum.
+    pub thickness_texture: Option<TextureRef>,
+}
+
+/// KHR_materials_volume: the thickness of the solid under a transmissive surface and how it
+/// absorbs light on the way through.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume {
+    /// `thicknessFactor` (default 0: thin-walled), in the mesh's own units, times the
+    /// texture's green.
+    pub thickness: f32,
+    /// `thicknessTexture` (linear; green). Read, not yet drawn: the renderer draws the
+    /// factor.
+    pub thickness_texture: Option<TextureRef>,
+    /// `attenuationDistance` (default: infinite, `None`): the distance light travels in the
+    /// medium before it is reduced to `attenuation_color`.
+    pub attenuation_distance: Option<f32>,
+    /// `attenuationColor` (linear RGB, default 1).
+    pub attenuation_color: [f32; 3],
 }
 
 /// KHR_materials_sheen: a Charlie sheen layer (cloth) over the material.

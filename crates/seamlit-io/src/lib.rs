@@ -74,9 +74,10 @@ pub use animation::{
     Animation, Channel, Interpolation, Property, Sampler, Skin, SkinsChanged, Trs,
 };
 pub use asset::{
-    AlphaMode, Anisotropy, Asset, Clearcoat, Material, Node, PbrExtensions, PunctualKind,
-    PunctualLight, Sheen, Specular, Texture, TextureRef, TextureSource, UvTransform,
-    roughness_to_shininess, shininess_to_roughness,
+    AlphaMode, Anisotropy, Asset, Clearcoat, Iridescence, Material, Node, PbrExtensions,
+    PunctualKind, PunctualLight, Sheen, Specular, Texture, TextureRef, TextureSource, Transmission,
+    UnknownVariant, UvTransform, VariantObject, Variants, Volume, roughness_to_shininess,
+    shininess_to_roughness,
 };
 pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
 pub use fbx::error::FbxKind;

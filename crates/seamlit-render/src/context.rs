@@ -200,7 +200,7 @@ impl GpuContext {
 #[derive(Debug)]
 pub(crate) struct Layouts {
     /// Group 0: frame uniforms, the light storage buffer, the shadow maps, their comparison
-    /// sampler and their matrices.
+    /// sampler and their matrices, and the transmission target.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1: material uniforms, base colour and normal textures, sampler, then the
     /// metallic-roughness, occlusion and emissive textures, the PBR extensions' textures
@@ -210,7 +210,8 @@ pub(crate) struct Layouts {
     /// the posed-vertex readback), its skin influences and morph target deltas, and its
     /// pose's joint palette and morph weights (`deform.wgsl`).
     pub object: wgpu::BindGroupLayout,
-    /// Group 3: the environment's specular and irradiance cubes, BRDF table and sampler.
+    /// Group 3: the environment's specular and irradiance cubes, BRDF table (a storage
+    /// buffer) and sampler.
     pub environment: wgpu::BindGroupLayout,
 }
 
@@ -244,6 +245,8 @@ fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             },
             sampler(3, wgpu::SamplerBindingType::Comparison),
             buffer(4, S::FRAGMENT, wgpu::BufferBindingType::Uniform),
+            // KHR_materials_transmission's view of the scene behind (transmission.rs).
+            texture(5, D2),
         ],
     })
 }
@@ -298,7 +301,9 @@ fn environment_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         entries: &[
             texture(0, CUBE),
             texture(1, CUBE),
-            texture(2, D2),
+            // The BRDF table, a storage buffer: the fragment stage's 16 sampled textures
+            // (lavapipe's limit) are all taken, the transmission target's included.
+            buffer(2, S::FRAGMENT, STORAGE),
             sampler(3, wgpu::SamplerBindingType::Filtering),
         ],
     })

@@ -105,8 +105,21 @@ impl GpuEnvironment {
             encode_specular(ctx, &module, &mut encoder, &targets);
             encode_irradiance(ctx, &module, &mut encoder, &targets);
             encode_lut(ctx, &module, &mut encoder, &targets);
+            let lut = lut_buffer(ctx);
+            encoder.copy_texture_to_buffer(
+                targets.lut.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &lut,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(LUT_SIZE * LUT_TEXEL_BYTES),
+                        rows_per_image: None,
+                    },
+                },
+                wgpu::Extent3d { width: LUT_SIZE, height: LUT_SIZE, depth_or_array_layers: 1 },
+            );
             ctx.queue().submit([encoder.finish()]);
-            let bind_group = bind(ctx, &targets.specular, &targets.irradiance, &targets.lut);
+            let bind_group = bind(ctx, &targets.specular, &targets.irradiance, &lut);
             Ok(Self { bind_group })
         })
     }
@@ -114,8 +127,7 @@ impl GpuEnvironment {
     /// No environment: black textures, for frames without image-based light.
     pub(crate) fn none(ctx: &GpuContext) -> Self {
         let cube = cube_texture(ctx, "seamlit no environment", 1, 1);
-        let lut = texture_2d(ctx, "seamlit no environment", 1);
-        Self { bind_group: bind(ctx, &cube, &cube, &lut) }
+        Self { bind_group: bind(ctx, &cube, &cube, &lut_buffer(ctx)) }
     }
 }
 
@@ -158,6 +170,20 @@ fn cube_texture(ctx: &GpuContext, label: &str, size: u32, mips: u32) -> wgpu::Te
     })
 }
 
+/// Bytes of one BRDF table texel ([`FORMAT`]: four halves).
+const LUT_TEXEL_BYTES: u32 = 8;
+
+/// The BRDF table as the mesh shader reads it: the texture's texels copied into a storage
+/// buffer (zeros until a copy fills it).
+fn lut_buffer(ctx: &GpuContext) -> wgpu::Buffer {
+    ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("seamlit brdf lut"),
+        size: u64::from(LUT_SIZE * LUT_SIZE * LUT_TEXEL_BYTES),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 fn texture_2d(ctx: &GpuContext, label: &str, size: u32) -> wgpu::Texture {
     ctx.device().create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -166,7 +192,7 @@ fn texture_2d(ctx: &GpuContext, label: &str, size: u32) -> wgpu::Texture {
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     })
 }
@@ -408,11 +434,10 @@ fn bind(
     ctx: &GpuContext,
     specular: &wgpu::Texture,
     irradiance: &wgpu::Texture,
-    lut: &wgpu::Texture,
+    lut: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     let specular = cube_view(specular, None);
     let irradiance = cube_view(irradiance, None);
-    let lut = lut.create_view(&wgpu::TextureViewDescriptor::default());
     let sampler = ctx.device().create_sampler(&wgpu::SamplerDescriptor {
         label: Some("seamlit environment"),
         mag_filter: wgpu::FilterMode::Linear,
@@ -432,7 +457,7 @@ fn bind(
                 binding: 1,
                 resource: wgpu::BindingResource::TextureView(&irradiance),
             },
-            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&lut) },
+            wgpu::BindGroupEntry { binding: 2, resource: lut.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
         ],
     })

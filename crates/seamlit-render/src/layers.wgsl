@@ -26,6 +26,23 @@ struct Layers {
     anisotropy_t: vec3<f32>,
     anisotropy_b: vec3<f32>,
     anisotropy: f32,
+    // KHR_materials_transmission's factor (0: opaque), and with KHR_materials_volume the
+    // path through the volume from this point (refracted by the ior, as long as the thickness
+    // in world units: zero for a thin wall) and how it absorbs (attenuation distance, 0: it
+    // does not, and colour).
+    transmission: f32,
+    ior: f32,
+    volume_ray: vec3<f32>,
+    attenuation_distance: f32,
+    attenuation_color: vec3<f32>,
+    // The volume's thickness (mesh units) and KHR_materials_dispersion's spread of its ior.
+    thickness: f32,
+    dispersion: f32,
+    // KHR_materials_iridescence's factor (0: none) and the film's Fresnel terms at this
+    // pixel's view angle over the dielectric and over the metal (iridescence_fresnel).
+    iridescence: f32,
+    iridescence_dielectric: vec3<f32>,
+    iridescence_metal: vec3<f32>,
 }
 
 // KHR_materials_anisotropy's GGX lobe, D times V, stretched along t: alpha along t is
@@ -140,17 +157,33 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
         let v_dot_h = max(dot(v, h), 0.0);
         let schlick = pow(1.0 - v_dot_h, 5.0);
         let n_dot_l = max(dot(n, l), 0.0);
-        if n_dot_l > 0.0 {
+        // A transmissive surface is lit through from behind too.
+        if n_dot_l > 0.0 || layers.transmission > 0.0 {
             let n_dot_h = max(dot(n, h), 0.0);
             let fresnel_dielectric = f0 + (vec3<f32>(f90) - f0) * schlick;
             let fresnel_metal = albedo + (1.0 - albedo) * schlick;
-            let diffuse = radiance * n_dot_l * albedo / PI;
+            var diffuse = radiance * n_dot_l * albedo / PI;
+            if layers.transmission > 0.0 {
+                // KHR_materials_transmission: the light that reaches the point through the
+                // surface (towards the light from where the view leaves the volume), by the
+                // transmission lobe, mixed into the diffuse by the factor.
+                let to_light = select(light.position - p, -light.direction, light.kind == LIGHT_DIRECTIONAL);
+                let lt = safe_normalize(to_light - layers.volume_ray, n);
+                let through = radiance * transmission_lobe(n, v, lt, alpha, albedo, layers);
+                diffuse = mix(diffuse, volume_attenuation(through, length(layers.volume_ray), layers), layers.transmission);
+            }
             var lobe = ggx_dv(alpha, n_dot_l, n_dot_v, n_dot_h);
             if layers.anisotropy > 0.0 {
                 lobe = ggx_dv_anisotropic(alpha, layers.anisotropy, n, v, l, h, layers.anisotropy_t, layers.anisotropy_b);
             }
             let specular = radiance * n_dot_l * lobe;
-            var color = mix(mix(diffuse, specular, fresnel_dielectric), fresnel_metal * specular, metallic);
+            var dielectric = mix(diffuse, specular, fresnel_dielectric);
+            var metal = fresnel_metal * specular;
+            if layers.iridescence > 0.0 {
+                dielectric = mix(dielectric, rgb_mix(diffuse, specular, layers.iridescence_dielectric), layers.iridescence);
+                metal = mix(metal, specular * layers.iridescence_metal, layers.iridescence);
+            }
+            var color = mix(dielectric, metal, metallic);
             if sheen {
                 let lobe = radiance * n_dot_l * layers.sheen_color
                     * charlie_d(layers.sheen_roughness, n_dot_h) * sheen_v(n_dot_l, n_dot_v, layers.sheen_roughness);
@@ -176,9 +209,7 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
 fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> LayeredLight {
     var out: LayeredLight;
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
-    let lut_size = vec2<f32>(textureDimensions(brdf_lut));
-    let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
-    let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
+    let ab = brdf_lut_ab(n_dot_v, roughness);
     // Anisotropy reflects about a normal bent towards the stretch (the extension's
     // image-based approximation).
     var reflect_n = n;
@@ -192,8 +223,15 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
     let fresnel_dielectric = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
-    let dielectric = mix(irradiance * albedo, specular, fresnel_dielectric);
-    let metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
+    // What transmission sees through replaces the diffuse by its factor (added by the
+    // caller, transmission_ambient).
+    let diffuse = irradiance * albedo * (1.0 - layers.transmission);
+    var dielectric = mix(diffuse, specular, fresnel_dielectric);
+    var metal = specular * environment_fresnel(albedo, ab, n_dot_v, roughness, 1.0);
+    if layers.iridescence > 0.0 {
+        dielectric = mix(dielectric, rgb_mix(diffuse, specular, layers.iridescence_dielectric), layers.iridescence);
+        metal = mix(metal, specular * layers.iridescence_metal, layers.iridescence);
+    }
     var color = mix(dielectric, metal, metallic);
     if (material.flags & MAT_SHEEN) != 0u {
         let e = sheen_albedo(n_dot_v, layers.sheen_roughness);
@@ -203,4 +241,151 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     let rc = environment_direction(reflect(-v, layers.clearcoat_n));
     out.coat = textureSampleLevel(environment_specular, environment_sampler, rc, layers.clearcoat_roughness * frame.environment_max_lod).rgb * frame.environment_intensity;
     return out;
+}
+
+// KHR_materials_transmission's lobe for light from `l` behind the surface: GGX about the
+// direction mirrored through the surface, at the roughness the ior widens (alpha times
+// clamp(2 ior - 2, 0, 1), as the Sample Viewer's applyIorToRoughness), times what the
+// dielectric's Fresnel term lets in and the base colour.
+fn transmission_lobe(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, alpha: f32, albedo: vec3<f32>, layers: Layers) -> vec3<f32> {
+    let rough = alpha * clamp(layers.ior * 2.0 - 2.0, 0.0, 1.0);
+    let l_mirror = safe_normalize(l + 2.0 * n * dot(-l, n), n);
+    let h = safe_normalize(l_mirror + v, n);
+    let fresnel = layers.f0_dielectric + (1.0 - layers.f0_dielectric) * pow(1.0 - clamp(dot(v, h), 0.0, 1.0), 5.0);
+    let lobe = ggx_dv(rough, clamp(dot(n, l_mirror), 0.0, 1.0), clamp(dot(n, v), 0.0, 1.0), clamp(dot(n, h), 0.0, 1.0));
+    return (1.0 - fresnel) * albedo * lobe;
+}
+
+// KHR_materials_volume's absorption over `distance`: the attenuation colour to the power of
+// the distance over the attenuation distance (none without one).
+fn volume_attenuation(radiance: vec3<f32>, distance: f32, layers: Layers) -> vec3<f32> {
+    if layers.attenuation_distance <= 0.0 {
+        return radiance;
+    }
+    return pow(layers.attenuation_color, vec3<f32>(distance / layers.attenuation_distance)) * radiance;
+}
+
+// The view's path through the volume from a point: the view direction refracted by the ior,
+// as long as the thickness scaled by the object's transform (zero for a thin wall).
+fn volume_ray(n: vec3<f32>, v: vec3<f32>, thickness: f32, ior: f32) -> vec3<f32> {
+    let r = safe_normalize(refract(-v, n, 1.0 / ior), -v);
+    let scale = vec3<f32>(length(object.model[0].xyz), length(object.model[1].xyz), length(object.model[2].xyz));
+    return r * thickness * scale;
+}
+
+// The split-sum scale and bias (Karis' analytic fit, as env_specular uses it): for the
+// transmission's Fresnel terms, which the Sample Viewer takes from its table under punctual
+// light too, where seamlit has no environment and so no table.
+fn split_sum_fit(roughness: f32, n_dot_v: f32) -> vec2<f32> {
+    let c0 = vec4<f32>(-1.0, -0.0275, -0.572, 0.022);
+    let c1 = vec4<f32>(1.0, 0.0425, 1.04, -0.04);
+    let r = roughness * c0 + c1;
+    let a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
+    return vec2<f32>(-1.04, 1.04) * a004 + r.zw;
+}
+
+// The transmission target where `ray` from `p` leaves the volume, at the mip of the
+// roughness widened by the ior.
+fn transmission_sample(p: vec3<f32>, ray: vec3<f32>, roughness: f32, ior: f32) -> vec3<f32> {
+    let clip = frame.view_proj * vec4<f32>(p + ray, 1.0);
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let size = f32(textureDimensions(transmission_target).x);
+    let lod = log2(size) * roughness * clamp(ior * 2.0 - 2.0, 0.0, 1.0);
+    return textureSampleLevel(transmission_target, environment_sampler, uv, lod).rgb;
+}
+
+// What transmission shows of the scene behind (the transmission target, rendered without
+// the transmissive objects): read where the view leaves the volume, as blurred as the
+// roughness (widened by the ior) says, absorbed by the volume, through the surface's
+// Fresnel term and the base colour; then, as the diffuse it replaces, under the dielectric's
+// environment Fresnel term, by the transmission factor and one less metallic (the Sample
+// Viewer's getIBLVolumeRefraction and its composition).
+fn transmission_ambient(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> vec3<f32> {
+    let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
+    var behind = transmission_sample(p, layers.volume_ray, roughness, layers.ior);
+    var path = length(layers.volume_ray);
+    if layers.dispersion > 0.0 && layers.thickness > 0.0 {
+        // KHR_materials_dispersion: red, green and blue each refracted by their own ior,
+        // spread about the material's by (ior - 1) * 0.025 * dispersion (the Sample Viewer's
+        // getIBLVolumeRefraction); the path is blue's.
+        let half_spread = (layers.ior - 1.0) * 0.025 * layers.dispersion;
+        let iors = vec3<f32>(layers.ior - half_spread, layers.ior, layers.ior + half_spread);
+        for (var i = 0; i < 3; i = i + 1) {
+            let ray = volume_ray(n, v, layers.thickness, iors[i]);
+            behind[i] = transmission_sample(p, ray, roughness, iors[i])[i];
+            path = length(ray);
+        }
+    }
+    let ab = split_sum_fit(roughness, n_dot_v);
+    let refraction = (1.0 - (layers.f0_dielectric * ab.x + ab.y)) * volume_attenuation(behind, path, layers) * albedo;
+    let fresnel = environment_fresnel(layers.f0_dielectric, ab, n_dot_v, roughness, layers.specular_weight);
+    var through = (1.0 - fresnel) * refraction * layers.transmission * (1.0 - metallic);
+    if (material.flags & MAT_SHEEN) != 0u {
+        through = through * (1.0 - max3(layers.sheen_color) * sheen_albedo(n_dot_v, layers.sheen_roughness));
+    }
+    return through;
+}
+
+// A layer over a base by a colour's weights: the layer times them, over the base times one
+// less their largest (the Sample Viewer's rgb_mix).
+fn rgb_mix(base: vec3<f32>, layer: vec3<f32>, weights: vec3<f32>) -> vec3<f32> {
+    return (1.0 - max3(weights)) * base + weights * layer;
+}
+
+fn sq3(x: vec3<f32>) -> vec3<f32> {
+    return x * x;
+}
+
+// The CIE sensitivity of an optical path difference (nm) at a phase shift, as linear Rec. 709
+// (L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of
+// Varying Iridescence", 2017: Gaussian fits of the colour matching functions, as the
+// KHR_materials_iridescence specification gives them).
+fn iridescence_sensitivity(opd: f32, shift: vec3<f32>) -> vec3<f32> {
+    let phase = 2.0 * PI * opd * 1.0e-9;
+    let val = vec3<f32>(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    let pos = vec3<f32>(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    let var_ = vec3<f32>(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    var xyz = val * sqrt(2.0 * PI * var_) * cos(pos * phase + shift) * exp(-phase * phase * var_);
+    xyz.x = xyz.x + 9.7470e-14 * sqrt(2.0 * PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift.x) * exp(-4.5282e+09 * phase * phase);
+    xyz = xyz / 1.0685e-7;
+    let xyz_to_rec709 = mat3x3<f32>(3.2404542, -0.9692660, 0.0556434, -1.5371385, 1.8760108, -0.2040259, -0.4985314, 0.0415560, 1.0572252);
+    return xyz_to_rec709 * xyz;
+}
+
+// KHR_materials_iridescence's Fresnel term: air over a film of ior `film_ior` and thickness
+// `thickness` (nm) over a base of reflectance `base_f0`, at cos theta = `cos1`: the Airy
+// sum of the film's two interfaces to the second order (Belcour and Barla; the
+// specification's and the Sample Viewer's evalIridescence, written anew).
+fn iridescence_fresnel(film_ior_in: f32, cos1: f32, thickness: f32, base_f0: vec3<f32>) -> vec3<f32> {
+    let outside = 1.0;
+    // The film fades in over its first 30 nm.
+    let film_ior = mix(outside, film_ior_in, smoothstep(0.0, 0.03, thickness));
+    let sin2_sq = (outside / film_ior) * (outside / film_ior) * (1.0 - cos1 * cos1);
+    let cos2_sq = 1.0 - sin2_sq;
+    if cos2_sq < 0.0 {
+        return vec3<f32>(1.0);
+    }
+    let cos2 = sqrt(cos2_sq);
+    let r0 = ((film_ior - outside) / (film_ior + outside)) * ((film_ior - outside) / (film_ior + outside));
+    let r12 = r0 + (1.0 - r0) * pow(1.0 - cos1, 5.0);
+    let t121 = 1.0 - r12;
+    let phi12 = select(0.0, PI, film_ior < outside);
+    let phi21 = PI - phi12;
+    let sqrt_f0 = sqrt(clamp(base_f0, vec3<f32>(0.0), vec3<f32>(0.9999)));
+    let base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0);
+    let r1 = sq3((base_ior - film_ior) / (base_ior + film_ior));
+    let r23 = r1 + (1.0 - r1) * pow(1.0 - cos2, 5.0);
+    let phi23 = select(vec3<f32>(0.0), vec3<f32>(PI), base_ior < vec3<f32>(film_ior));
+    let opd = 2.0 * film_ior * thickness * cos2;
+    let phi = vec3<f32>(phi21) + phi23;
+    let r123 = clamp(r12 * r23, vec3<f32>(1e-5), vec3<f32>(0.9999));
+    let rs = t121 * t121 * r23 / (1.0 - r123);
+    var intensity = r12 + rs;
+    var cm = rs - t121;
+    for (var m = 1; m <= 2; m = m + 1) {
+        cm = cm * sqrt(r123);
+        intensity = intensity + cm * 2.0 * iridescence_sensitivity(f32(m) * opd, f32(m) * phi);
+    }
+    return max(intensity, vec3<f32>(0.0));
 }

@@ -94,6 +94,7 @@ mod shaders;
 mod shadow;
 mod sheen;
 mod texture;
+mod transmission;
 
 pub use context::GpuContext;
 pub use environment::{Environment, GpuEnvironment};

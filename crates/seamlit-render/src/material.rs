@@ -27,8 +27,14 @@ const MAT_SHEEN: u32 = 256;
 const MAT_SPECULAR: u32 = 512;
 /// Material flag: KHR_materials_anisotropy.
 const MAT_ANISOTROPY: u32 = 1024;
+/// Material flag: KHR_materials_transmission (and _volume): what lies behind is seen through
+/// the surface, from the renderer's transmission target.
+pub(crate) const MAT_TRANSMISSION: u32 = 2048;
+/// Material flag: KHR_materials_iridescence.
+const MAT_IRIDESCENCE: u32 = 4096;
 /// Any of the flags of the PBR extensions' layers.
-pub(crate) const MAT_LAYERS: u32 = MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY;
+pub(crate) const MAT_LAYERS: u32 =
+    MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY | MAT_TRANSMISSION | MAT_IRIDESCENCE;
 
 /// Material uniforms (`Material` in `mesh.wgsl`).
 #[repr(C)]
@@ -75,6 +81,22 @@ pub(crate) struct MaterialRaw {
     /// KHR_materials_anisotropy: cos and sin of its rotation, its strength.
     pub anisotropy: [f32; 3],
     pub pad1: f32,
+    /// KHR_materials_transmission's factor; KHR_materials_volume's thickness (mesh units),
+    /// attenuation distance (0: none) and colour; the ior (KHR_materials_ior, 1.5 by
+    /// default) that refracts the view through the volume.
+    pub transmission: f32,
+    pub thickness: f32,
+    pub attenuation_distance: f32,
+    pub ior: f32,
+    pub attenuation_color: [f32; 3],
+    pub pad2: f32,
+    /// KHR_materials_iridescence: its factor, the film's ior and its thickness (nm; the
+    /// maximum, the thickness texture not being drawn).
+    pub iridescence: f32,
+    pub iridescence_ior: f32,
+    pub iridescence_thickness: f32,
+    /// KHR_materials_dispersion (with a volume): the ior's spread, 20 / Abbe number.
+    pub dispersion: f32,
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -137,6 +159,15 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
     if ext.anisotropy.is_some() {
         flags |= MAT_ANISOTROPY;
     }
+    if ext.transmission.is_some() {
+        flags |= MAT_TRANSMISSION;
+    }
+    if ext.iridescence.is_some() {
+        flags |= MAT_IRIDESCENCE;
+    }
+    // KHR_materials_volume needs KHR_materials_transmission (its specification): alone it
+    // changes nothing.
+    let volume = ext.volume.as_ref().filter(|_| ext.transmission.is_some());
     let specular = ext.specular.as_ref();
     let clearcoat = ext.clearcoat.as_ref();
     let sheen = ext.sheen.as_ref();
@@ -179,5 +210,19 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
             [cos, sin, a.strength.clamp(0.0, 1.0)]
         }),
         pad1: 0.0,
+        transmission: ext.transmission.as_ref().map_or(0.0, |t| t.factor.clamp(0.0, 1.0)),
+        thickness: volume.map_or(0.0, |v| v.thickness.max(0.0)),
+        attenuation_distance: volume.and_then(|v| v.attenuation_distance).unwrap_or(0.0),
+        ior: ext.ior.unwrap_or(1.5).max(1.0),
+        attenuation_color: volume
+            .map_or([1.0; 3], |v| v.attenuation_color.map(|c| c.clamp(0.0, 1.0))),
+        pad2: 0.0,
+        iridescence: ext.iridescence.as_ref().map_or(0.0, |i| i.factor.clamp(0.0, 1.0)),
+        iridescence_ior: ext.iridescence.as_ref().map_or(1.3, |i| i.ior.max(1.0)),
+        iridescence_thickness: ext
+            .iridescence
+            .as_ref()
+            .map_or(0.0, |i| i.thickness_maximum.max(0.0)),
+        dispersion: volume.and(ext.dispersion).map_or(0.0, |d| d.max(0.0)),
     }
 }

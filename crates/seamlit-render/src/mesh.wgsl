@@ -92,6 +92,16 @@ struct Material {
     clearcoat_f0: f32,
     anisotropy: vec3<f32>,
     pad3: f32,
+    transmission: f32,
+    thickness: f32,
+    attenuation_distance: f32,
+    ior: f32,
+    attenuation_color: vec3<f32>,
+    pad4: f32,
+    iridescence: f32,
+    iridescence_ior: f32,
+    iridescence_thickness: f32,
+    dispersion: f32,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -141,8 +151,10 @@ const MAT_CLEARCOAT_NORMAL_MAP: u32 = 128u;
 const MAT_SHEEN: u32 = 256u;
 const MAT_SPECULAR: u32 = 512u;
 const MAT_ANISOTROPY: u32 = 1024u;
+const MAT_TRANSMISSION: u32 = 2048u;
+const MAT_IRIDESCENCE: u32 = 4096u;
 // Any of the PBR extensions that add to the BRDF: drawn by shade_layers.
-const MAT_LAYERS: u32 = 1856u;
+const MAT_LAYERS: u32 = 8000u;
 
 // The PBR extensions' layers compiled in (pipeline.rs): false for the pipelines that draw
 // materials without them, so that those cost what they did.
@@ -155,6 +167,9 @@ const PI: f32 = 3.141592653589793;
 @group(0) @binding(2) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(3) var shadow_sampler: sampler_comparison;
 @group(0) @binding(4) var<uniform> shadow_matrices: array<mat4x4<f32>, 4>;
+// What KHR_materials_transmission sees through: the scene without transmissive objects,
+// linear, with mips (renderer.rs, transmission.rs); a black texel in frames without one.
+@group(0) @binding(5) var transmission_target: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> material: Material;
 @group(1) @binding(1) var base_texture: texture_2d<f32>;
 @group(1) @binding(2) var normal_texture: texture_2d<f32>;
@@ -178,7 +193,10 @@ const PI: f32 = 3.141592653589793;
 @group(2) @binding(5) var<storage, read> morph_weights: array<f32>;
 @group(3) @binding(0) var environment_specular: texture_cube<f32>;
 @group(3) @binding(1) var environment_irradiance: texture_cube<f32>;
-@group(3) @binding(2) var brdf_lut: texture_2d<f32>;
+// The split-sum BRDF table (64 x 64 texels of two halves packed in a u32, then two unused
+// halves), a storage buffer so that the stage's sampled textures leave room for the
+// transmission target (lavapipe allows 16).
+@group(3) @binding(2) var<storage, read> brdf_lut: array<u32>;
 @group(3) @binding(3) var environment_sampler: sampler;
 
 struct VertexIn {
@@ -388,6 +406,39 @@ fn environment_direction(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
 }
 
+// Texels a side of the BRDF table (environment.rs LUT_SIZE).
+const BRDF_LUT_SIZE: u32 = 64u;
+
+// An IEEE half (the low 16 bits of h) as f32, by its bits: unpack2x16float needs a
+// capability (f16 in f32) not every adapter has. The table holds no infinities or NaNs.
+fn half_to_f32(h: u32) -> f32 {
+    let e = (h >> 10u) & 0x1fu;
+    let m = h & 0x3ffu;
+    if e == 0u {
+        return f32(m) * 5.9604645e-8;
+    }
+    return bitcast<f32>(((h & 0x8000u) << 16u) | ((e + 112u) << 23u) | (m << 13u));
+}
+
+fn brdf_lut_texel(x: u32, y: u32) -> vec2<f32> {
+    let word = brdf_lut[(y * BRDF_LUT_SIZE + x) * 2u];
+    return vec2<f32>(half_to_f32(word & 0xffffu), half_to_f32(word >> 16u));
+}
+
+// The BRDF table's scale and bias at (n.v, roughness), filtered bilinearly between texel
+// centres as a texture's linear filter reads it (texel coordinates (n.v, roughness) times
+// the size less one).
+fn brdf_lut_ab(n_dot_v: f32, roughness: f32) -> vec2<f32> {
+    let last = f32(BRDF_LUT_SIZE - 1u);
+    let p = clamp(vec2<f32>(n_dot_v, roughness), vec2<f32>(0.0), vec2<f32>(1.0)) * last;
+    let i0 = vec2<u32>(floor(p));
+    let i1 = min(i0 + 1u, vec2<u32>(BRDF_LUT_SIZE - 1u));
+    let f = p - floor(p);
+    let row0 = mix(brdf_lut_texel(i0.x, i0.y), brdf_lut_texel(i1.x, i0.y), f.x);
+    let row1 = mix(brdf_lut_texel(i0.x, i1.y), brdf_lut_texel(i1.x, i1.y), f.x);
+    return mix(row0, row1, f.y);
+}
+
 // The split-sum reflectance for f0, with the BRDF table's scale and bias `ab`: single
 // scattering with a roughness-dependent Fresnel term, plus the energy multiple scattering
 // adds back (C. Fdez-Aguera, "A Multiple-Scattering Microfacet Model for Real-Time
@@ -408,9 +459,7 @@ fn environment_fresnel(f0: vec3<f32>, ab: vec2<f32>, n_dot_v: f32, roughness: f3
 // its Fresnel term with f0 = albedo).
 fn shade_environment(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32) -> vec3<f32> {
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
-    let lut_size = vec2<f32>(textureDimensions(brdf_lut));
-    let lut_uv = (vec2<f32>(n_dot_v, roughness) * (lut_size - 1.0) + 0.5) / lut_size;
-    let ab = textureSampleLevel(brdf_lut, environment_sampler, lut_uv, 0.0).rg;
+    let ab = brdf_lut_ab(n_dot_v, roughness);
     let r = environment_direction(reflect(-v, n));
     let specular = textureSampleLevel(environment_specular, environment_sampler, r, roughness * frame.environment_max_lod).rgb;
     let irradiance = textureSampleLevel(environment_irradiance, environment_sampler, environment_direction(n), 0.0).rgb;
@@ -618,7 +667,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     }
     let v = safe_normalize(frame.eye - in.world, n);
     if LAYERS && frame.lighting_model == MODEL_PBR && (material.flags & MAT_LAYERS) != 0u {
-        let layers = material_layers(grads, geometry_n, n, in);
+        let layers = material_layers(grads, geometry_n, n, albedo, in);
         let lit = shade_layers(n, v, in.world, albedo, metallic, roughness * roughness, layers);
         let c_diff = mix(albedo, vec3<f32>(0.0), metallic);
         let f0 = mix(layers.f0_dielectric * layers.specular_weight, albedo, metallic);
@@ -628,6 +677,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
             let env = shade_environment_layers(n, v, albedo, metallic, roughness, layers);
             ambient = ambient + env.base;
             coat_ambient = env.coat;
+        }
+        if layers.transmission > 0.0 {
+            ambient = ambient + transmission_ambient(n, v, in.world, albedo, metallic, roughness, layers);
         }
         // Over everything, the clearcoat by its factor times its Fresnel term at n_c.v.
         let coat = layers.clearcoat * (layers.clearcoat_f0 + (1.0 - layers.clearcoat_f0) * pow(1.0 - max(dot(layers.clearcoat_n, v), 0.0), 5.0));
@@ -676,7 +728,7 @@ fn sample_slot(t: texture_2d<f32>, rows: array<vec4<f32>, 2>, g: UvGrads) -> vec
 
 // The material's layers at this pixel: factors times textures, and the clearcoat's normal
 // (the geometry's, or its own normal map's in the same tangent frame).
-fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, in: VertexOut) -> Layers {
+fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, albedo: vec3<f32>, in: VertexOut) -> Layers {
     var out: Layers;
     let specular = sample_slot(specular_texture, material.specular_uv, g).a;
     let specular_color = sample_slot(specular_color_texture, material.specular_color_uv, g).rgb;
@@ -700,6 +752,28 @@ fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, in: 
         out.anisotropy_t = safe_normalize(t * material.anisotropy.x + b * material.anisotropy.y, t);
         out.anisotropy_b = safe_normalize(cross(geometry_n, out.anisotropy_t), b);
         out.anisotropy = material.anisotropy.z;
+    }
+    out.transmission = 0.0;
+    out.ior = material.ior;
+    out.volume_ray = vec3<f32>(0.0);
+    out.attenuation_distance = material.attenuation_distance;
+    out.attenuation_color = material.attenuation_color;
+    out.thickness = material.thickness;
+    out.dispersion = material.dispersion;
+    if (material.flags & MAT_TRANSMISSION) != 0u {
+        out.transmission = material.transmission;
+        out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), material.thickness, material.ior);
+    }
+    out.iridescence = 0.0;
+    out.iridescence_dielectric = vec3<f32>(0.0);
+    out.iridescence_metal = vec3<f32>(0.0);
+    if (material.flags & MAT_IRIDESCENCE) != 0u && material.iridescence_thickness > 0.0 {
+        // The film's Fresnel terms at this view angle, over the dielectric and over the metal.
+        let v = safe_normalize(frame.eye - in.world, shading_n);
+        let n_dot_v = clamp(dot(shading_n, v), 0.0, 1.0);
+        out.iridescence = material.iridescence;
+        out.iridescence_dielectric = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, out.f0_dielectric);
+        out.iridescence_metal = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, albedo);
     }
     if (material.flags & MAT_CLEARCOAT_NORMAL_MAP) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
         var tn = sample_slot(clearcoat_normal_texture, material.clearcoat_normal_uv, g).xyz * 2.0 - 1.0;

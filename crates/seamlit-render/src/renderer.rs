@@ -9,6 +9,7 @@ use crate::light::LightRaw;
 use crate::pipeline::{DEPTH_FORMAT, Features, Pipelines};
 use crate::settings::{FrameInputs, FrameRaw};
 use crate::shadow::{SHADOW_SIZE, Shadows};
+use crate::transmission::Transmission;
 use crate::{CameraView, FrameSettings, GpuContext, GpuEnvironment, GpuScene, RenderError};
 
 /// The format [`Renderer::render_to_image`] renders in and reads back.
@@ -37,6 +38,12 @@ pub struct Renderer {
     /// The environment's image-based light, and whether it is a real one.
     environment: GpuEnvironment,
     has_environment: bool,
+    /// What transmissive materials see through (transmission.rs), made on the first frame
+    /// that draws one; `black` stands in for it before.
+    transmission: Option<Transmission>,
+    black: wgpu::TextureView,
+    /// The frame's shadow normal offset, which the transmission pass's uniforms repeat.
+    shadow_normal_offset: f32,
 }
 
 /// Depth (and, with MSAA, colour) attachments of one size.
@@ -126,7 +133,9 @@ impl Renderer {
             let light_capacity = 16;
             let light_buffer = light_buffer(ctx, light_capacity);
             let shadows = Shadows::new(ctx);
-            let frame_bind_group = frame_bind_group(ctx, &frame_buffer, &light_buffer, &shadows);
+            let black = black_texture(ctx);
+            let frame_bind_group =
+                frame_bind_group(ctx, &frame_buffer, &light_buffer, &shadows, &black);
             Ok(Self {
                 format,
                 sample_count,
@@ -140,6 +149,9 @@ impl Renderer {
                 shadows_used: 0,
                 environment: GpuEnvironment::none(ctx),
                 has_environment: false,
+                transmission: None,
+                black,
+                shadow_normal_offset: 0.0,
             })
         })
     }
@@ -227,6 +239,9 @@ impl Renderer {
             }
         }
         self.shadows.encode(encoder, scene, self.shadows_used);
+        if scene.meshes.iter().any(|m| scene.materials[m.material].transmission) {
+            self.encode_transmission(ctx, encoder, frame);
+        }
         let Some(attachments) = &self.attachments else { return Ok(()) };
         let mut pass = begin_scene_pass(encoder, attachments, target, settings.clear_color);
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
@@ -234,18 +249,110 @@ impl Renderer {
         if self.has_environment && settings.environment_background {
             self.draw_sky(&mut pass, scene);
         }
-        self.draw_meshes(&mut pass, scene, camera.eye);
+        self.draw_meshes(&mut pass, &self.pipelines, scene, camera.eye, false);
         if settings.show_tbn {
             self.draw_tbn(&mut pass, scene);
         }
         Ok(())
     }
 
-    /// Draws every mesh, in [`draw_order`] from `eye`, with its variant of the mesh pipeline.
-    fn draw_meshes(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene, eye: glam::Vec3) {
+    /// KHR_materials_transmission's target: the scene without its transmissive objects, in
+    /// linear light (no exposure, no tone mapping, as the Sample Viewer's), the sky where the
+    /// frame shows it, then its mips; the scene pass's frame bind group reads it.
+    fn encode_transmission(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameDescriptor<'_>,
+    ) {
+        let FrameDescriptor { scene, camera, settings, .. } = *frame;
+        if self.transmission.is_none() {
+            self.transmission = Some(Transmission::new(ctx, size_of::<FrameRaw>() as u64));
+            self.frame_bind_group = self.scene_frame_bind_group(ctx);
+        }
+        let Some(transmission) = &mut self.transmission else { return };
+        for mesh in &scene.meshes {
+            let features = mesh_features(scene, mesh);
+            if features != Features::default() {
+                transmission.pipelines.prepare(ctx.device(), features);
+            }
+        }
+        let mut raw = settings.to_raw(&FrameInputs {
+            camera,
+            default_tbn_length: scene.default_tbn_length(),
+            encode_srgb: false,
+            environment: self.has_environment,
+            shadow_normal_offset: (self.shadows_used > 0).then_some(self.shadow_normal_offset),
+        });
+        raw.exposure = 1.0;
+        raw.tone_mapping = 0;
+        ctx.queue().write_buffer(&transmission.frame_buffer, 0, bytemuck::bytes_of(&raw));
+        let frame_group = frame_bind_group(
+            ctx,
+            &transmission.frame_buffer,
+            &self.light_buffer,
+            &self.shadows,
+            &self.black,
+        );
+        let Some(transmission) = &self.transmission else { return };
+        let [r, g, b, a] = settings.clear_color.map(f64::from);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("seamlit transmission"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: transmission.target(),
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &transmission.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &frame_group, &[]);
+            pass.set_bind_group(3, &self.environment.bind_group, &[]);
+            if self.has_environment && settings.environment_background {
+                self.draw_sky_with(&mut pass, &transmission.pipelines, scene);
+            }
+            self.draw_meshes(&mut pass, &transmission.pipelines, scene, camera.eye, true);
+        }
+        transmission.encode_mips(encoder);
+    }
+
+    /// The scene pass's frame bind group: the frame uniforms, lights, shadow maps and the
+    /// transmission target (a black texel before there is one).
+    fn scene_frame_bind_group(&self, ctx: &GpuContext) -> wgpu::BindGroup {
+        let target = self.transmission.as_ref().map_or(&self.black, |t| &t.view);
+        frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer, &self.shadows, target)
+    }
+
+    /// Draws every mesh, in [`draw_order`] from `eye`, with its variant of the mesh pipeline
+    /// of `pipelines`; with `opaque_only`, not the transmissive ones.
+    fn draw_meshes(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipelines: &Pipelines,
+        scene: &GpuScene,
+        eye: glam::Vec3,
+        opaque_only: bool,
+    ) {
         for mesh in draw_order(scene, eye) {
             let material = &scene.materials[mesh.material];
-            pass.set_pipeline(self.pipelines.mesh(
+            if opaque_only && material.transmission {
+                continue;
+            }
+            pass.set_pipeline(pipelines.mesh(
                 mesh_features(scene, mesh),
                 mesh.mirrored,
                 material.double_sided,
@@ -273,10 +380,20 @@ impl Renderer {
     /// pipeline layout has all four set: any material and object will do (a scene without
     /// objects has no sky).
     fn draw_sky(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene) {
+        self.draw_sky_with(pass, &self.pipelines, scene);
+    }
+
+    /// As [`Renderer::draw_sky`], with the sky pipeline of `pipelines`.
+    fn draw_sky_with(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipelines: &Pipelines,
+        scene: &GpuScene,
+    ) {
         let (Some(material), Some(mesh)) = (scene.materials.last(), scene.meshes.first()) else {
             return;
         };
-        pass.set_pipeline(&self.pipelines.sky);
+        pass.set_pipeline(&pipelines.sky);
         pass.set_bind_group(1, &material.bind_group, &[]);
         pass.set_bind_group(2, &mesh.bind_group, &[]);
         pass.draw(0..3, 0..1);
@@ -299,12 +416,12 @@ impl Renderer {
             environment: self.has_environment,
             shadow_normal_offset: normal_offset,
         });
+        self.shadow_normal_offset = raw.shadow_normal_offset;
         ctx.queue().write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&raw));
         if settings.lights.len() > self.light_capacity {
             self.light_capacity = settings.lights.len().next_power_of_two();
             self.light_buffer = light_buffer(ctx, self.light_capacity);
-            self.frame_bind_group =
-                frame_bind_group(ctx, &self.frame_buffer, &self.light_buffer, &self.shadows);
+            self.frame_bind_group = self.scene_frame_bind_group(ctx);
         }
         if !settings.lights.is_empty() {
             let lights: Vec<LightRaw> = settings
@@ -499,11 +616,22 @@ fn light_buffer(ctx: &GpuContext, capacity: usize) -> wgpu::Buffer {
     })
 }
 
+/// A 1 x 1 black texture, for a binding with nothing to read yet.
+fn black_texture(ctx: &GpuContext) -> wgpu::TextureView {
+    ctx.device()
+        .create_texture(&wgpu::TextureDescriptor {
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            ..target_descriptor("seamlit black", (1, 1), crate::transmission::FORMAT)
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
+}
+
 fn frame_bind_group(
     ctx: &GpuContext,
     frame: &wgpu::Buffer,
     lights: &wgpu::Buffer,
     shadows: &Shadows,
+    transmission: &wgpu::TextureView,
 ) -> wgpu::BindGroup {
     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("seamlit frame"),
@@ -520,6 +648,10 @@ fn frame_bind_group(
                 resource: wgpu::BindingResource::Sampler(&shadows.sampler),
             },
             wgpu::BindGroupEntry { binding: 4, resource: shadows.matrices.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(transmission),
+            },
         ],
     })
 }

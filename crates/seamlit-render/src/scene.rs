@@ -8,7 +8,9 @@ use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
-use crate::material::{MAT_CLEARCOAT_NORMAL_MAP, MAT_LAYERS, MAT_NORMAL_MAP, material_to_raw};
+use crate::material::{
+    MAT_CLEARCOAT_NORMAL_MAP, MAT_LAYERS, MAT_NORMAL_MAP, MAT_TRANSMISSION, material_to_raw,
+};
 use crate::pose::{Deform, ObjectPose};
 use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
@@ -101,6 +103,8 @@ pub(crate) struct GpuMaterial {
     /// It uses a PBR extension (ior, specular, clearcoat, sheen): drawn by the pipelines
     /// with `mesh.wgsl`'s `LAYERS` compiled in.
     pub layers: bool,
+    /// KHR_materials_transmission: left out of the transmission target, which it reads.
+    pub transmission: bool,
 }
 
 /// A model uploaded to the GPU: geometry, materials and textures, ready for
@@ -365,6 +369,7 @@ fn upload_material(
         double_sided: material.double_sided,
         blend: material.alpha_mode == AlphaMode::Blend,
         layers: raw.flags & MAT_LAYERS != 0,
+        transmission: raw.flags & MAT_TRANSMISSION != 0,
     })
 }
 

@@ -43,6 +43,10 @@ pub(crate) const POSED: Source = Source {
 /// The environment's prefiltering compute passes (`ibl.wgsl`).
 pub(crate) const IBL: Source = Source { label: "seamlit ibl.wgsl", text: include_str!("ibl.wgsl") };
 
+/// The transmission target's mips (`transmission.wgsl`).
+pub(crate) const TRANSMISSION: Source =
+    Source { label: "seamlit transmission.wgsl", text: include_str!("transmission.wgsl") };
+
 /// One shader module's WGSL text.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Source {
@@ -75,7 +79,7 @@ mod tests {
     use crate::scene::ObjectRaw;
     use crate::settings::FrameRaw;
 
-    const ALL: [Source; 4] = [MESH, SHADOW, POSED, IBL];
+    const ALL: [Source; 5] = [MESH, SHADOW, POSED, IBL, TRANSMISSION];
 
     fn parse(source: Source) -> naga::Module {
         let module = naga::front::wgsl::parse_str(source.text)
@@ -234,6 +238,15 @@ mod tests {
                     clearcoat_normal_scale,
                     clearcoat_f0,
                     anisotropy,
+                    transmission,
+                    thickness,
+                    attenuation_distance,
+                    ior,
+                    attenuation_color,
+                    iridescence,
+                    iridescence_ior,
+                    iridescence_thickness,
+                    dispersion,
                 }),
             ),
             (MESH, "Object", object.clone()),

@@ -119,6 +119,8 @@ pub struct SceneModel {
     pub animation: Option<AnimationChoice>,
     /// `time`: seconds into it (>= 0), instead of `[render]`'s.
     pub time: Option<f32>,
+    /// `variant`: the KHR_materials_variants variant drawn (`None`: the default materials).
+    pub variant: Option<String>,
 }
 
 /// Changes to one material of a model (or all of them).
@@ -242,6 +244,7 @@ impl Scene {
                 materials: Vec::new(),
                 animation: None,
                 time: None,
+                variant: None,
             }],
             lights: Vec::new(),
             cameras: Vec::new(),

@@ -83,6 +83,7 @@ pub(crate) struct ModelDef {
     pub material: Vec<MaterialDef>,
     pub animation: Option<AnimationDef>,
     pub time: Option<f32>,
+    pub variant: Option<String>,
 }
 
 /// A uniform or per-axis scale.

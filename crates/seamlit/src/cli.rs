@@ -196,6 +196,11 @@ pub struct SceneArgs {
     pub fix: FixFlags,
     #[command(flatten)]
     pub load: LoadFlags,
+    /// The glTF material variant to draw (KHR_materials_variants; a name no model has is
+    /// refused, listing those there are) [default: each model's `variant` key, else none: the
+    /// default materials].
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
 }
 
 /// Which animation poses the model, and when; each flag replaces the scene's `[render]`

@@ -57,7 +57,9 @@ impl SceneArgs {
     /// As [`load`].
     pub(crate) fn load(&self) -> Result<Loaded, Failure> {
         let options = LoadOptions { tessellation: self.load.tessellation, ..LoadOptions::DEFAULT };
-        load(&self.input, &options)
+        let mut loaded = load(&self.input, &options)?;
+        loaded.select_variant(self.variant.as_deref(), true)?;
+        Ok(loaded)
     }
 }
 
@@ -88,6 +90,54 @@ pub(crate) fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, Failure
 }
 
 impl Loaded {
+    /// Draws the material variant (KHR_materials_variants) `name` where a model has it, or
+    /// with `None` each model's own `variant` key (or its default materials, without one,
+    /// or when `keys` is false).
+    ///
+    /// # Errors
+    /// [`Failure::BadInput`] in one line listing the variants there are: for a `name` no
+    /// model has, or a model's key that it lacks.
+    pub(crate) fn select_variant(&mut self, name: Option<&str>, keys: bool) -> Result<(), Failure> {
+        let has = |asset: &Asset, n: &str| asset.variants.names.iter().any(|k| k == n);
+        if let Some(name) = name
+            && !self.parts.iter().any(|(_, asset)| has(asset, name))
+        {
+            let known = self.variant_names();
+            let error = seamlit_io::UnknownVariant { name: name.to_owned(), known };
+            let input =
+                self.scene.source.clone().or_else(|| self.parts.first().map(|p| p.0.path.clone()));
+            return Err(Failure::input(match input {
+                Some(input) => format!("{}: {error}", input.display()),
+                None => error.to_string(),
+            }));
+        }
+        for (model, asset) in &mut self.parts {
+            // The command line's variant where this model has it, else the model's key.
+            let choice = match name {
+                Some(n) => has(asset, n).then_some(n),
+                None => model.variant.as_deref().filter(|_| keys),
+            };
+            asset
+                .select_variant(choice)
+                .map_err(|e| Failure::input(format!("{}: {e}", model.path.display())))?;
+        }
+        Ok(())
+    }
+
+    /// The variants of the models (KHR_materials_variants), each name once, in model order.
+    #[must_use]
+    pub(crate) fn variant_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for (_, asset) in &self.parts {
+            for n in &asset.variants.names {
+                if !names.contains(n) {
+                    names.push(n.clone());
+                }
+            }
+        }
+        names
+    }
+
     /// Fixes every model with its options changed by `fix`, places it and merges them.
     ///
     /// # Errors

@@ -52,7 +52,7 @@ use crate::options::LoadOptions;
 use document::decode_draco;
 use document::document;
 use lights::punctual_lights;
-use material::material;
+use material::{material, variants};
 use scene::SceneWalk;
 
 /// Reads a glTF (`.gltf`, with its buffers and images) or GLB file.
@@ -147,6 +147,7 @@ fn read(
     for (&d, &a) in &node_indices {
         document_nodes[a] = d;
     }
+    asset.variants = variants(&json, &instances, asset.materials.len(), path, &mut warnings);
     asset.gltf_source = Some(GltfSource::new(json, buffers, path, instances, document_nodes));
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;

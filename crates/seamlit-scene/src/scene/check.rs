@@ -181,7 +181,8 @@ impl Ctx<'_> {
             AnimationDef::Index(i) => AnimationChoice::Index(i),
             AnimationDef::Name(n) => AnimationChoice::Name(n),
         });
-        Ok(SceneModel { name, path, transform, fix, materials, animation, time: def.time })
+        let (time, variant) = (def.time, def.variant);
+        Ok(SceneModel { name, path, transform, fix, materials, animation, time, variant })
     }
 
     fn material(

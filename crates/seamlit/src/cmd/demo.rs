@@ -126,6 +126,7 @@ fn demo_scene(asset: Asset) -> Loaded {
         materials: Vec::new(),
         animation: None,
         time: None,
+        variant: None,
     };
     let scene = Scene {
         source: None,

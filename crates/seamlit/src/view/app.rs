@@ -232,6 +232,8 @@ pub struct Viewer {
     applied: Settings,
     /// The model's animations (name, seconds), for the panel.
     animations: Vec<(String, f32)>,
+    /// The models' material variants, for the panel.
+    variants: Vec<String>,
     /// The moment the GPU scene is posed at; `None`: not posed since the last upload.
     posed: Option<crate::animate::Moment>,
     /// The models posed by their own `animation` key (the panel's animation poses the rest).
@@ -280,6 +282,7 @@ impl Viewer {
             playing: moment.animation.is_some() && !timed,
         };
         let animations = crate::animate::list(&asset);
+        let variants = loaded.variant_names();
         let own_moments =
             crate::animate::own_moments(&options.animation, &loaded, &asset, &options.input)?;
         let speed = (bounds.1 - bounds.0).length() * 0.3;
@@ -290,6 +293,7 @@ impl Viewer {
             applied: settings.clone(),
             settings,
             animations,
+            variants,
             posed: None,
             own_moments,
             options,
@@ -355,12 +359,20 @@ impl Viewer {
         })
     }
 
-    /// Re-runs the fix when mode, crease or weighting changed, and swaps the geometry.
+    /// Re-runs the fix when mode, crease or weighting changed, and swaps the geometry; gives
+    /// the objects their material variant's materials when that changed.
     fn refix_if_needed(&mut self) {
-        if self.settings.fix_key() == self.applied.fix_key() {
+        let variant_changed = self.settings.variant != self.applied.variant;
+        if self.settings.fix_key() == self.applied.fix_key() && !variant_changed {
             return;
         }
         self.applied = self.settings.clone();
+        if variant_changed
+            && let Err(f) = self.loaded.select_variant(self.settings.variant.as_deref(), false)
+        {
+            self.status = f.to_string();
+            return;
+        }
         let started = Instant::now();
         match self.loaded.build(&fix_override(&self.options.fix, &self.settings)) {
             Ok(asset) => {
@@ -529,6 +541,7 @@ impl Viewer {
             adapter: &adapter,
             status: &self.status,
             materials: &self.asset.materials,
+            variants: &self.variants,
         };
         let mut actions = Actions::default();
         let mut panel_right = 0.0;

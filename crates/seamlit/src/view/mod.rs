@@ -50,6 +50,11 @@ pub(crate) fn run(args: &ViewArgs) -> Result<(), Failure> {
         camera: 0,
         controller: panel::Controller::Orbit,
         playback: panel::Playback::default(),
+        variant: args
+            .scene
+            .variant
+            .clone()
+            .or_else(|| loaded.scene.models.iter().find_map(|m| m.variant.clone())),
     };
     let options = app::Options {
         input: args.scene.input.clone(),

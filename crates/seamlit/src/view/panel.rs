@@ -67,6 +67,8 @@ pub struct Settings {
     pub controller: Controller,
     /// The animation, its time, and whether it plays.
     pub playback: Playback,
+    /// The material variant drawn (KHR_materials_variants); `None`: the default materials.
+    pub variant: Option<String>,
 }
 
 impl Settings {
@@ -97,6 +99,8 @@ pub struct Readout<'a> {
     pub status: &'a str,
     /// The model's materials, for the list of the glTF extensions each uses.
     pub materials: &'a [seamlit_io::Material],
+    /// The models' material variants (KHR_materials_variants).
+    pub variants: &'a [String],
 }
 
 /// What the user asked for with a button.
@@ -125,6 +129,10 @@ pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
     ui.separator();
     lights(ui, &mut s.lights);
     ui.separator();
+    if !r.variants.is_empty() {
+        variants(ui, &mut s.variant, r.variants);
+        ui.separator();
+    }
     materials(ui, r.materials);
     ui.separator();
     if ui.button("screenshot (F12)").clicked() {
@@ -134,6 +142,18 @@ pub(crate) fn draw(ui: &mut Ui, s: &mut Settings, r: &Readout<'_>) -> Actions {
         ui.label(r.status);
     }
     actions
+}
+
+/// The material variants (KHR_materials_variants): the default materials or one variant's.
+fn variants(ui: &mut Ui, chosen: &mut Option<String>, variants: &[String]) {
+    ui.strong("Material variant");
+    let shown = chosen.as_deref().unwrap_or("(default)").to_owned();
+    ComboBox::from_label("variant").selected_text(shown).show_ui(ui, |ui| {
+        ui.selectable_value(chosen, None, "(default)");
+        for name in variants {
+            ui.selectable_value(chosen, Some(name.clone()), name.as_str());
+        }
+    });
 }
 
 /// Each material with the glTF material extensions it uses (drawn by the PBR lighting).

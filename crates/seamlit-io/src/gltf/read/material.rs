@@ -1,12 +1,14 @@
 //! glTF materials as seamlit's [`Material`]: metallic-roughness with its textures and their
 //! KHR_texture_transform, emissive strength, alpha mode, unlit, and the extensions that add
 //! to the BRDF (ior, specular, clearcoat, sheen: [`PbrExtensions`]), read from their raw JSON
-//! with each specification's defaults.
+//! with each specification's defaults; and KHR_materials_variants (the variants' names and
+//! each primitive instance's mappings, [`variants`]).
 
 use crate::asset::{
-    AlphaMode, Anisotropy, Clearcoat, Material, PbrExtensions, Sheen, Specular, TextureRef,
-    UvTransform,
+    AlphaMode, Anisotropy, Clearcoat, Iridescence, Material, PbrExtensions, Sheen, Specular,
+    TextureRef, Transmission, UvTransform, VariantObject, Variants, Volume,
 };
+use crate::gltf::source::Instance;
 
 /// A texture reference: glTF texture -> its image (the index into [`Asset::textures`]): its
 /// `source`, else the image its KHR_texture_basisu names (Basis Universal KTX2, which the
@@ -156,7 +158,8 @@ fn color(value: &serde_json::Value, key: &str, default: [f32; 3]) -> [f32; 3] {
         .unwrap_or(default)
 }
 
-/// KHR_materials_ior, _specular, _clearcoat, _sheen and _anisotropy of a material.
+/// KHR_materials_ior, _specular, _clearcoat, _sheen, _anisotropy, _transmission, _volume,
+/// _iridescence and _dispersion of a material.
 fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) -> PbrExtensions {
     let texture = |e: &serde_json::Value, key: &str| json_texture(document, images, e.get(key));
     PbrExtensions {
@@ -190,6 +193,30 @@ fn extensions(m: &gltf::Material<'_>, document: &gltf::Document, images: usize) 
             rotation: number(e, "anisotropyRotation", 0.0),
             texture: texture(e, "anisotropyTexture"),
         }),
+        transmission: m.extension_value("KHR_materials_transmission").map(|e| Transmission {
+            factor: number(e, "transmissionFactor", 0.0),
+            texture: texture(e, "transmissionTexture"),
+        }),
+        volume: m.extension_value("KHR_materials_volume").map(|e| Volume {
+            thickness: number(e, "thicknessFactor", 0.0),
+            thickness_texture: texture(e, "thicknessTexture"),
+            attenuation_distance: e
+                .get("attenuationDistance")
+                .and_then(json_f32)
+                .filter(|d| d.is_finite() && *d > 0.0),
+            attenuation_color: color(e, "attenuationColor", [1.0; 3]),
+        }),
+        iridescence: m.extension_value("KHR_materials_iridescence").map(|e| Iridescence {
+            factor: number(e, "iridescenceFactor", 0.0),
+            texture: texture(e, "iridescenceTexture"),
+            ior: number(e, "iridescenceIor", 1.3),
+            thickness_minimum: number(e, "iridescenceThicknessMinimum", 100.0),
+            thickness_maximum: number(e, "iridescenceThicknessMaximum", 400.0),
+            thickness_texture: texture(e, "iridescenceThicknessTexture"),
+        }),
+        dispersion: m
+            .extension_value("KHR_materials_dispersion")
+            .map(|e| number(e, "dispersion", 0.0)),
     }
 }
 
@@ -207,4 +234,74 @@ fn emissive_strength(m: &gltf::Material<'_>) -> f32 {
         .and_then(|e| e.get("emissiveStrength"))
         .and_then(json_f32)
         .unwrap_or(1.0)
+}
+
+/// KHR_materials_variants of a document (its raw JSON): the root's variant names and, for
+/// each object (`instances[i]` is object `i`'s node, mesh and primitive), the primitive's
+/// mappings. A mapping that names a material or a variant the document does not have is
+/// left out with a warning; a variant without a name is called `variant{index}`.
+pub(super) fn variants(
+    json: &serde_json::Value,
+    instances: &[Instance],
+    materials: usize,
+    path: &std::path::Path,
+    warnings: &mut Vec<String>,
+) -> Variants {
+    let Some(root) = json.pointer("/extensions/KHR_materials_variants/variants") else {
+        return Variants::default();
+    };
+    let names: Vec<String> = root
+        .as_array()
+        .map(|list| {
+            list.iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    v.get("name")
+                        .and_then(serde_json::Value::as_str)
+                        .map_or_else(|| format!("variant{i}"), str::to_owned)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let index = |v: &serde_json::Value| v.as_u64().and_then(|i| usize::try_from(i).ok());
+    let mut objects = Vec::new();
+    for (object, instance) in instances.iter().enumerate() {
+        let primitive = &json["meshes"][instance.mesh]["primitives"][instance.primitive];
+        let Some(list) = primitive
+            .pointer("/extensions/KHR_materials_variants/mappings")
+            .and_then(serde_json::Value::as_array)
+        else {
+            continue;
+        };
+        let mut mappings = Vec::new();
+        for mapping in list {
+            let material = mapping.get("material").and_then(index).filter(|&m| m < materials);
+            let variants = mapping.get("variants").and_then(serde_json::Value::as_array);
+            let (Some(material), Some(variants)) = (material, variants) else {
+                warnings.push(format!(
+                    "{}: mesh {} primitive {}: a KHR_materials_variants mapping without a valid \
+                     material or variants list is ignored",
+                    path.display(),
+                    instance.mesh,
+                    instance.primitive
+                ));
+                continue;
+            };
+            for variant in variants.iter().map(index) {
+                match variant.filter(|&v| v < names.len()) {
+                    Some(v) => mappings.push((v, material)),
+                    None => warnings.push(format!(
+                        "{}: mesh {} primitive {}: a KHR_materials_variants mapping names a \
+                         variant the file does not have; ignored",
+                        path.display(),
+                        instance.mesh,
+                        instance.primitive
+                    )),
+                }
+            }
+        }
+        let default = primitive.get("material").and_then(index).filter(|&m| m < materials);
+        objects.push(VariantObject { object, default, mappings });
+    }
+    Variants { names, objects }
 }
