@@ -447,6 +447,38 @@ pub enum AlphaMode {
     Blend,
 }
 
+impl Material {
+    /// Every texture the material uses, core and extension slots alike: what must change
+    /// with the indices of [`Asset::textures`] (as when two assets are merged).
+    pub fn textures_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
+        let x = &mut self.extensions;
+        let specular = x.specular.as_mut().map(|s| [&mut s.texture, &mut s.color_texture]);
+        let clearcoat = x
+            .clearcoat
+            .as_mut()
+            .map(|c| [&mut c.texture, &mut c.roughness_texture, &mut c.normal_texture]);
+        let sheen = x.sheen.as_mut().map(|s| [&mut s.color_texture, &mut s.roughness_texture]);
+        let iridescence =
+            x.iridescence.as_mut().map(|i| [&mut i.texture, &mut i.thickness_texture]);
+        [
+            &mut self.base_color_texture,
+            &mut self.normal_texture,
+            &mut self.metallic_roughness_texture,
+            &mut self.occlusion_texture,
+            &mut self.emissive_texture,
+        ]
+        .into_iter()
+        .chain(specular.into_iter().flatten())
+        .chain(clearcoat.into_iter().flatten())
+        .chain(sheen.into_iter().flatten())
+        .chain(iridescence.into_iter().flatten())
+        .chain(x.anisotropy.as_mut().map(|a| &mut a.texture))
+        .chain(x.transmission.as_mut().map(|t| &mut t.texture))
+        .chain(x.volume.as_mut().map(|v| &mut v.thickness_texture))
+        .flatten()
+    }
+}
+
 impl Default for Material {
     fn default() -> Self {
         Self {

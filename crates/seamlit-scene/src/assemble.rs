@@ -250,16 +250,7 @@ fn merge(parts: Vec<Asset>) -> Asset {
             object.material = object.material.map(|m| m + materials);
         }
         for material in &mut part.materials {
-            for t in [
-                &mut material.base_color_texture,
-                &mut material.normal_texture,
-                &mut material.metallic_roughness_texture,
-                &mut material.occlusion_texture,
-                &mut material.emissive_texture,
-            ]
-            .into_iter()
-            .flatten()
-            {
+            for t in material.textures_mut() {
                 t.texture += textures;
             }
         }
@@ -300,6 +291,41 @@ mod tests {
             a.model.objects[0].material = Some(materials - 1);
         }
         a
+    }
+
+    /// A second model's textures come after the first's: every slot that names one, the
+    /// extensions' included, is moved by as many.
+    #[test]
+    fn merging_moves_every_texture_index_of_the_later_models() {
+        use seamlit_io::{Clearcoat, Volume};
+        let texture = |texture| Some(TextureRef { texture, tex_coord: 0, transform: None });
+        let blank =
+            || Texture { name: String::new(), source: TextureSource::Generated, image: None };
+        let mut first = asset("a", 1);
+        first.textures = vec![blank(), blank()];
+        let mut second = asset("b", 1);
+        second.textures = (0..4).map(|_| blank()).collect();
+        let m = &mut second.materials[0];
+        m.base_color_texture = texture(0);
+        m.extensions.clearcoat = Some(Clearcoat {
+            factor: 1.0,
+            texture: texture(1),
+            roughness: 0.0,
+            roughness_texture: None,
+            normal_texture: texture(2),
+            normal_scale: 1.0,
+        });
+        m.extensions.volume = Some(Volume {
+            thickness: 1.0,
+            thickness_texture: texture(3),
+            attenuation_distance: None,
+            attenuation_color: [1.0; 3],
+        });
+        let merged = merge(vec![first, second]);
+        assert_eq!(merged.textures.len(), 6);
+        let mut m = merged.materials[1].clone();
+        let indices: Vec<usize> = m.textures_mut().map(|t| t.texture).collect();
+        assert_eq!(indices, [2, 3, 4, 5]);
     }
 
     #[test]
