@@ -208,6 +208,22 @@ def test_fix_file_writes_what_the_command_line_writes(tmp_path):
         assert result["report"]["objects"] == len(result["changes"]["objects"])
 
 
+def test_a_usd_stage_gets_a_layer_of_fixed_normals_as_from_the_command_line(tmp_path):
+    source = MODELS / "usd" / "head_body.usda"
+    # Outputs at the same depth: the layer names its input by the same relative path.
+    ours, theirs = tmp_path / "py" / "fixed.usda", tmp_path / "cli" / "fixed.usda"
+    ours.parent.mkdir()
+    theirs.parent.mkdir()
+    seamlit.fix_file(source, ours)
+    run = cli("fix", source, "-o", theirs)
+    assert run.returncode == 0, run.stderr
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert b"subLayers" in ours.read_bytes()
+    before = seamlit.inspect(source)["as_loaded"]["cross_object"]["max_normal_angle_deg"]
+    after = seamlit.inspect(ours)["as_loaded"]["cross_object"]["max_normal_angle_deg"]
+    assert before > 20.0 and after < 0.01, (before, after)
+
+
 def test_keep_compression_writes_what_the_command_line_writes(tmp_path):
     compressed = MODELS / "compressed"
     source = compressed / "teapot_mo.glb"
