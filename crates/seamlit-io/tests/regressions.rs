@@ -57,6 +57,9 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("obj_mtl_colour_with_two_numbers.obj", None),
     ("obj_mtllib_escapes.obj", Some("leaves the model's folder")),
     ("obj_only_statements_no_values.obj", Some("obj_only_statements_no_values.obj:1:")),
+    // Found by the `usd` fuzz target: a corrupted usda whose xformOpOrder token runs on to the
+    // end of the file; looking the op up by that name sent openusd into a loop.
+    ("usd_xform_op_name_runs_to_the_end.usda", Some("not a property name")),
 ];
 
 fn inputs() -> Vec<PathBuf> {

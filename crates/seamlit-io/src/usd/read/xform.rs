@@ -101,9 +101,27 @@ fn local(prim: &usd::Prim) -> anyhow::Result<(DMat4, bool)> {
             reset = true;
             continue;
         }
-        m *= op(prim, name).with_context(|| format!("xformOp {name:?}"))?;
+        m *= op(prim, name).with_context(|| format!("xformOp {:?}", shortened(name)))?;
     }
     Ok((m, reset))
+}
+
+/// `name`, cut after 60 characters (with "..."): a corrupted file's token can be its whole rest.
+fn shortened(name: &str) -> String {
+    match name.char_indices().nth(60) {
+        Some((at, _)) => format!("{}...", &name[..at]),
+        None => name.to_owned(),
+    }
+}
+
+/// Whether `name` is a USD property name: identifiers (a letter or `_`, then letters, digits
+/// or `_`) joined by `:`.
+fn is_property_name(name: &str) -> bool {
+    name.split(':').all(|part| {
+        let mut chars = part.chars();
+        chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+    })
 }
 
 /// One xformOp's matrix (column vectors), inverted for `!invert!`.
@@ -116,6 +134,11 @@ fn op(prim: &usd::Prim, name: &str) -> anyhow::Result<DMat4> {
     else {
         bail!("not an xformOp name");
     };
+    // Checked before openusd is asked for it: a name that is no property name (a cut or
+    // corrupted file's token) sent openusd's path handling into a loop (the `usd` fuzz target).
+    if !is_property_name(attribute) {
+        bail!("not a property name");
+    }
     let Some(v) = value(&prim.attribute(attribute))? else {
         bail!("the attribute {attribute} has no value");
     };
