@@ -22,7 +22,63 @@ pub(super) fn open(path: &Path) -> Result<usd::Stage, IoError> {
     let Some(root) = path.to_str() else {
         return Err(layer_error(path, "the path is not UTF-8, which openusd needs".to_owned()));
     };
+    check_text_nesting(path)?;
     usd::Stage::open(root).map_err(|e| layer_error(path, format!("{e:#}")))
+}
+
+/// The deepest nesting of `{`, `(` and `[` a text layer may have. openusd's text parser
+/// recurses once a level: 20,000 nested prims or dictionaries overflowed the stack (an abort,
+/// no error) and 3,000 took over a minute (the `usd` fuzz target, docs/usd.md). Real stages
+/// nest prims tens of levels deep.
+const MAX_TEXT_NESTING: usize = 256;
+
+/// Refuses a root layer in text form (`#usda`) nested deeper than [`MAX_TEXT_NESTING`]
+/// before openusd parses it. Layers it references are parsed by openusd unchecked.
+fn check_text_nesting(path: &Path) -> Result<(), IoError> {
+    // Unreadable: openusd says why.
+    let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
+    if !bytes.starts_with(b"#usda") {
+        return Ok(());
+    }
+    let depth = text_nesting(&bytes);
+    if depth > MAX_TEXT_NESTING {
+        let message = format!(
+            "brackets nested {depth} levels deep, more than the {MAX_TEXT_NESTING} seamlit reads"
+        );
+        return Err(layer_error(path, message));
+    }
+    Ok(())
+}
+
+/// The deepest nesting of `{`, `(` and `[` in usda text, outside strings (`"..."`, `'...'`,
+/// their triple forms), asset paths (`@...@`, `@@@...@@@`) and `#` comments.
+fn text_nesting(text: &[u8]) -> usize {
+    let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
+    while i < text.len() {
+        match text[i] {
+            b'#' => {
+                i += text[i..].iter().position(|&c| c == b'\n').unwrap_or(text.len() - i);
+            }
+            quote @ (b'"' | b'\'' | b'@') => {
+                let close: &[u8] =
+                    if text[i..].starts_with(&[quote; 3]) { &text[i..i + 3] } else { &text[i..=i] };
+                let mut j = i + close.len();
+                // Inside: a backslash escapes the next byte (not in asset paths).
+                while j < text.len() && !text[j..].starts_with(close) {
+                    j += if text[j] == b'\\' && quote != b'@' { 2 } else { 1 };
+                }
+                i = j + close.len() - 1;
+            }
+            b'{' | b'(' | b'[' => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            b'}' | b')' | b']' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        i += 1;
+    }
+    deepest
 }
 
 /// A [`UsdKind::Layer`] error about the root layer.
@@ -177,4 +233,19 @@ fn quoted(text: &str) -> String {
     }
     out.push('"');
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::text_nesting;
+
+    #[test]
+    fn nesting_counts_brackets_outside_strings_paths_and_comments() {
+        assert_eq!(text_nesting(br#"def "A" { def "B" { int[] x = [(1, 2)] } }"#), 4);
+        assert_eq!(text_nesting(b"#usda 1.0 # {{{{\nx"), 0);
+        assert_eq!(text_nesting(br#"string s = "{{{\"{{" asset a = @b[c].usd@"#), 0);
+        assert_eq!(text_nesting(br#"string d = """{ " {""" custom = '''[[[''' "#), 0);
+        assert_eq!(text_nesting(b"}}} ( ) ("), 1, "stray closers do not go below zero");
+        assert_eq!(text_nesting(br#""unterminated {{{"#), 0);
+    }
 }
