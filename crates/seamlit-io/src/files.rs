@@ -71,8 +71,8 @@ pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Reads a file whole, refusing files over `options.max_file_bytes`.
-pub(crate) fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
+/// Refuses a file over `options.max_file_bytes` (and one that cannot be looked at).
+pub(crate) fn check_size(path: &Path, options: &LoadOptions) -> Result<(), IoError> {
     let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
     if size > options.max_file_bytes {
         return Err(IoError::TooLarge {
@@ -81,6 +81,12 @@ pub(crate) fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, 
             actual: size,
         });
     }
+    Ok(())
+}
+
+/// Reads a file whole, refusing files over `options.max_file_bytes`.
+pub(crate) fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
+    check_size(path, options)?;
     std::fs::read(path).map_err(|e| IoError::io(path, e))
 }
 

@@ -55,14 +55,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 
 /// [`load`], with what the `.usda` writer needs of each object's mesh.
 pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
-    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
-    if size > options.max_file_bytes {
-        return Err(IoError::TooLarge {
-            path: path.to_path_buf(),
-            limit: options.max_file_bytes,
-            actual: size,
-        });
-    }
+    crate::files::check_size(path, options)?;
     let (mut asset, sources) = stage::guarded(path, || read_stage(path, options))?;
     let mut warnings = std::mem::take(&mut asset.warnings);
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
