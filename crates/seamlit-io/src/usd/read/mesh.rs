@@ -143,85 +143,205 @@ pub(super) fn read(
     warnings: &mut Vec<String>,
 ) -> Result<Read, IoError> {
     let path = prim.path().clone();
-    let bad = |message: String| IoError::Usd {
-        path: file.to_path_buf(),
-        kind: UsdKind::Prim { prim: path.as_str().to_owned(), message },
+    let at =
+        At { file, prim: path.as_str(), limit: options.max_elements.min(u32::MAX as usize - 1) };
+    let topology = Topology::read(prim, &at, warnings)?;
+    let subdivision =
+        at.token(prim, "subdivisionScheme")?.unwrap_or_else(|| "catmullClark".to_owned());
+    let subdivision = (subdivision != "none").then_some(subdivision);
+    let left_handed = at.token(prim, "orientation")?.as_deref() == Some("leftHanded");
+    let (normals, plain_normals) =
+        read_normals(prim, &at, &topology, subdivision.as_deref(), warnings)?;
+    let uvs = read_uvs(prim, &at, &topology, warnings)?;
+
+    let mut corners = Corners::build(&topology, normals.as_ref(), uvs.as_ref(), &at)?;
+    let positions: Vec<Vec3> =
+        corners.keys.iter().map(|k| topology.points[k[0] as usize]).collect();
+    corners.ear_clip(&positions);
+    let model = up * world;
+    if model.determinant() == 0.0 || !model.is_finite() {
+        return Err(at.bad("its world transform is singular or not finite"));
+    }
+    if left_handed != (model.determinant() < 0.0) {
+        corners.flip_winding();
+    }
+
+    let corner_normals = normals.as_ref().map(|n| topology.corner_values(n));
+    let object_normals =
+        normals.map(|n| corners.keys.iter().map(|k| n.values[k[1] as usize]).collect());
+    let object_uvs = uvs.map(|u| corners.keys.iter().map(|k| u.values[k[2] as usize]).collect());
+    let transform = model.as_mat4();
+    let object = Object {
+        normals: object_normals,
+        uvs: object_uvs,
+        transform: (transform != Mat4::IDENTITY).then_some(transform),
+        ..Object::new(at.prim, positions, corners.triangles)
     };
-    let openusd = |e: anyhow::Error| bad(format!("{e:#}"));
-    let points = vec3s(&prim.attribute("points")).context("points").map_err(openusd)?;
-    let points = points.unwrap_or_default();
-    let samples = prim.attribute("points").time_samples().map_err(openusd)?;
-    if samples.is_some_and(|s| !s.is_empty()) {
-        warnings.push(format!(
-            "{}: mesh <{}>: its points are time-sampled; read at their default, else their earliest sample, and the normals fixed (and written) for that shape only",
-            file.display(),
-            path.as_str()
-        ));
-    }
-    let counts = ints(&prim.attribute("faceVertexCounts"))
-        .context("faceVertexCounts")
-        .map_err(openusd)?
-        .unwrap_or_default();
-    let indices = ints(&prim.attribute("faceVertexIndices"))
-        .context("faceVertexIndices")
-        .map_err(openusd)?
-        .unwrap_or_default();
-    let limit = options.max_elements.min(u32::MAX as usize - 1);
-    let too_many = |what: &str, actual: usize| IoError::TooManyElements {
-        path: file.to_path_buf(),
-        what: format!("{what} of mesh <{}>", path.as_str()),
-        limit,
-        actual,
+    let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
+    let source = MeshSource {
+        prim: at.prim.to_owned(),
+        triangle_corners: corners.triangle_corners,
+        corner_vertex: corners.corner_vertex,
+        corner_normals,
+        subdivision,
+        plain_normals,
+        instance_proxy,
     };
-    if points.len() > limit {
-        return Err(too_many("the points", points.len()));
+    Ok(Read { object, source })
+}
+
+/// The mesh being read: where its errors and warnings point, and the element limit.
+struct At<'a> {
+    file: &'a Path,
+    prim: &'a str,
+    /// The most points, face corners, triangles or vertices a mesh may have.
+    limit: usize,
+}
+
+impl At<'_> {
+    /// A value of the prim that cannot be read or does not fit the mesh.
+    fn bad(&self, message: impl Into<String>) -> IoError {
+        IoError::Usd {
+            path: self.file.to_path_buf(),
+            kind: UsdKind::Prim { prim: self.prim.to_owned(), message: message.into() },
+        }
     }
-    if indices.len() > limit {
-        return Err(too_many("the face corners", indices.len()));
+
+    /// An error openusd (or a reader here) gave.
+    fn openusd(&self, e: anyhow::Error) -> IoError {
+        self.bad(format!("{e:#}"))
     }
-    if counts.iter().any(|&c| c < 0) {
-        return Err(bad("a faceVertexCounts entry is negative".to_owned()));
+
+    /// `actual` elements of `what`, past the limit.
+    fn too_many(&self, what: &str, actual: usize) -> IoError {
+        IoError::TooManyElements {
+            path: self.file.to_path_buf(),
+            what: format!("{what} of mesh <{}>", self.prim),
+            limit: self.limit,
+            actual,
+        }
     }
-    let total: usize = counts.iter().map(|&c| c as usize).sum();
-    if total != indices.len() {
-        return Err(bad(format!(
-            "faceVertexCounts add up to {total} corners, faceVertexIndices has {}",
-            indices.len()
-        )));
+
+    /// A warning about the mesh.
+    fn warn(&self, warnings: &mut Vec<String>, message: &str) {
+        warnings.push(format!("{}: mesh <{}>: {message}", self.file.display(), self.prim));
     }
-    if let Some(i) = indices.iter().find(|&&i| i < 0 || i as usize >= points.len()) {
-        return Err(bad(format!("faceVertexIndices holds {i}, for {} points", points.len())));
-    }
-    if !points.iter().all(|p| p.is_finite()) {
-        return Err(bad("a point is not finite".to_owned()));
-    }
-    let token = |name: &str| -> Result<Option<String>, IoError> {
-        Ok(value(&prim.attribute(name)).map_err(openusd)?.and_then(|v| match v {
+
+    /// The token (or string) attribute `name`, if it has a value.
+    fn token(&self, prim: &usd::Prim, name: &str) -> Result<Option<String>, IoError> {
+        let v = value(&prim.attribute(name)).map_err(|e| self.openusd(e))?;
+        Ok(v.and_then(|v| match v {
             sdf::Value::Token(t) => Some(t.as_str().to_owned()),
             sdf::Value::String(s) => Some(s),
             _ => None,
         }))
-    };
-    let scheme = token("subdivisionScheme")?.unwrap_or_else(|| "catmullClark".to_owned());
-    let left_handed = token("orientation")?.as_deref() == Some("leftHanded");
-    let (faces, corners) = (counts.len(), indices.len());
-    let fits = |primvar: Option<Primvar<Vec3>>,
-                name: &str,
-                warnings: &mut Vec<String>|
-     -> Option<Primvar<Vec3>> {
+    }
+
+    /// `primvar` if it fits the topology, else `None` and a warning naming it.
+    fn fitting<T>(
+        &self,
+        primvar: Option<Primvar<T>>,
+        name: &str,
+        topology: &Topology,
+        warnings: &mut Vec<String>,
+    ) -> Option<Primvar<T>> {
         let primvar = primvar?;
-        match primvar.misfit(faces, corners, points.len()) {
+        let misfit =
+            primvar.misfit(topology.counts.len(), topology.indices.len(), topology.points.len());
+        match misfit {
             None => Some(primvar),
             Some(reason) => {
-                warnings.push(format!(
-                    "{}: mesh <{}>: {name} ignored: {reason}",
-                    file.display(),
-                    path.as_str()
-                ));
+                self.warn(warnings, &format!("{name} ignored: {reason}"));
                 None
             }
         }
-    };
+    }
+}
+
+/// A mesh's points and polygons, checked: counts add up, indices name points, points are
+/// finite, sizes within the limit.
+struct Topology {
+    points: Vec<Vec3>,
+    /// `faceVertexCounts`, none negative.
+    counts: Vec<i32>,
+    /// `faceVertexIndices`, each a point.
+    indices: Vec<i32>,
+}
+
+impl Topology {
+    fn read(prim: &usd::Prim, at: &At<'_>, warnings: &mut Vec<String>) -> Result<Self, IoError> {
+        let openusd = |e: anyhow::Error| at.openusd(e);
+        let points = vec3s(&prim.attribute("points")).context("points").map_err(openusd)?;
+        let points = points.unwrap_or_default();
+        let samples = prim.attribute("points").time_samples().map_err(openusd)?;
+        if samples.is_some_and(|s| !s.is_empty()) {
+            at.warn(
+                warnings,
+                "its points are time-sampled; read at their default, else their earliest sample, and the normals fixed (and written) for that shape only",
+            );
+        }
+        let ints_of =
+            |name: &str| ints(&prim.attribute(name)).context(name.to_owned()).map_err(openusd);
+        let counts = ints_of("faceVertexCounts")?.unwrap_or_default();
+        let indices = ints_of("faceVertexIndices")?.unwrap_or_default();
+        if points.len() > at.limit {
+            return Err(at.too_many("the points", points.len()));
+        }
+        if indices.len() > at.limit {
+            return Err(at.too_many("the face corners", indices.len()));
+        }
+        if counts.iter().any(|&c| c < 0) {
+            return Err(at.bad("a faceVertexCounts entry is negative"));
+        }
+        let total: usize = counts.iter().map(|&c| c as usize).sum();
+        if total != indices.len() {
+            return Err(at.bad(format!(
+                "faceVertexCounts add up to {total} corners, faceVertexIndices has {}",
+                indices.len()
+            )));
+        }
+        if let Some(i) = indices.iter().find(|&&i| i < 0 || i as usize >= points.len()) {
+            return Err(at.bad(format!("faceVertexIndices holds {i}, for {} points", points.len())));
+        }
+        if !points.iter().all(|p| p.is_finite()) {
+            return Err(at.bad("a point is not finite"));
+        }
+        Ok(Self { points, counts, indices })
+    }
+
+    /// Per face: its number of corners and the range of its corners.
+    fn faces(&self) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + '_ {
+        let mut first = 0usize;
+        self.counts.iter().enumerate().map(move |(face, &count)| {
+            let range = first..first + count as usize;
+            first = range.end;
+            (face, range)
+        })
+    }
+
+    /// Per face corner: `primvar`'s value there.
+    fn corner_values<T: Copy>(&self, primvar: &Primvar<T>) -> Vec<T> {
+        let mut out = Vec::with_capacity(self.indices.len());
+        for (face, range) in self.faces() {
+            for c in range {
+                let point = self.indices[c] as usize;
+                out.push(primvar.values[primvar.index(face, c, point) as usize]);
+            }
+        }
+        out
+    }
+}
+
+/// The normals as the rules of UsdGeomMesh decide them (`primvars:normals` over `normals`,
+/// none on a subdivision surface), and whether a plain `normals` has a value.
+fn read_normals(
+    prim: &usd::Prim,
+    at: &At<'_>,
+    topology: &Topology,
+    subdivision: Option<&str>,
+    warnings: &mut Vec<String>,
+) -> Result<(Option<Primvar<Vec3>>, bool), IoError> {
+    let openusd = |e: anyhow::Error| at.openusd(e);
     let primvar_normals = primvar(prim, "primvars:normals", vec3s, Interpolation::Constant)
         .context("primvars:normals")
         .map_err(openusd)?;
@@ -229,145 +349,143 @@ pub(super) fn read(
         .context("normals")
         .map_err(openusd)?;
     let plain_normals = plain.is_some();
-    let normals = match primvar_normals {
-        Some(n) => Some(n),
-        None => plain,
-    };
-    let subdivision = (scheme != "none").then_some(scheme);
-    let normals = match (&subdivision, normals) {
+    let normals = primvar_normals.or(plain);
+    let normals = match (subdivision, normals) {
         (Some(scheme), Some(_)) => {
             warnings.push(format!(
                 "{}: mesh <{}> is a subdivision surface (subdivisionScheme {scheme}): renderers ignore its authored normals, so seamlit reads it without them and writes none on it",
-                file.display(),
-                path.as_str()
+                at.file.display(),
+                at.prim
             ));
             None
         }
-        (_, normals) => fits(normals, "its normals", warnings),
+        (_, normals) => at.fitting(normals, "its normals", topology, warnings),
     };
     if let Some(n) = &normals
         && !n.values.iter().all(|v| v.is_finite())
     {
-        return Err(bad("a normal is not finite".to_owned()));
+        return Err(at.bad("a normal is not finite"));
     }
-    let uvs = uv_primvar(prim).map_err(openusd)?.and_then(|(name, uvs)| {
-        match uvs.misfit(faces, corners, points.len()) {
-            None => Some(uvs),
-            Some(reason) => {
-                warnings.push(format!(
-                    "{}: mesh <{}>: {name} ignored: {reason}",
-                    file.display(),
-                    path.as_str()
-                ));
-                None
-            }
-        }
-    });
+    Ok((normals, plain_normals))
+}
+
+/// The first texture coordinates, if they fit the mesh.
+fn read_uvs(
+    prim: &usd::Prim,
+    at: &At<'_>,
+    topology: &Topology,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Primvar<Vec2>>, IoError> {
+    let Some((name, uvs)) = uv_primvar(prim).map_err(|e| at.openusd(e))? else {
+        return Ok(None);
+    };
+    let uvs = at.fitting(Some(uvs), &name, topology, warnings);
     if let Some(uv) = &uvs
         && !uv.values.iter().all(|v| v.is_finite())
     {
-        return Err(bad("a texture coordinate is not finite".to_owned()));
+        return Err(at.bad("a texture coordinate is not finite"));
     }
+    Ok(uvs)
+}
 
-    // A vertex per distinct (point, normal value, UV value).
-    let mut vertex_of: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut keys: Vec<[u32; 3]> = Vec::new();
-    let mut corner_vertex = vec![NONE; corners];
-    let mut corner_normals = normals.as_ref().map(|_| vec![Vec3::ZERO; corners]);
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut triangle_corners: Vec<[u32; 3]> = Vec::new();
-    let mut polygons: Vec<(usize, usize)> = Vec::new();
-    let mut first = 0usize;
-    for (face, &count) in counts.iter().enumerate() {
-        let count = count as usize;
-        let range = first..first + count;
-        first += count;
-        for c in range.clone() {
-            let point = indices[c] as usize;
-            if let (Some(n), Some(out)) = (&normals, &mut corner_normals) {
-                out[c] = n.values[n.index(face, c, point) as usize];
+/// The object's vertices and triangles made from the face corners: a vertex per distinct
+/// (point, normal value, UV value), each polygon a fan (ear-clipped later where it is not
+/// convex).
+struct Corners {
+    /// Per vertex: its point, normal value index and UV value index ([`NONE`] without).
+    keys: Vec<[u32; 3]>,
+    /// Per face corner: its vertex, [`NONE`] on a face of fewer than three corners.
+    corner_vertex: Vec<u32>,
+    triangles: Vec<[u32; 3]>,
+    /// Per triangle, per corner: the face corner it is.
+    triangle_corners: Vec<[u32; 3]>,
+    /// Per polygon of three corners or more: its first triangle and its number of corners.
+    polygons: Vec<(usize, usize)>,
+}
+
+impl Corners {
+    fn build(
+        topology: &Topology,
+        normals: Option<&Primvar<Vec3>>,
+        uvs: Option<&Primvar<Vec2>>,
+        at: &At<'_>,
+    ) -> Result<Self, IoError> {
+        let mut vertex_of: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut this = Self {
+            keys: Vec::new(),
+            corner_vertex: vec![NONE; topology.indices.len()],
+            triangles: Vec::new(),
+            triangle_corners: Vec::new(),
+            polygons: Vec::new(),
+        };
+        for (face, range) in topology.faces() {
+            let count = range.len();
+            if count < 3 {
+                continue;
+            }
+            for c in range.clone() {
+                let point = topology.indices[c] as usize;
+                #[expect(clippy::cast_possible_truncation, reason = "points are below the limit")]
+                let key = [
+                    point as u32,
+                    normals.map_or(NONE, |n| n.index(face, c, point)),
+                    uvs.map_or(NONE, |u| u.index(face, c, point)),
+                ];
+                let next = this.keys.len();
+                let v = *vertex_of.entry(key).or_insert_with(|| {
+                    this.keys.push(key);
+                    #[expect(clippy::cast_possible_truncation, reason = "below the limit")]
+                    let next = next as u32;
+                    next
+                });
+                this.corner_vertex[c] = v;
+            }
+            if this.triangles.len() + count - 2 > at.limit {
+                return Err(at.too_many("the triangles", this.triangles.len() + count - 2));
+            }
+            this.polygons.push((this.triangles.len(), count));
+            let base = range.start;
+            for k in 1..count - 1 {
+                let corners = [base, base + k, base + k + 1];
+                this.triangles.push(corners.map(|c| this.corner_vertex[c]));
+                #[expect(clippy::cast_possible_truncation, reason = "corners are below the limit")]
+                this.triangle_corners.push(corners.map(|c| c as u32));
             }
         }
-        if count < 3 {
-            continue;
+        if this.keys.len() > at.limit {
+            return Err(at.too_many("the vertices", this.keys.len()));
         }
-        for c in range.clone() {
-            let point = indices[c] as usize;
-            #[expect(clippy::cast_possible_truncation, reason = "points are below the limit")]
-            let key = [
-                point as u32,
-                normals.as_ref().map_or(NONE, |n| n.index(face, c, point)),
-                uvs.as_ref().map_or(NONE, |u| u.index(face, c, point)),
-            ];
-            let next = keys.len();
-            let v = *vertex_of.entry(key).or_insert_with(|| {
-                keys.push(key);
-                #[expect(clippy::cast_possible_truncation, reason = "below the limit")]
-                let next = next as u32;
-                next
-            });
-            corner_vertex[c] = v;
-        }
-        if triangles.len() + count - 2 > limit {
-            return Err(too_many("the triangles", triangles.len() + count - 2));
-        }
-        polygons.push((triangles.len(), count));
-        let base = range.start;
-        for k in 1..count - 1 {
-            let corners = [base, base + k, base + k + 1];
-            triangles.push(corners.map(|c| corner_vertex[c]));
-            #[expect(clippy::cast_possible_truncation, reason = "corners are below the limit")]
-            triangle_corners.push(corners.map(|c| c as u32));
+        Ok(this)
+    }
+
+    /// Ear-clips the polygons that are not convex and maps their new triangles' corners back
+    /// to the face corners.
+    fn ear_clip(&mut self, positions: &[Vec3]) {
+        let polygons = self.polygons.iter().copied().filter(|&(_, n)| n > 3);
+        let clipped = crate::obj::polygon::triangulate(&mut self.triangles, positions, polygons);
+        for (first, vertices) in clipped {
+            let face_start = self.triangle_corners[first][0] as usize;
+            for t in first..first + vertices.len() - 2 {
+                let corners = self.triangles[t].map(|v| {
+                    let j = vertices.iter().position(|&w| w == v).unwrap_or(0);
+                    #[expect(
+                        clippy::cast_possible_truncation,
+                        reason = "corners are below the limit"
+                    )]
+                    let c = (face_start + j) as u32;
+                    c
+                });
+                self.triangle_corners[t] = corners;
+            }
         }
     }
-    if keys.len() > limit {
-        return Err(too_many("the vertices", keys.len()));
-    }
-    let positions: Vec<Vec3> = keys.iter().map(|k| points[k[0] as usize]).collect();
-    // Polygons that are not convex are ear-clipped; map their new triangles' corners back.
-    let polygons = polygons.into_iter().filter(|&(_, n)| n > 3);
-    for (first, vertices) in crate::obj::polygon::triangulate(&mut triangles, &positions, polygons)
-    {
-        let face_start = triangle_corners[first][0] as usize;
-        for t in first..first + vertices.len() - 2 {
-            let corners = triangles[t].map(|v| {
-                let j = vertices.iter().position(|&w| w == v).unwrap_or(0);
-                #[expect(clippy::cast_possible_truncation, reason = "corners are below the limit")]
-                let c = (face_start + j) as u32;
-                c
-            });
-            triangle_corners[t] = corners;
-        }
-    }
-    let model = up * world;
-    if model.determinant() == 0.0 || !model.is_finite() {
-        return Err(bad("its world transform is singular or not finite".to_owned()));
-    }
-    if left_handed != (model.determinant() < 0.0) {
-        for t in triangles.iter_mut().chain(&mut triangle_corners) {
+
+    /// Reverses every triangle's winding.
+    fn flip_winding(&mut self) {
+        for t in self.triangles.iter_mut().chain(&mut self.triangle_corners) {
             t.swap(1, 2);
         }
     }
-    let object_normals = normals.map(|n| keys.iter().map(|k| n.values[k[1] as usize]).collect());
-    let object_uvs = uvs.map(|u| keys.iter().map(|k| u.values[k[2] as usize]).collect());
-    let transform = model.as_mat4();
-    let object = Object {
-        normals: object_normals,
-        uvs: object_uvs,
-        transform: (transform != Mat4::IDENTITY).then_some(transform),
-        ..Object::new(path.as_str(), positions, triangles)
-    };
-    let instance_proxy = prim.is_instance_proxy().map_err(openusd)?;
-    let source = MeshSource {
-        prim: path.as_str().to_owned(),
-        triangle_corners,
-        corner_vertex,
-        corner_normals,
-        subdivision,
-        plain_normals,
-        instance_proxy,
-    };
-    Ok(Read { object, source })
 }
 
 /// The primvar `name` (its `interpolation` metadata, else `default`; its `:indices`), if it
