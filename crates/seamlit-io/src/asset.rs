@@ -51,9 +51,20 @@ pub struct Asset {
     /// `None` for other formats; set it to `None` to write with the generic writer instead.
     /// See [`ObjSource`].
     pub obj_source: Option<ObjSource>,
+    /// For an asset loaded from OpenUSD: how the stage was read, so that [`crate::save`] to
+    /// `.usda` reads it again the same way. `None` for other formats. See [`UsdSource`].
+    pub usd_source: Option<UsdSource>,
     /// glTF KHR_materials_variants: the file's variants and the material each gives the
     /// objects it maps ([`Asset::select_variant`]); empty for a file without them.
     pub variants: Variants,
+}
+
+/// How an OpenUSD stage was read ([`Asset::usd_source`]): the folders besides the root
+/// layer's that its layers and textures were allowed to come from
+/// ([`crate::LoadOptions::asset_roots`]). The `.usda` writer reads the stage again with them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct UsdSource {
+    pub(crate) asset_roots: Vec<PathBuf>,
 }
 
 /// KHR_materials_variants: named sets of materials for the same geometry.

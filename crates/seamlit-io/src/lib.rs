@@ -76,8 +76,8 @@ pub use animation::{
 pub use asset::{
     AlphaMode, Anisotropy, Asset, Clearcoat, Iridescence, Material, Node, PbrExtensions,
     PunctualKind, PunctualLight, Sheen, Specular, Texture, TextureRef, TextureSource, Transmission,
-    UnknownVariant, UvTransform, VariantObject, Variants, Volume, roughness_to_shininess,
-    shininess_to_roughness,
+    UnknownVariant, UsdSource, UvTransform, VariantObject, Variants, Volume,
+    roughness_to_shininess, shininess_to_roughness,
 };
 pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
 pub use fbx::error::FbxKind;

@@ -30,6 +30,11 @@ pub struct LoadOptions {
     /// When set, a missing material library or texture is an error
     /// ([`crate::IoError::MissingFile`]) instead of a warning.
     pub strict: bool,
+    /// Folders, besides the model file's own, that the files a model names may come from:
+    /// a USD stage's layers (sublayers, references, payloads) and textures. A USD layer
+    /// elsewhere is refused ([`crate::UsdKind::Outside`]); a texture elsewhere is not used
+    /// (a warning).
+    pub asset_roots: Vec<std::path::PathBuf>,
 }
 
 impl LoadOptions {
@@ -45,10 +50,21 @@ impl LoadOptions {
         max_texture_size: 16384,
         max_texture_bytes: 1 << 30,
         strict: false,
+        asset_roots: Vec::new(),
     };
 
     /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).
-    pub const GEOMETRY: Self = Self { load_textures: false, ..Self::DEFAULT };
+    pub const GEOMETRY: Self = Self {
+        tessellation: 16,
+        load_textures: false,
+        max_file_bytes: 4 << 30,
+        max_elements: 1 << 28,
+        max_model_triangles: 1 << 26,
+        max_texture_size: 16384,
+        max_texture_bytes: 1 << 30,
+        strict: false,
+        asset_roots: Vec::new(),
+    };
 
     /// Sets the Newell tessellation (builder style).
     #[must_use]

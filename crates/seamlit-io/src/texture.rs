@@ -176,6 +176,10 @@ fn locate(
             TextureSource::Embedded { bytes, .. } => Some(Ok(Encoded::Bytes(Arc::clone(bytes)))),
             TextureSource::File(file) => match real_inside(folder, file) {
                 Ok(real) => Some(Ok(Encoded::File(real))),
+                // A folder the caller allows (a USD stage's textures beside its other layers).
+                Err(NotInside::Outside(target)) if in_asset_root(&target, options) => {
+                    Some(Ok(Encoded::File(target)))
+                }
                 Err(NotInside::Outside(target)) => {
                     return Err(IoError::LinkEscapes {
                         path: model.to_path_buf(),
@@ -206,6 +210,11 @@ fn locate(
         sources.push(source);
     }
     Ok(sources)
+}
+
+/// Whether `real` (a canonical path) lies in one of [`LoadOptions::asset_roots`].
+fn in_asset_root(real: &Path, options: &LoadOptions) -> bool {
+    options.asset_roots.iter().filter_map(|r| r.canonicalize().ok()).any(|r| real.starts_with(r))
 }
 
 /// The warning for a texture that cannot be decoded.

@@ -55,7 +55,12 @@ fn load(path: &Path) -> Asset {
 /// Fixes `input` as `seamlit fix` does by default and writes it to `output`; the warnings
 /// of loading and saving.
 fn fix_to(input: &Path, output: &Path) -> (Asset, Vec<String>) {
-    let mut asset = load(input);
+    fix_to_with(input, output, &LoadOptions::GEOMETRY)
+}
+
+/// [`fix_to`], loading with `options`.
+fn fix_to_with(input: &Path, output: &Path, options: &LoadOptions) -> (Asset, Vec<String>) {
+    let mut asset = seamlit_io::load(input, options).unwrap();
     let options = asset.fix_options(FixOptions::default(), false);
     seamlit_mesh::fix_in_place(&mut asset.model, &options).unwrap();
     let mut warnings = asset.warnings.clone();
@@ -76,7 +81,12 @@ fn seam_degrees(asset: &Asset) -> f32 {
 /// up): every position is a point of the prim and every point a position, within 1e-5 of the
 /// coordinates' size.
 fn assert_points_match_pxr(path: &Path) {
-    let asset = load(path);
+    assert_points_match_pxr_with(path, &LoadOptions::GEOMETRY);
+}
+
+/// [`assert_points_match_pxr`], loading with `options`.
+fn assert_points_match_pxr_with(path: &Path, options: &LoadOptions) {
+    let asset = seamlit_io::load(path, options).unwrap();
     let expected = pxr("points", &[path]);
     let names: BTreeSet<&str> = asset.model.objects.iter().map(|o| o.name.as_str()).collect();
     let pxr_names: BTreeSet<&str> =
@@ -389,6 +399,64 @@ fn stages_that_do_not_compose_fail_in_one_line() {
     assert!(asset.warnings.iter().any(|w| w.contains("gone_payload.usda")), "{:?}", asset.warnings);
 }
 
+/// A layer a stage names outside its folder (`../`, an absolute path) is not opened: one line
+/// naming the arc's layer and prim, exit status 2 at the command line; `asset_roots` allows
+/// the folder. Every layer, not only the root one, is held to the size limit and the text
+/// nesting limit.
+#[test]
+fn layers_outside_the_stages_folder_or_limits_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (inner, outer) = (dir.path().join("shot"), dir.path().join("elsewhere"));
+    std::fs::create_dir_all(&inner).unwrap();
+    std::fs::create_dir_all(&outer).unwrap();
+    let prop = std::fs::read_to_string(stage("layered/prop.usda")).unwrap();
+    std::fs::write(outer.join("prop.usda"), &prop).unwrap();
+    std::fs::write(inner.join("prop.usda"), &prop).unwrap();
+    let header = "#usda 1.0\n(\n    defaultPrim = \"World\"\n)\n\n";
+    let referencing = |name: &str, asset: &str| {
+        let path = inner.join(name);
+        let body = format!(
+            "{header}def Xform \"World\"\n{{\n    def \"Prop\" (\n        references = @{asset}@\n    )\n    {{\n    }}\n}}\n"
+        );
+        std::fs::write(&path, body).unwrap();
+        path
+    };
+    let absolute = outer.join("prop.usda").display().to_string();
+    for (name, asset) in [("up.usda", "../elsewhere/prop.usda"), ("absolute.usda", &absolute)] {
+        let path = referencing(name, asset);
+        let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+        assert!(matches!(err, IoError::Usd { kind: UsdKind::Outside { .. }, .. }), "{err:?}");
+        let line = err.to_string();
+        assert!(!line.contains('\n'), "{line}");
+        for needle in ["prop.usda", "/World/Prop", "outside the stage's folder", "--asset-root"] {
+            assert!(line.contains(needle), "{name}: {needle:?} in {line}");
+        }
+        let allowed = LoadOptions { asset_roots: vec![outer.clone()], ..LoadOptions::GEOMETRY };
+        assert_eq!(seamlit_io::load(&path, &allowed).unwrap().model.objects.len(), 1, "{name}");
+    }
+    // A sublayer outside: the stage would compose without it; refused all the same.
+    let path = inner.join("sub.usda");
+    std::fs::write(&path, "#usda 1.0\n(\n    subLayers = [@../elsewhere/prop.usda@]\n)\n").unwrap();
+    let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    assert!(matches!(err, IoError::Usd { kind: UsdKind::Outside { .. }, .. }), "{err:?}");
+
+    // Inside the folder, each layer a stage references is checked as the root one is.
+    let path = referencing("inside.usda", "./prop.usda");
+    assert_eq!(load(&path).model.objects.len(), 1);
+    // The referenced layer grows past a limit the root layer is within.
+    let limit = std::fs::metadata(&path).unwrap().len() + 100;
+    let padded = format!("{prop}\n# {}\n", "x".repeat(usize::try_from(limit).unwrap()));
+    std::fs::write(inner.join("prop.usda"), padded).unwrap();
+    assert_eq!(load(&path).model.objects.len(), 1);
+    let small = LoadOptions { max_file_bytes: limit, ..LoadOptions::GEOMETRY };
+    let err = seamlit_io::load(&path, &small).unwrap_err().to_string();
+    assert!(err.contains("prop.usda") && err.contains("more than the limit"), "{err}");
+    let deep = format!("{header}{}{}", "def \"A\" {\n".repeat(300), "}\n".repeat(300));
+    std::fs::write(inner.join("prop.usda"), deep).unwrap();
+    let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err().to_string();
+    assert!(err.contains("prop.usda") && err.contains("nested 300 levels"), "{err}");
+}
+
 /// Points with time samples and no default (an animated mesh) are read at the earliest
 /// sample, with a warning that the normals hold for that shape only.
 #[test]
@@ -479,18 +547,22 @@ fn cut_and_corrupted_stages_fail_cleanly_or_load() {
 #[test]
 fn stages_by_others_compose_back_unchanged() {
     let dir = tempfile::tempdir().unwrap();
-    for (name, relative, meshes) in [
+    // The car's entry layer references layers in sibling folders of the kit.
+    let kit = stage("others/USD_Mini_Car_Kit");
+    for (name, relative, meshes, roots) in [
         (
             "formula",
             "others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda",
             5,
+            vec![kit],
         ),
-        ("pyramids", "others/SubdivisionSurfaces/Creases_SpinningPyramids.usda", 3),
+        ("pyramids", "others/SubdivisionSurfaces/Creases_SpinningPyramids.usda", 3, vec![]),
     ] {
         let input = stage(relative);
-        assert_points_match_pxr(&input);
+        let options = LoadOptions { asset_roots: roots, ..LoadOptions::GEOMETRY };
+        assert_points_match_pxr_with(&input, &options);
         let output = dir.path().join(format!("{name}.usda"));
-        let (asset, warnings) = fix_to(&input, &output);
+        let (asset, warnings) = fix_to_with(&input, &output, &options);
         assert_eq!(asset.model.objects.len(), meshes, "{name}");
         let diff = pxr("compare", &[&input, &output]);
         assert_eq!(

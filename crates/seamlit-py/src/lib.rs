@@ -58,6 +58,9 @@ struct Settings {
     /// `--keep-compression` ([`SaveOptions::keep_compression`]).
     #[serde(default)]
     keep_compression: bool,
+    /// `--asset-root` ([`LoadOptions::asset_roots`]).
+    #[serde(default)]
+    asset_roots: Vec<PathBuf>,
 }
 
 /// `--tessellation`'s default.
@@ -66,6 +69,15 @@ fn default_tessellation() -> u32 {
 }
 
 impl Settings {
+    /// `base` with the settings that concern loading.
+    fn load_options(&self, base: LoadOptions) -> LoadOptions {
+        LoadOptions {
+            tessellation: self.tessellation,
+            asset_roots: self.asset_roots.clone(),
+            ..base
+        }
+    }
+
     /// The settings of a call, with the weld tolerance applied to the fix options.
     fn parse(json: &str) -> PyResult<Self> {
         let mut settings: Self =
@@ -98,7 +110,7 @@ fn json(value: &serde_json::Value) -> PyResult<String> {
 #[pyfunction]
 fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
-    let load_options = LoadOptions { tessellation: settings.tessellation, ..LoadOptions::DEFAULT };
+    let load_options = settings.load_options(LoadOptions::DEFAULT);
     let save = SaveOptions {
         overwrite_input: settings.overwrite_input,
         keep_compression: settings.keep_compression,
@@ -130,7 +142,7 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
 #[pyfunction]
 fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
-    let load_options = LoadOptions { tessellation: settings.tessellation, ..LoadOptions::GEOMETRY };
+    let load_options = settings.load_options(LoadOptions::GEOMETRY);
     let run = || -> PyResult<serde_json::Value> {
         let mut asset = load(&path, &load_options)?;
         let options = asset.fix_options(settings.fix, settings.tangents_asked);

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use seamlit_io::LoadOptions;
 use seamlit_mesh::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 use seamlit_render::{DebugView, LightingModel, ToneMapping};
 
@@ -273,6 +274,22 @@ pub struct LoadFlags {
     /// Quads per patch side for Newell patch files.
     #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub tessellation: u32,
+    /// A folder, besides the model's own, that the files a USD stage names (layers it
+    /// references, sublayers, payloads, textures) may come from; repeat for more. A layer
+    /// outside these folders is refused.
+    #[arg(long = "asset-root", value_name = "DIR")]
+    pub asset_roots: Vec<PathBuf>,
+}
+
+impl LoadFlags {
+    /// `base` with these flags applied.
+    pub fn options(&self, base: LoadOptions) -> LoadOptions {
+        LoadOptions {
+            tessellation: self.tessellation,
+            asset_roots: self.asset_roots.clone(),
+            ..base
+        }
+    }
 }
 
 /// What the picture shows.

@@ -56,7 +56,7 @@ impl SceneArgs {
     /// # Errors
     /// As [`load`].
     pub(crate) fn load(&self) -> Result<Loaded, Failure> {
-        let options = LoadOptions { tessellation: self.load.tessellation, ..LoadOptions::DEFAULT };
+        let options = self.load.options(LoadOptions::DEFAULT);
         let mut loaded = load(&self.input, &options)?;
         loaded.select_variant(self.variant.as_deref(), true)?;
         Ok(loaded)

@@ -21,6 +21,18 @@ pub enum UsdKind {
         /// openusd's description.
         message: String,
     },
+    /// A layer (sublayer, reference, payload) that resolves outside the stage's folder and
+    /// the folders allowed by [`crate::LoadOptions::asset_roots`]: seamlit does not open it.
+    #[error(
+        "{layer}: it lies outside the stage's folder {folder}; seamlit reads layers only from there and from folders given with --asset-root DIR"
+    )]
+    Outside {
+        /// openusd's composition error for the arc (it names the layer and the prim), else
+        /// the layer's asset path and file.
+        layer: String,
+        /// The root layer's folder.
+        folder: String,
+    },
     /// A prim whose values cannot be read as a mesh (an index out of range, face counts that
     /// do not add up to the face-vertex indices, a value that is not finite).
     #[error("prim <{prim}>: {message}")]

@@ -5,6 +5,7 @@
 
 mod material;
 mod mesh;
+mod resolver;
 mod stage;
 mod xform;
 
@@ -24,7 +25,7 @@ pub(crate) struct StageSource {
     pub metadata: Vec<(String, String)>,
 }
 
-use crate::asset::Asset;
+use crate::asset::{Asset, UsdSource};
 use crate::error::IoError;
 use crate::options::LoadOptions;
 
@@ -64,7 +65,8 @@ pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSo
 }
 
 fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
-    let stage = stage::open(path)?;
+    let opened = stage::open(path, options)?;
+    let stage = &opened.stage;
     let mut warnings = Vec::new();
     let root = sdf::Path::abs_root();
     let at_root = |e: anyhow::Error| stage::prim_error(path, &root, &e);
@@ -72,10 +74,10 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     stage
         .traverse(usd::PrimPredicate::DEFAULT_PROXIES, |p| prims.push(p.clone()))
         .map_err(at_root)?;
-    stage::composition(&stage, path, &mut warnings)?;
-    let up = stage::up_axis(&stage).map_err(at_root)?;
-    let mut xforms = xform::Xforms::new(&stage);
-    let mut materials = material::Materials::new(&stage, path);
+    stage::composition(&opened, path, &mut warnings)?;
+    let up = stage::up_axis(stage).map_err(at_root)?;
+    let mut xforms = xform::Xforms::new(stage);
+    let mut materials = material::Materials::new(stage, path, &options.asset_roots);
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
@@ -105,16 +107,17 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         sources.push(read.source);
     }
     // Reading values composes prims' arcs too: their errors count as the walk's.
-    stage::composition(&stage, path, &mut warnings)?;
+    stage::composition(&opened, path, &mut warnings)?;
     let asset = Asset {
         model: Model { objects, v_axis: VAxis::Up },
         materials: std::mem::take(&mut materials.list),
         textures: std::mem::take(&mut materials.textures),
         source: Some(path.to_path_buf()),
+        usd_source: Some(UsdSource { asset_roots: options.asset_roots.clone() }),
         warnings,
         ..Asset::default()
     };
-    let metadata = stage::metadata(&stage).map_err(at_root)?;
+    let metadata = stage::metadata(stage).map_err(at_root)?;
     Ok((asset, StageSource { meshes: sources, metadata }))
 }
 

@@ -39,7 +39,10 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     let Some(input) = asset.source.as_deref().filter(|s| is_usd(s)) else {
         return Err(refuse(UsdOutput::NotFromUsd));
     };
-    let (_, stage) = super::read::read(input, &LoadOptions::GEOMETRY)?;
+    // Read again as it was read: with the same folders allowed.
+    let asset_roots = asset.usd_source.as_ref().map(|s| s.asset_roots.clone()).unwrap_or_default();
+    let (_, stage) =
+        super::read::read(input, &LoadOptions { asset_roots, ..LoadOptions::GEOMETRY })?;
     check_model(&asset.model.objects, &stage)
         .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
     let mut warnings = Vec::new();

@@ -93,6 +93,7 @@ def fix_file(
     tessellation: int = 16,
     overwrite_input: bool = False,
     keep_compression: bool = False,
+    asset_roots: Sequence[PathLike] = (),
 ) -> Dict[str, Any]:
     """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does.
 
@@ -100,7 +101,9 @@ def fix_file(
     glTF or GLB input written as glTF or GLB is the input document with only normals,
     tangents, split vertices and indices changed. Meshopt-compressed geometry is written
     uncompressed unless ``keep_compression`` is set (``--keep-compression``); a Draco input
-    or an OBJ output with ``keep_compression`` raises ``SeamlitError``.
+    or an OBJ output with ``keep_compression`` raises ``SeamlitError``. ``asset_roots``
+    (``--asset-root``): folders besides the input's own that a USD stage's layers and
+    textures may come from.
 
     Returns a dict: ``input``, ``output``, ``options`` (as used), ``report`` (the seam
     report after the fix), ``changes`` (per object: normals kept or computed, vertices
@@ -116,6 +119,7 @@ def fix_file(
         tessellation=int(tessellation),
         overwrite_input=bool(overwrite_input),
         keep_compression=bool(keep_compression),
+        asset_roots=[os.fspath(r) for r in asset_roots],
     )
     text = _seamlit.fix_file(os.fspath(input), os.fspath(output), settings)
     return json.loads(text)
@@ -131,15 +135,24 @@ def inspect(
     tangents: Optional[str] = None,
     normals: Optional[str] = None,
     tessellation: int = 16,
+    asset_roots: Sequence[PathLike] = (),
 ) -> Dict[str, Any]:
     """The seam report of a model file, as loaded and after a fix; nothing is written.
+    ``asset_roots`` as for :func:`fix_file`.
 
     Returns a dict: ``file``, ``options``, ``as_loaded`` and ``fixed`` (seam reports: shared
     positions, the largest normal and tangent angles across object boundaries in
     ``cross_object``...), ``changes`` and ``warnings``.
     """
     settings = _settings(
-        mode, crease, weld_tolerance, weighting, tangents, normals, tessellation=int(tessellation)
+        mode,
+        crease,
+        weld_tolerance,
+        weighting,
+        tangents,
+        normals,
+        tessellation=int(tessellation),
+        asset_roots=[os.fspath(r) for r in asset_roots],
     )
     text = _seamlit.inspect(os.fspath(path), settings)
     return json.loads(text)

@@ -33,6 +33,7 @@ def fix_file(
     tessellation: int = 16,
     overwrite_input: bool = False,
     keep_compression: bool = False,
+    asset_roots: Sequence[PathLike] = (),
 ) -> Dict[str, Any]: ...
 def inspect(
     path: PathLike,
@@ -44,6 +45,7 @@ def inspect(
     tangents: Optional[Tangents] = None,
     normals: Optional[Normals] = None,
     tessellation: int = 16,
+    asset_roots: Sequence[PathLike] = (),
 ) -> Dict[str, Any]: ...
 def fix(
     objects: Sequence[Mapping[str, Any]],

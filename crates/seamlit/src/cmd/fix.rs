@@ -35,7 +35,7 @@ use crate::table::{changes_line, count};
 /// (bad input if any file was bad input).
 pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
-    let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::DEFAULT };
+    let load = args.load.options(LoadOptions::DEFAULT);
     let save = SaveOptions {
         overwrite_input: args.overwrite_input,
         keep_compression: args.keep_compression,

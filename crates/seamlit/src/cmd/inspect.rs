@@ -87,7 +87,7 @@ pub(crate) fn run(args: &InspectArgs) -> Result<(), Failure> {
             if args.input.is_dir() { "is a folder, expected a model file" } else { "no such file" };
         return Err(Failure::input(format!("{}: {what}", args.input.display())));
     }
-    let load = LoadOptions { tessellation: args.load.tessellation, ..LoadOptions::GEOMETRY };
+    let load = args.load.options(LoadOptions::GEOMETRY);
     let asset = seamlit_io::load(&args.input, &load).bad_input()?;
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");

@@ -3,7 +3,8 @@
 //! `diffuseColor` (a value, or a UsdUVTexture's `file`), `opacity`, `metallic`, `roughness`
 //! and `emissiveColor` become a metallic-roughness [`Material`]. A texture is read from the
 //! file its asset path resolves to (relative to the layer that authored it), inside the
-//! stage's folder, or from inside the `.usdz` package that holds it.
+//! stage's folder or an asset root ([`crate::LoadOptions::asset_roots`]), or from inside the
+//! `.usdz` package that holds it.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -19,6 +20,8 @@ use crate::asset::{AlphaMode, Material, Texture, TextureRef, TextureSource};
 pub(super) struct Materials<'s> {
     stage: &'s usd::Stage,
     file: &'s Path,
+    /// The canonical folders textures may come from: the stage's and the asset roots.
+    folders: Vec<PathBuf>,
     pub list: Vec<Material>,
     pub textures: Vec<Texture>,
     by_path: HashMap<String, usize>,
@@ -26,10 +29,17 @@ pub(super) struct Materials<'s> {
 }
 
 impl<'s> Materials<'s> {
-    pub(super) fn new(stage: &'s usd::Stage, file: &'s Path) -> Self {
+    pub(super) fn new(stage: &'s usd::Stage, file: &'s Path, asset_roots: &[PathBuf]) -> Self {
+        let folder = file.parent().unwrap_or(Path::new(""));
+        let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
+        let folders = std::iter::once(folder)
+            .chain(asset_roots.iter().map(PathBuf::as_path))
+            .filter_map(|f| f.canonicalize().ok())
+            .collect();
         Self {
             stage,
             file,
+            folders,
             list: Vec::new(),
             textures: Vec::new(),
             by_path: HashMap::new(),
@@ -183,11 +193,11 @@ impl<'s> Materials<'s> {
                     }
                 }
             }
-            Some(resolved) => match inside(self.file, Path::new(resolved)) {
+            Some(resolved) => match inside(&self.folders, Path::new(resolved)) {
                 Some(file) => Some(TextureSource::File(file)),
                 None => {
                     warnings.push(format!(
-                        "{}: texture @{written}@ is not used: it leaves the stage's folder",
+                        "{}: texture @{written}@ is not used: it lies outside the stage's folder (--asset-root DIR allows another folder)",
                         self.file.display()
                     ));
                     None
@@ -203,15 +213,14 @@ impl<'s> Materials<'s> {
     }
 }
 
-/// `file` when it lies inside the folder of the stage `stage` (by canonical paths), or when
-/// it is missing (the texture decoder then warns that it is).
-fn inside(stage: &Path, file: &Path) -> Option<PathBuf> {
+/// `file` when it lies inside one of `folders` (canonical; by canonical paths), or when it is
+/// missing (the texture decoder then warns that it is).
+fn inside(folders: &[PathBuf], file: &Path) -> Option<PathBuf> {
     if !file.exists() {
         return Some(file.to_path_buf());
     }
-    let folder = stage.parent().unwrap_or(Path::new("")).canonicalize().ok()?;
     let real = file.canonicalize().ok()?;
-    real.starts_with(&folder).then_some(real)
+    folders.iter().any(|f| real.starts_with(f)).then_some(real)
 }
 
 /// A `color3f` value, `default` where there is none.

@@ -5,32 +5,70 @@
 
 use std::panic::AssertUnwindSafe;
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 use glam::DMat4;
 use openusd::{pcp, sdf, usd};
 
+use super::resolver::{Confined, Outside};
 use crate::error::IoError;
+use crate::options::LoadOptions;
 use crate::usd::error::UsdKind;
 
-/// Opens `path` as the root layer of a stage. openusd reads the root layer and its sublayers
-/// now and the targets of references and payloads as prims are composed.
+/// A stage opened, with the layers its resolver refused (outside the stage's folders).
+pub(super) struct Opened {
+    pub stage: usd::Stage,
+    refused: Arc<Mutex<Vec<Outside>>>,
+}
+
+/// Opens `path` as the root layer of a stage, through [`Confined`]: layers come only from the
+/// root layer's folder and `options.asset_roots`, each within the size and nesting limits.
+/// openusd reads the root layer and its sublayers now and the targets of references and
+/// payloads as prims are composed.
 ///
 /// # Errors
 ///
-/// [`IoError::Usd`] with [`UsdKind::Layer`] when the root layer or a sublayer cannot be read.
-pub(super) fn open(path: &Path) -> Result<usd::Stage, IoError> {
+/// [`IoError::Usd`] with [`UsdKind::Layer`] when the root layer or a sublayer cannot be read,
+/// [`UsdKind::Outside`] when a sublayer lies outside the stage's folders.
+pub(super) fn open(path: &Path, options: &LoadOptions) -> Result<Opened, IoError> {
     let Some(root) = path.to_str() else {
         return Err(layer_error(path, "the path is not UTF-8, which openusd needs".to_owned()));
     };
     check_text_nesting(path)?;
-    usd::Stage::open(root).map_err(|e| layer_error(path, format!("{e:#}")))
+    let refused = Arc::new(Mutex::new(Vec::new()));
+    let resolver =
+        Confined::new(path, &options.asset_roots, options.max_file_bytes, Arc::clone(&refused));
+    let opened = usd::Stage::builder().resolver(resolver).open(root);
+    let opened =
+        Opened { stage: opened.map_err(|e| layer_error(path, format!("{e:#}")))?, refused };
+    // A sublayer refused is not an error openusd reports: the stage would compose without it.
+    opened.check_refused(path)?;
+    Ok(opened)
+}
+
+impl Opened {
+    /// [`UsdKind::Outside`] for the first layer refused, if any, with openusd's composition
+    /// error about it (which names the prim of the arc) where there is one.
+    fn check_refused(&self, path: &Path) -> Result<(), IoError> {
+        let first = self.refused.lock().ok().and_then(|r| r.first().cloned());
+        let Some(outside) = first else { return Ok(()) };
+        let named = format!("@{}@", outside.asset);
+        let arc = self.stage.composition_errors().into_iter().map(|e| e.to_string());
+        let layer = arc.into_iter().find(|m| m.contains(&named)).unwrap_or_else(|| {
+            format!("layer @{}@ ({})", outside.asset, outside.resolved.display())
+        });
+        let folder = path.parent().map(|p| p.display().to_string()).unwrap_or_default();
+        let folder = if folder.is_empty() { ".".to_owned() } else { folder };
+        let kind = UsdKind::Outside { layer, folder };
+        Err(IoError::Usd { path: path.to_path_buf(), kind })
+    }
 }
 
 /// The deepest nesting of `{`, `(` and `[` a text layer may have. openusd's text parser
 /// recurses once a level: 20,000 nested prims or dictionaries overflowed the stack (an abort,
 /// no error) and 3,000 took over a minute (the `usd` fuzz target, docs/usd.md). Real stages
 /// nest prims tens of levels deep.
-const MAX_TEXT_NESTING: usize = 256;
+pub(super) const MAX_TEXT_NESTING: usize = 256;
 
 /// Refuses a root layer in text form (`#usda`) nested deeper than [`MAX_TEXT_NESTING`]
 /// before openusd parses it. Layers it references are parsed by openusd unchecked.
@@ -52,7 +90,7 @@ fn check_text_nesting(path: &Path) -> Result<(), IoError> {
 
 /// The deepest nesting of `{`, `(` and `[` in usda text, outside strings (`"..."`, `'...'`,
 /// their triple forms), asset paths (`@...@`, `@@@...@@@`) and `#` comments.
-fn text_nesting(text: &[u8]) -> usize {
+pub(super) fn text_nesting(text: &[u8]) -> usize {
     let (mut depth, mut deepest, mut i) = (0usize, 0usize, 0usize);
     while i < text.len() {
         match text[i] {
@@ -119,17 +157,19 @@ pub(super) fn guarded<T>(
 /// [`IoError::Usd`] with [`UsdKind::Composition`] for the first error that is not about a
 /// payload.
 pub(super) fn composition(
-    stage: &usd::Stage,
+    opened: &Opened,
     path: &Path,
     warnings: &mut Vec<String>,
 ) -> Result<(), IoError> {
-    for error in stage.composition_errors() {
+    for error in opened.stage.composition_errors() {
         let payload = matches!(
             &error,
             pcp::Error::UnresolvedLayer { arc: pcp::ArcType::Payload, .. }
                 | pcp::Error::MalformedLayer { arc: pcp::ArcType::Payload, .. }
         );
         let message = error.to_string();
+        // A layer refused for where it lies is an error, a payload too.
+        opened.check_refused(path)?;
         if payload {
             let line = format!("{}: {message}: the stage composes without it", path.display());
             if !warnings.contains(&line) {
@@ -140,7 +180,7 @@ pub(super) fn composition(
             return Err(IoError::Usd { path: path.to_path_buf(), kind });
         }
     }
-    Ok(())
+    opened.check_refused(path)
 }
 
 /// The stage's `upAxis` as the rotation that turns it into +Y up: a quarter turn about X for
