@@ -113,8 +113,12 @@ fn run(
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
         let (changed, roots) = compute(model, flat, options, input, &authored.normals);
-        // The weld, for the morph targets' deltas: the fix made no other change.
-        let weld = roots.map(|r| morph::roots_after_splits(&r, &vertices, model));
+        // The weld, for the morph targets' deltas (the fix made no other change); a model
+        // without morph targets does not need it (renumbering every vertex costs about a
+        // sixth of the fix).
+        let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
+        let weld =
+            roots.filter(|_| morphs).map(|r| morph::roots_after_splits(&r, &vertices, model));
         return Ok((tally(model, &vertices, &changed, authored), weld));
     }
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
