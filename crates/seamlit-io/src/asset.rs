@@ -330,8 +330,8 @@ pub struct Anisotropy {
     /// `anisotropyRotation` (radians, default 0): the direction's turn from the tangent
     /// towards the bitangent.
     pub rotation: f32,
-    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, blue:
-    /// strength). Read, not yet drawn: the renderer draws the factors.
+    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, turned by
+    /// the rotation; blue: strength).
     pub texture: Option<TextureRef>,
 }
 
@@ -341,8 +341,7 @@ pub struct Anisotropy {
 pub struct Transmission {
     /// `transmissionFactor` (default 0), times the texture's red.
     pub factor: f32,
-    /// `transmissionTexture` (linear; red). Read, not yet drawn: the renderer draws the
-    /// factor.
+    /// `transmissionTexture` (linear; red).
     pub texture: Option<TextureRef>,
 }
 
@@ -352,7 +351,7 @@ pub struct Transmission {
 pub struct Iridescence {
     /// `iridescenceFactor` (default 0), times the texture's red.
     pub factor: f32,
-    /// `iridescenceTexture` (linear; red). Read, not yet drawn.
+    /// `iridescenceTexture` (linear; red).
     pub texture: Option<TextureRef>,
     /// `iridescenceIor` (default 1.3): the film's index of refraction.
     pub ior: f32,
@@ -361,8 +360,7 @@ pub struct Iridescence {
     /// `iridescenceThicknessMaximum` (default 400 nm): the film's thickness without a
     /// thickness texture.
     pub thickness_maximum: f32,
-    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum). Read,
-    /// not yet drawn: the renderer draws the maximum.
+    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum).
     pub thickness_texture: Option<TextureRef>,
 }
 
@@ -373,8 +371,7 @@ pub struct Volume {
     /// `thicknessFactor` (default 0: thin-walled), in the mesh's own units, times the
     /// texture's green.
     pub thickness: f32,
-    /// `thicknessTexture` (linear; green). Read, not yet drawn: the renderer draws the
-    /// factor.
+    /// `thicknessTexture` (linear; green).
     pub thickness_texture: Option<TextureRef>,
     /// `attenuationDistance` (default: infinite, `None`): the distance light travels in the
     /// medium before it is reduced to `attenuation_color`.

@@ -102,6 +102,24 @@ struct Material {
     iridescence_ior: f32,
     iridescence_thickness: f32,
     dispersion: f32,
+    transmission_uv: array<vec4<f32>, 2>,
+    thickness_uv: array<vec4<f32>, 2>,
+    iridescence_uv: array<vec4<f32>, 2>,
+    iridescence_thickness_uv: array<vec4<f32>, 2>,
+    anisotropy_uv: array<vec4<f32>, 2>,
+    iridescence_thickness_minimum: f32,
+    pad5: f32,
+    pad6: f32,
+    pad7: f32,
+}
+
+// The extension textures' samples at a pixel (extension_textures.wgsl).
+struct ExtensionSamples {
+    transmission: f32,
+    thickness: f32,
+    iridescence: f32,
+    iridescence_thickness: f32,
+    anisotropy: vec3<f32>,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -153,6 +171,7 @@ const MAT_SPECULAR: u32 = 512u;
 const MAT_ANISOTROPY: u32 = 1024u;
 const MAT_TRANSMISSION: u32 = 2048u;
 const MAT_IRIDESCENCE: u32 = 4096u;
+const MAT_ANISOTROPY_TEXTURE: u32 = 8192u;
 // Any of the PBR extensions that add to the BRDF: drawn by shade_layers.
 const MAT_LAYERS: u32 = 8000u;
 
@@ -194,8 +213,8 @@ const PI: f32 = 3.141592653589793;
 @group(3) @binding(0) var environment_specular: texture_cube<f32>;
 @group(3) @binding(1) var environment_irradiance: texture_cube<f32>;
 // The split-sum BRDF table (64 x 64 texels of two halves packed in a u32, then two unused
-// halves), a storage buffer so that the stage's sampled textures leave room for the
-// transmission target (lavapipe allows 16).
+// halves), a storage buffer so that the 16 sampled textures a stage WebGPU guarantees leave
+// room for the transmission target.
 @group(3) @binding(2) var<storage, read> brdf_lut: array<u32>;
 @group(3) @binding(3) var environment_sampler: sampler;
 
@@ -741,39 +760,53 @@ fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, albe
     out.clearcoat_f0 = material.clearcoat_f0;
     out.clearcoat_n = geometry_n;
     let t_len2 = dot(in.tangent, in.tangent);
+    let ext = extension_samples(g);
     out.anisotropy = 0.0;
     out.anisotropy_t = vec3<f32>(1.0, 0.0, 0.0);
     out.anisotropy_b = vec3<f32>(0.0, 1.0, 0.0);
     if (material.flags & MAT_ANISOTROPY) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
-        // The direction (1, 0) of the tangent plane turned by the rotation, in the frame of
-        // the shading normal; the bitangent across it about the geometry's normal.
+        // The direction (1, 0) of the tangent plane, or the texture's, turned by the
+        // rotation, in the frame of the shading normal; the bitangent across it about the
+        // geometry's normal; the strength times the texture's blue.
+        var direction = vec2<f32>(1.0, 0.0);
+        var strength = 1.0;
+        if (material.flags & MAT_ANISOTROPY_TEXTURE) != 0u {
+            direction = ext.anisotropy.xy * 2.0 - 1.0;
+            strength = ext.anisotropy.z;
+        }
+        let c = material.anisotropy.x;
+        let s = material.anisotropy.y;
+        let turned = vec2<f32>(c * direction.x - s * direction.y, s * direction.x + c * direction.y);
         let t = safe_normalize(in.tangent - dot(in.tangent, shading_n) * shading_n, in.tangent);
         let b = safe_normalize(in.bitangent, cross(shading_n, t) * in.handedness);
-        out.anisotropy_t = safe_normalize(t * material.anisotropy.x + b * material.anisotropy.y, t);
+        out.anisotropy_t = safe_normalize(t * turned.x + b * turned.y, t);
         out.anisotropy_b = safe_normalize(cross(geometry_n, out.anisotropy_t), b);
-        out.anisotropy = material.anisotropy.z;
+        out.anisotropy = clamp(material.anisotropy.z * strength, 0.0, 1.0);
     }
     out.transmission = 0.0;
     out.ior = material.ior;
     out.volume_ray = vec3<f32>(0.0);
     out.attenuation_distance = material.attenuation_distance;
     out.attenuation_color = material.attenuation_color;
-    out.thickness = material.thickness;
+    out.thickness = material.thickness * ext.thickness;
     out.dispersion = material.dispersion;
     if (material.flags & MAT_TRANSMISSION) != 0u {
-        out.transmission = material.transmission;
-        out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), material.thickness, material.ior);
+        out.transmission = material.transmission * ext.transmission;
+        out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), out.thickness, material.ior);
     }
     out.iridescence = 0.0;
     out.iridescence_dielectric = vec3<f32>(0.0);
     out.iridescence_metal = vec3<f32>(0.0);
-    if (material.flags & MAT_IRIDESCENCE) != 0u && material.iridescence_thickness > 0.0 {
+    // The film's thickness: from the minimum to the maximum by the texture's green (the
+    // minimum is the maximum without a texture).
+    let film = mix(material.iridescence_thickness_minimum, material.iridescence_thickness, ext.iridescence_thickness);
+    if (material.flags & MAT_IRIDESCENCE) != 0u && film > 0.0 {
         // The film's Fresnel terms at this view angle, over the dielectric and over the metal.
         let v = safe_normalize(frame.eye - in.world, shading_n);
         let n_dot_v = clamp(dot(shading_n, v), 0.0, 1.0);
-        out.iridescence = material.iridescence;
-        out.iridescence_dielectric = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, out.f0_dielectric);
-        out.iridescence_metal = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, albedo);
+        out.iridescence = material.iridescence * ext.iridescence;
+        out.iridescence_dielectric = iridescence_fresnel(material.iridescence_ior, n_dot_v, film, out.f0_dielectric);
+        out.iridescence_metal = iridescence_fresnel(material.iridescence_ior, n_dot_v, film, albedo);
     }
     if (material.flags & MAT_CLEARCOAT_NORMAL_MAP) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
         var tn = sample_slot(clearcoat_normal_texture, material.clearcoat_normal_uv, g).xyz * 2.0 - 1.0;
