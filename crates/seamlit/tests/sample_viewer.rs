@@ -12,7 +12,9 @@
 //! sheen, ior and specular, anisotropy, texture transforms, emissive strength, transmission
 //! and volume, iridescence, dispersion, one model each) are held to a mean FLIP under 0.035
 //! under the punctual light, most also with the extension taken out of the file drawn at
-//! least the aim away; KHR_materials_variants is compared with each variant selected.
+//! least the aim away; KHR_materials_variants is compared with each variant selected. The
+//! textures of transmission, volume, iridescence and anisotropy have a model each, and fail
+//! with the texture taken out; Khronos' own ClearCoatTest is compared under both lightings.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -335,18 +337,28 @@ fn texture_seen_by_the_comparison(model: &str, extension: &str, texture: &str, a
     seen_by_the_comparison(model, texture, &without_texture(model, extension, texture), aim);
 }
 
-/// `model` within `aim` of the Sample Viewer, and `scene` (the model without `what`) at least
-/// `aim` away from it.
+/// `model` within `aim` of the Sample Viewer under the punctual light, and `scene` (the model
+/// without `what`) at least `aim` away from it.
 fn seen_by_the_comparison(model: &str, what: &str, scene: &Path, aim: f32) {
-    extension_matches_the_sample_viewer(model, aim);
-    let reference = image::open(data().join(format!("{model}.viewer.png"))).unwrap().to_rgb8();
+    assert!(aim <= EXTENSION_AIM);
+    seen_under(Lighting::PunctualOnly, model, what, scene, aim);
+}
+
+/// As [`seen_by_the_comparison`], lit as `lighting` says, with any aim.
+fn seen_under(lighting: Lighting, model: &str, what: &str, scene: &Path, aim: f32) {
+    let name = match lighting {
+        Lighting::Environment => format!("{model}.environment"),
+        Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
+    };
+    within_aim(model, &name, &lighting.reference(model), lighting, &[], aim);
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
     let out = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("sample_viewer")
-        .join(format!("{model}.without.png"));
-    let ours = render_scene(scene, Lighting::PunctualOnly, &[], reference.dimensions(), &out);
+        .join(format!("{name}.without.png"));
+    let ours = render_scene(scene, lighting, &[], reference.dimensions(), &out);
     let (without, _) = flip(&reference, &ours);
-    eprintln!("{model}: mean FLIP {without:.4} without {what}");
-    assert!(without >= aim, "{model}: mean FLIP {without:.4} without {what}, aim {aim}");
+    eprintln!("{name}: mean FLIP {without:.4} without {what}");
+    assert!(without >= aim, "{name}: mean FLIP {without:.4} without {what}, aim {aim}");
 }
 
 #[test]
@@ -483,4 +495,21 @@ fn the_anisotropy_texture_matches_the_sample_viewer() {
     // Mean FLIP 0.0118 with the texture, 0.0480 without.
     let (model, extension) = ("anisotropy_texture", "KHR_materials_anisotropy");
     texture_seen_by_the_comparison(model, extension, "anisotropyTexture", EXTENSION_AIM);
+}
+
+/// Khronos' ClearCoatTest (glTF-Sample-Assets, by Ed Mackey, CC-BY 4.0: assets/models/
+/// clearcoat_test), framed by compare.sh: six rows of coatings (simple, partial by texture,
+/// roughness by texture, base and coat normal maps), each beside its uncoated base and its
+/// coat alone, with text labels. Under the one sun, mean FLIP 0.0337 (the aim), but
+/// 0.0335 without the clearcoat: the sun's highlights on the coat are too few pixels to
+/// count, most of the error being the labels' text and the tiles' edges. Under sky.hdr the
+/// coat reflects the sky on every tile: 0.0404 with it, 0.0504 without, so that comparison,
+/// over the 0.035 by the same labels and edges, is held under 0.045.
+#[test]
+fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
+    let model = "ClearCoatTest";
+    extension_matches_the_sample_viewer(model, EXTENSION_AIM);
+    let extension = "KHR_materials_clearcoat";
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.045);
 }
