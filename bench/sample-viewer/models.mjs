@@ -16,7 +16,8 @@
 //   iridescence.glb  KHR_materials_iridescence: two films over a dark dielectric, one over a
 //                  metal (built here)
 //   transmission_texture.glb, thickness_texture.glb, iridescence_texture.glb,
-//   iridescence_thickness_texture.glb, anisotropy_texture.glb
+//   iridescence_thickness_texture.glb, anisotropy_texture.glb, clearcoat_roughness_texture.glb,
+//   specular_texture.glb
 //                  one extension texture each, on three spheres: as it is, through a
 //                  KHR_texture_transform, and from TEXCOORD_1 (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
@@ -629,6 +630,22 @@ function anisotropyTexture() {
     extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.9, anisotropyRotation: 0.3, anisotropyTexture: info } } }));
 }
 
+/** KHR_materials_clearcoat's clearcoatRoughnessTexture (green): a full coat over a red
+ * dielectric, smooth (0.05) where the bands are dark, rough (0.8) where they are green. */
+function clearcoatRoughnessTexture() {
+  return textured(['KHR_materials_clearcoat'], bands([0, 255, 0, 255], [0, 16, 0, 255]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [0.8, 0.1, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.7 },
+    extensions: { KHR_materials_clearcoat: { clearcoatFactor: 1, clearcoatRoughnessFactor: 0.8, clearcoatRoughnessTexture: info } } }));
+}
+
+/** KHR_materials_specular's specularTexture (alpha): a glossy grey dielectric of ior 2.4 whose
+ * specular strength is 1 in the checker's opaque squares, 0.1 in the others. */
+function specularTexture() {
+  return textured(['KHR_materials_ior', 'KHR_materials_specular'], checks([255, 255, 255, 255], [255, 255, 255, 26]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [0.25, 0.25, 0.25, 1], metallicFactor: 0, roughnessFactor: 0.3 },
+    extensions: { KHR_materials_ior: { ior: 2.4 }, KHR_materials_specular: { specularFactor: 1, specularTexture: info } } }));
+}
+
 /** KHR_materials_variants: three spheres, two variants. The body (a white dielectric by
  * default) is red in "ruby" and a clear-coated blue in "sapphire"; the trim (gold) is silver
  * in "sapphire" and unmapped in "ruby"; the third sphere (green) is mapped by neither. */
@@ -742,6 +759,8 @@ function main() {
     ['iridescence_texture', iridescenceTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['iridescence_thickness_texture', iridescenceThicknessTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['anisotropy_texture', anisotropyTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['clearcoat_roughness_texture', clearcoatRoughnessTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['specular_texture', specularTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = { ...addCameraAndLight(doc.json, eye, target, aspect), variants: variantNames(doc.json) };
