@@ -255,6 +255,20 @@ pub struct PbrExtensions {
 }
 
 impl PbrExtensions {
+    /// Whether the material has a texture of transmission, volume (thickness), iridescence
+    /// (factor or thickness) or anisotropy: those a renderer on a device with only 16 sampled
+    /// textures a shader stage leaves out (`seamlit_render::GpuContext`).
+    #[must_use]
+    pub fn has_transmission_volume_iridescence_or_anisotropy_texture(&self) -> bool {
+        self.transmission.as_ref().is_some_and(|t| t.texture.is_some())
+            || self.volume.as_ref().is_some_and(|v| v.thickness_texture.is_some())
+            || self
+                .iridescence
+                .as_ref()
+                .is_some_and(|i| i.texture.is_some() || i.thickness_texture.is_some())
+            || self.anisotropy.as_ref().is_some_and(|a| a.texture.is_some())
+    }
+
     /// The names of the extensions in use, in the order of this struct's fields (for the
     /// viewer's panel and messages).
     #[must_use]

@@ -207,6 +207,19 @@ impl Gpu {
         settings: &FrameSettings,
         size: (u32, u32),
     ) -> Result<(GpuScene, RgbaImage), Failure> {
+        if !self.ctx.draws_all_extension_textures()
+            && asset
+                .materials
+                .iter()
+                .any(|m| m.extensions.has_transmission_volume_iridescence_or_anisotropy_texture())
+        {
+            eprintln!(
+                "warning: {} allows fewer than 21 sampled textures a shader stage: the \
+                 transmission, thickness, iridescence and anisotropy textures are not drawn \
+                 (their factors are)",
+                self.ctx.describe()
+            );
+        }
         let mut scene = GpuScene::upload(&self.ctx, asset).processing()?;
         if let Some(poses) = poses {
             scene.set_pose(&self.ctx, poses).processing()?;
