@@ -78,7 +78,9 @@ bench=${SEAMLIT_BENCH:-$(pick seamlit-bench)}
 
 mkdir -p "$out/models" "$out/viewer" "$out/seamlit" "$out/side-by-side"
 ASPECT="$width/$height" node "$here/models.mjs" "$out/models" "${models[@]}"
-names=(spheres materials clearcoat sheen specular anisotropy transforms emissive variants transmission iridescence dispersion)
+names=(spheres materials clearcoat sheen specular anisotropy transforms emissive variants transmission iridescence dispersion
+    transmission_texture thickness_texture iridescence_texture iridescence_thickness_texture anisotropy_texture
+    clearcoat_roughness_texture specular_texture)
 [ -n "$animation" ] && names=()
 for m in "${models[@]}"; do names+=("${m%%=*}"); done
 # Each picture: NAME (unposed) or NAME@T (animation $animation at T seconds); and for a

@@ -15,6 +15,11 @@
 //                  (built here)
 //   iridescence.glb  KHR_materials_iridescence: two films over a dark dielectric, one over a
 //                  metal (built here)
+//   transmission_texture.glb, thickness_texture.glb, iridescence_texture.glb,
+//   iridescence_thickness_texture.glb, anisotropy_texture.glb, clearcoat_roughness_texture.glb,
+//   specular_texture.glb
+//                  one extension texture each, on three spheres: as it is, through a
+//                  KHR_texture_transform, and from TEXCOORD_1 (built here)
 //   and each model file named on the command line (GLB), with a camera framing its bounds
 //   and the same directional light added.
 // Usage: node models.mjs OUT_DIR [NAME=FILE.glb ...]
@@ -103,17 +108,17 @@ class Doc {
     return this.json.accessors.length - 1;
   }
 
-  /** Positions, normals, UVs and indices as one primitive's attributes. */
-  geometry({ positions, normals, tangents, uvs, indices }) {
-    return {
-      attributes: {
-        POSITION: this.accessor(new Float32Array(positions), 'VEC3', 5126, 34962, true),
-        NORMAL: this.accessor(new Float32Array(normals), 'VEC3', 5126, 34962),
-        TANGENT: this.accessor(new Float32Array(tangents), 'VEC4', 5126, 34962),
-        TEXCOORD_0: this.accessor(new Float32Array(uvs), 'VEC2', 5126, 34962),
-      },
-      indices: this.accessor(new Uint16Array(indices), 'SCALAR', 5123, 34963),
+  /** Positions, normals, UVs (and a second set, `uvs1`) and indices as one primitive's
+   * attributes. */
+  geometry({ positions, normals, tangents, uvs, uvs1, indices }) {
+    const attributes = {
+      POSITION: this.accessor(new Float32Array(positions), 'VEC3', 5126, 34962, true),
+      NORMAL: this.accessor(new Float32Array(normals), 'VEC3', 5126, 34962),
+      TANGENT: this.accessor(new Float32Array(tangents), 'VEC4', 5126, 34962),
+      TEXCOORD_0: this.accessor(new Float32Array(uvs), 'VEC2', 5126, 34962),
     };
+    if (uvs1) attributes.TEXCOORD_1 = this.accessor(new Float32Array(uvs1), 'VEC2', 5126, 34962);
+    return { attributes, indices: this.accessor(new Uint16Array(indices), 'SCALAR', 5123, 34963) };
   }
 
   material(m) { this.json.materials.push(m); return this.json.materials.length - 1; }
@@ -499,7 +504,7 @@ function transmission({ only } = {}) {
     baseColorTexture: { index: stripes }, metallicFactor: 0, roughnessFactor: 0.9 } }), [0, 0, -1.5], 'backdrop');
   // A panel 4.6 x 1.84 behind the spheres, not the whole frame.
   doc.json.nodes[doc.json.nodes.length - 1].scale = [1, 0.4, 1];
-  if (only === 'panel') return doc;
+  if (only) return doc; // 'panel' (fine stripes) or 'backdrop': the panel alone
   const glass = (name, extensions, baseColorFactor = [1, 1, 1, 1], roughnessFactor = 0) => ({ name,
     pbrMetallicRoughness: { baseColorFactor, metallicFactor: 0, roughnessFactor }, extensions });
   const ball = doc.geometry(sphere(0.45));
@@ -542,6 +547,103 @@ function iridescence() {
       extensions: { KHR_materials_iridescence: { iridescenceFactor: 0.8, iridescenceThicknessMaximum: 300 } } },
   ], ['KHR_materials_iridescence']);
   return doc;
+}
+
+/** A sphere whose second texture coordinate set (TEXCOORD_1) is its first scaled by 3 in U
+ * and 2 in V. */
+function sphereUv1(radius) {
+  const g = sphere(radius);
+  return { ...g, uvs1: g.uvs.map((x, i) => x * (i % 2 ? 2 : 3)) };
+}
+
+/** Three spheres of `material(textureInfo)`, its texture `png` read three ways: as it is
+ * (TEXCOORD_0), through a KHR_texture_transform (turned, scaled, moved), and from TEXCOORD_1
+ * (the first set scaled by 3 x 2); before `backdrop`'s panel where given (transmission's). */
+function textured(extension, png, material, backdrop) {
+  const doc = backdrop ? transmission({ only: 'backdrop' }) : new Doc();
+  doc.json.extensionsUsed = [...new Set([...(doc.json.extensionsUsed ?? []), ...extension, 'KHR_texture_transform'])];
+  const texture = doc.texture(png);
+  const ball = doc.geometry(sphereUv1(0.45));
+  const infos = [
+    ['texture', { index: texture }],
+    ['transformed', { index: texture, extensions: { KHR_texture_transform: { offset: [0.1, 0.3], rotation: 0.6, scale: [2, 1.5] } } }],
+    ['texCoord 1', { index: texture, texCoord: 1 }],
+  ];
+  infos.forEach(([name, info], i) => doc.place(ball, doc.material({ name, ...material(info) }), [-1.5 + 1.5 * i, 0, 0], name));
+  return doc;
+}
+
+/** Stripes across V (rows of 8 texels), `on` and `off` texels in turn. */
+const bands = (on, off) => png(64, (x, y) => ((y >> 3) & 1 ? on : off));
+/** A checker of 8-texel squares, `on` and `off`. */
+const checks = (on, off) => png(64, (x, y) => (((x >> 3) + (y >> 3)) & 1 ? on : off));
+
+/** KHR_materials_transmission's transmissionTexture (red): thin clear glass where the bands
+ * are red, an opaque white dielectric between, before transmission's panel. */
+function transmissionTexture() {
+  return textured(['KHR_materials_transmission'], bands([255, 0, 0, 255], [0, 0, 0, 255]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0.15 },
+    extensions: { KHR_materials_transmission: { transmissionFactor: 1, transmissionTexture: info } } }), true);
+}
+
+/** KHR_materials_volume's thicknessTexture (green): solid amber glass (attenuation towards
+ * orange within 0.3) of thickness 0.9 where the checker is green, 0.1 between. */
+function thicknessTexture() {
+  return textured(['KHR_materials_transmission', 'KHR_materials_volume'], checks([0, 255, 0, 255], [0, 28, 0, 255]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [1, 1, 1, 1], metallicFactor: 0, roughnessFactor: 0 },
+    extensions: { KHR_materials_transmission: { transmissionFactor: 1 },
+      KHR_materials_volume: { thicknessFactor: 0.9, thicknessTexture: info, attenuationDistance: 0.3, attenuationColor: [0.95, 0.5, 0.15] } } }), true);
+}
+
+/** A dark, rough metal: broad highlights, which the films colour. */
+const darkMetal = { baseColorFactor: [0.35, 0.35, 0.38, 1], metallicFactor: 1, roughnessFactor: 0.7 };
+
+/** KHR_materials_iridescence's iridescenceTexture (red): a film of 550 nm (ior 1.8) over a
+ * dark rough metal where the checker is red, none between. */
+function iridescenceTexture() {
+  return textured(['KHR_materials_iridescence'], checks([255, 0, 0, 255], [0, 0, 0, 255]), (info) => ({
+    pbrMetallicRoughness: darkMetal,
+    extensions: { KHR_materials_iridescence: { iridescenceFactor: 1, iridescenceTexture: info, iridescenceIor: 1.8,
+      iridescenceThicknessMaximum: 550 } } }));
+}
+
+/** KHR_materials_iridescence's iridescenceThicknessTexture (green): a film (ior 1.8) over a
+ * dark rough metal, 200 nm (the minimum) to 800 nm (the maximum) in four bands. */
+function iridescenceThicknessTexture() {
+  const steps = png(64, (x, y) => [0, [0, 85, 170, 255][(y >> 3) & 3], 0, 255]);
+  return textured(['KHR_materials_iridescence'], steps, (info) => ({
+    pbrMetallicRoughness: darkMetal,
+    extensions: { KHR_materials_iridescence: { iridescenceFactor: 1, iridescenceIor: 1.8, iridescenceThicknessMinimum: 200,
+      iridescenceThicknessMaximum: 800, iridescenceThicknessTexture: info } } }));
+}
+
+/** KHR_materials_anisotropy's anisotropyTexture (red-green: direction, blue: strength):
+ * brushed copper streaked along the tangent in one band, along the bitangent in the next,
+ * at strength 1 and 0.5 in turn, under an anisotropyStrength of 0.9 turned by 0.3. */
+function anisotropyTexture() {
+  const directions = png(64, (x, y) => {
+    const [dx, dy] = (y >> 4) & 1 ? [0, 1] : [1, 0];
+    return [Math.round((dx * 0.5 + 0.5) * 255), Math.round((dy * 0.5 + 0.5) * 255), (x >> 4) & 1 ? 255 : 128, 255];
+  });
+  return textured(['KHR_materials_anisotropy'], directions, (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [0.95, 0.64, 0.54, 1], metallicFactor: 1, roughnessFactor: 0.35 },
+    extensions: { KHR_materials_anisotropy: { anisotropyStrength: 0.9, anisotropyRotation: 0.3, anisotropyTexture: info } } }));
+}
+
+/** KHR_materials_clearcoat's clearcoatRoughnessTexture (green): a full coat over a red
+ * dielectric, smooth (0.05) where the bands are dark, rough (0.8) where they are green. */
+function clearcoatRoughnessTexture() {
+  return textured(['KHR_materials_clearcoat'], bands([0, 255, 0, 255], [0, 16, 0, 255]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [0.8, 0.1, 0.05, 1], metallicFactor: 0, roughnessFactor: 0.7 },
+    extensions: { KHR_materials_clearcoat: { clearcoatFactor: 1, clearcoatRoughnessFactor: 0.8, clearcoatRoughnessTexture: info } } }));
+}
+
+/** KHR_materials_specular's specularTexture (alpha): a glossy grey dielectric of ior 2.4 whose
+ * specular strength is 1 in the checker's opaque squares, 0.1 in the others. */
+function specularTexture() {
+  return textured(['KHR_materials_ior', 'KHR_materials_specular'], checks([255, 255, 255, 255], [255, 255, 255, 26]), (info) => ({
+    pbrMetallicRoughness: { baseColorFactor: [0.25, 0.25, 0.25, 1], metallicFactor: 0, roughnessFactor: 0.3 },
+    extensions: { KHR_materials_ior: { ior: 2.4 }, KHR_materials_specular: { specularFactor: 1, specularTexture: info } } }));
 }
 
 /** KHR_materials_variants: three spheres, two variants. The body (a white dielectric by
@@ -652,6 +754,13 @@ function main() {
     ['transmission', transmission(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['iridescence', iridescence(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
     ['dispersion', dispersion(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['transmission_texture', transmissionTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['thickness_texture', thicknessTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['iridescence_texture', iridescenceTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['iridescence_thickness_texture', iridescenceThicknessTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['anisotropy_texture', anisotropyTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['clearcoat_roughness_texture', clearcoatRoughnessTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
+    ['specular_texture', specularTexture(), { eye: [0, 0.9, 6.6], target: [0, 0, 0] }],
   ];
   for (const [name, doc, { eye, target }] of models) {
     const camera = { ...addCameraAndLight(doc.json, eye, target, aspect), variants: variantNames(doc.json) };

@@ -266,6 +266,20 @@ pub struct PbrExtensions {
 }
 
 impl PbrExtensions {
+    /// Whether the material has a texture of transmission, volume (thickness), iridescence
+    /// (factor or thickness) or anisotropy: those a renderer on a device with only 16 sampled
+    /// textures a shader stage leaves out (`seamlit_render::GpuContext`).
+    #[must_use]
+    pub fn has_transmission_volume_iridescence_or_anisotropy_texture(&self) -> bool {
+        self.transmission.as_ref().is_some_and(|t| t.texture.is_some())
+            || self.volume.as_ref().is_some_and(|v| v.thickness_texture.is_some())
+            || self
+                .iridescence
+                .as_ref()
+                .is_some_and(|i| i.texture.is_some() || i.thickness_texture.is_some())
+            || self.anisotropy.as_ref().is_some_and(|a| a.texture.is_some())
+    }
+
     /// The names of the extensions in use, in the order of this struct's fields (for the
     /// viewer's panel and messages).
     #[must_use]
@@ -341,8 +355,8 @@ pub struct Anisotropy {
     /// `anisotropyRotation` (radians, default 0): the direction's turn from the tangent
     /// towards the bitangent.
     pub rotation: f32,
-    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, blue:
-    /// strength). Read, not yet drawn: the renderer draws the factors.
+    /// `anisotropyTexture` (linear; red-green: a direction in the tangent plane, turned by
+    /// the rotation; blue: strength).
     pub texture: Option<TextureRef>,
 }
 
@@ -352,8 +366,7 @@ pub struct Anisotropy {
 pub struct Transmission {
     /// `transmissionFactor` (default 0), times the texture's red.
     pub factor: f32,
-    /// `transmissionTexture` (linear; red). Read, not yet drawn: the renderer draws the
-    /// factor.
+    /// `transmissionTexture` (linear; red).
     pub texture: Option<TextureRef>,
 }
 
@@ -363,7 +376,7 @@ pub struct Transmission {
 pub struct Iridescence {
     /// `iridescenceFactor` (default 0), times the texture's red.
     pub factor: f32,
-    /// `iridescenceTexture` (linear; red). Read, not yet drawn.
+    /// `iridescenceTexture` (linear; red).
     pub texture: Option<TextureRef>,
     /// `iridescenceIor` (default 1.3): the film's index of refraction.
     pub ior: f32,
@@ -372,8 +385,7 @@ pub struct Iridescence {
     /// `iridescenceThicknessMaximum` (default 400 nm): the film's thickness without a
     /// thickness texture.
     pub thickness_maximum: f32,
-    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum). Read,
-    /// not yet drawn: the renderer draws the maximum.
+    /// `iridescenceThicknessTexture` (linear; green: from the minimum to the maximum).
     pub thickness_texture: Option<TextureRef>,
 }
 
@@ -384,8 +396,7 @@ pub struct Volume {
     /// `thicknessFactor` (default 0: thin-walled), in the mesh's own units, times the
     /// texture's green.
     pub thickness: f32,
-    /// `thicknessTexture` (linear; green). Read, not yet drawn: the renderer draws the
-    /// factor.
+    /// `thicknessTexture` (linear; green).
     pub thickness_texture: Option<TextureRef>,
     /// `attenuationDistance` (default: infinite, `None`): the distance light travels in the
     /// medium before it is reduced to `attenuation_color`.

@@ -116,12 +116,31 @@ impl GpuContext {
         instance: wgpu::Instance,
         adapter: wgpu::Adapter,
     ) -> Result<Self, RenderError> {
+        // The adapter's own limits: big textures and buffers for million-triangle models, and
+        // as many sampled textures as it allows (the PBR extensions' textures need 21).
+        let limits = adapter.limits();
+        Self::from_adapter_with_limits(instance, adapter, limits)
+    }
+
+    /// As [`GpuContext::from_adapter`], asking for `limits` (at most the adapter's) instead of
+    /// all the adapter allows: a device with fewer than 21 sampled textures a shader stage
+    /// (WebGPU's default is 16) draws the PBR extensions' factors without the textures of
+    /// transmission, volume, iridescence and anisotropy
+    /// ([`GpuContext::draws_all_extension_textures`]).
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::RequestDevice`] when the adapter refuses.
+    pub fn from_adapter_with_limits(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        limits: wgpu::Limits,
+    ) -> Result<Self, RenderError> {
         let info = adapter.get_info();
         let desc = wgpu::DeviceDescriptor {
             label: Some("seamlit"),
             required_features: wgpu::Features::empty(),
-            // The adapter's own limits: big textures and buffers for million-triangle models.
-            required_limits: adapter.limits(),
+            required_limits: limits,
             ..Default::default()
         };
         let (device, queue) =
@@ -133,6 +152,15 @@ impl GpuContext {
             })?;
         let layouts = Layouts::new(&device);
         Ok(Self { instance, adapter, device, queue, layouts })
+    }
+
+    /// Whether materials' transmission, thickness, iridescence, iridescence thickness and
+    /// anisotropy textures are drawn: the device allows the 21 sampled textures a fragment
+    /// stage they take (without them, 16, WebGPU's least, are enough: those materials are drawn
+    /// by their factors).
+    #[must_use]
+    pub fn draws_all_extension_textures(&self) -> bool {
+        self.layouts.extension_textures
     }
 
     /// The wgpu instance.
@@ -204,8 +232,14 @@ pub(crate) struct Layouts {
     pub frame: wgpu::BindGroupLayout,
     /// Group 1: material uniforms, base colour and normal textures, sampler, then the
     /// metallic-roughness, occlusion and emissive textures, the PBR extensions' textures
-    /// and the sheen albedo table.
+    /// and the sheen albedo table; where `extension_textures`, then the textures of
+    /// transmission, volume, iridescence and anisotropy.
     pub material: wgpu::BindGroupLayout,
+    /// Whether group 1 has the textures of transmission, volume, iridescence and anisotropy
+    /// (bindings 15 to 19): the device allows [`SAMPLED_TEXTURES_WITH_EXTENSIONS`] sampled
+    /// textures a shader stage. The scene pass's shader is chosen to match
+    /// (`shaders::mesh`).
+    pub extension_textures: bool,
     /// Group 2: object uniforms, the object's vertices (read as storage for TBN lines and
     /// the posed-vertex readback), its skin influences and morph target deltas, and its
     /// pose's joint palette and morph weights (`deform.wgsl`).
@@ -215,11 +249,18 @@ pub(crate) struct Layouts {
     pub environment: wgpu::BindGroupLayout,
 }
 
+/// The sampled textures the scene pass's fragment stage reads with every extension texture
+/// bound: 2 in group 0 (shadow maps, transmission target), 17 in group 1, 2 in group 3.
+pub(crate) const SAMPLED_TEXTURES_WITH_EXTENSIONS: u32 = 21;
+
 impl Layouts {
     fn new(device: &wgpu::Device) -> Self {
+        let extension_textures = device.limits().max_sampled_textures_per_shader_stage
+            >= SAMPLED_TEXTURES_WITH_EXTENSIONS;
         Self {
             frame: frame_layout(device),
-            material: material_layout(device),
+            material: material_layout(device, extension_textures),
+            extension_textures,
             object: object_layout(device),
             environment: environment_layout(device),
         }
@@ -252,30 +293,37 @@ fn frame_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 /// Group 1: see [`Layouts::material`].
-fn material_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+fn material_layout(device: &wgpu::Device, extension_textures: bool) -> wgpu::BindGroupLayout {
+    let mut entries = vec![
+        buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
+        texture(1, D2),
+        texture(2, D2),
+        sampler(3, wgpu::SamplerBindingType::Filtering),
+        texture(4, D2),
+        texture(5, D2),
+        texture(6, D2),
+        // The PBR extensions' textures (specular, specular colour, clearcoat, clearcoat
+        // roughness, clearcoat normal, sheen colour, sheen roughness), and the sheen's
+        // albedo table (a storage buffer: with it, the scene pass needs no more than the
+        // 16 sampled textures a stage that WebGPU guarantees, the extension textures
+        // below aside).
+        texture(7, D2),
+        texture(8, D2),
+        texture(9, D2),
+        texture(10, D2),
+        texture(11, D2),
+        texture(12, D2),
+        texture(13, D2),
+        buffer(14, S::FRAGMENT, STORAGE),
+    ];
+    if extension_textures {
+        // Transmission, thickness, iridescence, iridescence thickness, anisotropy
+        // (extension_textures.wgsl).
+        entries.extend((15..20).map(|binding| texture(binding, D2)));
+    }
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("seamlit material"),
-        entries: &[
-            buffer(0, S::VERTEX_FRAGMENT, wgpu::BufferBindingType::Uniform),
-            texture(1, D2),
-            texture(2, D2),
-            sampler(3, wgpu::SamplerBindingType::Filtering),
-            texture(4, D2),
-            texture(5, D2),
-            texture(6, D2),
-            // The PBR extensions' textures (specular, specular colour, clearcoat, clearcoat
-            // roughness, clearcoat normal, sheen colour, sheen roughness), and the sheen's
-            // albedo table (a storage buffer: lavapipe allows 16 sampled textures a stage,
-            // and the fragment stage has them all).
-            texture(7, D2),
-            texture(8, D2),
-            texture(9, D2),
-            texture(10, D2),
-            texture(11, D2),
-            texture(12, D2),
-            texture(13, D2),
-            buffer(14, S::FRAGMENT, STORAGE),
-        ],
+        entries: &entries,
     })
 }
 
@@ -301,8 +349,8 @@ fn environment_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         entries: &[
             texture(0, CUBE),
             texture(1, CUBE),
-            // The BRDF table, a storage buffer: the fragment stage's 16 sampled textures
-            // (lavapipe's limit) are all taken, the transmission target's included.
+            // The BRDF table, a storage buffer: the 16 sampled textures a stage that WebGPU
+            // guarantees are all taken, the transmission target's included.
             buffer(2, S::FRAGMENT, STORAGE),
             sampler(3, wgpu::SamplerBindingType::Filtering),
         ],

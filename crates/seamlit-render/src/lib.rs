@@ -10,9 +10,12 @@
 //! specification's Appendix B in the same pass (base colour, metallic-roughness, occlusion and
 //! emissive textures, alpha MASK and BLEND, unlit), tone mapped as [`ToneMapping`] says, with the
 //! glTF extensions that add to that BRDF (KHR_materials_ior, _specular, _clearcoat, _sheen,
-//! _anisotropy:
+//! _anisotropy, _transmission, _volume, _iridescence, _dispersion, with their textures:
 //! `seamlit_io::PbrExtensions`) drawn by pipeline variants made on first use, so that a material
-//! without them costs what it did. Normal maps
+//! without them costs what it did. The textures of transmission, volume, iridescence and
+//! anisotropy need a device with 21 sampled textures a shader stage (lavapipe and desktop GPUs
+//! allow more): on one with fewer their factors are drawn alone
+//! ([`GpuContext::draws_all_extension_textures`]). Normal maps
 //! are read in the tangent frame built in the vertex shader (section 5.3: Gram-Schmidt,
 //! `B = cross(N, T) * w`, times the sign of the transform's determinant). Shaders live in
 //! `src/mesh.wgsl`.

@@ -2,7 +2,7 @@
 //! transforms and the PBR extensions' parameters, from seamlit-io's `Material`.
 
 use bytemuck::{Pod, Zeroable};
-use seamlit_io::{AlphaMode, Material, TextureRef};
+use seamlit_io::{AlphaMode, Material, PbrExtensions, TextureRef, Volume};
 
 /// Material flag: the material has a normal map.
 pub(crate) const MAT_NORMAL_MAP: u32 = 1;
@@ -32,6 +32,9 @@ const MAT_ANISOTROPY: u32 = 1024;
 pub(crate) const MAT_TRANSMISSION: u32 = 2048;
 /// Material flag: KHR_materials_iridescence.
 const MAT_IRIDESCENCE: u32 = 4096;
+/// Material flag: KHR_materials_anisotropy has a texture (its direction and strength are
+/// read from it; without, the direction is the tangent's and the strength the factor's).
+pub(crate) const MAT_ANISOTROPY_TEXTURE: u32 = 8192;
 /// Any of the flags of the PBR extensions' layers.
 pub(crate) const MAT_LAYERS: u32 =
     MAT_CLEARCOAT | MAT_SHEEN | MAT_SPECULAR | MAT_ANISOTROPY | MAT_TRANSMISSION | MAT_IRIDESCENCE;
@@ -90,13 +93,24 @@ pub(crate) struct MaterialRaw {
     pub ior: f32,
     pub attenuation_color: [f32; 3],
     pub pad2: f32,
-    /// KHR_materials_iridescence: its factor, the film's ior and its thickness (nm; the
-    /// maximum, the thickness texture not being drawn).
+    /// KHR_materials_iridescence: its factor, the film's ior and its thickness (nm) at the
+    /// thickness texture's green 1, its maximum (see `iridescence_thickness_minimum`).
     pub iridescence: f32,
     pub iridescence_ior: f32,
     pub iridescence_thickness: f32,
     /// KHR_materials_dispersion (with a volume): the ior's spread, 20 / Abbe number.
     pub dispersion: f32,
+    /// The texture slots of transmission (red), volume's thickness (green), iridescence
+    /// (red), its thickness (green) and anisotropy (red-green direction, blue strength).
+    pub transmission_uv: [[f32; 4]; 2],
+    pub thickness_uv: [[f32; 4]; 2],
+    pub iridescence_uv: [[f32; 4]; 2],
+    pub iridescence_thickness_uv: [[f32; 4]; 2],
+    pub anisotropy_uv: [[f32; 4]; 2],
+    /// The film's thickness (nm) at the thickness texture's green 0: its minimum, or its
+    /// maximum where it has no thickness texture (so that the film is the maximum).
+    pub iridescence_thickness_minimum: f32,
+    pub pad3: [f32; 3],
 }
 
 /// The rows of the 2x3 affine UV matrix of KHR_texture_transform, `T * R * S`, and in the
@@ -114,65 +128,11 @@ fn uv_rows(texture: Option<&TextureRef>) -> [[f32; 4]; 2] {
     ]
 }
 
-/// Builds a material's uniforms.
+/// Builds a material's uniforms: the core material's, then its extensions'.
 pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
-    let mut flags = 0;
-    if material.normal_texture.is_some() {
-        flags |= MAT_NORMAL_MAP;
-    }
-    if material.normal_green_down {
-        flags |= MAT_GREEN_DOWN;
-    }
-    if material.double_sided {
-        flags |= MAT_DOUBLE_SIDED;
-    }
-    if material.unlit {
-        flags |= MAT_UNLIT;
-    }
-    let alpha_cutoff = match material.alpha_mode {
-        AlphaMode::Opaque => 0.0,
-        AlphaMode::Mask { cutoff } => {
-            flags |= MAT_ALPHA_MASK;
-            cutoff
-        }
-        AlphaMode::Blend => {
-            flags |= MAT_ALPHA_BLEND;
-            0.0
-        }
-    };
+    let (flags, alpha_cutoff) = core_flags(material);
     let slot_uv = |r: &Option<TextureRef>| uv_rows(r.as_ref());
-    let ext = &material.extensions;
-    // KHR_materials_ior: f0 = ((ior - 1) / (ior + 1))^2; glTF's default 1.5 gives 0.04.
-    let f0 = ext.ior.map_or(0.04, |ior| ((ior - 1.0) / (ior + 1.0)).powi(2));
-    if ext.ior.is_some() || ext.specular.is_some() {
-        flags |= MAT_SPECULAR;
-    }
-    if ext.clearcoat.is_some() {
-        flags |= MAT_CLEARCOAT;
-    }
-    if ext.clearcoat.as_ref().is_some_and(|c| c.normal_texture.is_some()) {
-        flags |= MAT_CLEARCOAT_NORMAL_MAP;
-    }
-    if ext.sheen.is_some() {
-        flags |= MAT_SHEEN;
-    }
-    if ext.anisotropy.is_some() {
-        flags |= MAT_ANISOTROPY;
-    }
-    if ext.transmission.is_some() {
-        flags |= MAT_TRANSMISSION;
-    }
-    if ext.iridescence.is_some() {
-        flags |= MAT_IRIDESCENCE;
-    }
-    // KHR_materials_volume needs KHR_materials_transmission (its specification): alone it
-    // changes nothing.
-    let volume = ext.volume.as_ref().filter(|_| ext.transmission.is_some());
-    let specular = ext.specular.as_ref();
-    let clearcoat = ext.clearcoat.as_ref();
-    let sheen = ext.sheen.as_ref();
-    let none = &None;
-    MaterialRaw {
+    let mut raw = MaterialRaw {
         base_color: material.base_color,
         specular: material.specular,
         // pow(0, 0) is undefined in WGSL: keep the exponent positive.
@@ -188,41 +148,118 @@ pub(crate) fn material_to_raw(material: &Material) -> MaterialRaw {
         roughness: material.roughness.clamp(0.0, 1.0),
         occlusion_strength: material.occlusion_strength.clamp(0.0, 1.0),
         alpha_cutoff,
-        flags,
-        pad: [0; 3],
-        specular_uv: slot_uv(specular.map_or(none, |s| &s.texture)),
-        specular_color_uv: slot_uv(specular.map_or(none, |s| &s.color_texture)),
-        clearcoat_uv: slot_uv(clearcoat.map_or(none, |c| &c.texture)),
-        clearcoat_roughness_uv: slot_uv(clearcoat.map_or(none, |c| &c.roughness_texture)),
-        clearcoat_normal_uv: slot_uv(clearcoat.map_or(none, |c| &c.normal_texture)),
-        sheen_color_uv: slot_uv(sheen.map_or(none, |s| &s.color_texture)),
-        sheen_roughness_uv: slot_uv(sheen.map_or(none, |s| &s.roughness_texture)),
-        f0_dielectric: specular.map_or([f0; 3], |s| s.color.map(|c| (f0 * c).clamp(0.0, 1.0))),
-        specular_weight: specular.map_or(1.0, |s| s.factor.max(0.0)),
-        sheen_color: sheen.map_or([0.0; 3], |s| s.color.map(|c| c.max(0.0))),
-        sheen_roughness: sheen.map_or(0.0, |s| s.roughness.clamp(0.0, 1.0)),
-        clearcoat: clearcoat.map_or(0.0, |c| c.factor.clamp(0.0, 1.0)),
-        clearcoat_roughness: clearcoat.map_or(0.0, |c| c.roughness.clamp(0.0, 1.0)),
-        clearcoat_normal_scale: clearcoat.map_or(1.0, |c| c.normal_scale),
-        clearcoat_f0: f0,
-        anisotropy: ext.anisotropy.as_ref().map_or([1.0, 0.0, 0.0], |a| {
-            let (sin, cos) = a.rotation.sin_cos();
-            [cos, sin, a.strength.clamp(0.0, 1.0)]
-        }),
-        pad1: 0.0,
-        transmission: ext.transmission.as_ref().map_or(0.0, |t| t.factor.clamp(0.0, 1.0)),
-        thickness: volume.map_or(0.0, |v| v.thickness.max(0.0)),
-        attenuation_distance: volume.and_then(|v| v.attenuation_distance).unwrap_or(0.0),
-        ior: ext.ior.unwrap_or(1.5).max(1.0),
-        attenuation_color: volume
-            .map_or([1.0; 3], |v| v.attenuation_color.map(|c| c.clamp(0.0, 1.0))),
-        pad2: 0.0,
-        iridescence: ext.iridescence.as_ref().map_or(0.0, |i| i.factor.clamp(0.0, 1.0)),
-        iridescence_ior: ext.iridescence.as_ref().map_or(1.3, |i| i.ior.max(1.0)),
-        iridescence_thickness: ext
-            .iridescence
-            .as_ref()
-            .map_or(0.0, |i| i.thickness_maximum.max(0.0)),
-        dispersion: volume.and(ext.dispersion).map_or(0.0, |d| d.max(0.0)),
+        flags: flags | extension_flags(&material.extensions),
+        ..MaterialRaw::zeroed()
+    };
+    set_texture_slots(&mut raw, &material.extensions);
+    set_surface_layers(&mut raw, &material.extensions);
+    set_volume_and_film(&mut raw, &material.extensions);
+    raw
+}
+
+/// The core material's flags (normal map, green down, double-sided, unlit, alpha mode) and
+/// its alpha cutoff (0 unless MASK).
+fn core_flags(material: &Material) -> (u32, f32) {
+    let mut flags = 0;
+    if material.normal_texture.is_some() {
+        flags |= MAT_NORMAL_MAP;
     }
+    if material.normal_green_down {
+        flags |= MAT_GREEN_DOWN;
+    }
+    if material.double_sided {
+        flags |= MAT_DOUBLE_SIDED;
+    }
+    if material.unlit {
+        flags |= MAT_UNLIT;
+    }
+    match material.alpha_mode {
+        AlphaMode::Opaque => (flags, 0.0),
+        AlphaMode::Mask { cutoff } => (flags | MAT_ALPHA_MASK, cutoff),
+        AlphaMode::Blend => (flags | MAT_ALPHA_BLEND, 0.0),
+    }
+}
+
+/// The flags of the PBR extensions a material uses.
+fn extension_flags(ext: &PbrExtensions) -> u32 {
+    let flag = |used: bool, flag: u32| if used { flag } else { 0 };
+    flag(ext.ior.is_some() || ext.specular.is_some(), MAT_SPECULAR)
+        | flag(ext.clearcoat.is_some(), MAT_CLEARCOAT)
+        | flag(
+            ext.clearcoat.as_ref().is_some_and(|c| c.normal_texture.is_some()),
+            MAT_CLEARCOAT_NORMAL_MAP,
+        )
+        | flag(ext.sheen.is_some(), MAT_SHEEN)
+        | flag(ext.anisotropy.is_some(), MAT_ANISOTROPY)
+        | flag(ext.anisotropy.as_ref().is_some_and(|a| a.texture.is_some()), MAT_ANISOTROPY_TEXTURE)
+        | flag(ext.transmission.is_some(), MAT_TRANSMISSION)
+        | flag(ext.iridescence.is_some(), MAT_IRIDESCENCE)
+}
+
+/// KHR_materials_volume, read only with KHR_materials_transmission (its specification:
+/// alone it changes nothing).
+fn volume(ext: &PbrExtensions) -> Option<&Volume> {
+    ext.volume.as_ref().filter(|_| ext.transmission.is_some())
+}
+
+/// The texture slots of the extensions (the identity, TEXCOORD_0, where a material has no
+/// such texture).
+fn set_texture_slots(raw: &mut MaterialRaw, ext: &PbrExtensions) {
+    let slot = |r: Option<&Option<TextureRef>>| uv_rows(r.and_then(Option::as_ref));
+    let (specular, clearcoat, sheen) = (&ext.specular, &ext.clearcoat, &ext.sheen);
+    raw.specular_uv = slot(specular.as_ref().map(|s| &s.texture));
+    raw.specular_color_uv = slot(specular.as_ref().map(|s| &s.color_texture));
+    raw.clearcoat_uv = slot(clearcoat.as_ref().map(|c| &c.texture));
+    raw.clearcoat_roughness_uv = slot(clearcoat.as_ref().map(|c| &c.roughness_texture));
+    raw.clearcoat_normal_uv = slot(clearcoat.as_ref().map(|c| &c.normal_texture));
+    raw.sheen_color_uv = slot(sheen.as_ref().map(|s| &s.color_texture));
+    raw.sheen_roughness_uv = slot(sheen.as_ref().map(|s| &s.roughness_texture));
+    raw.transmission_uv = slot(ext.transmission.as_ref().map(|t| &t.texture));
+    raw.thickness_uv = slot(volume(ext).map(|v| &v.thickness_texture));
+    raw.iridescence_uv = slot(ext.iridescence.as_ref().map(|i| &i.texture));
+    raw.iridescence_thickness_uv = slot(ext.iridescence.as_ref().map(|i| &i.thickness_texture));
+    raw.anisotropy_uv = slot(ext.anisotropy.as_ref().map(|a| &a.texture));
+}
+
+/// The layers on the surface: ior and specular (the dielectric's f0 and strength), sheen,
+/// clearcoat and anisotropy.
+fn set_surface_layers(raw: &mut MaterialRaw, ext: &PbrExtensions) {
+    // KHR_materials_ior: f0 = ((ior - 1) / (ior + 1))^2; glTF's default 1.5 gives 0.04.
+    let f0 = ext.ior.map_or(0.04, |ior| ((ior - 1.0) / (ior + 1.0)).powi(2));
+    let specular = ext.specular.as_ref();
+    let clearcoat = ext.clearcoat.as_ref();
+    let sheen = ext.sheen.as_ref();
+    raw.f0_dielectric = specular.map_or([f0; 3], |s| s.color.map(|c| (f0 * c).clamp(0.0, 1.0)));
+    raw.specular_weight = specular.map_or(1.0, |s| s.factor.max(0.0));
+    raw.sheen_color = sheen.map_or([0.0; 3], |s| s.color.map(|c| c.max(0.0)));
+    raw.sheen_roughness = sheen.map_or(0.0, |s| s.roughness.clamp(0.0, 1.0));
+    raw.clearcoat = clearcoat.map_or(0.0, |c| c.factor.clamp(0.0, 1.0));
+    raw.clearcoat_roughness = clearcoat.map_or(0.0, |c| c.roughness.clamp(0.0, 1.0));
+    raw.clearcoat_normal_scale = clearcoat.map_or(1.0, |c| c.normal_scale);
+    raw.clearcoat_f0 = f0;
+    raw.anisotropy = ext.anisotropy.as_ref().map_or([1.0, 0.0, 0.0], |a| {
+        let (sin, cos) = a.rotation.sin_cos();
+        [cos, sin, a.strength.clamp(0.0, 1.0)]
+    });
+}
+
+/// Transmission and its volume (the ior refracts through it), dispersion, and the
+/// iridescent film.
+fn set_volume_and_film(raw: &mut MaterialRaw, ext: &PbrExtensions) {
+    let volume = volume(ext);
+    raw.transmission = ext.transmission.as_ref().map_or(0.0, |t| t.factor.clamp(0.0, 1.0));
+    raw.thickness = volume.map_or(0.0, |v| v.thickness.max(0.0));
+    raw.attenuation_distance = volume.and_then(|v| v.attenuation_distance).unwrap_or(0.0);
+    raw.ior = ext.ior.unwrap_or(1.5).max(1.0);
+    raw.attenuation_color =
+        volume.map_or([1.0; 3], |v| v.attenuation_color.map(|c| c.clamp(0.0, 1.0)));
+    raw.dispersion = volume.and(ext.dispersion).map_or(0.0, |d| d.max(0.0));
+    let film = ext.iridescence.as_ref();
+    raw.iridescence = film.map_or(0.0, |i| i.factor.clamp(0.0, 1.0));
+    raw.iridescence_ior = film.map_or(1.3, |i| i.ior.max(1.0));
+    raw.iridescence_thickness = film.map_or(0.0, |i| i.thickness_maximum.max(0.0));
+    raw.iridescence_thickness_minimum = match film {
+        Some(i) if i.thickness_texture.is_some() => i.thickness_minimum.max(0.0),
+        _ => raw.iridescence_thickness,
+    };
 }

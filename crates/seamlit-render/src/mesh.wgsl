@@ -102,6 +102,15 @@ struct Material {
     iridescence_ior: f32,
     iridescence_thickness: f32,
     dispersion: f32,
+    transmission_uv: array<vec4<f32>, 2>,
+    thickness_uv: array<vec4<f32>, 2>,
+    iridescence_uv: array<vec4<f32>, 2>,
+    iridescence_thickness_uv: array<vec4<f32>, 2>,
+    anisotropy_uv: array<vec4<f32>, 2>,
+    iridescence_thickness_minimum: f32,
+    pad5: f32,
+    pad6: f32,
+    pad7: f32,
 }
 
 // `Object` (group 2, the per-object uniforms) is in object.wgsl, put in front of this file.
@@ -153,6 +162,7 @@ const MAT_SPECULAR: u32 = 512u;
 const MAT_ANISOTROPY: u32 = 1024u;
 const MAT_TRANSMISSION: u32 = 2048u;
 const MAT_IRIDESCENCE: u32 = 4096u;
+const MAT_ANISOTROPY_TEXTURE: u32 = 8192u;
 // Any of the PBR extensions that add to the BRDF: drawn by shade_layers.
 const MAT_LAYERS: u32 = 8000u;
 
@@ -194,8 +204,8 @@ const PI: f32 = 3.141592653589793;
 @group(3) @binding(0) var environment_specular: texture_cube<f32>;
 @group(3) @binding(1) var environment_irradiance: texture_cube<f32>;
 // The split-sum BRDF table (64 x 64 texels of two halves packed in a u32, then two unused
-// halves), a storage buffer so that the stage's sampled textures leave room for the
-// transmission target (lavapipe allows 16).
+// halves), a storage buffer so that the 16 sampled textures a stage WebGPU guarantees leave
+// room for the transmission target.
 @group(3) @binding(2) var<storage, read> brdf_lut: array<u32>;
 @group(3) @binding(3) var environment_sampler: sampler;
 
@@ -698,92 +708,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     }
     let s = shade_shadowed(n, v, in.world, material.shininess, frame.lighting_model);
     return out_lit(albedo * (frame.ambient + s.diffuse) + material.specular * s.specular + emissive, alpha);
-}
-
-// The texture coordinates and their screen derivatives, for textureSampleGrad.
-struct UvGrads {
-    uv0: vec2<f32>,
-    uv1: vec2<f32>,
-    dx0: vec2<f32>,
-    dy0: vec2<f32>,
-    dx1: vec2<f32>,
-    dy1: vec2<f32>,
-}
-
-// A texture slot sampled with explicit gradients (so that it may be read where control flow
-// is not uniform): its set's derivatives through the slot's transform (its linear part, and
-// V flipped as material_uv flips it).
-fn sample_slot(t: texture_2d<f32>, rows: array<vec4<f32>, 2>, g: UvGrads) -> vec4<f32> {
-    let use1 = rows[0].w > 0.5;
-    let dx = select(g.dx0, g.dx1, use1);
-    let dy = select(g.dy0, g.dy1, use1);
-    var tdx = vec2<f32>(dot(rows[0].xy, dx), dot(rows[1].xy, dx));
-    var tdy = vec2<f32>(dot(rows[0].xy, dy), dot(rows[1].xy, dy));
-    if object.flip_v != 0u {
-        tdx.y = -tdx.y;
-        tdy.y = -tdy.y;
-    }
-    return textureSampleGrad(t, material_sampler, material_uv(rows, g.uv0, g.uv1), tdx, tdy);
-}
-
-// The material's layers at this pixel: factors times textures, and the clearcoat's normal
-// (the geometry's, or its own normal map's in the same tangent frame).
-fn material_layers(g: UvGrads, geometry_n: vec3<f32>, shading_n: vec3<f32>, albedo: vec3<f32>, in: VertexOut) -> Layers {
-    var out: Layers;
-    let specular = sample_slot(specular_texture, material.specular_uv, g).a;
-    let specular_color = sample_slot(specular_color_texture, material.specular_color_uv, g).rgb;
-    out.f0_dielectric = min(material.f0_dielectric * specular_color, vec3<f32>(1.0));
-    out.specular_weight = material.specular_weight * specular;
-    out.sheen_color = material.sheen_color * sample_slot(sheen_color_texture, material.sheen_color_uv, g).rgb;
-    out.sheen_roughness = clamp(material.sheen_roughness * sample_slot(sheen_roughness_texture, material.sheen_roughness_uv, g).a, 0.0, 1.0);
-    out.clearcoat = clamp(material.clearcoat * sample_slot(clearcoat_texture, material.clearcoat_uv, g).r, 0.0, 1.0);
-    out.clearcoat_roughness = clamp(material.clearcoat_roughness * sample_slot(clearcoat_roughness_texture, material.clearcoat_roughness_uv, g).g, 0.0, 1.0);
-    out.clearcoat_f0 = material.clearcoat_f0;
-    out.clearcoat_n = geometry_n;
-    let t_len2 = dot(in.tangent, in.tangent);
-    out.anisotropy = 0.0;
-    out.anisotropy_t = vec3<f32>(1.0, 0.0, 0.0);
-    out.anisotropy_b = vec3<f32>(0.0, 1.0, 0.0);
-    if (material.flags & MAT_ANISOTROPY) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
-        // The direction (1, 0) of the tangent plane turned by the rotation, in the frame of
-        // the shading normal; the bitangent across it about the geometry's normal.
-        let t = safe_normalize(in.tangent - dot(in.tangent, shading_n) * shading_n, in.tangent);
-        let b = safe_normalize(in.bitangent, cross(shading_n, t) * in.handedness);
-        out.anisotropy_t = safe_normalize(t * material.anisotropy.x + b * material.anisotropy.y, t);
-        out.anisotropy_b = safe_normalize(cross(geometry_n, out.anisotropy_t), b);
-        out.anisotropy = material.anisotropy.z;
-    }
-    out.transmission = 0.0;
-    out.ior = material.ior;
-    out.volume_ray = vec3<f32>(0.0);
-    out.attenuation_distance = material.attenuation_distance;
-    out.attenuation_color = material.attenuation_color;
-    out.thickness = material.thickness;
-    out.dispersion = material.dispersion;
-    if (material.flags & MAT_TRANSMISSION) != 0u {
-        out.transmission = material.transmission;
-        out.volume_ray = volume_ray(shading_n, safe_normalize(frame.eye - in.world, shading_n), material.thickness, material.ior);
-    }
-    out.iridescence = 0.0;
-    out.iridescence_dielectric = vec3<f32>(0.0);
-    out.iridescence_metal = vec3<f32>(0.0);
-    if (material.flags & MAT_IRIDESCENCE) != 0u && material.iridescence_thickness > 0.0 {
-        // The film's Fresnel terms at this view angle, over the dielectric and over the metal.
-        let v = safe_normalize(frame.eye - in.world, shading_n);
-        let n_dot_v = clamp(dot(shading_n, v), 0.0, 1.0);
-        out.iridescence = material.iridescence;
-        out.iridescence_dielectric = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, out.f0_dielectric);
-        out.iridescence_metal = iridescence_fresnel(material.iridescence_ior, n_dot_v, material.iridescence_thickness, albedo);
-    }
-    if (material.flags & MAT_CLEARCOAT_NORMAL_MAP) != 0u && object.has_tangents != 0u && t_len2 > 1e-12 {
-        var tn = sample_slot(clearcoat_normal_texture, material.clearcoat_normal_uv, g).xyz * 2.0 - 1.0;
-        tn = vec3<f32>(tn.xy * material.clearcoat_normal_scale, tn.z);
-        let n = geometry_n;
-        let t = safe_normalize(in.tangent - dot(in.tangent, n) * n, in.tangent);
-        let b = safe_normalize(in.bitangent, cross(n, t) * in.handedness);
-        out.clearcoat_n = safe_normalize(t * tn.x + b * tn.y + n * tn.z, n);
-    }
-    return out;
 }
 
 struct SkyOut {

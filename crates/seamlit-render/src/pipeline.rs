@@ -33,7 +33,7 @@ pub(crate) struct Pipelines {
 impl Pipelines {
     pub(crate) fn new(ctx: &GpuContext, format: wgpu::TextureFormat, sample_count: u32) -> Self {
         let device = ctx.device();
-        let module = crate::shaders::MESH.module(device);
+        let module = crate::shaders::mesh(ctx.layouts.extension_textures).module(device);
         let layout = mesh_layout(ctx);
         let multisample = wgpu::MultisampleState {
             count: sample_count,

@@ -243,7 +243,12 @@ impl Renderer {
             self.encode_transmission(ctx, encoder, frame);
         }
         let Some(attachments) = &self.attachments else { return Ok(()) };
-        let mut pass = begin_scene_pass(encoder, attachments, target, settings.clear_color);
+        let (view, resolve) = match &attachments.msaa {
+            Some(msaa) => (msaa, Some(target)),
+            None => (target, None),
+        };
+        let colour = PassColour { view, resolve, clear: settings.clear_color };
+        let mut pass = begin_pass(encoder, "seamlit scene", colour, &attachments.depth);
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
         pass.set_bind_group(3, &self.environment.bind_group, &[]);
         if self.has_environment && settings.environment_background {
@@ -277,6 +282,36 @@ impl Renderer {
                 transmission.pipelines.prepare(ctx.device(), features);
             }
         }
+        let frame_group = self.transmission_frame_group(ctx, frame);
+        let Some(transmission) = &self.transmission else { return };
+        {
+            let colour = PassColour {
+                view: transmission.target(),
+                resolve: None,
+                clear: settings.clear_color,
+            };
+            let label = "seamlit transmission";
+            let mut pass = begin_pass(encoder, label, colour, &transmission.depth);
+            pass.set_bind_group(0, &frame_group, &[]);
+            pass.set_bind_group(3, &self.environment.bind_group, &[]);
+            if self.has_environment && settings.environment_background {
+                self.draw_sky_with(&mut pass, &transmission.pipelines, scene);
+            }
+            self.draw_meshes(&mut pass, &transmission.pipelines, scene, camera.eye, true);
+        }
+        transmission.encode_mips(encoder);
+    }
+
+    /// The transmission pass's frame bind group: the frame's uniforms in linear light (no
+    /// exposure, no tone mapping), written to the transmission target's own buffer, with the
+    /// scene pass's lights and shadow maps and a black texel for the target it draws into.
+    fn transmission_frame_group(
+        &self,
+        ctx: &GpuContext,
+        frame: &FrameDescriptor<'_>,
+    ) -> wgpu::BindGroup {
+        let FrameDescriptor { scene, camera, settings, .. } = *frame;
+        let transmission = self.transmission.as_ref().expect("made before its frame group");
         let mut raw = settings.to_raw(&FrameInputs {
             camera,
             default_tbn_length: scene.default_tbn_length(),
@@ -287,47 +322,13 @@ impl Renderer {
         raw.exposure = 1.0;
         raw.tone_mapping = 0;
         ctx.queue().write_buffer(&transmission.frame_buffer, 0, bytemuck::bytes_of(&raw));
-        let frame_group = frame_bind_group(
+        frame_bind_group(
             ctx,
             &transmission.frame_buffer,
             &self.light_buffer,
             &self.shadows,
             &self.black,
-        );
-        let Some(transmission) = &self.transmission else { return };
-        let [r, g, b, a] = settings.clear_color.map(f64::from);
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("seamlit transmission"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: transmission.target(),
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &transmission.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &frame_group, &[]);
-            pass.set_bind_group(3, &self.environment.bind_group, &[]);
-            if self.has_environment && settings.environment_background {
-                self.draw_sky_with(&mut pass, &transmission.pipelines, scene);
-            }
-            self.draw_meshes(&mut pass, &transmission.pipelines, scene, camera.eye, true);
-        }
-        transmission.encode_mips(encoder);
+        )
     }
 
     /// The scene pass's frame bind group: the frame uniforms, lights, shadow maps and the
@@ -537,29 +538,33 @@ fn draw_order(scene: &GpuScene, eye: glam::Vec3) -> Vec<&crate::scene::GpuMesh> 
     order
 }
 
-/// Begins the scene's pass: colour cleared to `clear` (drawn into the multisampled
-/// attachment and resolved into `target` when there is one, else into `target`), depth
-/// cleared to 1; neither attachment but the target is kept.
-fn begin_scene_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    attachments: &Attachments,
-    target: &wgpu::TextureView,
+/// A pass's colour attachment: drawn into `view` (resolved into `resolve` when `view` is
+/// multisampled), cleared to `clear`.
+struct PassColour<'a> {
+    view: &'a wgpu::TextureView,
+    resolve: Option<&'a wgpu::TextureView>,
     clear: [f32; 4],
+}
+
+/// Begins a pass that draws meshes (the scene's, the transmission target's): colour cleared
+/// (and kept only where it is not resolved elsewhere), depth `depth` cleared to 1 and not
+/// kept.
+fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    colour: PassColour<'_>,
+    depth: &wgpu::TextureView,
 ) -> wgpu::RenderPass<'e> {
-    let [r, g, b, a] = clear.map(f64::from);
-    let (view, resolve_target) = match &attachments.msaa {
-        Some(msaa) => (msaa, Some(target)),
-        None => (target, None),
-    };
+    let [r, g, b, a] = colour.clear.map(f64::from);
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("seamlit scene"),
+        label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
+            view: colour.view,
             depth_slice: None,
-            resolve_target,
+            resolve_target: colour.resolve,
             ops: wgpu::Operations {
                 load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                store: if resolve_target.is_some() {
+                store: if colour.resolve.is_some() {
                     wgpu::StoreOp::Discard
                 } else {
                     wgpu::StoreOp::Store
@@ -567,7 +572,7 @@ fn begin_scene_pass<'e>(
             },
         })],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &attachments.depth,
+            view: depth,
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
                 store: wgpu::StoreOp::Discard,

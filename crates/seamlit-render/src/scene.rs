@@ -9,7 +9,8 @@ use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
 use crate::material::{
-    MAT_CLEARCOAT_NORMAL_MAP, MAT_LAYERS, MAT_NORMAL_MAP, MAT_TRANSMISSION, material_to_raw,
+    MAT_ANISOTROPY_TEXTURE, MAT_CLEARCOAT_NORMAL_MAP, MAT_LAYERS, MAT_NORMAL_MAP, MAT_TRANSMISSION,
+    material_to_raw,
 };
 use crate::pose::{Deform, ObjectPose};
 use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
@@ -359,6 +360,14 @@ fn upload_material(
     if views.layers.clearcoat_normal.is_none() {
         raw.flags &= !MAT_CLEARCOAT_NORMAL_MAP;
     }
+    if views.layers.anisotropy.is_none() {
+        // Without its texture (none, not loaded, or not bound on this device), the
+        // anisotropy's direction and strength are its factors'.
+        raw.flags &= !MAT_ANISOTROPY_TEXTURE;
+    }
+    if views.layers.iridescence_thickness.is_none() {
+        raw.iridescence_thickness_minimum = raw.iridescence_thickness;
+    }
     let uniform = ctx.device().create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("seamlit material"),
         contents: bytemuck::bytes_of(&raw),
@@ -453,9 +462,16 @@ struct LayerViews {
     clearcoat_normal: Option<wgpu::TextureView>,
     sheen_color: Option<wgpu::TextureView>,
     sheen_roughness: Option<wgpu::TextureView>,
+    /// Transmission, volume, iridescence and anisotropy: `None` too where the device does
+    /// not bind them ([`crate::GpuContext::draws_all_extension_textures`]).
+    transmission: Option<wgpu::TextureView>,
+    thickness: Option<wgpu::TextureView>,
+    iridescence: Option<wgpu::TextureView>,
+    iridescence_thickness: Option<wgpu::TextureView>,
+    anisotropy: Option<wgpu::TextureView>,
 }
 
-/// The textures of a material's specular, clearcoat and sheen extensions.
+/// The textures of a material's PBR extensions.
 fn layer_views(
     ctx: &GpuContext,
     material: &Material,
@@ -466,6 +482,10 @@ fn layer_views(
     let specular = ext.specular.as_ref();
     let clearcoat = ext.clearcoat.as_ref();
     let sheen = ext.sheen.as_ref();
+    // Bound where the device allows them; elsewhere neither uploaded nor drawn.
+    let bound = ctx.layouts.extension_textures;
+    let film = ext.iridescence.as_ref().filter(|_| bound);
+    let volume = ext.volume.as_ref().filter(|_| bound);
     Ok(LayerViews {
         specular: view(specular.and_then(|s| s.texture.as_ref()), TexelKind::Data)?,
         specular_color: view(specular.and_then(|s| s.color_texture.as_ref()), TexelKind::Color)?,
@@ -480,6 +500,20 @@ fn layer_views(
         )?,
         sheen_color: view(sheen.and_then(|s| s.color_texture.as_ref()), TexelKind::Color)?,
         sheen_roughness: view(sheen.and_then(|s| s.roughness_texture.as_ref()), TexelKind::Data)?,
+        transmission: view(
+            ext.transmission.as_ref().filter(|_| bound).and_then(|t| t.texture.as_ref()),
+            TexelKind::Data,
+        )?,
+        thickness: view(volume.and_then(|v| v.thickness_texture.as_ref()), TexelKind::Data)?,
+        iridescence: view(film.and_then(|i| i.texture.as_ref()), TexelKind::Data)?,
+        iridescence_thickness: view(
+            film.and_then(|i| i.thickness_texture.as_ref()),
+            TexelKind::Data,
+        )?,
+        anisotropy: view(
+            ext.anisotropy.as_ref().filter(|_| bound).and_then(|a| a.texture.as_ref()),
+            TexelKind::Data,
+        )?,
     })
 }
 
@@ -498,32 +532,40 @@ fn material_bind_group<'a>(
             resource: wgpu::BindingResource::TextureView(view.as_ref().unwrap_or(default)),
         }
     };
+    let mut entries = vec![
+        wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+        view(1, &views.base, &defaults.white),
+        view(2, &views.normal, &defaults.flat),
+        wgpu::BindGroupEntry {
+            binding: 3,
+            resource: wgpu::BindingResource::Sampler(&defaults.sampler),
+        },
+        view(4, &views.metallic_roughness, &defaults.white_data),
+        view(5, &views.occlusion, &defaults.white_data),
+        view(6, &views.emissive, &defaults.white),
+        view(7, &views.layers.specular, &defaults.white_data),
+        view(8, &views.layers.specular_color, &defaults.white),
+        view(9, &views.layers.clearcoat, &defaults.white_data),
+        view(10, &views.layers.clearcoat_roughness, &defaults.white_data),
+        view(11, &views.layers.clearcoat_normal, &defaults.flat),
+        view(12, &views.layers.sheen_color, &defaults.white),
+        view(13, &views.layers.sheen_roughness, &defaults.white_data),
+        wgpu::BindGroupEntry { binding: 14, resource: defaults.sheen_albedo.as_entire_binding() },
+    ];
+    if ctx.layouts.extension_textures {
+        let layers = &views.layers;
+        entries.extend([
+            view(15, &layers.transmission, &defaults.white_data),
+            view(16, &layers.thickness, &defaults.white_data),
+            view(17, &layers.iridescence, &defaults.white_data),
+            view(18, &layers.iridescence_thickness, &defaults.white_data),
+            view(19, &layers.anisotropy, &defaults.white_data),
+        ]);
+    }
     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
         layout: &ctx.layouts.material,
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
-            view(1, &views.base, &defaults.white),
-            view(2, &views.normal, &defaults.flat),
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&defaults.sampler),
-            },
-            view(4, &views.metallic_roughness, &defaults.white_data),
-            view(5, &views.occlusion, &defaults.white_data),
-            view(6, &views.emissive, &defaults.white),
-            view(7, &views.layers.specular, &defaults.white_data),
-            view(8, &views.layers.specular_color, &defaults.white),
-            view(9, &views.layers.clearcoat, &defaults.white_data),
-            view(10, &views.layers.clearcoat_roughness, &defaults.white_data),
-            view(11, &views.layers.clearcoat_normal, &defaults.flat),
-            view(12, &views.layers.sheen_color, &defaults.white),
-            view(13, &views.layers.sheen_roughness, &defaults.white_data),
-            wgpu::BindGroupEntry {
-                binding: 14,
-                resource: defaults.sheen_albedo.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     })
 }
 

@@ -9,16 +9,37 @@
 //! same offset, checked with naga by the test `gpu_structs_have_the_layout_of_their_rust_structs`.
 
 /// The scene pass: meshes, the sky and the TBN lines (`mesh.wgsl`), with the PBR extension
-/// layers (`layers.wgsl`).
+/// layers (`layers.wgsl`) and the textures of transmission, volume, iridescence and
+/// anisotropy (`extension_textures.wgsl`).
 pub(crate) const MESH: Source = Source {
     label: "seamlit mesh.wgsl",
     text: concat!(
         include_str!("object.wgsl"),
         include_str!("deform.wgsl"),
         include_str!("mesh.wgsl"),
-        include_str!("layers.wgsl")
+        include_str!("layers.wgsl"),
+        include_str!("extension_textures.wgsl")
     ),
 };
+
+/// [`MESH`] for a device with fewer sampled textures a stage: those four extensions'
+/// textures unbound (`extension_textures_unbound.wgsl`).
+pub(crate) const MESH_WITHOUT_EXTENSION_TEXTURES: Source = Source {
+    label: "seamlit mesh.wgsl (without extension textures)",
+    text: concat!(
+        include_str!("object.wgsl"),
+        include_str!("deform.wgsl"),
+        include_str!("mesh.wgsl"),
+        include_str!("layers.wgsl"),
+        include_str!("extension_textures_unbound.wgsl")
+    ),
+};
+
+/// The scene pass's shader for a material layout with (`extension_textures`) or without
+/// bindings 15 to 19 (`context.rs`).
+pub(crate) fn mesh(extension_textures: bool) -> Source {
+    if extension_textures { MESH } else { MESH_WITHOUT_EXTENSION_TEXTURES }
+}
 
 /// The shadow-map pass (`shadow.wgsl`).
 pub(crate) const SHADOW: Source = Source {
@@ -79,7 +100,8 @@ mod tests {
     use crate::scene::ObjectRaw;
     use crate::settings::FrameRaw;
 
-    const ALL: [Source; 5] = [MESH, SHADOW, POSED, IBL, TRANSMISSION];
+    const ALL: [Source; 6] =
+        [MESH, MESH_WITHOUT_EXTENSION_TEXTURES, SHADOW, POSED, IBL, TRANSMISSION];
 
     fn parse(source: Source) -> naga::Module {
         let module = naga::front::wgsl::parse_str(source.text)
@@ -247,6 +269,12 @@ mod tests {
                     iridescence_ior,
                     iridescence_thickness,
                     dispersion,
+                    transmission_uv,
+                    thickness_uv,
+                    iridescence_uv,
+                    iridescence_thickness_uv,
+                    anisotropy_uv,
+                    iridescence_thickness_minimum,
                 }),
             ),
             (MESH, "Object", object.clone()),

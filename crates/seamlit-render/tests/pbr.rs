@@ -414,3 +414,57 @@ fn ior_specular_and_clearcoat_match_their_specifications_on_a_plane() {
         }
     }
 }
+
+/// A device with WebGPU's 16 sampled textures a stage has no room for the textures of
+/// transmission, volume, iridescence and anisotropy: it draws such a material by its factors
+/// (the picture of the same material without the texture), where a device that allows more
+/// draws the texture.
+#[test]
+fn a_device_with_16_sampled_textures_draws_the_extension_factors_alone() {
+    use seamlit_io::{Iridescence, PbrExtensions};
+    use seamlit_render::GpuContext;
+    let film = |texture| Iridescence {
+        factor: 1.0,
+        texture,
+        ior: 1.8,
+        thickness_minimum: 100.0,
+        thickness_maximum: 550.0,
+        thickness_texture: None,
+    };
+    let material = |texture| {
+        let extensions = PbrExtensions { iridescence: Some(film(texture)), ..Default::default() };
+        Material { extensions, ..uniform([0.4, 0.4, 0.4], 1.0, 0.5) }
+    };
+    // The film on the left half only.
+    let textured =
+        asset(plane(1.5), material(tex_ref(0)), vec![texture("film", halves([255; 4], [0; 4]))]);
+    let plain = asset(plane(1.5), material(None), vec![]);
+    let full = ctx();
+    let limits =
+        wgpu::Limits { max_sampled_textures_per_shader_stage: 16, ..full.adapter().limits() };
+    let small = GpuContext::from_adapter_with_limits(
+        full.instance().clone(),
+        full.adapter().clone(),
+        limits,
+    )
+    .expect("a device with 16 sampled textures a stage");
+    assert!(full.draws_all_extension_textures());
+    assert!(!small.draws_all_extension_textures());
+    let draw = |ctx: &GpuContext, asset: &Asset, name: &str| {
+        let scene = GpuScene::upload(ctx, asset).expect("upload");
+        let image = render_ortho(ctx, &scene, &settings(), VIEW);
+        save(name, &image);
+        image
+    };
+    let small_textured = draw(&small, &textured, "pbr_16_textures_textured");
+    assert_eq!(small_textured, draw(&small, &plain, "pbr_16_textures_plain"));
+    assert_eq!(small_textured, draw(&full, &plain, "pbr_film_plain"));
+    // The right half, without the film, differs from the film's picture on the full device.
+    let full_textured = draw(&full, &textured, "pbr_film_textured");
+    let (left, right) = (full_textured.get_pixel(16, 32), full_textured.get_pixel(48, 32));
+    assert_eq!(left, small_textured.get_pixel(16, 32), "the film where the texture is red");
+    assert!(
+        right.0.iter().zip(small_textured.get_pixel(48, 32).0).any(|(a, b)| a.abs_diff(b) > 8),
+        "no film where the texture is black: {right:?}"
+    );
+}

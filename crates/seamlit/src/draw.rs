@@ -207,6 +207,7 @@ impl Gpu {
         settings: &FrameSettings,
         size: (u32, u32),
     ) -> Result<(GpuScene, RgbaImage), Failure> {
+        warn_of_undrawn_textures(&self.ctx, asset);
         let mut scene = GpuScene::upload(&self.ctx, asset).processing()?;
         if let Some(poses) = poses {
             scene.set_pose(&self.ctx, poses).processing()?;
@@ -233,5 +234,21 @@ pub(crate) fn check_png(path: &Path) -> Result<(), Failure> {
         Ok(())
     } else {
         Err(Failure::input(format!("{}: the output must be a .png file", path.display())))
+    }
+}
+
+/// One warning when `ctx`'s device leaves out the transmission, thickness, iridescence and
+/// anisotropy textures (fewer than 21 sampled textures a shader stage) and `asset` has one.
+pub(crate) fn warn_of_undrawn_textures(ctx: &GpuContext, asset: &Asset) {
+    let has = |m: &seamlit_io::Material| {
+        m.extensions.has_transmission_volume_iridescence_or_anisotropy_texture()
+    };
+    if !ctx.draws_all_extension_textures() && asset.materials.iter().any(has) {
+        eprintln!(
+            "warning: {} allows fewer than 21 sampled textures a shader stage: the \
+             transmission, thickness, iridescence and anisotropy textures are not drawn \
+             (their factors are)",
+            ctx.describe()
+        );
     }
 }

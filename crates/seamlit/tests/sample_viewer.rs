@@ -12,7 +12,9 @@
 //! sheen, ior and specular, anisotropy, texture transforms, emissive strength, transmission
 //! and volume, iridescence, dispersion, one model each) are held to a mean FLIP under 0.035
 //! under the punctual light, most also with the extension taken out of the file drawn at
-//! least the aim away; KHR_materials_variants is compared with each variant selected.
+//! least the aim away; KHR_materials_variants is compared with each variant selected. The
+//! textures of transmission, volume, iridescence and anisotropy have a model each, and fail
+//! with the texture taken out; Khronos' own ClearCoatTest is compared under both lightings.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -137,10 +139,13 @@ const EXTENSION_AIM: f32 = 0.035;
 /// [`EXTENSION_AIM`], or less where the picture drawn without the extension (its layers
 /// switched off in the renderer) also stays under that, so that the test fails without it.
 /// (Its `NAME.environment.viewer.png` is checked in too; the comparison
-/// with the environment is not asserted yet: on the machine these were made on, lavapipe
-/// returned black for every prefiltered level but the first, before issue 34's changes as
-/// after (`a_white_furnace_returns_the_environment_times_the_albedo` in
-/// seamlit-render/tests/ibl.rs fails there), so the figure could not be measured.)
+/// with the environment is asserted for clearcoat, specular, transmission and ClearCoatTest
+/// (`seen_under`):
+/// on the machine the others were made on, lavapipe returned black for every prefiltered
+/// level but the first, before issue 34's changes as after
+/// (`a_white_furnace_returns_the_environment_times_the_albedo` in
+/// seamlit-render/tests/ibl.rs failed there), so the figure could not be measured; on the
+/// machine of the 8-bit transmission target that test passes.)
 fn extension_matches_the_sample_viewer(model: &str, aim: f32) {
     assert!(aim <= EXTENSION_AIM);
     let lighting = Lighting::PunctualOnly;
@@ -249,6 +254,23 @@ fn clearcoat_matches_the_sample_viewer() {
 }
 
 #[test]
+fn clearcoat_in_an_environment_matches_the_sample_viewer() {
+    // Under sky.hdr: mean FLIP 0.0090 with the clearcoat, 0.0184 without.
+    let (model, extension) = ("clearcoat", "KHR_materials_clearcoat");
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.014);
+}
+
+#[test]
+fn ior_and_specular_in_an_environment_match_the_sample_viewer() {
+    // Under sky.hdr: mean FLIP 0.0074 with ior and specular, 0.0193 with the specular
+    // extension taken out (the ior kept).
+    let (model, extension) = ("specular", "KHR_materials_specular");
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.013);
+}
+
+#[test]
 fn sheen_matches_the_sample_viewer() {
     // Mean FLIP 0.0157 with the sheen, 0.0557 without.
     extension_matches_the_sample_viewer("sheen", EXTENSION_AIM);
@@ -271,19 +293,13 @@ fn texture_transforms_on_every_slot_and_unlit_match_the_sample_viewer() {
     extension_matches_the_sample_viewer("transforms", EXTENSION_AIM);
 }
 
-/// A copy of assets/sample-viewer's `model` (GLB) with the material extension `extension`
-/// taken out of every material, and its scene (`model.toml`) beside it, in the test's
-/// temporary folder: the model as a renderer that ignores the extension draws it.
-fn without_extension(model: &str, extension: &str) -> PathBuf {
+/// A copy of assets/sample-viewer's `model` (GLB) with its JSON changed by `edit`, and its
+/// scene (`model.toml`) beside it, in the test's temporary folder `folder`.
+fn edited_copy(model: &str, folder: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
     let bytes = std::fs::read(data().join(format!("{model}.glb"))).unwrap();
     let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
-    for material in json["materials"].as_array_mut().unwrap() {
-        if let Some(extensions) = material.get_mut("extensions").and_then(|e| e.as_object_mut()) {
-            extensions.remove(extension);
-        }
-    }
-    json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != extension);
+    edit(&mut json);
     let mut text = serde_json::to_vec(&json).unwrap();
     text.resize(text.len().next_multiple_of(4), b' ');
     let rest = &bytes[20 + length..];
@@ -293,9 +309,7 @@ fn without_extension(model: &str, extension: &str) -> PathBuf {
     glb.extend_from_slice(&bytes[16..20]);
     glb.extend_from_slice(&text);
     glb.extend_from_slice(rest);
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("sample_viewer")
-        .join(format!("{model}-without"));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer").join(folder);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join(format!("{model}.glb")), glb).unwrap();
     let scene = dir.join(format!("{model}.toml"));
@@ -303,20 +317,68 @@ fn without_extension(model: &str, extension: &str) -> PathBuf {
     scene
 }
 
+/// `model` with the material extension `extension` taken out of every material: the model
+/// as a renderer that ignores the extension draws it.
+fn without_extension(model: &str, extension: &str) -> PathBuf {
+    edited_copy(model, &format!("{model}-without"), |json| {
+        for material in json["materials"].as_array_mut().unwrap() {
+            if let Some(extensions) = material.get_mut("extensions").and_then(|e| e.as_object_mut())
+            {
+                extensions.remove(extension);
+            }
+        }
+        json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != extension);
+    })
+}
+
+/// `model` with the texture `texture` (e.g. `transmissionTexture`) taken out of every
+/// material's `extension`: the model as a renderer that draws the extension's factors but
+/// not that texture draws it.
+fn without_texture(model: &str, extension: &str, texture: &str) -> PathBuf {
+    edited_copy(model, &format!("{model}-without-texture"), |json| {
+        for material in json["materials"].as_array_mut().unwrap() {
+            if let Some(e) = material.pointer_mut(&format!("/extensions/{extension}")) {
+                e.as_object_mut().unwrap().remove(texture);
+            }
+        }
+    })
+}
+
 /// `model` under the punctual light within `aim` of the Sample Viewer (as
 /// [`extension_matches_the_sample_viewer`]), and drawn without `extension` (taken out of
 /// the file) at least `aim` away from it: the comparison sees the extension.
 fn extension_seen_by_the_comparison(model: &str, extension: &str, aim: f32) {
-    extension_matches_the_sample_viewer(model, aim);
-    let reference = image::open(data().join(format!("{model}.viewer.png"))).unwrap().to_rgb8();
+    seen_by_the_comparison(model, extension, &without_extension(model, extension), aim);
+}
+
+/// As [`extension_seen_by_the_comparison`], for one texture of an extension: `model` drawn
+/// without `texture` is at least `aim` away from the Sample Viewer's picture.
+fn texture_seen_by_the_comparison(model: &str, extension: &str, texture: &str, aim: f32) {
+    seen_by_the_comparison(model, texture, &without_texture(model, extension, texture), aim);
+}
+
+/// `model` within `aim` of the Sample Viewer under the punctual light, and `scene` (the model
+/// without `what`) at least `aim` away from it.
+fn seen_by_the_comparison(model: &str, what: &str, scene: &Path, aim: f32) {
+    assert!(aim <= EXTENSION_AIM);
+    seen_under(Lighting::PunctualOnly, model, what, scene, aim);
+}
+
+/// As [`seen_by_the_comparison`], lit as `lighting` says, with any aim.
+fn seen_under(lighting: Lighting, model: &str, what: &str, scene: &Path, aim: f32) {
+    let name = match lighting {
+        Lighting::Environment => format!("{model}.environment"),
+        Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
+    };
+    within_aim(model, &name, &lighting.reference(model), lighting, &[], aim);
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
     let out = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("sample_viewer")
-        .join(format!("{model}.without.png"));
-    let scene = without_extension(model, extension);
-    let ours = render_scene(&scene, Lighting::PunctualOnly, &[], reference.dimensions(), &out);
+        .join(format!("{name}.without.png"));
+    let ours = render_scene(scene, lighting, &[], reference.dimensions(), &out);
     let (without, _) = flip(&reference, &ours);
-    eprintln!("{model}: mean FLIP {without:.4} without {extension}");
-    assert!(without >= aim, "{model}: mean FLIP {without:.4} without {extension}, aim {aim}");
+    eprintln!("{name}: mean FLIP {without:.4} without {what}");
+    assert!(without >= aim, "{name}: mean FLIP {without:.4} without {what}, aim {aim}");
 }
 
 #[test]
@@ -401,6 +463,17 @@ fn transmission_and_volume_match_the_sample_viewer() {
     extension_seen_by_the_comparison("transmission", "KHR_materials_transmission", EXTENSION_AIM);
 }
 
+/// The transmission model under sky.hdr too: the Sample Viewer's transmission target holds 8
+/// bits of linear light (an RGBA8 texture), so what is seen through glass is clamped to 1
+/// before it is blurred and tone mapped; seamlit's target is the same (transmission.rs).
+/// Mean FLIP 0.0254 (0.0483 while seamlit's target kept linear light beyond 1).
+#[test]
+fn transmission_in_an_environment_matches_the_sample_viewer() {
+    let (model, extension) = ("transmission", "KHR_materials_transmission");
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, EXTENSION_AIM);
+}
+
 #[test]
 fn iridescence_matches_the_sample_viewer() {
     // Films of 400 nm (ior 1.3) and 700 nm (ior 1.8) over a dark dielectric, 300 nm over a
@@ -413,4 +486,76 @@ fn iridescence_matches_the_sample_viewer() {
 fn dispersion_matches_the_sample_viewer() {
     // Clear solid spheres at dispersion 0, 20 and 60 before a finely striped panel.
     extension_seen_by_the_comparison("dispersion", "KHR_materials_dispersion", EXTENSION_AIM);
+}
+
+// The textures of transmission, volume, iridescence and anisotropy: each on three spheres, as
+// it is, through a KHR_texture_transform and from TEXCOORD_1; the test fails with the
+// texture left out of the file (the extension's factors alone).
+
+#[test]
+fn the_transmission_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0220 with the texture, 0.0807 without (lavapipe, 2026-11-27).
+    let (model, extension) = ("transmission_texture", "KHR_materials_transmission");
+    texture_seen_by_the_comparison(model, extension, "transmissionTexture", EXTENSION_AIM);
+}
+
+#[test]
+fn the_thickness_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0268 with the texture, 0.0641 without.
+    let (model, extension) = ("thickness_texture", "KHR_materials_volume");
+    texture_seen_by_the_comparison(model, extension, "thicknessTexture", EXTENSION_AIM);
+}
+
+#[test]
+fn the_iridescence_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0092 with the texture, 0.0270 without (the films colour the highlights):
+    // the aim is under the latter.
+    let (model, extension) = ("iridescence_texture", "KHR_materials_iridescence");
+    texture_seen_by_the_comparison(model, extension, "iridescenceTexture", 0.018);
+}
+
+#[test]
+fn the_iridescence_thickness_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0109 with the texture, 0.0294 without: the aim is under the latter.
+    let (model, extension) = ("iridescence_thickness_texture", "KHR_materials_iridescence");
+    texture_seen_by_the_comparison(model, extension, "iridescenceThicknessTexture", 0.02);
+}
+
+#[test]
+fn the_anisotropy_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0118 with the texture, 0.0480 without.
+    let (model, extension) = ("anisotropy_texture", "KHR_materials_anisotropy");
+    texture_seen_by_the_comparison(model, extension, "anisotropyTexture", EXTENSION_AIM);
+}
+
+/// Khronos' ClearCoatTest (glTF-Sample-Assets, by Ed Mackey, CC-BY 4.0: assets/models/
+/// clearcoat_test), framed by compare.sh: six rows of coatings (simple, partial by texture,
+/// roughness by texture, base and coat normal maps), each beside its uncoated base and its
+/// coat alone, with text labels. Under the one sun, mean FLIP 0.0337 (the issue's aim), but
+/// 0.0335 without the clearcoat: the sun's highlights on the coat are too few pixels to
+/// count, most of the error being the labels' text and the tiles' edges. Under sky.hdr the
+/// coat reflects the sky on every tile: 0.0404 with it, 0.0504 without, so that comparison,
+/// over the issue's 0.035 by the same labels and edges, is held under 0.045.
+#[test]
+fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
+    let model = "ClearCoatTest";
+    extension_matches_the_sample_viewer(model, EXTENSION_AIM);
+    let extension = "KHR_materials_clearcoat";
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.045);
+}
+
+#[test]
+fn the_clearcoat_roughness_texture_matches_the_sample_viewer() {
+    // The textures already drawn before these models (clearcoat, sheen, specular) had no
+    // Sample Viewer model for these two. Mean FLIP 0.0083 with the texture, 0.0124 without.
+    let (model, extension) = ("clearcoat_roughness_texture", "KHR_materials_clearcoat");
+    texture_seen_by_the_comparison(model, extension, "clearcoatRoughnessTexture", 0.01);
+}
+
+#[test]
+fn the_specular_texture_matches_the_sample_viewer() {
+    // Mean FLIP 0.0056 with the texture, 0.0142 without.
+    let (model, extension) = ("specular_texture", "KHR_materials_specular");
+    texture_seen_by_the_comparison(model, extension, "specularTexture", 0.008);
 }

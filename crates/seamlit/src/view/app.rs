@@ -341,6 +341,7 @@ impl Viewer {
             .transpose()
             .processing()?;
         renderer.set_environment(environment.clone());
+        crate::draw::warn_of_undrawn_textures(&ctx, &self.asset);
         let scene = GpuScene::upload(&ctx, &self.asset).processing()?;
         let egui_state = egui_state(&ctx, &window);
         let egui_renderer =
