@@ -61,10 +61,15 @@ pub struct Asset {
 
 /// How an OpenUSD stage was read ([`Asset::usd_source`]): the folders besides the root
 /// layer's that its layers and textures were allowed to come from
-/// ([`crate::LoadOptions::asset_roots`]). The `.usda` writer reads the stage again with them.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+/// ([`crate::LoadOptions::asset_roots`]), and, with the `usd` feature, what the `.usda`
+/// writer needs of each mesh (how the objects' triangles map onto the prims' face corners),
+/// so that it need not read the stage again.
+#[derive(Clone, Debug, Default)]
 pub struct UsdSource {
+    #[cfg_attr(not(feature = "usd"), expect(dead_code, reason = "read by the usd writer"))]
     pub(crate) asset_roots: Vec<PathBuf>,
+    #[cfg(feature = "usd")]
+    pub(crate) stage: Option<Arc<crate::usd::StageSource>>,
 }
 
 /// KHR_materials_variants: named sets of materials for the same geometry.

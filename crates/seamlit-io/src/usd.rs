@@ -18,4 +18,6 @@ mod read;
 pub(crate) mod write;
 
 #[cfg(feature = "usd")]
+pub(crate) use read::StageSource;
+#[cfg(feature = "usd")]
 pub use read::load;

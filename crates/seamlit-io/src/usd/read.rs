@@ -10,6 +10,7 @@ mod stage;
 mod xform;
 
 use std::path::Path;
+use std::sync::Arc;
 
 use openusd::{sdf, usd};
 use seamlit_mesh::{Model, VAxis};
@@ -51,7 +52,11 @@ use crate::options::LoadOptions;
 /// [`IoError::TooManyElements`] past the limits; the texture errors of
 /// [`crate::LoadOptions::strict`].
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    Ok(read(path, options)?.0)
+    let (mut asset, stage) = read(path, options)?;
+    let source =
+        UsdSource { asset_roots: options.asset_roots.clone(), stage: Some(Arc::new(stage)) };
+    asset.usd_source = Some(source);
+    Ok(asset)
 }
 
 /// [`load`], with what the `.usda` writer needs of each object's mesh.
@@ -113,7 +118,6 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         materials: std::mem::take(&mut materials.list),
         textures: std::mem::take(&mut materials.textures),
         source: Some(path.to_path_buf()),
-        usd_source: Some(UsdSource { asset_roots: options.asset_roots.clone() }),
         warnings,
         ..Asset::default()
     };

@@ -16,6 +16,7 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
 
 use glam::Vec3;
 use seamlit_mesh::Object;
@@ -39,10 +40,7 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     let Some(input) = asset.source.as_deref().filter(|s| is_usd(s)) else {
         return Err(refuse(UsdOutput::NotFromUsd));
     };
-    // Read again as it was read: with the same folders allowed.
-    let asset_roots = asset.usd_source.as_ref().map(|s| s.asset_roots.clone()).unwrap_or_default();
-    let (_, stage) =
-        super::read::read(input, &LoadOptions { asset_roots, ..LoadOptions::GEOMETRY })?;
+    let stage = stage_of(asset, input)?;
     check_model(&asset.model.objects, &stage)
         .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
     let mut warnings = Vec::new();
@@ -85,6 +83,17 @@ fn is_usd(path: &Path) -> bool {
 }
 
 /// Why the model's objects are not the stage's meshes, if they are not.
+/// What the writer needs of the stage `asset` was loaded from: kept by the loader, else read
+/// again as it was read (with the same folders allowed).
+fn stage_of(asset: &Asset, input: &Path) -> Result<Arc<StageSource>, IoError> {
+    let source = asset.usd_source.clone().unwrap_or_default();
+    if let Some(stage) = source.stage {
+        return Ok(stage);
+    }
+    let options = LoadOptions { asset_roots: source.asset_roots, ..LoadOptions::GEOMETRY };
+    Ok(Arc::new(super::read::read(input, &options)?.1))
+}
+
 fn check_model(objects: &[Object], stage: &StageSource) -> Result<(), String> {
     if objects.len() != stage.meshes.len() {
         return Err(format!(

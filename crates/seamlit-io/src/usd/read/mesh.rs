@@ -12,12 +12,12 @@
 //! world matrix each flip the winding (seamlit's triangles face counter-clockwise in model
 //! space).
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use anyhow::{Context, bail};
 use glam::{DMat4, Mat4, Vec2, Vec3};
 use openusd::{sdf, usd};
+use rustc_hash::FxHashMap;
 use seamlit_mesh::Object;
 
 use super::{f32_of, value};
@@ -410,7 +410,7 @@ impl Corners {
         uvs: Option<&Primvar<Vec2>>,
         at: &At<'_>,
     ) -> Result<Self, IoError> {
-        let mut vertex_of: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut vertex_of: FxHashMap<[u32; 3], u32> = FxHashMap::default();
         let mut this = Self {
             keys: Vec::new(),
             corner_vertex: vec![NONE; topology.indices.len()],
