@@ -82,7 +82,6 @@ fn is_usd(path: &Path) -> bool {
     matches!(extension.as_deref(), Some("usda" | "usdc" | "usdz" | "usd"))
 }
 
-/// Why the model's objects are not the stage's meshes, if they are not.
 /// What the writer needs of the stage `asset` was loaded from: kept by the loader, else read
 /// again as it was read (with the same folders allowed).
 fn stage_of(asset: &Asset, input: &Path) -> Result<Arc<StageSource>, IoError> {
@@ -94,6 +93,7 @@ fn stage_of(asset: &Asset, input: &Path) -> Result<Arc<StageSource>, IoError> {
     Ok(Arc::new(super::read::read(input, &options)?.1))
 }
 
+/// Why the model's objects are not the stage's meshes, if they are not.
 fn check_model(objects: &[Object], stage: &StageSource) -> Result<(), String> {
     if objects.len() != stage.meshes.len() {
         return Err(format!(
