@@ -302,13 +302,7 @@ fn ascii_files_by_others_are_read_in_metres() {
 /// or fails with an error: no panic, no abort. The fuzz target `fbx` (fuzz/) does the same at random.
 #[test]
 fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = seamlit_testkit::xorshift(0x2545_f491_4f6c_dd1d);
     let path = Path::new("/nonexistent-seamlit-test/model.fbx");
     let options = LoadOptions::GEOMETRY;
     for name in ["blender_272_cube_7400_binary.fbx", "maya_cube_6100_ascii.fbx"] {

@@ -494,13 +494,7 @@ fn time_sampled_points_are_read_at_the_earliest_sample() {
 /// aborts (docs/usd.md, "Not yet").
 #[test]
 fn cut_and_corrupted_stages_fail_cleanly_or_load() {
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = seamlit_testkit::xorshift(0x2545_f491_4f6c_dd1d);
     let dir = tempfile::tempdir().unwrap();
     let mut panics = BTreeMap::new();
     for name in ["head_body.usdc", "head_body.usdz", "faceted.usda"] {

@@ -164,6 +164,25 @@ pub fn components(kind: &str) -> usize {
     }
 }
 
+/// A fixed pseudo-random sequence (Marsaglia's xorshift64), the same on every run: which
+/// bytes the corruption tests overwrite, and with what. `seed` must not be 0.
+///
+/// ```
+/// let mut next = seamlit_testkit::xorshift(0x2545_f491_4f6c_dd1d);
+/// let (a, b) = (next(), next());
+/// assert_ne!(a, b);
+/// assert_eq!(a, seamlit_testkit::xorshift(0x2545_f491_4f6c_dd1d)());
+/// ```
+pub fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
