@@ -69,7 +69,7 @@ pub struct UsdSource {
     #[cfg_attr(not(feature = "usd"), expect(dead_code, reason = "read by the usd writer"))]
     pub(crate) asset_roots: Vec<PathBuf>,
     #[cfg(feature = "usd")]
-    pub(crate) stage: Option<Arc<crate::usd::StageSource>>,
+    pub(crate) stage: Option<Arc<crate::usd::source::StageSource>>,
 }
 
 /// KHR_materials_variants: named sets of materials for the same geometry.

@@ -15,9 +15,9 @@ pub(crate) mod error;
 #[cfg(feature = "usd")]
 mod read;
 #[cfg(feature = "usd")]
+pub(crate) mod source;
+#[cfg(feature = "usd")]
 pub(crate) mod write;
 
-#[cfg(feature = "usd")]
-pub(crate) use read::StageSource;
 #[cfg(feature = "usd")]
 pub use read::load;

@@ -29,6 +29,7 @@ const LAYERS: &[&str] = &[
     "gltf::json",
     "gltf::source",
     "obj::source",
+    "usd::source",
     "animation",
     "asset",
     "pose",

@@ -15,20 +15,10 @@ use std::sync::Arc;
 use openusd::{sdf, usd};
 use seamlit_mesh::{Model, VAxis};
 
-pub(crate) use mesh::MeshSource;
-
-/// What the `.usda` writer needs of the stage: its meshes' sources, in the order of the
-/// objects, and the root layer's stage metadata (which a layer over it must repeat: USD reads
-/// stage metadata from the root layer only), as `(key, usda value)`.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct StageSource {
-    pub meshes: Vec<MeshSource>,
-    pub metadata: Vec<(String, String)>,
-}
-
 use crate::asset::{Asset, UsdSource};
 use crate::error::IoError;
 use crate::options::LoadOptions;
+use crate::usd::source::StageSource;
 
 /// Reads a USD stage (`.usda`, `.usdc` or `.usdz`, by its content) and the textures its
 /// materials use. A stage without a triangle loads as an empty model here; [`crate::load`]

@@ -22,7 +22,7 @@ use glam::Vec3;
 use seamlit_mesh::Object;
 
 use super::error::UsdOutput;
-use super::read::{MeshSource, StageSource};
+use super::source::{MeshSource, StageSource};
 use crate::asset::Asset;
 use crate::error::IoError;
 use crate::options::LoadOptions;

@@ -1,0 +1,37 @@
+//! What the `.usda` writer needs of a stage, kept by the reader in [`crate::UsdSource`]: how
+//! each object's triangles map onto its mesh prim's face corners, and the root layer's stage
+//! metadata. Types only, below the asset (like `gltf::source` and `obj::source`).
+
+use glam::Vec3;
+
+/// What the `.usda` writer needs of the stage: its meshes' sources, in the order of the
+/// objects, and the root layer's stage metadata (which a layer over it must repeat: USD reads
+/// stage metadata from the root layer only), as `(key, usda value)`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct StageSource {
+    pub meshes: Vec<MeshSource>,
+    pub metadata: Vec<(String, String)>,
+}
+
+/// What the writer needs of a mesh besides its object: how the object's triangles map onto
+/// the prim's face corners, and the normals as read.
+#[derive(Clone, Debug)]
+pub(crate) struct MeshSource {
+    /// The prim's path in the composed stage.
+    pub prim: String,
+    /// Per triangle of the object (as loaded), per corner: the face corner (an index into
+    /// `faceVertexIndices`) it is.
+    pub triangle_corners: Vec<[u32; 3]>,
+    /// Per face corner: the object's vertex, [`u32::MAX`] for a corner of a face of fewer than
+    /// three corners (which gives no triangle).
+    pub corner_vertex: Vec<u32>,
+    /// Per face corner: the normal as read (local space), `None` where the mesh has none or
+    /// they are ignored (a subdivision surface).
+    pub corner_normals: Option<Vec<Vec3>>,
+    /// The subdivision scheme, where it is not `none`.
+    pub subdivision: Option<String>,
+    /// Whether a plain `normals` attribute has a value (the writer blocks it).
+    pub plain_normals: bool,
+    /// Whether the prim is an instance proxy (its normals cannot be overridden).
+    pub instance_proxy: bool,
+}
