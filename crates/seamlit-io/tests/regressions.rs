@@ -62,6 +62,9 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     // Found by the `usd` fuzz target: openusd's text parser recurses a level a bracket, and
     // 20,000 nested prims overflowed the stack (3,000 took over a minute). Refused above 256.
     ("usd_prims_nested_300_deep.usda", Some("nested 300 levels deep")),
+    // Found by the `usd` fuzz target: a .usdc count past the end of the file, which unpatched
+    // openusd 0.6 allocated (848 TB) and aborted on; refused by vendor/openusd's bounds.
+    ("usd_usdc_count_past_the_file.usdc", Some("Unable to read vec")),
     ("usd_xform_op_name_runs_to_the_end.usda", Some("not a property name")),
 ];
 

@@ -419,11 +419,13 @@ fn time_sampled_points_are_read_at_the_earliest_sample() {
 }
 
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400
-/// copies of the package and the text with four bytes overwritten (a fixed pseudo-random
-/// sequence), either loads or fails with one line: never a panic inside openusd (which the
-/// reader would report as [`UsdKind::Panicked`]). Overwritten bytes of a `.usdc` are left out:
-/// openusd 0.6 allocates what a corrupted count says before reading it, and the process
-/// aborts (docs/usd.md, "Not yet").
+/// copies of each with four bytes overwritten (a fixed pseudo-random sequence; 2,000 copies
+/// of the `.usdc`, with one to four bytes overwritten, half of them inside its structural
+/// sections at the end), either loads or fails with one line: never a panic inside openusd
+/// (which the reader would report as [`UsdKind::Panicked`]) and never an abort. Unpatched
+/// openusd 0.6 sized buffers by the counts a corrupted `.usdc` gives and aborted the whole
+/// process on the failed allocation; the fork in vendor/openusd bounds them by the file
+/// (vendor/openusd/PATCHES.md).
 #[test]
 fn cut_and_corrupted_stages_fail_cleanly_or_load() {
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
@@ -455,19 +457,41 @@ fn cut_and_corrupted_stages_fail_cleanly_or_load() {
         for k in 0..61 {
             check(&bytes[..bytes.len() * k / 61], format!("{name} cut at {k}/61"));
         }
-        for i in 0..400 {
-            if name.ends_with(".usdc") {
-                break;
-            }
+        let binary = name.ends_with(".usdc");
+        for i in 0..if binary { 2000 } else { 400 } {
             let mut corrupted = bytes.clone();
-            for _ in 0..4 {
-                let at = usize::try_from(next() % bytes.len() as u64).unwrap();
+            let (flips, from) = match (binary, i % 2) {
+                // The crate file's tables of contents, tokens, fields, paths and specs are
+                // in its last quarter (its values before them).
+                (true, 0) => (1 + next() % 4, bytes.len() * 3 / 4),
+                (true, _) => (1 + next() % 4, 0),
+                (false, _) => (4, 0),
+            };
+            for _ in 0..flips {
+                let span = (bytes.len() - from) as u64;
+                let at = from + usize::try_from(next() % span).unwrap();
                 corrupted[at] = next().to_le_bytes()[0];
             }
             check(&corrupted, format!("{name} corrupted #{i}"));
         }
     }
     assert!(panics.is_empty(), "openusd panicked on {} files: {panics:#?}", panics.len());
+}
+
+/// The `usd` fuzz target's first finding (fuzz/README.md): a `.usdc` whose header gives a
+/// count past the end of the file. Unpatched openusd 0.6 allocated it (848 TB) before reading
+/// and the process aborted; the fork refuses it as a layer it cannot read, in one line.
+#[test]
+fn a_usdc_count_past_the_file_is_refused_in_one_line() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/usd_usdc_count_past_the_file.usdc");
+    let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    let line = err.to_string();
+    assert!(
+        matches!(&err, IoError::Usd { kind: UsdKind::Layer { .. } | UsdKind::Prim { .. }, .. }),
+        "{err:?}"
+    );
+    assert!(line.contains("usd_usdc_count_past_the_file.usdc") && !line.contains('\n'), "{line}");
 }
 
 /// Stages by others (the ASWF USD Assets working group's repository, Apache 2.0): RYStorm's

@@ -14,12 +14,16 @@ const SMALL: u8 = 1;
 const MEDIUM: u8 = 2;
 const LARGE: u8 = 3;
 
-pub fn encoded_buffer_size<T: PrimInt>(count: usize) -> usize {
+pub fn encoded_buffer_size<T: PrimInt>(count: usize) -> Result<usize> {
     if count == 0 {
-        0
+        Ok(0)
     } else {
+        // seamlit: `count` comes from the file; no overflow.
         let sz = mem::size_of::<T>();
-        sz + (count * 2).div_ceil(8) + (sz * count)
+        count
+            .checked_mul(sz)
+            .and_then(|ints| ints.checked_add(sz + count.div_ceil(4)))
+            .ok_or_else(|| anyhow::anyhow!("Too many encoded integers: {count}"))
     }
 }
 
@@ -41,7 +45,11 @@ where
         codes_reader.read_pod::<i32>()? as i64
     };
 
-    let num_code_bytes = (count * 2).div_ceil(8);
+    let num_code_bytes = count.div_ceil(4);
+    // seamlit: the codes must be in `data` before `count` sizes the output.
+    if data.len() < mem::size_of::<T>().saturating_add(num_code_bytes) {
+        bail!("Encoded integers: {count} claimed, {} bytes of codes", data.len());
+    }
 
     let mut ints_reader = {
         let offset = mem::size_of::<T>() + num_code_bytes;

@@ -87,7 +87,12 @@ where
         let mut data = HashMap::with_capacity(specs.len());
 
         for spec in &specs {
-            let path = file.paths[spec.path_index].clone();
+            // seamlit: an error, not a panic, for a path index past the table.
+            let path = file
+                .paths
+                .get(spec.path_index)
+                .cloned()
+                .ok_or_else(|| anyhow::anyhow!("Invalid spec path index: {}", spec.path_index))?;
             data.insert(
                 path,
                 Spec {

@@ -50,6 +50,10 @@ pub struct CrateFile<R> {
     pub paths: Vec<sdf::Path>,
     // All specs.
     pub specs: Vec<Spec>,
+    /// seamlit: the file's length, which bounds every count read from it.
+    len: u64,
+    /// seamlit: how deep `value` is nested (dictionaries, time samples).
+    depth: usize,
 }
 
 impl<R> CrateFile<R> {
@@ -64,6 +68,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// Read structural sections of a crate file.
     pub fn open(mut reader: R) -> Result<Self> {
         let bootstrap = Self::read_header(&mut reader)?;
+        let len = reader.seek(io::SeekFrom::End(0))?;
 
         let mut file = CrateFile {
             reader,
@@ -75,6 +80,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             fieldsets: Vec::new(),
             paths: Vec::new(),
             specs: Vec::new(),
+            len,
+            depth: 0,
         };
 
         file.read_sections().context("Unable to read sections")?;
@@ -185,7 +192,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let count = self.reader.read_count()?;
 
         self.tokens = if file_ver < version(0, 4, 0) {
-            todo!("Support TOKENS reader for < 0.4.0 files");
+            bail!("Unsupported: Support TOKENS reader for < 0.4.0 files"); // seamlit: an error, not a panic
         } else {
             let uncompressed_size = self.reader.read_count()?;
             let mut buffer = self.read_compressed(uncompressed_size)?;
@@ -263,7 +270,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.fields = if file_ver < version(0, 4, 0) {
-            todo!("Support FIELDS reader before < 0.4.0")
+            bail!("Unsupported: FIELDS reader before < 0.4.0") // seamlit: an error, not a panic
         } else {
             let field_count = self.reader.read_count()?;
 
@@ -279,7 +286,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|(index, value)| Field::new(*index, *value))
                 .collect();
 
-            debug_assert_eq!(fields.len(), field_count);
+            // seamlit: an error, not a debug assertion: the reps can decompress short.
+            ensure!(fields.len() == field_count, "Crate file claims {field_count} fields, found {}", fields.len());
 
             fields
         };
@@ -297,7 +305,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.fieldsets = if file_ver < version(0, 4, 0) {
-            todo!("Support FIELDSETS reader for < 0.4.0 files");
+            bail!("Unsupported: Support FIELDSETS reader for < 0.4.0 files"); // seamlit: an error, not a panic
         } else {
             let count = self.reader.read_count()?;
 
@@ -328,22 +336,21 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         if file_ver == version(0, 0, 1) {
-            todo!("Support PATHS reader for == 0.0.1 files");
+            bail!("Unsupported: Support PATHS reader for == 0.0.1 files"); // seamlit: an error, not a panic
         } else if file_ver < version(0, 4, 0) {
-            todo!("Support PATHS reader for < 0.4.0 files");
+            bail!("Unsupported: Support PATHS reader for < 0.4.0 files"); // seamlit: an error, not a panic
         } else {
             // Read # of paths.
             let path_count = self.reader.read_count()?;
-            self.paths = vec![sdf::Path::default(); path_count];
 
-            self.read_compressed_paths()?;
+            self.read_compressed_paths(path_count)?;
         };
 
         Ok(())
     }
 
     /// Read compressed paths.
-    fn read_compressed_paths(&mut self) -> Result<()> {
+    fn read_compressed_paths(&mut self, path_count: usize) -> Result<()> {
         // Read number of encoded paths.
         let count: usize = self.reader.read_count()?;
 
@@ -357,6 +364,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
         debug_assert_eq!(jumps.len(), count);
+
+        // seamlit: each path comes from one encoded entry, so the path count is bounded by
+        // the entries actually decoded (not by a count that can claim more than the file).
+        ensure!(
+            path_count <= count && path_indexes.len() == count && element_token_indexes.len() == count,
+            "Crate file claims {path_count} paths but encodes {count}"
+        );
+        self.paths = vec![sdf::Path::default(); path_count];
 
         self.build_compressed_paths(&path_indexes, &element_token_indexes, &jumps)?;
 
@@ -393,15 +408,25 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             loop {
                 let index = current_index;
                 current_index += 1;
+                // seamlit: indices from the file are checked, not trusted.
+                ensure!(
+                    index < jumps.len() && (path_indexes[index] as usize) < self.paths.len(),
+                    "Invalid path index {index} in crate file"
+                );
 
                 if parent_path.is_empty() {
                     parent_path = sdf::Path::new("/")?;
+                    ensure!(index < self.paths.len(), "Invalid path index {index} in crate file");
                     self.paths[index] = parent_path.clone();
                 } else {
                     let token_index = element_token_indexes[index];
                     let is_prim_property_path = token_index < 0;
                     let token_index = token_index.unsigned_abs() as usize;
-                    let element_token = self.tokens[token_index].as_str();
+                    let element_token = self
+                        .tokens
+                        .get(token_index)
+                        .with_context(|| format!("Invalid path token index {token_index}"))?
+                        .as_str();
 
                     self.paths[path_indexes[index] as usize] = if is_prim_property_path {
                         parent_path.append_property(element_token)?
@@ -419,7 +444,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                 if has_child {
                     if has_sibling {
-                        let sibling_index = index + jumps[index] as usize;
+                        let sibling_index = index.saturating_add(jumps[index] as usize);
                         // Siblings share this node's parent; defer the subtree.
                         pending.push((sibling_index, parent_path.clone()));
                     }
@@ -448,9 +473,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.specs = if file_ver == version(0, 0, 1) {
-            todo!("Support SPECS reader for == 0.0.1 files");
+            bail!("Unsupported: Support SPECS reader for == 0.0.1 files"); // seamlit: an error, not a panic
         } else if file_ver < version(0, 4, 0) {
-            todo!("Support SPECS reader for < 0.4.0 files");
+            bail!("Unsupported: Support SPECS reader for < 0.4.0 files"); // seamlit: an error, not a panic
         } else {
             // Version 0.4.0 specs are compressed
 
@@ -483,9 +508,47 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         self.sections.iter().find(|s| s.name() == name)
     }
 
-    fn resolve_string(&self, string_index: u32) -> String {
-        let token = self.strings[string_index as usize];
-        self.tokens[token].clone()
+    fn resolve_string(&self, string_index: u32) -> Result<String> {
+        // seamlit: indices from the file are checked, not trusted.
+        let token = *self
+            .strings
+            .get(string_index as usize)
+            .with_context(|| format!("Invalid string index {string_index}"))?;
+        self.token(token)
+    }
+
+    /// seamlit: the token at `index`, or an error.
+    fn token(&self, index: usize) -> Result<String> {
+        self.tokens
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Invalid token index {index}"))
+    }
+
+    /// seamlit: the path at `index`, or an error.
+    fn path_at(&self, index: usize) -> Result<sdf::Path> {
+        self.paths
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Invalid path index {index}"))
+    }
+
+    /// seamlit: the bytes between the reader's position and the end of the file.
+    fn bytes_left(&mut self) -> Result<u64> {
+        let position = self.reader.stream_position()?;
+        Ok(self.len.saturating_sub(position))
+    }
+
+    /// seamlit: fails unless `count` elements of at least `min_size` bytes each can be in the
+    /// rest of the file, so that no count read from a corrupted file sizes an allocation.
+    fn ensure_fits(&mut self, count: usize, min_size: usize, what: &str) -> Result<()> {
+        let left = self.bytes_left()?;
+        let need = (count as u64).checked_mul(min_size as u64);
+        ensure!(
+            need.is_some_and(|need| need <= left),
+            "Crate file claims {count} {what}, more than the {left} bytes left in it"
+        );
+        Ok(())
     }
 
     fn set_position(&mut self, position: u64) -> Result<()> {
@@ -516,9 +579,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_token(&mut self, value: ValueRep) -> Result<String> {
         let index: u64 = self.unpack_value(value)?;
-        let value = self.tokens[index as usize].clone();
-
-        Ok(value)
+        self.token(usize::try_from(index)?)
     }
 
     /// Read a scalar asset path or path expression.
@@ -530,9 +591,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_asset_path(&mut self, value: ValueRep) -> Result<String> {
         let index = self.unpack_value::<u32>(value)?;
         if value.is_inlined() {
-            Ok(self.tokens[index as usize].clone())
+            self.token(index as usize)
         } else {
-            Ok(self.resolve_string(index))
+            self.resolve_string(index)
         }
     }
 
@@ -547,11 +608,16 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_compressed<T: Default + NoUninit + AnyBitPattern>(&mut self, estimated_count: usize) -> Result<Vec<T>> {
         // Read data to memory.
         let compressed_size = self.reader.read_count()?;
+        // seamlit: the compressed size is bounded by the file, the output by what the lz4
+        // block decompresses to (not by a count read from the file).
+        self.ensure_fits(compressed_size, 1, "compressed bytes")?;
         let mut input = vec![0_u8; compressed_size];
         self.reader.read_exact(&mut input)?;
+        let decompressed = lz4_decompressed_len(&input)?;
+        let count = estimated_count.min(decompressed.div_ceil(mem::size_of::<T>().max(1)));
 
         // Decompress to output buffer.
-        let mut output = vec![T::default(); estimated_count];
+        let mut output = vec![T::default(); count];
         let actual_size = decompress_lz4(&input, cast_slice_mut(&mut output))?;
 
         let actual_count = actual_size / mem::size_of::<T>();
@@ -568,7 +634,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     where
         i64: AsPrimitive<T>,
     {
-        let estimated_size = coding::encoded_buffer_size::<u32>(count);
+        let estimated_size = coding::encoded_buffer_size::<u32>(count)?;
 
         let buffer = self.read_compressed::<u8>(estimated_size)?;
 
@@ -582,7 +648,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {
-        debug_assert!(!value.is_inlined());
+        // seamlit: an error, not a debug assertion, on a corrupted value rep.
+        ensure!(!value.is_inlined(), "Array value {value:?} can't be inlined");
 
         // Empty array.
         if value.payload() == 0 {
@@ -616,7 +683,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             ArrayKind::Other => {
                 // Fallback to uncompressed.
                 // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1868
-                debug_assert!(!value.is_compressed());
+                // seamlit: an error, not a debug assertion, on a corrupted value rep.
+                ensure!(!value.is_compressed(), "Array value {value:?} can't be compressed");
                 compressed = false;
             }
         }
@@ -674,6 +742,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 // Lookup table and indexes
                 b't' => {
                     let lut_size = self.reader.read_pod::<u32>()? as usize;
+                    self.ensure_fits(lut_size, mem::size_of::<T>(), "lookup table values")?;
                     let lut: Vec<T> = self.reader.read_vec(lut_size)?;
 
                     let indexes: Vec<u32> = self.read_encoded_ints(count)?;
@@ -684,7 +753,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                     let mut output = vec![T::zero(); count];
                     for (i, index) in indexes.into_iter().enumerate() {
-                        output[i] = lut[index as usize];
+                        output[i] = *lut
+                            .get(index as usize)
+                            .with_context(|| format!("Invalid lookup table index {index}"))?;
                     }
 
                     output
@@ -742,23 +813,23 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     /// Reads a count-prefixed vector of `u32` indices and maps each through
     /// `lookup` to produce the element value.
-    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> T) -> Result<Vec<T>> {
+    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> Result<T>) -> Result<Vec<T>> {
         let count = self.reader.read_count()?;
         let indices = self.reader.read_vec::<u32>(count)?;
 
-        Ok(indices.into_iter().map(|index| lookup(self, index as usize)).collect())
+        indices.into_iter().map(|index| lookup(self, index as usize)).collect()
     }
 
     fn read_string_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[file.strings[index]].clone())
+        self.read_indexed_vec(|file, index| file.resolve_string(u32::try_from(index)?))
     }
 
     fn read_token_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[index].clone())
+        self.read_indexed_vec(|file, index| file.token(index))
     }
 
     fn read_path_vec(&mut self) -> Result<Vec<sdf::Path>> {
-        self.read_indexed_vec(|file, index| file.paths[index].clone())
+        self.read_indexed_vec(|file, index| file.path_at(index))
     }
 
     /// Reads a count-prefixed vector of POD values.
@@ -769,16 +840,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_string(&mut self) -> Result<String> {
         let index = self.reader.read_pod::<u32>()?;
-        let string = self.resolve_string(index);
-
-        Ok(string)
+        self.resolve_string(index)
     }
 
     fn read_path(&mut self) -> Result<sdf::Path> {
         let index = self.reader.read_pod::<u32>()?;
-        let path = self.paths[index as usize].clone();
-
-        Ok(path)
+        self.path_at(index as usize)
     }
 
     fn read_reference(&mut self) -> Result<sdf::Reference> {
@@ -825,6 +892,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// See <https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1100>
     fn apply_recursive_offset(&mut self) -> Result<()> {
         let offset = self.reader.read_pod::<i64>()?;
+        // seamlit: Pixar's writer jumps forward over what it wrote; a jump back (or in place)
+        // could read the same bytes for ever.
+        ensure!(offset >= 8, "Invalid recursive offset {offset} in crate file");
         self.reader.seek(io::SeekFrom::Current(offset - 8))?;
         Ok(())
     }
@@ -839,6 +909,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// for wide path trees.
     fn read_custom_data(&mut self) -> Result<HashMap<String, Value>> {
         let mut count = self.reader.read_count()?;
+        // seamlit: an entry takes a key index, an offset and a value rep.
+        self.ensure_fits(count, 20, "dictionary entries")?;
         let mut dict = HashMap::default();
 
         while count > 0 {
@@ -876,7 +948,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// the on-disk element — safe for all gf vec types since they are
     /// `#[repr(C)]` and `bytemuck::Pod`.
     fn read_gf_array<U: Default + NoUninit + AnyBitPattern>(&mut self, value: ValueRep) -> Result<Vec<U>> {
-        debug_assert!(value.is_array() && !value.is_compressed());
+        // seamlit: an error, not a debug assertion, on a corrupted value rep.
+        ensure!(value.is_array() && !value.is_compressed(), "Invalid array value {value:?}");
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
         if count == 0 {
             return Ok(Vec::default());
@@ -888,8 +961,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         &mut self,
         value: ValueRep,
     ) -> Result<Vec<[T; N]>> {
-        debug_assert!(value.is_array());
-        debug_assert!(!value.is_compressed());
+        // seamlit: an error, not a debug assertion, on a corrupted value rep.
+        ensure!(value.is_array() && !value.is_compressed(), "Invalid array value {value:?}");
 
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
 
@@ -898,7 +971,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             return Ok(Vec::default());
         }
 
-        let flat: Vec<T> = self.reader.read_vec(count * N)?;
+        let flat: Vec<T> = self.reader.read_vec(count.checked_mul(N).context("Array too large")?)?;
 
         // Reinterpret the flat vec as a vec of fixed-size arrays. `chunks_exact(N)`
         // always yields slices of exactly N elements, so `try_into` cannot fail.
@@ -911,6 +984,16 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     }
 
     pub fn value(&mut self, value: ValueRep) -> Result<sdf::Value> {
+        // seamlit: values nest (dictionaries, time samples) through the file's offsets, which
+        // can point back at themselves: bound the depth rather than overflow the stack.
+        ensure!(self.depth < 64, "Crate file values nested deeper than 64 levels");
+        self.depth += 1;
+        let result = self.value_at_depth(value);
+        self.depth -= 1;
+        result
+    }
+
+    fn value_at_depth(&mut self, value: ValueRep) -> Result<sdf::Value> {
         let ty = value.ty()?;
         ensure!(ty != Type::Invalid, "Invalid value type");
 
@@ -996,7 +1079,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_array());
 
                 let string_index = self.unpack_value::<u32>(value)?;
-                sdf::Value::String(self.resolve_string(string_index))
+                sdf::Value::String(self.resolve_string(string_index)?)
             }
             Type::AssetPath if value.is_array() => {
                 // Asset arrays (`asset[]`, e.g. value-clip `assetPaths`) are
@@ -1010,10 +1093,11 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             Type::Token if value.is_array() => {
                 let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
                 let indices = self.reader.read_vec::<u32>(count)?;
+                // seamlit: indices from the file are checked, not trusted.
                 let tokens = indices
                     .into_iter()
-                    .map(|i| self.tokens[i as usize].as_str().into())
-                    .collect();
+                    .map(|i| self.token(i as usize).map(Into::into))
+                    .collect::<Result<_>>()?;
 
                 sdf::Value::TokenVec(tokens)
             }
@@ -1204,6 +1288,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
+                    // seamlit: a reference takes at least 32 bytes.
+                    file.ensure_fits(count, 32, "references")?;
                     let mut vec = Vec::with_capacity(count);
 
                     for _ in 0..count {
@@ -1306,6 +1392,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             Type::PayloadListOp => {
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
+                    // seamlit: a payload takes at least 8 bytes.
+                    file.ensure_fits(count, 8, "payloads")?;
                     let mut vec = Vec::with_capacity(count);
                     for _ in 0..count {
                         let payload = file.read_payload()?;
@@ -1326,6 +1414,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 self.set_position(value.payload())?;
 
                 let count = self.reader.read_count()?;
+                // seamlit: an entry takes two string indices.
+                self.ensure_fits(count, 8, "variant selections")?;
                 let mut map = HashMap::with_capacity(count);
 
                 for _ in 0..count {
@@ -1430,12 +1520,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_inlined());
                 self.set_position(value.payload())?;
                 let count = self.reader.read_count()?;
+                // seamlit: a pair takes two path indices.
+                self.ensure_fits(count, 8, "relocates")?;
                 let mut pairs = Vec::with_capacity(count);
                 for _ in 0..count {
                     let src_idx: u32 = self.reader.read_pod()?;
                     let tgt_idx: u32 = self.reader.read_pod()?;
-                    let src = self.paths[src_idx as usize].clone();
-                    let tgt = self.paths[tgt_idx as usize].clone();
+                    let src = self.path_at(src_idx as usize)?;
+                    let tgt = self.path_at(tgt_idx as usize)?;
                     pairs.push((src, tgt));
                 }
                 sdf::Value::Relocates(pairs)
@@ -1484,6 +1576,47 @@ fn to_mat_diag<const N: usize, const M: usize>(data: [i8; N]) -> [f64; M] {
     matrix
 }
 
+/// seamlit: the size `input` (the chunk count byte, then one lz4 block) decompresses to, found
+/// by walking the block's sequences without writing them, so that the output buffer is sized
+/// by the data rather than by a count read from the file.
+fn lz4_decompressed_len(input: &[u8]) -> Result<usize> {
+    let Some((_chunks, block)) = input.split_first() else {
+        bail!("Unable to read lz4 chunk count");
+    };
+    let corrupt = || anyhow::anyhow!("Failed to decompress data, possibly corrupt?");
+    let extended = |i: &mut usize, mut length: usize| -> Result<usize> {
+        loop {
+            let byte = *block.get(*i).ok_or_else(corrupt)?;
+            *i += 1;
+            length = length.checked_add(usize::from(byte)).ok_or_else(corrupt)?;
+            if byte != 255 {
+                return Ok(length);
+            }
+        }
+    };
+    let (mut i, mut out) = (0_usize, 0_usize);
+    while i < block.len() {
+        let token = block[i];
+        i += 1;
+        let mut literals = usize::from(token >> 4);
+        if literals == 15 {
+            literals = extended(&mut i, literals)?;
+        }
+        i = i.checked_add(literals).filter(|&i| i <= block.len()).ok_or_else(corrupt)?;
+        out = out.checked_add(literals).ok_or_else(corrupt)?;
+        if i == block.len() {
+            break; // The last sequence has literals only.
+        }
+        i = i.checked_add(2).filter(|&i| i <= block.len()).ok_or_else(corrupt)?;
+        let mut matched = usize::from(token & 15);
+        if matched == 15 {
+            matched = extended(&mut i, matched)?;
+        }
+        out = out.checked_add(matched + 4).ok_or_else(corrupt)?;
+    }
+    Ok(out)
+}
+
 fn decompress_lz4(mut input: &[u8], output: &mut [u8]) -> Result<usize> {
     // Check first byte for # chunks.
     // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/base/tf/fastCompression.cpp#L108
@@ -1498,7 +1631,8 @@ fn decompress_lz4(mut input: &[u8], output: &mut [u8]) -> Result<usize> {
         // Decompress chunk by chunk.
         // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/base/tf/fastCompression.cpp#L125
 
-        todo!("Support lz4 chunked decompression")
+        // seamlit: an error, not a panic.
+        bail!("lz4 chunked decompression is not supported")
     }
 }
 
@@ -1537,9 +1671,21 @@ impl<R: io::Read> ReadExt for R {
             return Ok(Vec::new());
         }
 
-        let mut vec = vec![T::default(); count];
-        self.read_exact(cast_slice_mut(&mut vec))
-            .context("Unable to read vec")?;
+        // seamlit: the vector grows as the elements arrive (doubling from 64 KiB), so a count
+        // past the end of the file fails at the end of the file instead of sizing one
+        // allocation (a corrupted count asked for 848 TB, and a failed allocation aborts).
+        count
+            .checked_mul(mem::size_of::<T>())
+            .context("Unable to read vec: too many elements")?;
+        let first = (64 * 1024 / mem::size_of::<T>().max(1)).max(1);
+        let mut vec: Vec<T> = Vec::new();
+        while vec.len() < count {
+            let start = vec.len();
+            let end = count.min(start.saturating_add(start.max(first)));
+            vec.resize(end, T::default());
+            self.read_exact(cast_slice_mut(&mut vec[start..]))
+                .context("Unable to read vec")?;
+        }
 
         Ok(vec)
     }

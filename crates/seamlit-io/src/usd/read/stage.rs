@@ -107,6 +107,8 @@ pub(super) fn guarded<T>(
             .map(|s| (*s).to_owned())
             .or_else(|| payload.downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "a panic".to_owned());
+        // One line, whatever the panic said (an assertion's message has three).
+        let message = message.split_whitespace().collect::<Vec<_>>().join(" ");
         Err(IoError::Usd { path: path.to_path_buf(), kind: UsdKind::Panicked { message } })
     })
 }
