@@ -271,9 +271,10 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
         Some("fbx") => return Err(IoError::FbxOutput { path: path.to_path_buf() }),
         #[cfg(feature = "usd")]
         Some("usda" | "usd") => report.warnings = usd::write::save(asset, path)?,
-        Some(extension @ ("usdc" | "usdz")) if cfg!(feature = "usd") => {
-            let kind = if extension == "usdc" { UsdOutput::Usdc } else { UsdOutput::Usdz };
-            return Err(IoError::UsdOutput { path: path.to_path_buf(), kind });
+        #[cfg(feature = "usd")]
+        Some("usdz") => report.warnings = usd::package::save(asset, path)?,
+        Some("usdc") if cfg!(feature = "usd") => {
+            return Err(IoError::UsdOutput { path: path.to_path_buf(), kind: UsdOutput::Usdc });
         }
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }

@@ -205,6 +205,62 @@ fn the_neck_is_closed_in_the_layer_pxr_composes() {
     }
 }
 
+/// A `.usdz` output (from a package, a text and a binary stage, and the formula car's five
+/// layers, references, wheel variant set and textures in a sibling folder): pxr opens the
+/// package alone in an empty folder (so it is self-contained), its first file is the
+/// override layer, every file stored uncompressed with its data 64-byte aligned; it composes
+/// to the input with only normals changed, the neck closed to 0.00 degrees, and the
+/// validators (usdz ones included) find no error the input lacks.
+#[test]
+fn usdz_packages_hold_the_layer_and_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, relative, normals_changed) in [
+        ("from_usdz", "head_body.usdz", 5),
+        ("from_usda", "head_body.usda", 5),
+        ("from_usdc", "head_body.usdc", 5),
+        (
+            "formula",
+            "others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda",
+            0,
+        ),
+    ] {
+        let input = stage(relative);
+        let written = dir.path().join(format!("{name}.usdz"));
+        let (_, warnings) = fix_to(&input, &written);
+        // Alone in a folder of its own: nothing may resolve outside the package.
+        let alone = dir.path().join(name);
+        std::fs::create_dir(&alone).unwrap();
+        let output = alone.join(format!("{name}.usdz"));
+        std::fs::rename(&written, &output).unwrap();
+        let package = pxr("package", &[&output]);
+        let files = package["files"].as_array().unwrap();
+        assert_eq!(files[0]["name"], format!("{name}.usda"), "{name}: {package:#}");
+        for file in files {
+            assert_eq!(file["stored"], true, "{name}: {file}");
+            assert_eq!(file["offset"].as_u64().unwrap() % 64, 0, "{name}: {file}");
+        }
+        let diff = pxr("compare", &[&input, &output]);
+        assert_eq!(diff["differences"], serde_json::json!([]), "{name}: {diff:#} {warnings:?}");
+        assert_eq!(diff["normals"].as_array().unwrap().len(), normals_changed, "{name}: {diff:#}");
+        if normals_changed > 0 {
+            let after = pxr("seam", &[&output]);
+            assert!(after["largest_degrees"].as_f64().unwrap() < 0.005, "{name}: {after}");
+        }
+        let errors_in = pxr("validate", &[&input]);
+        for e in pxr("validate", &[&output]).as_array().unwrap() {
+            assert!(errors_in.as_array().unwrap().contains(e), "{name}: new validation error {e}");
+        }
+        // seamlit reads its own package back: the same meshes.
+        assert_eq!(load(&output).model.objects.len(), load(&input).model.objects.len(), "{name}");
+        if name == "formula" {
+            // Every layer of the kit and the textures the material layer names beside it.
+            let names: Vec<&str> = files.iter().map(|f| f["name"].as_str().unwrap()).collect();
+            assert!(names.iter().any(|n| n.ends_with(".jpg") || n.ends_with(".png")), "{names:?}");
+            assert!(names.len() >= 6, "{names:?}");
+        }
+    }
+}
+
 /// The blocks with authored hard edges (flat faceVarying normals, one indexed): fixed, the
 /// layer overrides nothing, and pxr composes the input.
 #[test]
@@ -304,15 +360,13 @@ fn preview_surfaces_are_read() {
 }
 
 #[test]
-fn usdc_usdz_and_layers_over_other_formats_are_refused() {
+fn usdc_and_layers_over_other_formats_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let asset = load(&stage("head_body.usda"));
-    for (name, expected) in [("out.usdc", UsdOutput::Usdc), ("out.usdz", UsdOutput::Usdz)] {
-        let path = dir.path().join(name);
-        let err = seamlit_io::save(&asset, &path, &SaveOptions::default()).unwrap_err();
-        assert!(matches!(&err, IoError::UsdOutput { kind, .. } if *kind == expected), "{err}");
-        assert!(!err.to_string().contains('\n') && !path.exists());
-    }
+    let path = dir.path().join("out.usdc");
+    let err = seamlit_io::save(&asset, &path, &SaveOptions::default()).unwrap_err();
+    assert!(matches!(&err, IoError::UsdOutput { kind: UsdOutput::Usdc, .. }), "{err}");
+    assert!(!err.to_string().contains('\n') && !path.exists());
     let obj = load(&common::model("cornell_box/cornell_box.obj"));
     let path = dir.path().join("box.usda");
     let err = seamlit_io::save(&obj, &path, &SaveOptions::default()).unwrap_err();

@@ -14,6 +14,7 @@ use openusd::{sdf, usd};
 use seamlit_mesh::{Model, VAxis};
 
 pub(crate) use mesh::MeshSource;
+pub(crate) use stage::{check_text_nesting, guarded};
 
 /// What the `.usda` writer needs of the stage: its meshes' sources, in the order of the
 /// objects, and the root layer's stage metadata (which a layer over it must repeat: USD reads
@@ -56,7 +57,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`load`], with what the `.usda` writer needs of each object's mesh.
 pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
     crate::files::check_size(path, options)?;
-    let (mut asset, sources) = stage::guarded(path, || read_stage(path, options))?;
+    let (mut asset, sources) = guarded(path, || read_stage(path, options))?;
     let mut warnings = std::mem::take(&mut asset.warnings);
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;

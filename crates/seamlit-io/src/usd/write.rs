@@ -35,6 +35,37 @@ use crate::options::LoadOptions;
 /// stage or holds a normal that is not finite; the errors of reading the stage again;
 /// [`IoError::Io`] when writing fails.
 pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+    let layer = prepare(asset, path)?;
+    let text = layer.text(&relative(&layer.input, path));
+    crate::files::write(path, text.as_bytes())?;
+    Ok(layer.warnings)
+}
+
+/// The override layer for `asset`, but for the asset path by which it sublayers the input
+/// (which depends on where the layer is written: beside the output, or inside a package).
+pub(crate) struct Layer {
+    /// The input stage's root layer.
+    pub input: PathBuf,
+    /// The meshes whose normals are written, and their normals at each face corner.
+    overs: Vec<(MeshSource, Vec<Vec3>)>,
+    metadata: Vec<(String, String)>,
+    /// Meshes whose normals are not written, and why.
+    pub warnings: Vec<String>,
+}
+
+impl Layer {
+    /// The layer's text, sublayering the input at `sublayer` (an asset path).
+    pub fn text(&self, sublayer: &str) -> String {
+        document(sublayer, &self.metadata, &self.overs)
+    }
+}
+
+/// Checks `asset` against the stage it was loaded from and finds the normals to write.
+///
+/// # Errors
+///
+/// As [`save`], but for writing.
+pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
     let refuse = |kind| IoError::UsdOutput { path: path.to_path_buf(), kind };
     let Some(input) = asset.source.as_deref().filter(|s| is_usd(s)) else {
         return Err(refuse(UsdOutput::NotFromUsd));
@@ -44,8 +75,9 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
         .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
     let mut warnings = Vec::new();
     let mut overs = Vec::new();
-    for (object, mesh) in asset.model.objects.iter().zip(&stage.meshes) {
-        let Some(normals) = corner_normals(object, mesh) else { continue };
+    let StageSource { meshes, metadata } = stage;
+    for (object, mesh) in asset.model.objects.iter().zip(meshes) {
+        let Some(normals) = corner_normals(object, &mesh) else { continue };
         if !normals.iter().all(|n| n.is_finite()) {
             return Err(refuse(UsdOutput::NotFinite { object: object.name.clone() }));
         }
@@ -70,13 +102,11 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
         }
         overs.push((mesh, normals));
     }
-    let text = document(input, path, &stage.metadata, &overs);
-    crate::files::write(path, text.as_bytes())?;
-    Ok(warnings)
+    Ok(Layer { input: input.to_path_buf(), overs, metadata, warnings })
 }
 
 /// Whether `path` names a USD file by its extension.
-fn is_usd(path: &Path) -> bool {
+pub(crate) fn is_usd(path: &Path) -> bool {
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     matches!(extension.as_deref(), Some("usda" | "usdc" | "usdz" | "usd"))
 }
@@ -190,16 +220,15 @@ impl Over {
 
 /// The layer's text.
 fn document(
-    input: &Path,
-    output: &Path,
+    sublayer: &str,
     metadata: &[(String, String)],
-    overs: &[(&MeshSource, Vec<Vec3>)],
+    overs: &[(MeshSource, Vec<Vec3>)],
 ) -> String {
     let mut out = String::from("#usda 1.0\n(\n");
     for (key, value) in metadata {
         let _ = writeln!(out, "    {key} = {value}");
     }
-    let _ = writeln!(out, "    subLayers = [\n        @{}@\n    ]\n)\n", relative(input, output));
+    let _ = writeln!(out, "    subLayers = [\n        @{sublayer}@\n    ]\n)\n");
     let mut root = Over::default();
     for (mesh, normals) in overs {
         let mut node = &mut root;

@@ -34,7 +34,7 @@ const MAX_TEXT_NESTING: usize = 256;
 
 /// Refuses a root layer in text form (`#usda`) nested deeper than [`MAX_TEXT_NESTING`]
 /// before openusd parses it. Layers it references are parsed by openusd unchecked.
-fn check_text_nesting(path: &Path) -> Result<(), IoError> {
+pub(crate) fn check_text_nesting(path: &Path) -> Result<(), IoError> {
     // Unreadable: openusd says why.
     let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
     if !bytes.starts_with(b"#usda") {
@@ -96,7 +96,7 @@ pub(super) fn prim_error(path: &Path, prim: &sdf::Path, error: &anyhow::Error) -
 /// Runs `work`, turning a panic inside it (openusd's, on bytes it does not expect) into
 /// [`UsdKind::Panicked`]. A last resort: the tests feed cut and corrupted files to make sure
 /// none gets here.
-pub(super) fn guarded<T>(
+pub(crate) fn guarded<T>(
     path: &Path,
     work: impl FnOnce() -> Result<T, IoError>,
 ) -> Result<T, IoError> {
