@@ -199,8 +199,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::FbxOutput`] for an `.fbx` path (seamlit writes no FBX);
 /// [`IoError::VrmOutput`] for a `.vrm` path when the asset is not a VRM avatar the
 /// pass-through can write back;
-/// [`IoError::UsdOutput`] for a `.usdc` or `.usdz` path (not written yet), and for a `.usda`
-/// path when the asset did not come from USD or no longer matches its stage;
+/// [`IoError::UsdOutput`] for a `.usda`, `.usdc` or `.usdz` path when the asset did not come
+/// from USD or no longer matches its stage, a package whose input file cannot be read, a
+/// binary layer openusd cannot write;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
@@ -273,9 +274,8 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
         Some("usda" | "usd") => report.warnings = usd::write::save(asset, path)?,
         #[cfg(feature = "usd")]
         Some("usdz") => report.warnings = usd::package::save(asset, path)?,
-        Some("usdc") if cfg!(feature = "usd") => {
-            return Err(IoError::UsdOutput { path: path.to_path_buf(), kind: UsdOutput::Usdc });
-        }
+        #[cfg(feature = "usd")]
+        Some("usdc") => report.warnings = usd::write::save_usdc(asset, path)?,
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)

@@ -359,19 +359,39 @@ fn preview_surfaces_are_read() {
     }
 }
 
+/// A `.usdc` output is the `.usda` layer in binary: Pixar's USD reads the two layers to the
+/// same text (`Sdf.Layer.ExportToString`), for the head and body (arrays of 4 to 15 ints, which
+/// unpatched openusd compressed where Pixar reads them uncompressed; child-name lists, which
+/// it wrote as token arrays) and the formula car; the stage composes as the `.usda` one does.
 #[test]
-fn usdc_and_layers_over_other_formats_are_refused() {
+fn usdc_layers_read_as_the_usda_ones_and_other_formats_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let asset = load(&stage("head_body.usda"));
-    let path = dir.path().join("out.usdc");
-    let err = seamlit_io::save(&asset, &path, &SaveOptions::default()).unwrap_err();
-    assert!(matches!(&err, IoError::UsdOutput { kind: UsdOutput::Usdc, .. }), "{err}");
-    assert!(!err.to_string().contains('\n') && !path.exists());
+    for (name, relative) in [
+        ("head_body", "head_body.usdz"),
+        ("faceted", "faceted.usda"),
+        ("formula", "others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda"),
+    ] {
+        let input = stage(relative);
+        let text = dir.path().join(format!("{name}.usda"));
+        let binary = dir.path().join(format!("{name}.usdc"));
+        fix_to(&input, &text);
+        fix_to(&input, &binary);
+        assert!(std::fs::read(&binary).unwrap().starts_with(b"PXR-USDC"), "{name}");
+        let (a, b) = (pxr("layer", &[&text]), pxr("layer", &[&binary]));
+        assert_eq!(a["text"], b["text"], "{name}: pxr reads the layers differently");
+        let diff = pxr("compare", &[&text, &binary]);
+        assert_eq!(diff, serde_json::json!({"differences": [], "normals": []}), "{name}");
+        let errors_in = pxr("validate", &[&input]);
+        for e in pxr("validate", &[&binary]).as_array().unwrap() {
+            assert!(errors_in.as_array().unwrap().contains(e), "{name}: new validation error {e}");
+        }
+    }
     let obj = load(&common::model("cornell_box/cornell_box.obj"));
     let path = dir.path().join("box.usda");
     let err = seamlit_io::save(&obj, &path, &SaveOptions::default()).unwrap_err();
     assert!(matches!(err, IoError::UsdOutput { kind: UsdOutput::NotFromUsd, .. }), "{err}");
     // A USD input goes to glTF through the generic writer.
+    let asset = load(&stage("head_body.usda"));
     let glb = dir.path().join("head_body.glb");
     seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
     assert_eq!(load(&glb).model.triangle_count(), asset.model.triangle_count());

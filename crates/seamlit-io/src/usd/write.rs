@@ -41,6 +41,28 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     Ok(layer.warnings)
 }
 
+/// Writes `asset` as [`save`] does, but the layer in USD's binary crate format (`.usdc`):
+/// the same text, parsed by openusd and written by its crate writer (patched in
+/// vendor/openusd so that Pixar's USD reads it: PATCHES.md).
+///
+/// # Errors
+///
+/// Those of [`save`]; [`IoError::UsdOutput`] with [`UsdOutput::Usdc`] when openusd cannot
+/// parse or write the layer.
+pub(crate) fn save_usdc(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+    let layer = prepare(asset, path)?;
+    let text = layer.text(&relative(&layer.input, path));
+    let refuse = |e: anyhow::Error| IoError::UsdOutput {
+        path: path.to_path_buf(),
+        kind: UsdOutput::Usdc { reason: format!("{e:#}") },
+    };
+    let data = openusd::usda::parse(&text).map_err(refuse)?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    openusd::usdc::CrateWriter::write(&data, &mut bytes).map_err(refuse)?;
+    crate::files::write(path, bytes.get_ref())?;
+    Ok(layer.warnings)
+}
+
 /// The override layer for `asset`, but for the asset path by which it sublayers the input
 /// (which depends on where the layer is written: beside the output, or inside a package).
 pub(crate) struct Layer {

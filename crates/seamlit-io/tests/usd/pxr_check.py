@@ -11,6 +11,7 @@
                                               stored uncompressed, sizes) and its root layer
                                               (usd-core 26 has no UsdUtils.ComplianceChecker:
                                               `validate` runs its usdz validators)
+    pxr_check.py layer LAYER OUT.json         the layer alone as Sdf exports it to text
 
 Each writes JSON to OUT.json. Nothing here uses seamlit.
 """
@@ -191,7 +192,11 @@ def package(usdz_path, out):
     json.dump({"files": files, "root": stage.GetRootLayer().identifier}, open(out, "w"), indent=1)
 
 
+def layer(layer_path, out):
+    json.dump({"text": Sdf.Layer.FindOrOpen(layer_path).ExportToString()}, open(out, "w"))
+
+
 if __name__ == "__main__":
     command, args = sys.argv[1], sys.argv[2:]
     {"points": points, "compare": compare, "validate": validate, "seam": seam,
-     "package": package}[command](*args)
+     "package": package, "layer": layer}[command](*args)

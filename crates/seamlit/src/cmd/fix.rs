@@ -60,18 +60,13 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
 fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("glb" | "gltf" | "obj" | "vrm" | "usda" | "usd" | "usdz") => Ok(()),
-        // The library's own line: .usdc is not written yet.
-        Some("usdc") => Err(Failure::BadInput(
-            IoError::UsdOutput { path: output.to_path_buf(), kind: seamlit_io::UsdOutput::Usdc }
-                .into(),
-        )),
+        Some("glb" | "gltf" | "obj" | "vrm" | "usda" | "usd" | "usdc" | "usdz") => Ok(()),
         // The library's own line: seamlit writes no FBX, write .glb.
         Some("fbx") => {
             Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
         }
         _ => Err(Failure::input(format!(
-            "{}: unknown output format (expected a .glb, .gltf, .obj, .vrm, .usda or .usdz file name)",
+            "{}: unknown output format (expected a .glb, .gltf, .obj, .vrm, .usda, .usdc or .usdz file name)",
             output.display()
         ))),
     }

@@ -115,13 +115,22 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
             if let Some(field_names) = data.list_fields(path) {
                 for name in field_names {
                     let value = data.get_field(path, &name)?.into_owned();
+                    // seamlit: Pixar's child-name lists are `TfTokenVector`s (type
+                    // TokenVector) and `subLayers` a `std::vector<std::string>` (type
+                    // StringVector), not arrays; Pixar's USD misread them as arrays.
+                    let children = is_children_field(&name);
+                    let sublayers = name == "subLayers";
                     let token = if name == crate::sdf::ChildrenKey::PropertyChildren.as_str() {
                         super::CRATE_PROPERTY_CHILDREN.to_owned()
                     } else {
                         name
                     };
                     let token_idx = self.tokens.intern(token);
-                    let rep = self.write_value(&value)?;
+                    let rep = match &value {
+                        Value::TokenVec(v) if children => self.write_token_vector(v)?,
+                        Value::StringVec(v) if sublayers => self.write_string_vector(v)?,
+                        _ => self.write_value(&value)?,
+                    };
                     let field_idx = self.fields.intern((token_idx, rep.0));
                     self.fieldsets.push(Some(field_idx));
                 }
@@ -788,6 +797,20 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
         Ok(rep_heap(ty, off, true))
     }
 
+    /// seamlit: a `TfTokenVector` (child-name lists): the count and the token indices, as
+    /// `write_token_vec` writes them, under type TokenVector, not an array.
+    fn write_token_vector(&mut self, v: &[tf::Token]) -> Result<ValueRep> {
+        let rep = self.write_token_vec(Type::Token, v)?;
+        Ok(rep_heap(Type::TokenVector, rep.0 & ((1 << 48) - 1), false))
+    }
+
+    /// seamlit: a `std::vector<std::string>` (`subLayers`): the count and the string indices,
+    /// as `write_string_vec` writes them, under type StringVector, not an array.
+    fn write_string_vector(&mut self, v: &[String]) -> Result<ValueRep> {
+        let rep = self.write_string_vec(Type::String, v)?;
+        Ok(rep_heap(Type::StringVector, rep.0 & ((1 << 48) - 1), false))
+    }
+
     fn write_token_vec(&mut self, ty: Type, v: &[tf::Token]) -> Result<ValueRep> {
         let off = self.pos()?;
         // Token arrays: just write the indices (no inner count for the
@@ -1093,10 +1116,17 @@ fn rep_heap_compressed(ty: Type, offset: u64) -> ValueRep {
     ValueRep(ty_bits | array_bit | compressed_bit | (offset & ((1 << 48) - 1)))
 }
 
-/// Minimum element count at which an integer array is compressed. Matches
-/// `CrateFile::MIN_COMPRESSED_ARRAY_SIZE` on the reader side — below this, the
-/// reader forces the uncompressed path regardless of the compressed bit.
-const MIN_COMPRESSED_ARRAY_SIZE: usize = 4;
+/// Minimum element count at which an integer array is compressed.
+///
+/// seamlit: 16, Pixar's `_MinCompressedArraySize` (crateFile.cpp): Pixar's reader reads an
+/// array of fewer elements as uncompressed whatever its compressed bit says, so the 4 of
+/// openusd 0.6 (its own reader's threshold) made arrays of 4 to 15 ints unreadable to it.
+const MIN_COMPRESSED_ARRAY_SIZE: usize = 16;
+
+/// seamlit: the fields whose values are child-name lists (`TfTokenVector` in Pixar's USD).
+fn is_children_field(name: &str) -> bool {
+    matches!(name, "primChildren" | "propertyChildren" | "variantChildren" | "variantSetChildren")
+}
 
 fn compute_jump(has_child: bool, has_sibling: bool, sibling_offset: i32) -> i32 {
     match (has_child, has_sibling) {
