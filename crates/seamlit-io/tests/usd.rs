@@ -359,6 +359,33 @@ fn preview_surfaces_are_read() {
     }
 }
 
+/// openusd's crate writer, as patched in vendor/openusd, on a layer of every shape the
+/// patches touch: int arrays of 1, 4, 15, 16 and 40 elements (Pixar reads arrays under 16 as
+/// uncompressed), prims with children and properties (child-name lists are TokenVectors),
+/// sublayers (a StringVector). Pixar's USD exports the `.usdc` to the text of the `.usda`.
+#[test]
+fn the_patched_crate_writer_writes_what_pxr_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let ints = |n: usize| (0..n).map(|i| (i * 7 % 5).to_string()).collect::<Vec<_>>().join(", ");
+    let text = format!(
+        "#usda 1.0\n(\n    subLayers = [\n        @./a.usda@,\n        @./b.usdc@\n    ]\n)\n\nover \"World\"\n{{\n    int[] one = [{}]\n    int[] four = [{}]\n    int[] fifteen = [{}]\n    int[] sixteen = [{}]\n    int[] forty = [{}]\n\n    over \"Child\"\n    {{\n        normal3f[] normals = None\n    }}\n\n    over \"Other\"\n    {{\n    }}\n}}\n",
+        ints(1),
+        ints(4),
+        ints(15),
+        ints(16),
+        ints(40)
+    );
+    let usda = dir.path().join("layer.usda");
+    let usdc = dir.path().join("layer.usdc");
+    std::fs::write(&usda, &text).unwrap();
+    let data = openusd::usda::parse(&text).unwrap();
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    openusd::usdc::CrateWriter::write(&data, &mut bytes).unwrap();
+    std::fs::write(&usdc, bytes.get_ref()).unwrap();
+    let (a, b) = (pxr("layer", &[&usda]), pxr("layer", &[&usdc]));
+    assert_eq!(a["text"], b["text"], "pxr reads the crate file differently");
+}
+
 /// A `.usdc` output is the `.usda` layer in binary: Pixar's USD reads the two layers to the
 /// same text (`Sdf.Layer.ExportToString`), for the head and body (arrays of 4 to 15 ints, which
 /// unpatched openusd compressed where Pixar reads them uncompressed; child-name lists, which
