@@ -595,6 +595,24 @@ fn a_usdc_count_past_the_file_is_refused_in_one_line() {
     assert!(line.contains("usd_usdc_count_past_the_file.usdc") && !line.contains('\n'), "{line}");
 }
 
+/// The `usd` fuzz target's fourth run: a corrupted `.usdc` whose child-name list holds a
+/// name that is not an identifier; openusd's traversal walked the stage for ever (a hang).
+/// The fork skips children that are not named by identifiers: the stage loads, its two
+/// meshes read, within seconds.
+#[test]
+fn a_usdc_child_that_is_not_a_name_does_not_hang_the_traversal() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/usd_usdc_prim_child_not_a_name.usdc");
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let objects =
+            seamlit_io::load(&path, &LoadOptions::GEOMETRY).map(|a| a.model.objects.len());
+        let _ = send.send(objects.map_err(|e| e.to_string()));
+    });
+    let loaded = receive.recv_timeout(std::time::Duration::from_secs(60));
+    assert_eq!(loaded.expect("the load did not end within 60 s"), Ok(2));
+}
+
 /// Stages by others (the ASWF USD Assets working group's repository, Apache 2.0): RYStorm's
 /// formula car, a stage of layers, references and a variant set, exported by 3ds Max with
 /// flat normals everywhere; and three instanced, payloaded, spinning subdivision pyramids.

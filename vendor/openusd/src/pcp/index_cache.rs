@@ -2202,10 +2202,32 @@ fn append_unseen_names(
 ) {
     if let Ok(Value::TokenVec(names)) = layer.data().get_field(path, field.as_str()).map(|v| v.into_owned()) {
         for name in names {
+            // seamlit: a child is named by an identifier (namespaced, for properties), as
+            // Pixar's SdfPath requires; a corrupted layer's child named `..` (or empty)
+            // sent the traversal back up the tree for ever.
+            if !is_child_name(field, name.as_str()) {
+                continue;
+            }
             if seen.insert(name.clone()) {
                 order.push(name);
             }
         }
+    }
+}
+
+/// seamlit: whether `name` can name a child of kind `field`: an identifier (a letter or `_`,
+/// then letters, digits and `_`), namespaced by `:` for a property. Other kinds of children
+/// (variants) are not checked.
+fn is_child_name(field: ChildrenKey, name: &str) -> bool {
+    let identifier = |part: &str| {
+        let mut chars = part.chars();
+        chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
+            && chars.all(|c| c.is_alphanumeric() || c == '_')
+    };
+    match field {
+        ChildrenKey::PrimChildren => identifier(name),
+        ChildrenKey::PropertyChildren => name.split(':').all(identifier),
+        _ => true,
     }
 }
 
