@@ -757,6 +757,13 @@ impl<'a> Parser<'a> {
         if self.is_next(Token::Punctuation('[')) {
             let mut values = Vec::new();
             self.parse_block('[', ']', |this| {
+                // seamlit: no metadata value is an array of arrays. Each level formatted the
+                // one inside it with `{:?}`, doubling its escapes: 48 nested brackets took
+                // gigabytes and for ever (the `usd` fuzz target).
+                anyhow::ensure!(
+                    !this.is_next(Token::Punctuation('[')),
+                    "an array of arrays is not a metadata value"
+                );
                 values.push(this.parse_property_metadata_value()?);
                 Ok(())
             })?;
