@@ -261,6 +261,30 @@ fn usdz_packages_hold_the_layer_and_the_input() {
     }
 }
 
+/// A package holds only the kinds of file the USDZ specification allows: an asset path to
+/// another file (here a text file beside the stage) is left out with a warning naming it.
+#[test]
+fn usdz_packages_leave_out_files_of_other_kinds() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["head_body.usda", "skin.png"] {
+        std::fs::copy(stage(name), dir.path().join(name)).unwrap();
+    }
+    std::fs::write(dir.path().join("secret.txt"), "not for the package").unwrap();
+    let input = dir.path().join("stage.usda");
+    std::fs::write(
+        &input,
+        "#usda 1.0\n(\n    subLayers = [@./head_body.usda@]\n)\n\nover \"World\"\n{\n    asset note = @./secret.txt@\n}\n",
+    )
+    .unwrap();
+    let output = dir.path().join("out.usdz");
+    let (_, warnings) = fix_to(&input, &output);
+    assert!(warnings.iter().any(|w| w.contains("secret.txt")), "{warnings:?}");
+    let package = pxr("package", &[&output]);
+    let names: Vec<&str> =
+        package["files"].as_array().unwrap().iter().map(|f| f["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["out.usda", "stage.usda", "head_body.usda", "skin.png"]);
+}
+
 /// The blocks with authored hard edges (flat faceVarying normals, one indexed): fixed, the
 /// layer overrides nothing, and pxr composes the input.
 #[test]

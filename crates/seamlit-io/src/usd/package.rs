@@ -135,6 +135,13 @@ fn dependencies(input: &Path, warnings: &mut Vec<String>) -> Result<Entries, Str
                 ));
                 continue;
             }
+            if !packaged_kind(asset) {
+                warnings.push(format!(
+                    "{}: @{asset}@ is not a kind of file a package holds (layers, images, audio): not put in the package",
+                    file.display()
+                ));
+                continue;
+            }
             match folder.join(asset).canonicalize() {
                 Ok(found) if found.is_file() => {
                     if seen.insert(found.clone()) {
@@ -168,6 +175,30 @@ fn dependencies(input: &Path, warnings: &mut Vec<String>) -> Result<Entries, Str
         entries.push((name, bytes));
     }
     Ok(entries)
+}
+
+/// Whether `asset` names a kind of file the USDZ specification lets a package hold: layers,
+/// packages, images and audio. Anything else a layer names (any file on the disk, wherever it
+/// is) stays out of the package.
+fn packaged_kind(asset: &str) -> bool {
+    let extension = Path::new(asset).extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    matches!(
+        extension.as_deref(),
+        Some(
+            "usda"
+                | "usdc"
+                | "usd"
+                | "usdz"
+                | "png"
+                | "jpg"
+                | "jpeg"
+                | "exr"
+                | "avif"
+                | "m4a"
+                | "mp3"
+                | "wav"
+        )
+    )
 }
 
 /// The layer at `file`, or `None` for a file that is not a text or binary layer (a texture,
