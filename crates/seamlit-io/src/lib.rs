@@ -199,8 +199,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::FbxOutput`] for an `.fbx` path (seamlit writes no FBX);
 /// [`IoError::VrmOutput`] for a `.vrm` path when the asset is not a VRM avatar the
 /// pass-through can write back;
-/// [`IoError::UsdOutput`] for a `.usdc` or `.usdz` path (not written yet), and for a `.usda`
-/// path when the asset did not come from USD or no longer matches its stage;
+/// [`IoError::UsdOutput`] for a `.usda`, `.usdc` or `.usdz` path when the asset did not come
+/// from USD or no longer matches its stage, a package whose input file cannot be read, a
+/// binary layer openusd cannot write;
 /// [`IoError::UnknownFormat`] for another extension;
 /// [`IoError::InvalidAsset`] for an object whose attribute arrays or indices are
 /// inconsistent; [`IoError::Gltf`] ([`GltfKind::AccessorOutOfRange`] or
@@ -271,10 +272,10 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveRep
         Some("fbx") => return Err(IoError::FbxOutput { path: path.to_path_buf() }),
         #[cfg(feature = "usd")]
         Some("usda" | "usd") => report.warnings = usd::write::save(asset, path)?,
-        Some(extension @ ("usdc" | "usdz")) if cfg!(feature = "usd") => {
-            let kind = if extension == "usdc" { UsdOutput::Usdc } else { UsdOutput::Usdz };
-            return Err(IoError::UsdOutput { path: path.to_path_buf(), kind });
-        }
+        #[cfg(feature = "usd")]
+        Some("usdz") => report.warnings = usd::package::save(asset, path)?,
+        #[cfg(feature = "usd")]
+        Some("usdc") => report.warnings = usd::write::save_usdc(asset, path)?,
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
     Ok(report)

@@ -8,10 +8,13 @@
 //! `!resetXformStack!`; `upAxis` Z turned to +Y up), its polygons triangulated and its
 //! primvars expanded by their interpolation (`mesh.rs`); UsdPreviewSurface materials bound by
 //! `material:binding` (`material.rs`). `write.rs` writes a `.usda` layer that sublayers the
-//! input and overrides only the normals seamlit changed. The design, and what is not read or
+//! input and overrides only the normals seamlit changed; `package.rs` puts that layer, the
+//! input's layers and its textures in one `.usdz` package. The design, and what is not read or
 //! written yet: docs/usd.md.
 
 pub(crate) mod error;
+#[cfg(feature = "usd")]
+pub(crate) mod package;
 #[cfg(feature = "usd")]
 mod read;
 #[cfg(feature = "usd")]

@@ -59,9 +59,19 @@ const EXPECTED: &[(&str, Option<&str>)] = &[
     ("obj_only_statements_no_values.obj", Some("obj_only_statements_no_values.obj:1:")),
     // Found by the `usd` fuzz target: a corrupted usda whose xformOpOrder token runs on to the
     // end of the file; looking the op up by that name sent openusd into a loop.
+    // Found by the `usd` fuzz target (issue 33, run 5): metadata arrays nested 48 deep; each
+    // level of openusd's parser escaped the one inside it again (2^48 bytes, for ever).
+    ("usd_metadata_arrays_nested_48_deep.usda", Some("an array of arrays is not a metadata value")),
     // Found by the `usd` fuzz target: openusd's text parser recurses a level a bracket, and
     // 20,000 nested prims overflowed the stack (3,000 took over a minute). Refused above 256.
     ("usd_prims_nested_300_deep.usda", Some("nested 300 levels deep")),
+    // Found by the `usd` fuzz target: a .usdc count past the end of the file, which unpatched
+    // openusd 0.6 allocated (848 TB) and aborted on; refused by vendor/openusd's bounds.
+    ("usd_usdc_count_past_the_file.usdc", Some("Unable to read vec")),
+    // Found by the `usd` fuzz target (issue 33, run 4): a corrupted .usdc whose child-name
+    // list holds a name that is not an identifier; openusd's traversal walked for ever. The
+    // fork skips such children; the stage loads.
+    ("usd_usdc_prim_child_not_a_name.usdc", None),
     ("usd_xform_op_name_runs_to_the_end.usda", Some("not a property name")),
 ];
 

@@ -49,13 +49,21 @@ fn stage(relative: &str) -> PathBuf {
 }
 
 fn load(path: &Path) -> Asset {
-    seamlit_io::load(path, &LoadOptions::GEOMETRY).unwrap()
+    seamlit_io::load(path, &options_for(path)).unwrap()
+}
+
+/// Geometry only; for the car kit, whose entry layer references layers in its siblings'
+/// folders, the kit's folder allowed (`--asset-root`).
+fn options_for(input: &Path) -> LoadOptions {
+    let kit = stage("others/USD_Mini_Car_Kit");
+    let asset_roots = if input.starts_with(&kit) { vec![kit] } else { Vec::new() };
+    LoadOptions { asset_roots, ..LoadOptions::GEOMETRY }
 }
 
 /// Fixes `input` as `seamlit fix` does by default and writes it to `output`; the warnings
 /// of loading and saving.
 fn fix_to(input: &Path, output: &Path) -> (Asset, Vec<String>) {
-    fix_to_with(input, output, &LoadOptions::GEOMETRY)
+    fix_to_with(input, output, &options_for(input))
 }
 
 /// [`fix_to`], loading with `options`.
@@ -215,6 +223,86 @@ fn the_neck_is_closed_in_the_layer_pxr_composes() {
     }
 }
 
+/// A `.usdz` output (from a package, a text and a binary stage, and the formula car's five
+/// layers, references, wheel variant set and textures in a sibling folder): pxr opens the
+/// package alone in an empty folder (so it is self-contained), its first file is the
+/// override layer, every file stored uncompressed with its data 64-byte aligned; it composes
+/// to the input with only normals changed, the neck closed to 0.00 degrees, and the
+/// validators (usdz ones included) find no error the input lacks.
+#[test]
+fn usdz_packages_hold_the_layer_and_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, relative, normals_changed) in [
+        ("from_usdz", "head_body.usdz", 5),
+        ("from_usda", "head_body.usda", 5),
+        ("from_usdc", "head_body.usdc", 5),
+        (
+            "formula",
+            "others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda",
+            0,
+        ),
+    ] {
+        let input = stage(relative);
+        let written = dir.path().join(format!("{name}.usdz"));
+        let (_, warnings) = fix_to(&input, &written);
+        // Alone in a folder of its own: nothing may resolve outside the package.
+        let alone = dir.path().join(name);
+        std::fs::create_dir(&alone).unwrap();
+        let output = alone.join(format!("{name}.usdz"));
+        std::fs::rename(&written, &output).unwrap();
+        let package = pxr("package", &[&output]);
+        let files = package["files"].as_array().unwrap();
+        assert_eq!(files[0]["name"], format!("{name}.usda"), "{name}: {package:#}");
+        for file in files {
+            assert_eq!(file["stored"], true, "{name}: {file}");
+            assert_eq!(file["offset"].as_u64().unwrap() % 64, 0, "{name}: {file}");
+        }
+        let diff = pxr("compare", &[&input, &output]);
+        assert_eq!(diff["differences"], serde_json::json!([]), "{name}: {diff:#} {warnings:?}");
+        assert_eq!(diff["normals"].as_array().unwrap().len(), normals_changed, "{name}: {diff:#}");
+        if normals_changed > 0 {
+            let after = pxr("seam", &[&output]);
+            assert!(after["largest_degrees"].as_f64().unwrap() < 0.005, "{name}: {after}");
+        }
+        let errors_in = pxr("validate", &[&input]);
+        for e in pxr("validate", &[&output]).as_array().unwrap() {
+            assert!(errors_in.as_array().unwrap().contains(e), "{name}: new validation error {e}");
+        }
+        // seamlit reads its own package back: the same meshes.
+        assert_eq!(load(&output).model.objects.len(), load(&input).model.objects.len(), "{name}");
+        if name == "formula" {
+            // Every layer of the kit and the textures the material layer names beside it.
+            let names: Vec<&str> = files.iter().map(|f| f["name"].as_str().unwrap()).collect();
+            assert!(names.iter().any(|n| n.ends_with(".jpg") || n.ends_with(".png")), "{names:?}");
+            assert!(names.len() >= 6, "{names:?}");
+        }
+    }
+}
+
+/// A package holds only the kinds of file the USDZ specification allows: an asset path to
+/// another file (here a text file beside the stage) is left out with a warning naming it.
+#[test]
+fn usdz_packages_leave_out_files_of_other_kinds() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["head_body.usda", "skin.png"] {
+        std::fs::copy(stage(name), dir.path().join(name)).unwrap();
+    }
+    std::fs::write(dir.path().join("secret.txt"), "not for the package").unwrap();
+    let input = dir.path().join("stage.usda");
+    std::fs::write(
+        &input,
+        "#usda 1.0\n(\n    subLayers = [@./head_body.usda@]\n)\n\nover \"World\"\n{\n    asset note = @./secret.txt@\n}\n",
+    )
+    .unwrap();
+    let output = dir.path().join("out.usdz");
+    let (_, warnings) = fix_to(&input, &output);
+    assert!(warnings.iter().any(|w| w.contains("secret.txt")), "{warnings:?}");
+    let package = pxr("package", &[&output]);
+    let names: Vec<&str> =
+        package["files"].as_array().unwrap().iter().map(|f| f["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["out.usda", "stage.usda", "head_body.usda", "skin.png"]);
+}
+
 /// The blocks with authored hard edges (flat faceVarying normals, one indexed): fixed, the
 /// layer overrides nothing, and pxr composes the input.
 #[test]
@@ -313,21 +401,66 @@ fn preview_surfaces_are_read() {
     }
 }
 
+/// openusd's crate writer, as patched in vendor/openusd, on a layer of every shape the
+/// patches touch: int arrays of 1, 4, 15, 16 and 40 elements (Pixar reads arrays under 16 as
+/// uncompressed), prims with children and properties (child-name lists are TokenVectors),
+/// sublayers (a StringVector). Pixar's USD exports the `.usdc` to the text of the `.usda`.
 #[test]
-fn usdc_usdz_and_layers_over_other_formats_are_refused() {
+fn the_patched_crate_writer_writes_what_pxr_reads() {
     let dir = tempfile::tempdir().unwrap();
-    let asset = load(&stage("head_body.usda"));
-    for (name, expected) in [("out.usdc", UsdOutput::Usdc), ("out.usdz", UsdOutput::Usdz)] {
-        let path = dir.path().join(name);
-        let err = seamlit_io::save(&asset, &path, &SaveOptions::default()).unwrap_err();
-        assert!(matches!(&err, IoError::UsdOutput { kind, .. } if *kind == expected), "{err}");
-        assert!(!err.to_string().contains('\n') && !path.exists());
+    let ints = |n: usize| (0..n).map(|i| (i * 7 % 5).to_string()).collect::<Vec<_>>().join(", ");
+    let text = format!(
+        "#usda 1.0\n(\n    subLayers = [\n        @./a.usda@,\n        @./b.usdc@\n    ]\n)\n\nover \"World\"\n{{\n    int[] one = [{}]\n    int[] four = [{}]\n    int[] fifteen = [{}]\n    int[] sixteen = [{}]\n    int[] forty = [{}]\n\n    over \"Child\"\n    {{\n        normal3f[] normals = None\n    }}\n\n    over \"Other\"\n    {{\n    }}\n}}\n",
+        ints(1),
+        ints(4),
+        ints(15),
+        ints(16),
+        ints(40)
+    );
+    let usda = dir.path().join("layer.usda");
+    let usdc = dir.path().join("layer.usdc");
+    std::fs::write(&usda, &text).unwrap();
+    let data = openusd::usda::parse(&text).unwrap();
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    openusd::usdc::CrateWriter::write(&data, &mut bytes).unwrap();
+    std::fs::write(&usdc, bytes.get_ref()).unwrap();
+    let (a, b) = (pxr("layer", &[&usda]), pxr("layer", &[&usdc]));
+    assert_eq!(a["text"], b["text"], "pxr reads the crate file differently");
+}
+
+/// A `.usdc` output is the `.usda` layer in binary: Pixar's USD reads the two layers to the
+/// same text (`Sdf.Layer.ExportToString`), for the head and body (arrays of 4 to 15 ints, which
+/// unpatched openusd compressed where Pixar reads them uncompressed; child-name lists, which
+/// it wrote as token arrays) and the formula car; the stage composes as the `.usda` one does.
+#[test]
+fn usdc_layers_read_as_the_usda_ones_and_other_formats_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, relative) in [
+        ("head_body", "head_body.usdz"),
+        ("faceted", "faceted.usda"),
+        ("formula", "others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda"),
+    ] {
+        let input = stage(relative);
+        let text = dir.path().join(format!("{name}.usda"));
+        let binary = dir.path().join(format!("{name}.usdc"));
+        fix_to(&input, &text);
+        fix_to(&input, &binary);
+        assert!(std::fs::read(&binary).unwrap().starts_with(b"PXR-USDC"), "{name}");
+        let (a, b) = (pxr("layer", &[&text]), pxr("layer", &[&binary]));
+        assert_eq!(a["text"], b["text"], "{name}: pxr reads the layers differently");
+        let diff = pxr("compare", &[&text, &binary]);
+        assert_eq!(diff, serde_json::json!({"differences": [], "normals": []}), "{name}");
+        let errors_in = pxr("validate", &[&input]);
+        for e in pxr("validate", &[&binary]).as_array().unwrap() {
+            assert!(errors_in.as_array().unwrap().contains(e), "{name}: new validation error {e}");
+        }
     }
     let obj = load(&common::model("cornell_box/cornell_box.obj"));
     let path = dir.path().join("box.usda");
     let err = seamlit_io::save(&obj, &path, &SaveOptions::default()).unwrap_err();
     assert!(matches!(err, IoError::UsdOutput { kind: UsdOutput::NotFromUsd, .. }), "{err}");
     // A USD input goes to glTF through the generic writer.
+    let asset = load(&stage("head_body.usda"));
     let glb = dir.path().join("head_body.glb");
     seamlit_io::save(&asset, &glb, &SaveOptions::default()).unwrap();
     assert_eq!(load(&glb).model.triangle_count(), asset.model.triangle_count());
@@ -487,11 +620,13 @@ fn time_sampled_points_are_read_at_the_earliest_sample() {
 }
 
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400
-/// copies of the package and the text with four bytes overwritten (a fixed pseudo-random
-/// sequence), either loads or fails with one line: never a panic inside openusd (which the
-/// reader would report as [`UsdKind::Panicked`]). Overwritten bytes of a `.usdc` are left out:
-/// openusd 0.6 allocates what a corrupted count says before reading it, and the process
-/// aborts (docs/usd.md, "Not yet").
+/// copies of each with four bytes overwritten (a fixed pseudo-random sequence; 2,000 copies
+/// of the `.usdc`, with one to four bytes overwritten, half of them inside its structural
+/// sections at the end), either loads or fails with one line: never a panic inside openusd
+/// (which the reader would report as [`UsdKind::Panicked`]) and never an abort. Unpatched
+/// openusd 0.6 sized buffers by the counts a corrupted `.usdc` gives and aborted the whole
+/// process on the failed allocation; the fork in vendor/openusd bounds them by the file
+/// (vendor/openusd/PATCHES.md).
 #[test]
 fn cut_and_corrupted_stages_fail_cleanly_or_load() {
     let mut next = seamlit_testkit::xorshift(0x2545_f491_4f6c_dd1d);
@@ -517,19 +652,73 @@ fn cut_and_corrupted_stages_fail_cleanly_or_load() {
         for k in 0..61 {
             check(&bytes[..bytes.len() * k / 61], format!("{name} cut at {k}/61"));
         }
-        for i in 0..400 {
-            if name.ends_with(".usdc") {
-                break;
-            }
+        let binary = name.ends_with(".usdc");
+        for i in 0..if binary { 2000 } else { 400 } {
             let mut corrupted = bytes.clone();
-            for _ in 0..4 {
-                let at = usize::try_from(next() % bytes.len() as u64).unwrap();
+            let (flips, from) = match (binary, i % 2) {
+                // The crate file's tables of contents, tokens, fields, paths and specs are
+                // in its last quarter (its values before them).
+                (true, 0) => (1 + next() % 4, bytes.len() * 3 / 4),
+                (true, _) => (1 + next() % 4, 0),
+                (false, _) => (4, 0),
+            };
+            for _ in 0..flips {
+                let span = (bytes.len() - from) as u64;
+                let at = from + usize::try_from(next() % span).unwrap();
                 corrupted[at] = next().to_le_bytes()[0];
             }
             check(&corrupted, format!("{name} corrupted #{i}"));
         }
     }
     assert!(panics.is_empty(), "openusd panicked on {} files: {panics:#?}", panics.len());
+}
+
+/// The `usd` fuzz target's first finding (fuzz/README.md): a `.usdc` whose header gives a
+/// count past the end of the file. Unpatched openusd 0.6 allocated it (848 TB) before reading
+/// and the process aborted; the fork refuses it as a layer it cannot read, in one line.
+#[test]
+fn a_usdc_count_past_the_file_is_refused_in_one_line() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/usd_usdc_count_past_the_file.usdc");
+    let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    let line = err.to_string();
+    assert!(
+        matches!(&err, IoError::Usd { kind: UsdKind::Layer { .. } | UsdKind::Prim { .. }, .. }),
+        "{err:?}"
+    );
+    assert!(line.contains("usd_usdc_count_past_the_file.usdc") && !line.contains('\n'), "{line}");
+}
+
+/// The `usd` fuzz target's fourth run: a corrupted `.usdc` whose child-name list holds a
+/// name that is not an identifier; openusd's traversal walked the stage for ever (a hang).
+/// The fork skips children that are not named by identifiers: the stage loads, its two
+/// meshes read, within seconds.
+#[test]
+fn a_usdc_child_that_is_not_a_name_does_not_hang_the_traversal() {
+    assert_eq!(load_within_60_s("usd_usdc_prim_child_not_a_name.usdc"), Ok(2));
+}
+
+/// The `usd` fuzz target's fifth run: a text layer whose metadata holds arrays nested 48
+/// deep; openusd's parser formatted each level's array into the one outside it with `{:?}`,
+/// doubling the escapes each level (2^48 bytes: gigabytes, then a hang). The fork refuses an
+/// array of arrays as a metadata value: one line, at once.
+#[test]
+fn metadata_arrays_of_arrays_are_refused_at_once() {
+    let result = load_within_60_s("usd_metadata_arrays_nested_48_deep.usda");
+    assert!(result.as_ref().is_err_and(|e| e.contains("an array of arrays")), "{result:?}");
+}
+
+/// Loads a regression input on a thread: the number of objects, or the error's line; the
+/// test fails if the load takes over 60 s (the inputs that hung openusd).
+fn load_within_60_s(name: &str) -> Result<usize, String> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions").join(name);
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let objects =
+            seamlit_io::load(&path, &LoadOptions::GEOMETRY).map(|a| a.model.objects.len());
+        let _ = send.send(objects.map_err(|e| e.to_string()));
+    });
+    receive.recv_timeout(std::time::Duration::from_secs(60)).expect("the load took over 60 s")
 }
 
 /// Stages by others (the ASWF USD Assets working group's repository, Apache 2.0): RYStorm's

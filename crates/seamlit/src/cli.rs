@@ -68,8 +68,9 @@ pub struct FixArgs {
     /// a folder of models.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// Where to write: a .glb, .gltf, .obj, .vrm (from a .vrm) or .usda (from USD: a layer over
-    /// the input) file; for a folder INPUT, a folder (created if missing) that receives one
+    /// Where to write: a .glb, .gltf, .obj, .vrm (from a .vrm), .usda or .usdc (from USD: a
+    /// layer over the input) or .usdz (from USD: that layer, the input's layers and textures
+    /// in one package) file; for a folder INPUT, a folder (created if missing) that receives one
     /// file per model, in the same subfolders as the input's, with each model's textures beside
     /// it (.gltf, .obj) or inside it (.glb; a VRM avatar stays a .vrm). glTF geometry that
     /// came meshopt- or Draco-compressed is written uncompressed (a line says so) unless

@@ -94,11 +94,13 @@ fn a_folder_of_hostile_files_reports_each_and_fixes_the_good_one() {
             // Not bad here: an oversized texture is only a warning, and the MTL input's
             // library (in a subfolder, not copied) is then merely missing; the glTF inputs
             // of issue 32 that load (a channel that cannot be played is skipped with a
-            // warning; a morph target's NORMAL is not read).
+            // warning; a morph target's NORMAL is not read), and the .usdc of issue 33 whose
+            // child that is not a name is skipped.
             !n.contains("texture_declares")
                 && !n.contains("mtl_colour")
                 && !n.starts_with("gltf_animation_channel_")
                 && !n.contains("morph_target_normal_count_0")
+                && !n.contains("usd_usdc_prim_child_not_a_name")
         })
         .map(|p| {
             let name = p.file_name().unwrap().to_string_lossy().into_owned();

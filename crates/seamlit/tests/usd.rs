@@ -1,6 +1,6 @@
 //! OpenUSD through the command line: a stage goes through every command that reads a model
-//! (inspect, fix, render, compare, the folder mode), `fix` writes a `.usda` layer over it,
-//! and `.usdc`/`.usdz` outputs and broken stages are bad input in one line (exit status 2).
+//! (inspect, fix, render, compare, the folder mode), `fix` writes a `.usda` or `.usdc` layer
+//! over it or a `.usdz` package, and broken stages are bad input in one line (exit status 2).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -72,6 +72,15 @@ fn usd_is_read_by_every_command_and_fixed_as_a_layer() {
     assert_bad_input(&o, &["fixed.usda", "head_body.usdz", "--asset-root"]);
     let o = seamlit(&["inspect", &layer, "--json", "--asset-root", &usd("")]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // A package: the layer first, the input inside; seamlit reads it back.
+    let package = out("fixed.usdz");
+    let o = seamlit(&["fix", &usd("head_body.usdz"), "-o", &package]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).starts_with("wrote "), "{}", stdout(&o));
+    let bytes = std::fs::read(&package).unwrap();
+    assert!(bytes.starts_with(b"PK\x03\x04") && bytes[30..].starts_with(b"fixed.usda"));
+    let o = seamlit(&["inspect", &package, "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("fixed.glb")]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for command in ["render", "compare"] {
@@ -84,13 +93,28 @@ fn usd_is_read_by_every_command_and_fixed_as_a_layer() {
 }
 
 #[test]
-fn usd_outputs_not_written_and_broken_stages_are_bad_input() {
+fn usdc_outputs_are_written_and_broken_stages_are_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let out = |name: &str| dir.path().join(name).display().to_string();
     let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("out.usdc")]);
-    assert_bad_input(&o, &["out.usdc", "does not write .usdc", ".usda"]);
-    let o = seamlit(&["fix", &usd("head_body.usda"), "-o", &out("out.usdz")]);
-    assert_bad_input(&o, &["out.usdz", "does not write .usdz"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read(out("out.usdc")).unwrap().starts_with(b"PXR-USDC"));
+    // A package whose input names, in a variant not selected (so the stage loads), a layer
+    // that cannot be read: one line naming the package and the layer, nothing written.
+    for name in ["head_body.usda", "skin.png"] {
+        std::fs::copy(usd(name), out(name)).unwrap();
+    }
+    std::fs::write(out("broken.usdc"), &std::fs::read(usd("head_body.usdc")).unwrap()[..40])
+        .unwrap();
+    let variants = out("variants.usda");
+    std::fs::write(
+        &variants,
+        "#usda 1.0\n(\n    subLayers = [@./head_body.usda@]\n)\n\ndef Xform \"Extra\" (\n    variants = {\n        string look = \"a\"\n    }\n    prepend variantSets = \"look\"\n)\n{\n    variantSet \"look\" = {\n        \"a\" {\n        }\n        \"b\" (\n            references = @./broken.usdc@\n        ) {\n        }\n    }\n}\n",
+    )
+    .unwrap();
+    let o = seamlit(&["fix", &variants, "-o", &out("never.usdz")]);
+    assert_bad_input(&o, &["never.usdz", "package", "broken.usdc"]);
+    assert!(!PathBuf::from(out("never.usdz")).exists());
     let bytes = std::fs::read(usd("head_body.usdc")).unwrap();
     let truncated = out("truncated.usdc");
     std::fs::write(&truncated, &bytes[..bytes.len() / 3]).unwrap();

@@ -55,16 +55,19 @@ pub enum UsdKind {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum UsdOutput {
-    /// A `.usdc` output: openusd 0.6's binary writer makes files Pixar's USD misreads.
-    #[error(
-        "seamlit does not write .usdc yet (openusd 0.6's binary writer makes files Pixar's USD misreads); write .usda, a layer over the input that every USD tool composes"
-    )]
-    Usdc,
-    /// A `.usdz` output: packages are not written yet.
-    #[error(
-        "seamlit does not write .usdz yet; write .usda (a layer of the fixed normals over the input) or .glb"
-    )]
-    Usdz,
+    /// A `.usdc` output that openusd could not make of the override layer's text.
+    #[error("the binary layer cannot be written: {reason}; write .usda")]
+    Usdc {
+        /// openusd's description.
+        reason: String,
+    },
+    /// A `.usdz` output whose package cannot be made: a file of the input that cannot be
+    /// read (or its name put in a package).
+    #[error("the package cannot be made: {reason}")]
+    Package {
+        /// What failed, naming the file.
+        reason: String,
+    },
     /// A `.usda` output for a model that was not loaded from USD: the output is a layer of
     /// opinions over the input stage, so it needs one.
     #[error(

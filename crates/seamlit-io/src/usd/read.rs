@@ -15,6 +15,8 @@ use std::sync::Arc;
 use openusd::{sdf, usd};
 use seamlit_mesh::{Model, VAxis};
 
+pub(crate) use stage::{check_text_nesting, guarded};
+
 use crate::asset::{Asset, UsdSource};
 use crate::error::IoError;
 use crate::options::LoadOptions;
@@ -52,7 +54,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`load`], with what the `.usda` writer needs of each object's mesh.
 pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {
     crate::files::check_size(path, options)?;
-    let (mut asset, sources) = stage::guarded(path, || read_stage(path, options))?;
+    let (mut asset, sources) = guarded(path, || read_stage(path, options))?;
     let mut warnings = std::mem::take(&mut asset.warnings);
     warnings.extend(crate::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;

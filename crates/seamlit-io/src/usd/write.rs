@@ -36,6 +36,61 @@ use crate::options::LoadOptions;
 /// stage or holds a normal that is not finite; the errors of reading the stage again;
 /// [`IoError::Io`] when writing fails.
 pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+    let layer = prepare(asset, path)?;
+    let text = layer.text(&relative(&layer.input, path));
+    crate::files::write(path, text.as_bytes())?;
+    Ok(layer.warnings)
+}
+
+/// Writes `asset` as [`save`] does, but the layer in USD's binary crate format (`.usdc`):
+/// the same text, parsed by openusd and written by its crate writer (patched in
+/// vendor/openusd so that Pixar's USD reads it: PATCHES.md).
+///
+/// # Errors
+///
+/// Those of [`save`]; [`IoError::UsdOutput`] with [`UsdOutput::Usdc`] when openusd cannot
+/// parse or write the layer.
+pub(crate) fn save_usdc(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+    let layer = prepare(asset, path)?;
+    let text = layer.text(&relative(&layer.input, path));
+    let refuse = |e: anyhow::Error| IoError::UsdOutput {
+        path: path.to_path_buf(),
+        kind: UsdOutput::Usdc { reason: format!("{e:#}") },
+    };
+    let data = openusd::usda::parse(&text).map_err(refuse)?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    openusd::usdc::CrateWriter::write(&data, &mut bytes).map_err(refuse)?;
+    crate::files::write(path, bytes.get_ref())?;
+    Ok(layer.warnings)
+}
+
+/// The override layer for `asset`, but for the asset path by which it sublayers the input
+/// (which depends on where the layer is written: beside the output, or inside a package).
+pub(crate) struct Layer {
+    /// The input stage's root layer.
+    pub input: PathBuf,
+    /// The stage's meshes and metadata, as read.
+    stage: Arc<StageSource>,
+    /// The meshes whose normals are written (indices into the stage's meshes), and their
+    /// normals at each face corner.
+    overs: Vec<(usize, Vec<Vec3>)>,
+    /// Meshes whose normals are not written, and why.
+    pub warnings: Vec<String>,
+}
+
+impl Layer {
+    /// The layer's text, sublayering the input at `sublayer` (an asset path).
+    pub fn text(&self, sublayer: &str) -> String {
+        document(sublayer, &self.stage, &self.overs)
+    }
+}
+
+/// Checks `asset` against the stage it was loaded from and finds the normals to write.
+///
+/// # Errors
+///
+/// As [`save`], but for writing.
+pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
     let refuse = |kind| IoError::UsdOutput { path: path.to_path_buf(), kind };
     let Some(input) = asset.source.as_deref().filter(|s| is_usd(s)) else {
         return Err(refuse(UsdOutput::NotFromUsd));
@@ -45,7 +100,7 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
         .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
     let mut warnings = Vec::new();
     let mut overs = Vec::new();
-    for (object, mesh) in asset.model.objects.iter().zip(&stage.meshes) {
+    for (m, (object, mesh)) in asset.model.objects.iter().zip(&stage.meshes).enumerate() {
         let Some(normals) = corner_normals(object, mesh) else { continue };
         if !normals.iter().all(|n| n.is_finite()) {
             return Err(refuse(UsdOutput::NotFinite { object: object.name.clone() }));
@@ -69,15 +124,13 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
             ));
             continue;
         }
-        overs.push((mesh, normals));
+        overs.push((m, normals));
     }
-    let text = document(input, path, &stage.metadata, &overs);
-    crate::files::write(path, text.as_bytes())?;
-    Ok(warnings)
+    Ok(Layer { input: input.to_path_buf(), stage, overs, warnings })
 }
 
 /// Whether `path` names a USD file by its extension.
-fn is_usd(path: &Path) -> bool {
+pub(crate) fn is_usd(path: &Path) -> bool {
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     matches!(extension.as_deref(), Some("usda" | "usdc" | "usdz" | "usd"))
 }
@@ -201,19 +254,15 @@ impl Over {
 }
 
 /// The layer's text.
-fn document(
-    input: &Path,
-    output: &Path,
-    metadata: &[(String, String)],
-    overs: &[(&MeshSource, Vec<Vec3>)],
-) -> String {
+fn document(sublayer: &str, stage: &StageSource, overs: &[(usize, Vec<Vec3>)]) -> String {
     let mut out = String::from("#usda 1.0\n(\n");
-    for (key, value) in metadata {
+    for (key, value) in &stage.metadata {
         let _ = writeln!(out, "    {key} = {value}");
     }
-    let _ = writeln!(out, "    subLayers = [\n        @{}@\n    ]\n)\n", relative(input, output));
+    let _ = writeln!(out, "    subLayers = [\n        @{sublayer}@\n    ]\n)\n");
     let mut root = Over::default();
-    for (mesh, normals) in overs {
+    for (m, normals) in overs {
+        let mesh = &stage.meshes[*m];
         let mut node = &mut root;
         for name in mesh.prim.split('/').filter(|n| !n.is_empty()) {
             node = node.at(name);

@@ -7,6 +7,11 @@
     pxr_check.py validate STAGE OUT.json      UsdValidation's errors
     pxr_check.py seam STAGE OUT.json          the largest angle between normals of different
                                               meshes at shared positions, world space
+    pxr_check.py package USDZ OUT.json        the package's files (name, data offset, whether
+                                              stored uncompressed, sizes) and its root layer
+                                              (usd-core 26 has no UsdUtils.ComplianceChecker:
+                                              `validate` runs its usdz validators)
+    pxr_check.py layer LAYER OUT.json         the layer alone as Sdf exports it to text
 
 Each writes JSON to OUT.json. Nothing here uses seamlit.
 """
@@ -176,6 +181,22 @@ def seam(stage_path, out):
     json.dump({"largest_degrees": largest, "pairs": pairs}, open(out, "w"))
 
 
+def package(usdz_path, out):
+    zf = Sdf.ZipFile.Open(usdz_path)
+    files = []
+    for name in zf.GetFileNames():
+        info = zf.GetFileInfo(name)
+        files.append({"name": name, "offset": info.dataOffset, "stored": info.compressionMethod == 0,
+                      "size": info.size, "uncompressed": info.uncompressedSize})
+    stage = Usd.Stage.Open(usdz_path)
+    json.dump({"files": files, "root": stage.GetRootLayer().identifier}, open(out, "w"), indent=1)
+
+
+def layer(layer_path, out):
+    json.dump({"text": Sdf.Layer.FindOrOpen(layer_path).ExportToString()}, open(out, "w"))
+
+
 if __name__ == "__main__":
     command, args = sys.argv[1], sys.argv[2:]
-    {"points": points, "compare": compare, "validate": validate, "seam": seam}[command](*args)
+    {"points": points, "compare": compare, "validate": validate, "seam": seam,
+     "package": package, "layer": layer}[command](*args)

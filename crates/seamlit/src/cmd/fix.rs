@@ -60,22 +60,13 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
 fn check_output_extension(output: &Path) -> Result<(), Failure> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("glb" | "gltf" | "obj" | "vrm" | "usda" | "usd") => Ok(()),
-        // The library's own line: .usdc and .usdz are not written yet.
-        Some(extension @ ("usdc" | "usdz")) => {
-            let kind = if extension == "usdc" {
-                seamlit_io::UsdOutput::Usdc
-            } else {
-                seamlit_io::UsdOutput::Usdz
-            };
-            Err(Failure::BadInput(IoError::UsdOutput { path: output.to_path_buf(), kind }.into()))
-        }
+        Some("glb" | "gltf" | "obj" | "vrm" | "usda" | "usd" | "usdc" | "usdz") => Ok(()),
         // The library's own line: seamlit writes no FBX, write .glb.
         Some("fbx") => {
             Err(Failure::BadInput(IoError::FbxOutput { path: output.to_path_buf() }.into()))
         }
         _ => Err(Failure::input(format!(
-            "{}: unknown output format (expected a .glb, .gltf, .obj, .vrm or .usda file name)",
+            "{}: unknown output format (expected a .glb, .gltf, .obj, .vrm, .usda, .usdc or .usdz file name)",
             output.display()
         ))),
     }
@@ -270,7 +261,7 @@ fn skin_seams_line(seams: &seamlit_mesh::SkinSeams) -> String {
 }
 
 /// Writing fails through bad input (an output that is the input, an unknown extension, a
-/// buffer 0 without data written as GLB) or
+/// buffer 0 without data written as GLB, a file a .usdz package needs that cannot be read) or
 /// through the machine (a full disk).
 fn classify_save(e: IoError) -> Failure {
     match e {
@@ -285,6 +276,10 @@ fn classify_save(e: IoError) -> Failure {
         | IoError::FbxOutput { .. }
         | IoError::VrmOutput { .. }
         | IoError::CannotKeepCompression { .. }
+        // A .usdz package reads the input's files again (its layers in every variant, its
+        // textures): one that cannot be read is bad input, as when loading.
+        | IoError::Usd { .. }
+        | IoError::UsdOutput { kind: seamlit_io::UsdOutput::Package { .. }, .. }
         | IoError::InvalidAsset {
             kind: InvalidAsset::HostInGlb | InvalidAsset::HostCannotGrow,
             ..

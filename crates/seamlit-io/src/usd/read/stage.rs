@@ -72,7 +72,7 @@ pub(super) const MAX_TEXT_NESTING: usize = 256;
 
 /// Refuses a root layer in text form (`#usda`) nested deeper than [`MAX_TEXT_NESTING`]
 /// before openusd parses it. Layers it references are parsed by openusd unchecked.
-fn check_text_nesting(path: &Path) -> Result<(), IoError> {
+pub(crate) fn check_text_nesting(path: &Path) -> Result<(), IoError> {
     // Unreadable: openusd says why.
     let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
     if !bytes.starts_with(b"#usda") {
@@ -134,7 +134,7 @@ pub(super) fn prim_error(path: &Path, prim: &sdf::Path, error: &anyhow::Error) -
 /// Runs `work`, turning a panic inside it (openusd's, on bytes it does not expect) into
 /// [`UsdKind::Panicked`]. A last resort: the tests feed cut and corrupted files to make sure
 /// none gets here.
-pub(super) fn guarded<T>(
+pub(crate) fn guarded<T>(
     path: &Path,
     work: impl FnOnce() -> Result<T, IoError>,
 ) -> Result<T, IoError> {
@@ -145,6 +145,8 @@ pub(super) fn guarded<T>(
             .map(|s| (*s).to_owned())
             .or_else(|| payload.downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "a panic".to_owned());
+        // One line, whatever the panic said (an assertion's message has three).
+        let message = message.split_whitespace().collect::<Vec<_>>().join(" ");
         Err(IoError::Usd { path: path.to_path_buf(), kind: UsdKind::Panicked { message } })
     })
 }
