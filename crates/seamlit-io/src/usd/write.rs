@@ -13,12 +13,13 @@
 //! (renderers ignore them); meshes inside instances cannot be overridden per instance and
 //! are reported.
 
-use std::collections::HashMap;
-use std::fmt::Write as _;
+use std::fmt::{self, Write as _};
+use std::io;
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Vec3;
+use rustc_hash::FxHashMap;
 use seamlit_mesh::Object;
 
 use super::error::UsdOutput;
@@ -37,8 +38,8 @@ use crate::options::LoadOptions;
 /// [`IoError::Io`] when writing fails.
 pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     let layer = prepare(asset, path)?;
-    let text = layer.text(&relative(&layer.input, path));
-    crate::files::write(path, text.as_bytes())?;
+    let sublayer = relative(&layer.input, path);
+    crate::files::write_with(path, |out| layer.write(&sublayer, out))?;
     Ok(layer.warnings)
 }
 
@@ -58,7 +59,7 @@ pub(crate) fn save_usdc(asset: &Asset, path: &Path) -> Result<Vec<String>, IoErr
         kind: UsdOutput::Usdc { reason: format!("{e:#}") },
     };
     let data = openusd::usda::parse(&text).map_err(refuse)?;
-    let mut bytes = std::io::Cursor::new(Vec::new());
+    let mut bytes = io::Cursor::new(Vec::new());
     openusd::usdc::CrateWriter::write(&data, &mut bytes).map_err(refuse)?;
     crate::files::write(path, bytes.get_ref())?;
     Ok(layer.warnings)
@@ -81,7 +82,23 @@ pub(crate) struct Layer {
 impl Layer {
     /// The layer's text, sublayering the input at `sublayer` (an asset path).
     pub fn text(&self, sublayer: &str) -> String {
-        document(sublayer, &self.stage, &self.overs)
+        let mut text = String::new();
+        // Writing to a String does not fail.
+        let _ = document(&mut text, sublayer, self);
+        text
+    }
+
+    /// Writes the layer's text to `out` as it is made, sublayering the input at `sublayer`.
+    ///
+    /// # Errors
+    ///
+    /// The error `out` gave.
+    pub fn write(&self, sublayer: &str, out: &mut dyn io::Write) -> io::Result<()> {
+        let mut text = IoText { out, error: None };
+        match document(&mut text, sublayer, self) {
+            Ok(()) => Ok(()),
+            Err(fmt::Error) => Err(text.error.unwrap_or_else(|| io::Error::other("formatting"))),
+        }
     }
 }
 
@@ -217,11 +234,12 @@ fn same_bits(a: &[Vec3], b: &[Vec3]) -> bool {
             .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
 }
 
-/// A prim of the override tree: its name, the properties it authors, its children.
+/// A prim of the override tree: its name, the mesh whose normals it authors (an index into
+/// the layer's overs), its children.
 #[derive(Default)]
 struct Over {
     name: String,
-    body: String,
+    mesh: Option<usize>,
     children: Vec<Over>,
 }
 
@@ -237,51 +255,71 @@ impl Over {
         &mut self.children[i]
     }
 
-    fn write(&self, out: &mut String, depth: usize) {
+    /// Writes the prim and its children; a mesh's properties are made as they are written
+    /// (one mesh's text at a time in memory).
+    fn write(&self, out: &mut impl fmt::Write, depth: usize, layer: &Layer) -> fmt::Result {
         let pad = "    ".repeat(depth);
-        let _ = writeln!(out, "{pad}over \"{}\"\n{pad}{{", self.name);
-        for line in self.body.lines() {
-            let _ = writeln!(out, "{pad}    {line}");
+        writeln!(out, "{pad}over \"{}\"\n{pad}{{", self.name)?;
+        if let Some(k) = self.mesh {
+            let (m, normals) = &layer.overs[k];
+            let body = normals_text(normals, layer.stage.meshes[*m].plain_normals);
+            for line in body.lines() {
+                writeln!(out, "{pad}    {line}")?;
+            }
         }
         for (k, child) in self.children.iter().enumerate() {
-            if k > 0 || !self.body.is_empty() {
-                out.push('\n');
+            if k > 0 || self.mesh.is_some() {
+                out.write_char('\n')?;
             }
-            child.write(out, depth + 1);
+            child.write(out, depth + 1, layer)?;
         }
-        let _ = writeln!(out, "{pad}}}");
+        writeln!(out, "{pad}}}")
     }
 }
 
-/// The layer's text.
-fn document(sublayer: &str, stage: &StageSource, overs: &[(usize, Vec<Vec3>)]) -> String {
-    let mut out = String::from("#usda 1.0\n(\n");
-    for (key, value) in &stage.metadata {
-        let _ = writeln!(out, "    {key} = {value}");
+/// Writes the layer's text to `out`.
+fn document(out: &mut impl fmt::Write, sublayer: &str, layer: &Layer) -> fmt::Result {
+    out.write_str("#usda 1.0\n(\n")?;
+    for (key, value) in &layer.stage.metadata {
+        writeln!(out, "    {key} = {value}")?;
     }
-    let _ = writeln!(out, "    subLayers = [\n        @{sublayer}@\n    ]\n)\n");
+    writeln!(out, "    subLayers = [\n        @{sublayer}@\n    ]\n)\n")?;
     let mut root = Over::default();
-    for (m, normals) in overs {
-        let mesh = &stage.meshes[*m];
+    for (k, (m, _)) in layer.overs.iter().enumerate() {
         let mut node = &mut root;
-        for name in mesh.prim.split('/').filter(|n| !n.is_empty()) {
+        for name in layer.stage.meshes[*m].prim.split('/').filter(|n| !n.is_empty()) {
             node = node.at(name);
         }
-        node.body = normals_text(normals, mesh.plain_normals);
+        node.mesh = Some(k);
     }
     for (k, prim) in root.children.iter().enumerate() {
         if k > 0 {
-            out.push('\n');
+            out.write_char('\n')?;
         }
-        prim.write(&mut out, 0);
+        prim.write(out, 0, layer)?;
     }
-    out
+    Ok(())
+}
+
+/// [`fmt::Write`] onto an [`io::Write`], keeping the I/O error that stopped it.
+struct IoText<'w> {
+    out: &'w mut dyn io::Write,
+    error: Option<io::Error>,
+}
+
+impl fmt::Write for IoText<'_> {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        self.out.write_all(s.as_bytes()).map_err(|e| {
+            self.error = Some(e);
+            fmt::Error
+        })
+    }
 }
 
 /// The properties of one mesh's override.
 fn normals_text(normals: &[Vec3], block_plain: bool) -> String {
     let mut values: Vec<Vec3> = Vec::new();
-    let mut index_of: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut index_of: FxHashMap<[u32; 3], usize> = FxHashMap::default();
     let indices: Vec<usize> = normals
         .iter()
         .map(|n| {
