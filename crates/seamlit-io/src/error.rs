@@ -171,8 +171,9 @@ pub enum IoError {
         kind: UsdKind,
     },
 
-    /// A USD output seamlit does not write (`.usdc`, `.usdz`), or a `.usda` output for a model
-    /// that did not come from USD. Nothing was written.
+    /// A USD output (`.usda`, `.usdc`, `.usdz`) that cannot be written: a model that did not
+    /// come from USD or no longer matches its stage, a file a package needs that cannot be
+    /// read, a binary layer openusd cannot write. Nothing was written.
     #[error("{}: cannot write USD: {kind}", path.display())]
     UsdOutput {
         /// The output path.
