@@ -303,6 +303,51 @@ fn usdz_packages_leave_out_files_of_other_kinds() {
     assert_eq!(names, ["out.usda", "stage.usda", "head_body.usda", "skin.png"]);
 }
 
+/// A package holds only files from the stage's folders: an image the stage names in another
+/// folder is left out with a warning, unless that folder is allowed (`--asset-root`).
+#[test]
+fn usdz_packages_leave_out_files_outside_the_stages_folders() {
+    let dir = tempfile::tempdir().unwrap();
+    let (shot, elsewhere) = (dir.path().join("shot"), dir.path().join("elsewhere"));
+    std::fs::create_dir_all(&shot).unwrap();
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    for name in ["head_body.usda", "skin.png"] {
+        std::fs::copy(stage(name), shot.join(name)).unwrap();
+    }
+    std::fs::copy(stage("skin.png"), elsewhere.join("far.png")).unwrap();
+    let input = shot.join("stage.usda");
+    std::fs::write(
+        &input,
+        "#usda 1.0\n(\n    subLayers = [@./head_body.usda@]\n)\n\nover \"World\"\n{\n    asset note = @../elsewhere/far.png@\n}\n",
+    )
+    .unwrap();
+    let names = |output: &Path| -> Vec<String> {
+        let package = pxr("package", &[output]);
+        package["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["name"].as_str().unwrap().to_owned())
+            .collect()
+    };
+    let output = dir.path().join("out.usdz");
+    let (_, warnings) = fix_to(&input, &output);
+    assert!(
+        warnings.iter().any(|w| w.contains("far.png") && w.contains("outside the stage's folder")),
+        "{warnings:?}"
+    );
+    assert_eq!(names(&output), ["out.usda", "stage.usda", "head_body.usda", "skin.png"]);
+    let allowed =
+        LoadOptions { asset_roots: vec![dir.path().to_path_buf()], ..LoadOptions::GEOMETRY };
+    let (_, warnings) = fix_to_with(&input, &output, &allowed);
+    assert!(!warnings.iter().any(|w| w.contains("far.png")), "{warnings:?}");
+    assert!(
+        names(&output).iter().any(|n| n.ends_with("elsewhere/far.png")),
+        "{:?}",
+        names(&output)
+    );
+}
+
 /// The blocks with authored hard edges (flat faceVarying normals, one indexed): fixed, the
 /// layer overrides nothing, and pxr composes the input.
 #[test]

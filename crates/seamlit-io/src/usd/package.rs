@@ -57,7 +57,8 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
         if is_package {
             package_entries(input).map_err(refuse)
         } else {
-            dependencies(input, &mut warnings).map_err(refuse)
+            let roots = asset.usd_source.as_ref().map_or(&[][..], |s| &s.asset_roots[..]);
+            dependencies(input, roots, &mut warnings).map_err(refuse)
         }
     })?;
     let root = &entries.first().ok_or_else(|| refuse("the input is empty".to_owned()))?.0;
@@ -112,9 +113,21 @@ fn package_entries(input: &Path) -> Result<Entries, String> {
 }
 
 /// The root layer at `input` and every file it uses, named by their paths below the
-/// deepest folder that holds them all.
-fn dependencies(input: &Path, warnings: &mut Vec<String>) -> Result<Entries, String> {
+/// deepest folder that holds them all. Files outside the root layer's folder and
+/// `asset_roots` (the folders the stage was read from, `--asset-root`) are left out with a
+/// warning, as the reader leaves them unread.
+fn dependencies(
+    input: &Path,
+    asset_roots: &[PathBuf],
+    warnings: &mut Vec<String>,
+) -> Result<Entries, String> {
     let root = input.canonicalize().map_err(|e| e.to_string())?;
+    let folders: Vec<PathBuf> = root
+        .parent()
+        .map(Path::to_path_buf)
+        .into_iter()
+        .chain(asset_roots.iter().filter_map(|r| r.canonicalize().ok()))
+        .collect();
     let mut files = vec![root.clone()];
     let mut seen: HashSet<PathBuf> = HashSet::from([root.clone()]);
     let mut queue = VecDeque::from([root]);
@@ -143,6 +156,12 @@ fn dependencies(input: &Path, warnings: &mut Vec<String>) -> Result<Entries, Str
                 continue;
             }
             match folder.join(asset).canonicalize() {
+                Ok(found) if !folders.iter().any(|f| found.starts_with(f)) => {
+                    warnings.push(format!(
+                        "{}: @{asset}@ lies outside the stage's folder (--asset-root DIR allows another folder): not put in the package",
+                        file.display()
+                    ));
+                }
                 Ok(found) if found.is_file() => {
                     if seen.insert(found.clone()) {
                         files.push(found.clone());
