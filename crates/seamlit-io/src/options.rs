@@ -54,17 +54,13 @@ impl LoadOptions {
     };
 
     /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).
-    pub const GEOMETRY: Self = Self {
-        tessellation: 16,
-        load_textures: false,
-        max_file_bytes: 4 << 30,
-        max_elements: 1 << 28,
-        max_model_triangles: 1 << 26,
-        max_texture_size: 16384,
-        max_texture_bytes: 1 << 30,
-        strict: false,
-        asset_roots: Vec::new(),
-    };
+    pub const GEOMETRY: Self = Self::DEFAULT.without_textures();
+
+    /// These options with textures not loaded.
+    const fn without_textures(mut self) -> Self {
+        self.load_textures = false;
+        self
+    }
 
     /// Sets the Newell tessellation (builder style).
     #[must_use]

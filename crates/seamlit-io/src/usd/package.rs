@@ -122,12 +122,7 @@ fn dependencies(
     warnings: &mut Vec<String>,
 ) -> Result<Entries, String> {
     let root = input.canonicalize().map_err(|e| e.to_string())?;
-    let folders: Vec<PathBuf> = root
-        .parent()
-        .map(Path::to_path_buf)
-        .into_iter()
-        .chain(asset_roots.iter().filter_map(|r| r.canonicalize().ok()))
-        .collect();
+    let folders = super::read::allowed_folders(&root, asset_roots);
     let mut files = vec![root.clone()];
     let mut seen: HashSet<PathBuf> = HashSet::from([root.clone()]);
     let mut queue = VecDeque::from([root]);

@@ -15,6 +15,7 @@ use std::sync::Arc;
 use openusd::{sdf, usd};
 use seamlit_mesh::{Model, VAxis};
 
+pub(crate) use resolver::allowed_folders;
 pub(crate) use stage::{check_text_nesting, guarded};
 
 use crate::asset::{Asset, UsdSource};

@@ -30,12 +30,7 @@ pub(super) struct Materials<'s> {
 
 impl<'s> Materials<'s> {
     pub(super) fn new(stage: &'s usd::Stage, file: &'s Path, asset_roots: &[PathBuf]) -> Self {
-        let folder = file.parent().unwrap_or(Path::new(""));
-        let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
-        let folders = std::iter::once(folder)
-            .chain(asset_roots.iter().map(PathBuf::as_path))
-            .filter_map(|f| f.canonicalize().ok())
-            .collect();
+        let folders = super::resolver::allowed_folders(file, asset_roots);
         Self {
             stage,
             file,

@@ -16,6 +16,17 @@ use openusd::ar::{self, Resolver};
 
 use super::stage::{MAX_TEXT_NESTING, text_nesting};
 
+/// The folders a stage's files may come from, canonical: the root layer's and `roots`
+/// (folders that do not exist are left out).
+pub(crate) fn allowed_folders(root_layer: &Path, roots: &[PathBuf]) -> Vec<PathBuf> {
+    let folder = root_layer.parent().unwrap_or(Path::new("."));
+    let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
+    std::iter::once(folder)
+        .chain(roots.iter().map(PathBuf::as_path))
+        .filter_map(|r| r.canonicalize().ok())
+        .collect()
+}
+
 /// A layer the resolver would not open: its asset path and where it resolved.
 #[derive(Clone, Debug)]
 pub(super) struct Outside {
@@ -42,12 +53,7 @@ impl Confined {
         max_file_bytes: u64,
         refused: Arc<Mutex<Vec<Outside>>>,
     ) -> Self {
-        let folder = root_layer.parent().unwrap_or(Path::new("."));
-        let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
-        let roots = std::iter::once(folder)
-            .chain(roots.iter().map(PathBuf::as_path))
-            .filter_map(|r| r.canonicalize().ok())
-            .collect();
+        let roots = allowed_folders(root_layer, roots);
         Self { inner: ar::DefaultResolver::new(), roots, max_file_bytes, refused }
     }
 
