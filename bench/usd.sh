@@ -17,40 +17,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-old=""
-runs=3
+script=bench/usd.sh
 sizes="64 128"
 threads="1 2"
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --old) old="$2"; shift 2 ;;
-    --runs) runs="$2"; shift 2 ;;
-    --sizes) sizes="$2"; shift 2 ;;
-    --threads) threads="$2"; shift 2 ;;
-    *) echo "usage: bench/usd.sh [--old PATH] [--runs N] [--sizes LIST] [--threads LIST]" >&2; exit 2 ;;
-  esac
-done
-
-new=target/release/seamlit
-gen=target/release/seamlit-bench
-for b in "$new" "$gen"; do
-  [ -x "$b" ] || { echo "bench/usd.sh: $b is missing: cargo build --release -p seamlit -p seamlit-bench" >&2; exit 2; }
-done
-[ -z "$old" ] || [ -x "$old" ] || { echo "bench/usd.sh: --old $old is not an executable" >&2; exit 2; }
-[ -x /usr/bin/time ] || { echo "bench/usd.sh: needs GNU time (apt-get install time)" >&2; exit 2; }
+source bench/timing.sh
+parse_options "$@"
+check_tools
 python3 -c "import pxr" 2>/dev/null || { echo "bench/usd.sh: needs Pixar's USD: pip install usd-core" >&2; exit 2; }
-
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-
-# One run: prints "seconds kilobytes".
-once() {
-  /usr/bin/time -f "%e %M" -o "$work/time" "$@" >/dev/null 2>"$work/err" ||
-    { echo "failed: $* ($(tail -1 "$work/err"))" >&2; exit 1; }
-  cat "$work/time"
-}
-
-median() { sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
 echo "machine: $(nproc) cores, $(uname -m); load $(cut -d' ' -f1-3 /proc/loadavg)"
 for n in $sizes; do
@@ -60,26 +33,12 @@ for n in $sizes; do
   tris=$((2 * n * n * 32))
   echo "input: $tris triangles; .glb $(du -k "$work/t.glb" | cut -f1) KiB, .usdc $(du -k "$work/t.usdc" | cut -f1) KiB, .usda $(du -k "$work/t.usda" | cut -f1) KiB"
   for t in $threads; do
-    declare -A secs=() mem=()
     cases=("fix .glb -o .glb|$new fix $work/t.glb -o $work/out.glb --tangents seamlit"
            "fix .usdc -o .usda|$new fix $work/t.usdc -o $work/out.usda --tangents seamlit"
            "fix .usda -o .usda|$new fix $work/t.usda -o $work/out2.usda --tangents seamlit"
            "inspect .glb|$new inspect $work/t.glb"
            "inspect .usdc|$new inspect $work/t.usdc")
     [ -z "$old" ] || cases+=("old fix .usdc -o .usda|$old fix $work/t.usdc -o $work/out3.usda --tangents seamlit")
-    for r in $(seq "$runs"); do
-      for c in "${cases[@]}"; do
-        name=${c%%|*}; cmd=${c#*|}
-        read -r s k < <(RAYON_NUM_THREADS=$t once $cmd)
-        secs[$name]+="$s "; mem[$name]+="$k "
-      done
-    done
-    for c in "${cases[@]}"; do
-      name=${c%%|*}
-      s=$(echo "${secs[$name]}" | tr ' ' '\n' | grep . | median)
-      k=$(echo "${mem[$name]}" | tr ' ' '\n' | grep . | median)
-      printf '%9d triangles  %s thread(s)  %-20s %7.2f s  %5d MiB\n' "$tris" "$t" "$name" "$s" $((k / 1024))
-    done
-    unset secs mem
+    time_cases "$tris" "$t"
   done
 done

@@ -34,7 +34,7 @@ pub(super) fn open(path: &Path, options: &LoadOptions) -> Result<Opened, IoError
     let Some(root) = path.to_str() else {
         return Err(layer_error(path, "the path is not UTF-8, which openusd needs".to_owned()));
     };
-    check_text_nesting(path)?;
+    // The root layer too is opened through the resolver, which checks its nesting.
     let refused = Arc::new(Mutex::new(Vec::new()));
     let resolver =
         Confined::new(path, &options.asset_roots, options.max_file_bytes, Arc::clone(&refused));
