@@ -58,9 +58,8 @@ use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::VAxis;
-use face::face_flags;
 use keys::{Keys, first_equal_vertex, shared};
-use plain::{plain_fans, plain_positions};
+use plain::{PlainFans, plain_fans};
 use position::{ByPosition, resolve_orientations};
 
 /// The model as MikkTSpace sees it, in model space.
@@ -103,9 +102,8 @@ fn tangents_with<N>(surface: &Surface<'_, N>, all_grouped: bool) -> Tangents
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let mut faces = face_flags(surface);
     let first = first_equal_vertex(surface);
-    let mut plain = plain_positions(surface, &faces, &shared(&first));
+    let PlainFans { mut faces, mut plain, fans } = plain_fans(surface, &shared(&first));
     if all_grouped {
         plain.fill(false);
     }
@@ -117,13 +115,12 @@ where
     drop(keys);
     let mut rest: Vec<(u32, Vec4)> = by_position.corners.iter().copied().zip(raw).collect();
     rest.par_sort_unstable_by_key(|&(c, _)| c);
-    let fans = plain_fans(surface, &plain);
     Tangents { plain, fans, rest }
 }
 
 /// The result of [`tangents`].
 pub(crate) struct Tangents {
-    /// Per root vertex: whether its position is plain (see [`plain_positions`]).
+    /// Per root vertex: whether its position is plain (see [`plain_fans`]).
     plain: Vec<bool>,
     /// Per vertex at a plain position: the tangent of all its corners.
     fans: Vec<Vec4>,

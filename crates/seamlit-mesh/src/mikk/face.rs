@@ -1,7 +1,6 @@
 //! Step 1: each triangle's first-order frame and flags, and its corners seen from a vertex.
 
-use glam::{Vec2, Vec3, Vec4};
-use rayon::prelude::*;
+use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::Surface;
 
@@ -30,8 +29,12 @@ impl FaceTangent {
 
 /// For each corner `k` of triangle `t` (whose first-order frame is `f`), seen in the tangent
 /// plane of `normals[k]`: `s` projected and normalised, and the angle between the corner's
-/// edges projected. The three corners' square roots, divisions and arc cosines run side by
-/// side in SIMD lanes (a lane gives the bits a lone corner would).
+/// edges projected.
+///
+/// The three corners run side by side in SIMD lanes: each `Vec4` below holds one coordinate
+/// of one quantity for corners 0, 1 and 2 (lane 3 is padding). Every lane performs the
+/// operations `Vec3` would for its corner alone, in the same order (a dot product is
+/// `(x * x' + y * y') + z * z'`, as glam's), so a lane gives the bits a lone corner would.
 pub(super) fn corner_terms<N>(
     surface: &Surface<'_, N>,
     f: &FaceTangent,
@@ -39,55 +42,57 @@ pub(super) fn corner_terms<N>(
     normals: [Vec3; 3],
 ) -> [(Vec3, f32); 3] {
     let p = surface.triangles[t].map(|v| surface.positions[v as usize]);
-    let (mut dots, mut lengths) = (Vec4::ZERO, Vec4::ONE);
-    for k in 0..3 {
-        let n = normals[k];
-        let across = |v: Vec3| v - n * n.dot(v);
-        let (e1, e2) = (across(p[(k + 1) % 3] - p[k]), across(p[(k + 2) % 3] - p[k]));
-        // mikktspace.c normalises both edges, then takes their cosine; one root does both.
-        dots[k] = e1.dot(e2);
-        lengths[k] = e1.length_squared() * e2.length_squared();
-    }
-    let lengths = lengths.sqrt();
+    let lanes = |c: fn(Vec3) -> f32, v: [Vec3; 3]| Vec4::new(c(v[0]), c(v[1]), c(v[2]), 0.0);
+    let coords = |v: [Vec3; 3]| [lanes(|v| v.x, v), lanes(|v| v.y, v), lanes(|v| v.z, v)];
+    let [px, py, pz] = coords(p);
+    let n = coords(normals);
+    let dot = |a: [Vec4; 3], b: [Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // `v - n * n.dot(v)`, per lane.
+    let across = |v: [Vec4; 3]| {
+        let d = dot(n, v);
+        [v[0] - n[0] * d, v[1] - n[1] * d, v[2] - n[2] * d]
+    };
+    // The corner's edges to the next and the previous vertex (lane k: p[k + 1] - p[k] and
+    // p[k + 2] - p[k], indices modulo 3).
+    let e1 = across([px.yzxw() - px, py.yzxw() - py, pz.yzxw() - pz]);
+    let e2 = across([px.zxyw() - px, py.zxyw() - py, pz.zxyw() - pz]);
+    // mikktspace.c normalises both edges, then takes their cosine; one root does both.
+    let dots = dot(e1, e2);
+    let lengths = (dot(e1, e1) * dot(e2, e2)).sqrt();
     let cos = Vec4::select(lengths.cmpgt(Vec4::ZERO), dots / lengths, Vec4::ZERO)
         .clamp(Vec4::NEG_ONE, Vec4::ONE);
     let x = cos.abs();
     let r = (Vec4::ONE - x).sqrt() * crate::face::acos_poly(x);
     let angle = Vec4::select(cos.cmplt(Vec4::ZERO), Vec4::splat(std::f32::consts::PI) - r, r);
-    // `s` projected for each corner and normalised as `Vec3::normalize_or_zero` does, the
-    // three square roots and reciprocals side by side.
-    let across: [Vec3; 3] = std::array::from_fn(|k| f.s - normals[k] * normals[k].dot(f.s));
-    let squares = Vec4::new(
-        across[0].length_squared(),
-        across[1].length_squared(),
-        across[2].length_squared(),
-        1.0,
-    );
-    let rcp = squares.sqrt().recip();
+    // `s` projected for each corner and normalised as `Vec3::normalize_or_zero` does.
+    let s = across([Vec4::splat(f.s.x), Vec4::splat(f.s.y), Vec4::splat(f.s.z)]);
+    let rcp = dot(s, s).sqrt().recip();
     std::array::from_fn(|k| {
         let r = rcp[k];
-        (if r.is_finite() && r > 0.0 { across[k] * r } else { Vec3::ZERO }, angle[k])
+        let s = Vec3::new(s[0][k], s[1][k], s[2][k]);
+        (if r.is_finite() && r > 0.0 { s * r } else { Vec3::ZERO }, angle[k])
     })
 }
 
-/// Step 1: every triangle's flags (its first-order frame is computed where it is needed:
-/// [`face_tangent`]).
-pub(super) fn face_flags<N: Sync>(surface: &Surface<'_, N>) -> Vec<u8> {
-    (0..surface.triangles.len())
-        .into_par_iter()
-        .map(|t| {
-            let Some(raw) = first_order(surface, t) else { return DEGENERATE };
-            let oriented = u8::from(raw.area > 0.0);
-            if !not_zero(raw.area) {
-                return ANY | oriented;
-            }
-            // Where both lengths are far from zero and the UV area is sane, the magnitudes
-            // `|s| / |area|` are surely above f32::MIN_POSITIVE: no root needed. Otherwise the
-            // full test, as face_tangent makes it.
-            let sure = |v: Vec3| v.length_squared() > 1e-30 && raw.area.abs() < 1e20;
-            if sure(raw.s) && sure(raw.t) { oriented } else { face_tangent(surface, t).flags }
-        })
-        .collect()
+/// Step 1 for triangle `t`: its flags, as [`face_tangent`] gives them, and its `s` where it
+/// is healthy (its `t` is computed where it is needed: [`face_tangent`]).
+pub(super) fn face_flags<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
+    let Some(raw) = first_order(surface, t) else {
+        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
+    };
+    let oriented = raw.area > 0.0;
+    if !not_zero(raw.area) {
+        return FaceTangent { flags: ANY | u8::from(oriented), ..FaceTangent::default() };
+    }
+    // Where both lengths are far from zero and the UV area is sane, the magnitudes
+    // `|s| / |area|` are surely above f32::MIN_POSITIVE: no root needed for `t`. Otherwise the
+    // full test, as face_tangent makes it.
+    let sure = |v: Vec3| v.length_squared() > 1e-30 && raw.area.abs() < 1e20;
+    if !(sure(raw.s) && sure(raw.t)) {
+        return FaceTangent { t: Vec3::ZERO, ..face_tangent(surface, t) };
+    }
+    let sign = if oriented { 1.0 } else { -1.0 };
+    FaceTangent { s: unit(raw.s, raw.s.length()) * sign, t: Vec3::ZERO, flags: u8::from(oriented) }
 }
 
 /// A healthy triangle's first-order tangent and UV area, before normalising.
@@ -146,17 +151,6 @@ pub(super) fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent
         }
     }
     face
-}
-
-/// The `s` of [`face_tangent`] (and whether the triangle is oriented) for a triangle of a
-/// plain fan, which is healthy: its `t` is not needed there.
-pub(super) fn plain_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
-    let Some(raw) = first_order(surface, t) else {
-        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
-    };
-    let oriented = raw.area > 0.0;
-    let sign = if oriented { 1.0 } else { -1.0 };
-    FaceTangent { s: unit(raw.s, raw.s.length()) * sign, t: Vec3::ZERO, flags: u8::from(oriented) }
 }
 
 /// mikktspace.c's test for a usable float.
