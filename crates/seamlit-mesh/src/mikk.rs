@@ -35,7 +35,7 @@
 //!   with the same UV (and, where normals are per vertex, the same normal), and a number that
 //!   tells the normals at one position apart; keys are computed in corner order, where memory
 //!   is read in sequence, so that the steps after compare integers;
-//! - the corners are gathered by position with a counting sort on the weld's roots, and each
+//! - the corners are gathered by position with a sort on the weld's roots, and each
 //!   position's groups are found from its corners alone (two triangles share an edge through
 //!   a vertex when the next vertex of one is the previous vertex of the other: keys of the
 //!   same triangle), with union-find.
@@ -58,7 +58,7 @@ use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::VAxis;
-use keys::{Keys, first_equal_vertex, shared};
+use keys::{FirstEqual, Keys, first_equal_vertex};
 use plain::{PlainFans, plain_fans};
 use position::{ByPosition, resolve_orientations};
 
@@ -102,14 +102,15 @@ fn tangents_with<N>(surface: &Surface<'_, N>, all_grouped: bool) -> Tangents
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let first = first_equal_vertex(surface);
-    let PlainFans { mut faces, mut plain, fans } = plain_fans(surface, &shared(&first));
+    let FirstEqual { first, shared } = first_equal_vertex(surface);
+    let PlainFans { mut faces, mut plain, fans } = plain_fans(surface, &shared);
+    drop(shared);
     if all_grouped {
         plain.fill(false);
     }
     let keys = Keys::of(surface, &first, &plain);
     drop(first);
-    let by_position = ByPosition::gather(surface, &plain);
+    let by_position = ByPosition::gather(surface, &plain, &keys);
     resolve_orientations(surface, &keys, &by_position, &mut faces);
     let raw = by_position.evaluate(surface, &keys, &faces);
     drop(keys);

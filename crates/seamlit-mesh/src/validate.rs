@@ -93,25 +93,39 @@ impl Flat {
 
     /// Every triangle, indexing the concatenated positions.
     pub fn triangles(&self, model: &Model) -> Vec<[u32; 3]> {
-        let mut out = Vec::with_capacity(*self.triangle_start.last().unwrap_or(&0) as usize);
-        for (o, object) in model.objects.iter().enumerate() {
+        let mut out = vec![[0; 3]; *self.triangle_start.last().unwrap_or(&0) as usize];
+        let parts = split_at_starts(&mut out, &self.triangle_start);
+        parts.into_par_iter().zip(&model.objects).enumerate().for_each(|(o, (out, object))| {
             let base = self.vertex_start[o];
-            out.extend(object.triangles.iter().map(|t| t.map(|i| i + base)));
-        }
+            for (out, t) in out.iter_mut().zip(&object.triangles) {
+                *out = t.map(|i| i + base);
+            }
+        });
         out
     }
 
     /// Every vertex's UV, zero for objects without UVs.
     pub fn uvs(&self, model: &Model) -> Vec<Vec2> {
-        let mut out = Vec::with_capacity(self.positions.len());
-        for object in &model.objects {
-            match &object.uvs {
-                Some(uvs) => out.extend_from_slice(uvs),
-                None => out.extend(std::iter::repeat_n(Vec2::ZERO, object.positions.len())),
+        let mut out = vec![Vec2::ZERO; self.positions.len()];
+        let parts = split_at_starts(&mut out, &self.vertex_start);
+        parts.into_par_iter().zip(&model.objects).for_each(|(out, object)| {
+            if let Some(uvs) = &object.uvs {
+                out.copy_from_slice(uvs);
             }
-        }
+        });
         out
     }
+}
+
+/// `values` cut at `starts` (each object's first entry, one extra entry at the end).
+fn split_at_starts<'a, T>(mut values: &'a mut [T], starts: &[u32]) -> Vec<&'a mut [T]> {
+    let mut parts = Vec::with_capacity(starts.len());
+    for w in starts.windows(2) {
+        let (part, rest) = values.split_at_mut((w[1] - w[0]) as usize);
+        parts.push(part);
+        values = rest;
+    }
+    parts
 }
 
 /// One triangle, gathered: see [`Flat::corners`].

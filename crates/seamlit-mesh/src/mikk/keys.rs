@@ -4,7 +4,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::Surface;
-use crate::index::index;
+use crate::index::{index, low_half};
 
 /// The bits of `x`, with `-0.0` read as `0.0` (mikktspace.c compares with `==`).
 pub(super) fn bits(x: f32) -> u32 {
@@ -47,6 +47,11 @@ impl Keys {
         Self { triangles, keys }
     }
 
+    /// The triangles that touch a position that is not plain, ascending.
+    pub(super) fn triangles(&self) -> &[u32] {
+        &self.triangles
+    }
+
     /// The keys of the corners of triangle `t`, which touches a position that is not plain.
     pub(super) fn of_triangle(&self, t: usize) -> [u64; 3] {
         let i = self.triangles.partition_point(|&e| (e as usize) < t);
@@ -55,37 +60,27 @@ impl Keys {
     }
 }
 
-/// Per vertex: whether another vertex of its position has the same first vertex (see
-/// [`first_equal_vertex`]), so that the two may share a MikkTSpace vertex.
-pub(super) fn shared(first: &[u32]) -> Vec<bool> {
-    let mut shared = vec![false; first.len()];
-    for (v, &f) in first.iter().enumerate() {
-        if f as usize != v {
-            (shared[v], shared[f as usize]) = (true, true);
-        }
-    }
-    shared
+/// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
+/// normals are per vertex), and whether another vertex of its position has the same first
+/// vertex, so that the two may share a MikkTSpace vertex.
+pub(super) struct FirstEqual {
+    pub(super) first: Vec<u32>,
+    pub(super) shared: Vec<bool>,
 }
 
-/// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
-/// normals are per vertex). A counting sort of the vertices by root, then a comparison within
-/// each position.
-pub(super) fn first_equal_vertex<N>(surface: &Surface<'_, N>) -> Vec<u32> {
+/// [`FirstEqual`]: only positions of several vertices are compared, found among the vertices
+/// welded to a root other than themselves (sorted by root, then vertex); a vertex alone at
+/// its position is its own first.
+pub(super) fn first_equal_vertex<N: Sync>(surface: &Surface<'_, N>) -> FirstEqual {
     let roots = surface.roots;
     let n = roots.len();
-    let mut offsets = vec![0u32; n + 1];
-    for &r in roots {
-        offsets[r as usize + 1] += 1;
-    }
-    for r in 0..n {
-        offsets[r + 1] += offsets[r];
-    }
-    let mut next = offsets.clone();
-    let mut members = vec![0u32; n];
-    for (v, &r) in roots.iter().enumerate() {
-        members[next[r as usize] as usize] = index(v);
-        next[r as usize] += 1;
-    }
+    let mut welded: Vec<u64> = roots
+        .par_iter()
+        .enumerate()
+        .filter(|&(v, &r)| r as usize != v)
+        .map(|(v, &r)| (u64::from(r) << 32) | v as u64)
+        .collect();
+    welded.par_sort_unstable();
     let same = |a: usize, b: usize| {
         let (ua, ub) = (surface.uvs[a], surface.uvs[b]);
         let uv = bits(ua.x) == bits(ub.x) && bits(ua.y) == bits(ub.y);
@@ -94,17 +89,24 @@ pub(super) fn first_equal_vertex<N>(surface: &Surface<'_, N>) -> Vec<u32> {
             bits(na.x) == bits(nb.x) && bits(na.y) == bits(nb.y) && bits(na.z) == bits(nb.z)
         })
     };
-    let mut first: Vec<u32> = (0..index(n)).collect();
-    for r in 0..n {
-        let at = &members[offsets[r] as usize..offsets[r + 1] as usize];
-        if at.len() < 2 {
-            continue;
-        }
+    let mut first: Vec<u32> = (0..index(n)).into_par_iter().collect();
+    let mut shared = vec![false; n];
+    let mut at = Vec::new();
+    for run in welded.chunk_by(|a, b| a >> 32 == b >> 32) {
+        // The position's vertices, ascending: its root (its own root) and the others.
+        let root = (run[0] >> 32) as u32;
+        debug_assert_eq!(roots[root as usize], root, "a weld root is its own root");
+        at.clear();
+        at.push(root);
+        at.extend(run.iter().map(|&e| low_half(e)));
+        at.sort_unstable();
         for (i, &v) in at.iter().enumerate() {
             if let Some(&u) = at[..i].iter().find(|&&u| same(u as usize, v as usize)) {
-                first[v as usize] = first[u as usize];
+                let f = first[u as usize];
+                first[v as usize] = f;
+                (shared[v as usize], shared[f as usize]) = (true, true);
             }
         }
     }
-    first
+    FirstEqual { first, shared }
 }

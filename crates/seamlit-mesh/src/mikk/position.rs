@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::Surface;
 use super::face::{ANY, DEGENERATE, FaceTangent, ORIENTED, corner_terms, face_tangent};
 use super::keys::Keys;
-use crate::index::index;
+use crate::index::{index, low_half};
 use crate::weld::union;
 
 /// Corner `c`'s triangle (whose first-order frame is `f`) in the tangent plane of the vertex
@@ -21,40 +21,49 @@ pub(super) fn frame<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: V
 /// The corners of the positions that are not plain, sorted by position (weld root), in corner
 /// order within each.
 pub(super) struct ByPosition {
-    /// Per root vertex `r`: its corners are `corners[offsets[r]..offsets[r + 1]]`.
+    /// The roots of the positions that are not plain, ascending.
+    roots: Vec<u32>,
+    /// Per entry `i` of `roots`: its corners are `corners[offsets[i]..offsets[i + 1]]` (one
+    /// extra entry at the end).
     offsets: Vec<u32>,
     pub(super) corners: Vec<u32>,
 }
 
 impl ByPosition {
-    /// A counting sort by their vertex's root of the corners at positions that are not
-    /// `plain`.
-    pub(super) fn gather<N>(surface: &Surface<'_, N>, plain: &[bool]) -> Self {
+    /// The corners at positions that are not `plain`, sorted by their vertex's root, found
+    /// among the corners of the triangles that touch such a position (`keys`).
+    pub(super) fn gather<N>(surface: &Surface<'_, N>, plain: &[bool], keys: &Keys) -> Self
+    where
+        N: Sync,
+    {
         let roots = surface.roots;
-        let corners = surface.triangles.as_flattened();
-        let mut offsets = vec![0u32; roots.len() + 1];
-        for &v in corners {
-            let r = roots[v as usize] as usize;
-            offsets[r + 1] += u32::from(!plain[r]);
-        }
-        for r in 0..roots.len() {
-            offsets[r + 1] += offsets[r];
-        }
-        let mut next = offsets.clone();
-        let mut sorted = vec![0u32; offsets[roots.len()] as usize];
-        for (c, &v) in corners.iter().enumerate() {
-            let r = roots[v as usize] as usize;
-            if !plain[r] {
-                sorted[next[r] as usize] = index(c);
-                next[r] += 1;
-            }
-        }
-        Self { offsets, corners: sorted }
+        let mut entries: Vec<u64> = keys
+            .triangles()
+            .par_iter()
+            .flat_map_iter(|&t| {
+                let tri = surface.triangles[t as usize];
+                (0..3).filter_map(move |k| {
+                    let r = roots[tri[k] as usize];
+                    let corner = u64::from(t) * 3 + k as u64;
+                    (!plain[r as usize]).then_some((u64::from(r) << 32) | corner)
+                })
+            })
+            .collect();
+        entries.par_sort_unstable();
+        let mut offsets: Vec<u32> = (0..entries.len())
+            .filter(|&i| i == 0 || entries[i] >> 32 != entries[i - 1] >> 32)
+            .map(index)
+            .collect();
+        let roots = offsets.iter().map(|&i| (entries[i as usize] >> 32) as u32).collect();
+        offsets.push(index(entries.len()));
+        Self { roots, offsets, corners: entries.into_iter().map(low_half).collect() }
     }
 
-    /// The corners at root `r`.
-    fn at(&self, r: usize) -> &[u32] {
-        &self.corners[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    /// The corners at root `r`, a position that is not plain.
+    fn at(&self, r: u32) -> &[u32] {
+        let i = self.roots.partition_point(|&e| e < r);
+        debug_assert_eq!(self.roots.get(i), Some(&r), "position {r} is not plain");
+        &self.corners[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
     /// Steps 3 to 5 for every position, in parallel: each corner's tangent, in the order of
@@ -71,13 +80,13 @@ impl ByPosition {
         let mut raw = vec![Vec4::ZERO; self.corners.len()];
         // Blocks of positions, cut where a position ends, about this many corners each.
         const BLOCK: usize = 1 << 14;
-        let roots = self.offsets.len() - 1;
+        let positions = self.offsets.len() - 1;
         let mut blocks = Vec::new();
         let mut rest: &mut [Vec4] = &mut raw;
         let mut start = 0;
-        while start < roots {
+        while start < positions {
             let mut end = start + 1;
-            while end < roots && (self.offsets[end] - self.offsets[start]) as usize <= BLOCK {
+            while end < positions && (self.offsets[end] - self.offsets[start]) as usize <= BLOCK {
                 end += 1;
             }
             let len = (self.offsets[end] - self.offsets[start]) as usize;
@@ -88,12 +97,10 @@ impl ByPosition {
         }
         blocks.into_par_iter().for_each_init(Scratch::default, |scratch, (range, out)| {
             let base = self.offsets[range.start] as usize;
-            for r in range {
-                let (lo, hi) = (self.offsets[r] as usize, self.offsets[r + 1] as usize);
-                if lo < hi {
-                    let at = Position { surface, keys, faces, corners: &self.corners[lo..hi] };
-                    at.evaluate(scratch, &mut out[lo - base..hi - base]);
-                }
+            for i in range {
+                let (lo, hi) = (self.offsets[i] as usize, self.offsets[i + 1] as usize);
+                let at = Position { surface, keys, faces, corners: &self.corners[lo..hi] };
+                at.evaluate(scratch, &mut out[lo - base..hi - base]);
             }
         });
         raw
@@ -346,15 +353,17 @@ pub(super) fn resolve_orientations<N>(
     faces: &mut [u8],
 ) {
     let is = |flags: u8, flag: u8| flags & flag != 0;
-    let any: Vec<usize> =
-        (0..faces.len()).filter(|&f| is(faces[f], ANY) && !is(faces[f], DEGENERATE)).collect();
+    let any: Vec<usize> = (0..faces.len())
+        .into_par_iter()
+        .filter(|&f| is(faces[f], ANY) && !is(faces[f], DEGENERATE))
+        .collect();
     let mut resolved = vec![false; faces.len()];
     for f in any {
         let mut found = None;
         let own = keys.of_triangle(f);
         'corners: for k in 0..3 {
             let (next, prev) = (own[(k + 1) % 3], own[(k + 2) % 3]);
-            let r = surface.roots[surface.triangles[f][k] as usize] as usize;
+            let r = surface.roots[surface.triangles[f][k] as usize];
             for &b in by_position.at(r) {
                 let (g, kb) = (b as usize / 3, b as usize % 3);
                 let fb = faces[g];
