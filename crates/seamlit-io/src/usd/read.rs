@@ -6,6 +6,7 @@
 mod material;
 mod mesh;
 mod resolver;
+mod skel;
 mod stage;
 mod xform;
 
@@ -76,6 +77,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let up = stage::up_axis(stage).map_err(at_root)?;
     let mut xforms = xform::Xforms::new(stage);
     let mut materials = material::Materials::new(stage, path, &options.asset_roots);
+    let mut skels = skel::Skels::new(stage);
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
@@ -89,7 +91,20 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
             continue;
         }
         let world = xforms.world(&prim_path).map_err(at)?;
-        let read = mesh::read(&prim, world, up, path, options, &mut warnings)?;
+        let skin = match skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)? {
+            Some(Ok(binding)) => Some(binding),
+            Some(Err(reason)) => {
+                warnings.push(format!(
+                    "{}: mesh <{}>: its skin is ignored ({reason}): read unskinned, at its own transform",
+                    path.display(),
+                    prim_path.as_str()
+                ));
+                None
+            }
+            None => None,
+        };
+        let placement = mesh::Placement { world, up, skin };
+        let read = mesh::read(&prim, placement, path, options, &mut warnings)?;
         let mut object = read.object;
         object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
         triangles += object.triangle_count();
@@ -115,7 +130,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         ..Asset::default()
     };
     let metadata = stage::metadata(stage).map_err(at_root)?;
-    Ok((asset, StageSource { meshes: sources, metadata }))
+    Ok((asset, StageSource { meshes: sources, metadata, joints: skels.joints }))
 }
 
 /// An attribute's value: its default, else its earliest time sample (the rest pose of a
