@@ -1,12 +1,12 @@
 //! UsdSkel skin bindings in and out, with Pixar's USD as the oracle (tests/usd/pxr_check.py
-//! `skinned`: pxr's `UsdSkelSkinningQuery::ComputeSkinnedPoints` at the skeleton's rest pose,
-//! or with a joint turned). The stage, assets/models/usd/skinned_neck.usda (make.py): a head
-//! and a body bound to one skeleton, sharing the equator, where the head is all neck and the
-//! body 0.6 chest and 0.4 neck. Read: the skinned meshes placed where pxr skins them at rest
-//! (`geomBindTransform`, then the skeleton's world matrix; not the meshes' own transforms),
-//! their influences named by joint across the meshes' joint orders. Written: matched
-//! influences as primvars of the override layer, so that pxr's skinning keeps the neck closed
-//! when the neck turns; nothing but normals and those primvars differ.
+//! `skinned`: pxr's `UsdSkelSkinningQuery::ComputeSkinnedPoints` at the bind pose, or at the
+//! skeleton's rest pose with a joint turned). The stage, assets/models/usd/skinned_neck.usda
+//! (make.py): a head and a body bound to one skeleton, sharing the equator, where the head is
+//! all neck and the body 0.6 chest and 0.4 neck. Read: the skinned meshes placed where pxr
+//! skins them at the bind pose (`geomBindTransform`, then the skeleton's world matrix; not the
+//! meshes' own transforms), their influences named by joint across the meshes' joint orders.
+//! Written: matched influences as primvars of the override layer, so that pxr's skinning
+//! keeps the neck closed when the neck turns; nothing but normals and those primvars differ.
 //!
 //! Needs Python 3 with usd-core (`pip install usd-core`; `.ci/run` installs it).
 #![cfg(feature = "usd")]
@@ -106,16 +106,17 @@ fn object<'a>(asset: &'a Asset, name: &str) -> &'a seamlit_mesh::Object {
     asset.model.objects.iter().find(|o| o.name == name).unwrap()
 }
 
-/// Each skinned mesh's positions are where pxr skins its points at the rest pose (the bind
-/// pose here): `geomBindTransform` (the head's moves it up by 0.5), then the skeleton's world
-/// matrix (the SkelRoot's and the skeleton's translations); the Xform above the meshes, which
-/// skinning ignores, does not move them.
+/// Each skinned mesh's positions are where pxr skins its points at the bind pose (every
+/// skinning matrix the identity; the rest pose is the bind pose here): `geomBindTransform`
+/// (the head's moves it up by 0.5), then the skeleton's world matrix (the SkelRoot's and the
+/// skeleton's translations); the Xform above the meshes, which skinning ignores, does not
+/// move them.
 #[test]
 fn skinned_meshes_are_where_pxr_skins_them() {
     let input = neck_stage();
     let asset = seamlit_io::load(&input, &LoadOptions::GEOMETRY).unwrap();
     assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
-    let rest = pxr("skinned", &[text(&input)]);
+    let rest = pxr("skinned", &[text(&input), "bind"]);
     for name in [HEAD, BODY] {
         let object = object(&asset, name);
         let m = object.model_transform();
@@ -161,7 +162,7 @@ fn skin_influences_are_read_by_joint() {
 
 /// `fix` with matched skin seams, as pxr composes its layer: the neck's normals within 0.005
 /// degrees at rest (22.5 as authored), and, with the neck turned 40 degrees, pxr's skinning
-/// keeps the head's and the body's copies of the equator together (apart by 0.39 in the
+/// keeps the head's and the body's copies of the equator together (apart by 0.41 in the
 /// input); only normals, the skin primvars of the two meshes and the head's `skel:joints`
 /// (grown by the chest) differ; no new validation error. `.usdc` as `.usda`. Without the
 /// match the posed gap stays, and nothing but normals is written.
@@ -278,5 +279,42 @@ fn bad_skin_bindings_are_one_warning_each() {
         assert!(about[0].contains(reason), "{what}: {about:?} lacks {reason:?}");
         assert!(about[0].contains(text(&path)), "{what}: {about:?} names the layer");
         assert!(object(&asset, mesh).skin.is_empty(), "{what}: read unskinned");
+    }
+}
+
+/// Skinned stages by others (usd-wg/assets, Khronos glTF samples by Cesium converted by
+/// Reality Converter; CC-BY 4.0): every mesh read skinned, without a warning, each vertex's
+/// weights adding up to 1 as authored, its positions pxr's skinned points at the bind pose
+/// (RiggedSimple's rest pose is not its bind pose: seamlit welds where it was bound); one mesh
+/// each, so no seam: `fix` writes no `over` and the output composes to the input unchanged.
+#[test]
+fn skinned_stages_by_others_are_read_at_pxrs_bind_pose() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["RiggedSimple", "RiggedFigure"] {
+        let input = common::model(&format!("usd/others/Rigged/{name}.usdz"));
+        let asset = seamlit_io::load(&input, &LoadOptions::GEOMETRY).unwrap();
+        assert!(asset.warnings.is_empty(), "{name}: {:?}", asset.warnings);
+        let bind = pxr("skinned", &[text(&input), "bind"]);
+        assert_eq!(bind["points"].as_object().unwrap().len(), asset.model.objects.len(), "{name}");
+        for object in &asset.model.objects {
+            assert_eq!(object.skin.len(), 1, "{name}: {} is skinned", object.name);
+            for v in 0..object.positions.len() {
+                let sum: f32 = object.skin[0].of(v).map(|(_, w)| w).sum();
+                assert!((sum - 1.0).abs() < 1e-3, "{name}: vertex {v} weighs {sum}");
+            }
+            let m = object.model_transform();
+            let theirs = points_of(&bind["points"][&object.name]);
+            for p in &object.positions {
+                let ours = m.transform_point3(*p);
+                let nearest = theirs.iter().map(|q| ours.distance(*q)).fold(f32::MAX, f32::min);
+                assert!(nearest < 1e-5 * ours.abs().max_element().max(1.0), "{name}: {ours}");
+            }
+        }
+        let output = dir.path().join(format!("{name}.usda"));
+        assert!(fix_to(&input, &output, true).is_empty(), "{name}");
+        assert!(!std::fs::read_to_string(&output).unwrap().contains("over "), "{name}");
+        let diff = pxr("compare", &[text(&input), text(&output)]);
+        assert_eq!(diff["differences"], serde_json::json!([]), "{name}: {diff:#}");
+        assert_eq!(diff["normals"], serde_json::json!([]), "{name}: {diff:#}");
     }
 }

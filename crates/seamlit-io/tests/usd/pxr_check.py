@@ -12,12 +12,14 @@
                                               (usd-core 26 has no UsdUtils.ComplianceChecker:
                                               `validate` runs its usdz validators)
     pxr_check.py layer LAYER OUT.json         the layer alone as Sdf exports it to text
-    pxr_check.py skinned STAGE OUT.json [JOINT DEGREES]
+    pxr_check.py skinned STAGE OUT.json [JOINT DEGREES | bind]
                                               world-space points of every skinned mesh as
                                               UsdSkel skins them, at the rest pose with JOINT
-                                              turned DEGREES about Z; and at the rest pose the
-                                              largest angle between normals of different meshes
-                                              at shared positions (`seam` for skinned meshes)
+                                              turned DEGREES about Z (or at the bind pose:
+                                              every skinning matrix the identity); and at the
+                                              bind pose the largest angle between normals of
+                                              different meshes at shared positions (`seam` for
+                                              skinned meshes)
 
 Each writes JSON to OUT.json. Nothing here uses seamlit.
 """
@@ -205,9 +207,10 @@ def layer(layer_path, out):
 def skinned(stage_path, out, joint=None, degrees="0"):
     """Per skinned mesh: its points skinned by pxr (`UsdSkelSkinningQuery.ComputeSkinnedPoints`,
     in the skeleton's space, then the skeleton's local-to-world), at the skeleton's rest pose
-    with `joint` (a joint path) turned `degrees` about its Z axis. And the seam at the rest
-    pose: normals moved as the points are (`geomBindTransform`, then the skeleton's
-    local-to-world; the rest pose is the bind pose here), compared as `seam` compares them."""
+    with `joint` (a joint path) turned `degrees` about its Z axis, or with `joint` "bind" at
+    the bind pose. And the seam at the bind pose: normals moved as the points are
+    (`geomBindTransform`, then the skeleton's local-to-world), compared as `seam` compares
+    them."""
     stage = Usd.Stage.Open(stage_path)
     to_y = up(stage)
     time = Usd.TimeCode.Default()
@@ -221,13 +224,15 @@ def skinned(stage_path, out, joint=None, degrees="0"):
             skel = cache.GetSkelQuery(binding.GetSkeleton())
             locals_ = skel.ComputeJointLocalTransforms(time, True)
             joints = [str(j) for j in skel.GetJointOrder()]
-            if joint is not None:
+            if joint not in (None, "bind"):
                 k = joints.index(joint)
                 turn = Gf.Matrix4d(1).SetRotate(Gf.Rotation(Gf.Vec3d(0, 0, 1), float(degrees)))
                 locals_[k] = turn * locals_[k]
             xforms = UsdSkel.ConcatJointTransforms(skel.GetTopology(), locals_)
             binds = skel.GetSkeleton().GetBindTransformsAttr().Get()
             skinning = Vt.Matrix4dArray([binds[i].GetInverse() * xforms[i] for i in range(len(xforms))])
+            if joint == "bind":
+                skinning = Vt.Matrix4dArray([Gf.Matrix4d(1)] * len(xforms))
             skel_world = UsdGeom.Xformable(binding.GetSkeleton().GetPrim()).ComputeLocalToWorldTransform(time)
             for query in binding.GetSkinningTargets():
                 prim = query.GetPrim()
