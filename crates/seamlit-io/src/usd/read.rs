@@ -1,7 +1,8 @@
 //! `usd::load`: the stage opened and composed by openusd (`stage.rs`), its prims walked as
 //! USD's default traversal does (active, loaded, defined, not abstract), instance proxies
 //! included, and every `Mesh` a renderer draws read as one object (`mesh.rs`) in world space
-//! (`xform.rs`) with its bound material (`material.rs`).
+//! (`xform.rs`; a skinned mesh where its UsdSkel binding puts it at the bind pose, with its
+//! joint influences: `skel.rs`) with its bound material (`material.rs`).
 
 mod material;
 mod mesh;
@@ -33,7 +34,10 @@ use crate::usd::source::StageSource;
 /// proxies) are objects of their own. Positions are the mesh's points in its local space, the
 /// object's transform its world matrix (xformOps, `!resetXformStack!`), turned to +Y up where
 /// the stage's `upAxis` is Z; lengths stay in the stage's units (`metersPerUnit` is not
-/// applied, so a weld tolerance is in the stage's units). Normals from `primvars:normals`,
+/// applied, so a weld tolerance is in the stage's units). A skinned mesh (UsdSkel, under a
+/// SkelRoot) is placed where its skin binds it, `geomBindTransform` then its skeleton's world
+/// matrix, and carries its joint influences (joints numbered across the stage); a binding that
+/// cannot be used is a warning, and the mesh is read unskinned. Normals from `primvars:normals`,
 /// else `normals`, none on a subdivision surface (a warning says so); UVs from `primvars:st`
 /// (else the first `texCoord2f[]` primvar), V up. Values are the default, else the earliest
 /// time sample. Materials from UsdPreviewSurface.

@@ -50,11 +50,13 @@ pub(crate) struct SkinSource {
     pub joints: Vec<u32>,
     /// Whether that order is a `skel:joints` (which the writer may grow), not the skeleton's.
     pub own_order: bool,
-    /// Influences per element, and whether there is one element for the mesh (constant).
+    /// Influences per element (`elementSize`).
     pub element_size: usize,
+    /// Whether one element holds the whole mesh's influences (constant interpolation).
     pub constant: bool,
-    /// `primvars:skel:jointIndices` and `primvars:skel:jointWeights` as read.
+    /// `primvars:skel:jointIndices` as read.
     pub indices: Vec<i32>,
+    /// `primvars:skel:jointWeights` as read.
     pub weights: Vec<f32>,
     /// Per input vertex of the object: its point.
     pub vertex_point: Vec<u32>,

@@ -5,7 +5,10 @@
 //! `primvars:normals` (faceVarying, its values and `primvars:normals:indices`, so that the
 //! weaker layer's indices never apply) and, where the input has a plain `normals` attribute,
 //! a block of it (`primvars:normals` wins over it anyway; the block keeps tools that read
-//! `normals` from reading the old values).
+//! `normals` from reading the old values). A skinned mesh whose influences
+//! [`crate::match_skin_seams`] changed also gets its `primvars:skel:jointIndices` and
+//! `primvars:skel:jointWeights` (per point, in its own joint order) and, where that order
+//! had to grow, its `skel:joints`.
 //!
 //! The text is written here, not by openusd's usda writer (which writes `apiSchemas`
 //! without brackets, `uniform rel`, and other text Pixar's USD does not read): it is a small

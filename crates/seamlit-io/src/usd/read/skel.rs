@@ -49,11 +49,15 @@ pub(super) struct Binding {
     /// Whether the mesh's order is a `skel:joints` of its own (or an ancestor's), which a
     /// writer may grow; else it is the skeleton's.
     pub own_order: bool,
-    /// Influences per point, or for the whole mesh when `constant`.
+    /// Influences per element (`elementSize`, 1 to 64).
     pub element_size: usize,
+    /// Whether one element holds the whole mesh's influences (constant interpolation), not
+    /// one per point (vertex).
     pub constant: bool,
-    /// The joint indices and weights as authored (`element_size` per element).
+    /// `primvars:skel:jointIndices` as authored (`element_size` per element), each checked to
+    /// index `joints`.
     pub indices: Vec<i32>,
+    /// `primvars:skel:jointWeights` as authored, as many as `indices`, finite.
     pub weights: Vec<f32>,
 }
 
