@@ -267,6 +267,20 @@ fn bad_skin_bindings_are_one_warning_each() {
             "</Character/Gone> is not a Skeleton",
         ),
         ("no SkelRoot", "def SkelRoot \"Character\"", "def Xform \"Character\"", HEAD, "SkelRoot"),
+        (
+            "no SkelBindingAPI on the SkelRoot",
+            "def SkelRoot \"Character\" (\n    prepend apiSchemas = [\"SkelBindingAPI\"]\n)",
+            "def SkelRoot \"Character\"",
+            BODY,
+            "no skel:skeleton is bound to it or an ancestor with SkelBindingAPI",
+        ),
+        (
+            "no SkelBindingAPI",
+            "def Mesh \"Head\" (\n            prepend apiSchemas = [\"SkelBindingAPI\"]\n        )",
+            "def Mesh \"Head\"",
+            HEAD,
+            "SkelBindingAPI is not applied to it",
+        ),
     ];
     for (what, from, to, mesh, reason) in cases {
         assert!(original.contains(from), "{what}: {from:?}");

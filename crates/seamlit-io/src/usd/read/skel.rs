@@ -1,9 +1,10 @@
 //! UsdSkel skin bindings (UsdSkelBindingAPI): which skeleton skins a mesh, by which joints and
 //! weights, from which bind space.
 //!
-//! A mesh under a `SkelRoot` with `primvars:skel:jointIndices` and `primvars:skel:jointWeights`
-//! is skinned by the skeleton its `skel:skeleton` names (its own, else its nearest ancestor's).
-//! Its joint indices index its own `skel:joints` (its own, else inherited) where authored, else
+//! A mesh under a `SkelRoot`, with `SkelBindingAPI` applied and `primvars:skel:jointIndices`
+//! and `primvars:skel:jointWeights`, is skinned by the skeleton its `skel:skeleton` names (its
+//! own, else that of its nearest ancestor with `SkelBindingAPI`, as pxr reads bindings only
+//! there). Its joint indices index its own `skel:joints` (its own, else inherited) where authored, else
 //! the skeleton's `joints`; both primvars hold `elementSize` influences per point (vertex
 //! interpolation) or for the whole mesh (constant). Skinning puts the points in the
 //! skeleton's space through `primvars:skel:geomBindTransform` (identity unauthored), and
@@ -25,6 +26,10 @@ use glam::DMat4;
 use openusd::{sdf, usd};
 
 use super::value;
+
+/// The API schema a prim's skin binding properties are read on (pxr ignores them elsewhere:
+/// a mesh without it is not skinned, an ancestor without it binds no skeleton).
+const BINDING_API: &str = "SkelBindingAPI";
 
 /// The skin bindings of a stage's meshes, and the joints they name.
 pub(super) struct Skels<'s> {
@@ -121,11 +126,16 @@ impl<'s> Skels<'s> {
         if !self.under_skel_root(&path)? {
             return Ok(Err("it is not under a SkelRoot, so USD does not skin it".to_owned()));
         }
+        if !prim.has_api_schema(BINDING_API)? {
+            return Ok(Err(format!("{BINDING_API} is not applied to it, so USD does not skin it")));
+        }
         let Some(skeleton) = self.inherited(&path, |p| {
             Ok(p.relationship("skel:skeleton").targets()?.into_iter().next())
         })?
         else {
-            return Ok(Err("no skel:skeleton is bound to it or an ancestor".to_owned()));
+            return Ok(Err(format!(
+                "no skel:skeleton is bound to it or an ancestor with {BINDING_API}"
+            )));
         };
         let skeleton_joints = match self.skeleton(&skeleton)? {
             Ok(joints) => joints,
@@ -237,7 +247,8 @@ impl<'s> Skels<'s> {
         Ok(false)
     }
 
-    /// What `read` finds on the prim at `path`, else on its nearest ancestor that has it.
+    /// What `read` finds on the prim at `path`, else on its nearest ancestor that has it;
+    /// only prims with [`BINDING_API`] applied count (USD reads a binding on no other).
     fn inherited<T>(
         &self,
         path: &sdf::Path,
@@ -245,7 +256,10 @@ impl<'s> Skels<'s> {
     ) -> anyhow::Result<Option<T>> {
         let mut at = Some(path.clone());
         while let Some(p) = at.filter(|p| !p.is_abs_root()) {
-            if let Some(found) = read(&self.stage.prim(p.clone()))? {
+            let prim = self.stage.prim(p.clone());
+            if prim.has_api_schema(BINDING_API)?
+                && let Some(found) = read(&prim)?
+            {
                 return Ok(Some(found));
             }
             at = p.parent();
