@@ -164,8 +164,8 @@ fn skin_influences_are_read_by_joint() {
 /// degrees at rest (22.5 as authored), and, with the neck turned 40 degrees, pxr's skinning
 /// keeps the head's and the body's copies of the equator together (apart by 0.41 in the
 /// input); only normals, the skin primvars of the two meshes and the head's `skel:joints`
-/// (grown by the chest) differ; no new validation error. `.usdc` as `.usda`. Without the
-/// match the posed gap stays, and nothing but normals is written.
+/// (grown by the chest) differ; no new validation error. `.usdc` and `.usdz` as `.usda`.
+/// Without the match the posed gap stays, and nothing but normals is written.
 #[test]
 fn matched_influences_keep_the_neck_closed_as_pxr_skins_it() {
     let input = neck_stage();
@@ -174,7 +174,7 @@ fn matched_influences_keep_the_neck_closed_as_pxr_skins_it() {
     assert!(posed_gap(&input) > 0.3, "the input opens when posed");
     let errors_in = pxr("validate", &[text(&input)]);
     let dir = tempfile::tempdir().unwrap();
-    for name in ["fixed.usda", "fixed.usdc"] {
+    for name in ["fixed.usda", "fixed.usdc", "fixed.usdz"] {
         let output = dir.path().join(name);
         let warnings = fix_to(&input, &output, true);
         assert!(warnings.is_empty(), "{name}: {warnings:?}");
