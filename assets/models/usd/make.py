@@ -12,7 +12,7 @@ import struct
 import sys
 import zlib
 
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade, UsdUtils, Vt
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade, UsdSkel, UsdUtils, Vt
 
 
 def stage_at(path, up="Y", meters=1.0):
@@ -289,6 +289,59 @@ def instanced(folder):
     stage.GetRootLayer().Save()
 
 
+def skinned_neck(folder):
+    """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
+    sharing the equator as `head_body` does, with skin influences that differ there. The
+    `skel:skeleton` binding is on the SkelRoot (inherited); the skeleton has a transform of
+    its own; the meshes sit under an Xform whose translation skinning ignores. The head is
+    rigid: its own `skel:joints` (the neck alone), constant influences of one element, its
+    points moved down by 0.5 and `geomBindTransform` moving them back up. The body uses the
+    skeleton's joint order, two influences per point, vertex interpolation: its equator 0.6
+    chest and 0.4 neck, where the head is all neck (a gap once the neck turns)."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    stage = stage_at(os.path.join(folder, "skinned_neck.usda"))
+    root = UsdSkel.Root.Define(stage, "/Character")
+    stage.SetDefaultPrim(root.GetPrim())
+    root.AddTranslateOp().Set(Gf.Vec3d(0, 1, 0))
+    skeleton = UsdSkel.Skeleton.Define(stage, "/Character/Skeleton")
+    skeleton.AddTranslateOp().Set(Gf.Vec3d(0.25, 0, 0))
+    skeleton.CreateJointsAttr(["Hips", "Hips/Chest", "Hips/Chest/Neck"])
+    at = lambda y: Gf.Matrix4d(1).SetTranslate(Gf.Vec3d(0, y, 0))
+    skeleton.CreateBindTransformsAttr([at(-1), at(-0.5), at(0)])
+    skeleton.CreateRestTransformsAttr([at(-1), at(0.5), at(0.5)])
+    binding = UsdSkel.BindingAPI.Apply(root.GetPrim())
+    binding.CreateSkeletonRel().SetTargets([skeleton.GetPath()])
+    geom = UsdGeom.Xform.Define(stage, "/Character/Geom")
+    geom.AddTranslateOp().Set(Gf.Vec3d(7, 7, 7))
+
+    used, faces = band(segments, 1, rings // 2)
+    head_points = [(points[p][0], points[p][1] - 0.5, points[p][2]) for p in used]
+    head = mesh(stage, "/Character/Geom/Head", head_points, faces)
+    corners = [i for f in faces for i in f]
+    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
+    n.SetIndices(Vt.IntArray(corners))
+    skin = UsdSkel.BindingAPI.Apply(head.GetPrim())
+    skin.CreateJointsAttr(["Hips/Chest/Neck"])
+    skin.CreateJointIndicesPrimvar(True, 1).Set([0])
+    skin.CreateJointWeightsPrimvar(True, 1).Set([1.0])
+    skin.CreateGeomBindTransformAttr(at(0.5))
+
+    used, faces = band(segments, rings // 2, rings - 1)
+    body_points = [points[p] for p in used]
+    body = mesh(stage, "/Character/Geom/Body", body_points, faces)
+    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    # Per ring from the equator down: (joint, weight) pairs in the skeleton's order.
+    by_ring = [[(1, 0.6), (2, 0.4)], [(1, 1.0), (0, 0.0)], [(0, 0.5), (1, 0.5)], [(0, 1.0), (0, 0.0)]]
+    influences = [by_ring[p // segments - rings // 2] for p in used]
+    skin = UsdSkel.BindingAPI.Apply(body.GetPrim())
+    skin.CreateJointIndicesPrimvar(False, 2).Set([j for pairs in influences for j, _ in pairs])
+    skin.CreateJointWeightsPrimvar(False, 2).Set([w for pairs in influences for _, w in pairs])
+    stage.GetRootLayer().Save()
+
+
 def main():
     folder = sys.argv[1]
     head_body(folder)
@@ -297,6 +350,7 @@ def main():
     catmull(folder)
     layered(folder)
     instanced(folder)
+    skinned_neck(folder)
 
 
 if __name__ == "__main__":

@@ -6,9 +6,10 @@
 //! variants, inherits; `stage.rs`), walks its meshes, instance proxies included, and turns each
 //! `Mesh` prim into one object in world space (`xform.rs`: the xformOps and
 //! `!resetXformStack!`; `upAxis` Z turned to +Y up), its polygons triangulated and its
-//! primvars expanded by their interpolation (`mesh.rs`); UsdPreviewSurface materials bound by
-//! `material:binding` (`material.rs`). `write.rs` writes a `.usda` layer that sublayers the
-//! input and overrides only the normals seamlit changed; `package.rs` puts that layer, the
+//! primvars expanded by their interpolation (`mesh.rs`); UsdSkel skin bindings (`skel.rs`);
+//! UsdPreviewSurface materials bound by `material:binding` (`material.rs`). `write.rs` writes
+//! a `.usda` layer that sublayers the input and overrides only the normals (and matched skin
+//! influences) seamlit changed; `package.rs` puts that layer, the
 //! input's layers and its textures in one `.usdz` package. The design, and what is not read or
 //! written yet: docs/usd.md.
 

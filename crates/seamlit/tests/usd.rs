@@ -174,3 +174,38 @@ fn asset_root_allows_layers_outside_the_stages_folder() {
     let o = seamlit(&["render", &car, "-o", &png, "--size", "64x48", "--asset-root", &kit]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A skinned stage (UsdSkel, `skinned_neck.usda`): `inspect` counts the 16 equator positions
+/// whose skins differ, the first at (1, 0, 0) moved by the skeleton's and the SkelRoot's
+/// translations to (1.25, 1, 0); `fix` matches them by default, says so and writes both
+/// meshes' skin primvars; `--skin-seams keep` writes none.
+#[test]
+fn skin_seams_of_usd_stages_are_reported_and_matched() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    let o = seamlit(&["inspect", &usd("skinned_neck.usda"), "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let seams = &report["as_loaded"]["skin_seams"];
+    assert_eq!(seams["positions"], 16, "{seams}");
+    assert_eq!(seams["example"]["position"], serde_json::json!([1.25, 1.0, 0.0]), "{seams}");
+    assert_eq!(report["model"]["skin_seams"]["positions"], 0, "after fix");
+    let o = seamlit(&["fix", &usd("skinned_neck.usda"), "-o", &out("matched.usda")]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).contains("skins: gave the copies at 16 shared positions"), "{}", stdout(&o));
+    let text = std::fs::read_to_string(out("matched.usda")).unwrap();
+    assert_eq!(text.matches("int[] primvars:skel:jointIndices = ").count(), 2, "{text}");
+    assert_eq!(text.matches("float[] primvars:skel:jointWeights = ").count(), 2, "{text}");
+    let o = seamlit(&[
+        "fix",
+        &usd("skinned_neck.usda"),
+        "-o",
+        &out("kept.usda"),
+        "--skin-seams",
+        "keep",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out("kept.usda")).unwrap();
+    assert!(!text.contains("skel:"), "{text}");
+    assert_eq!(text.matches("primvars:normals = ").count(), 2, "{text}");
+}

@@ -1,11 +1,13 @@
 //! `usd::load`: the stage opened and composed by openusd (`stage.rs`), its prims walked as
 //! USD's default traversal does (active, loaded, defined, not abstract), instance proxies
 //! included, and every `Mesh` a renderer draws read as one object (`mesh.rs`) in world space
-//! (`xform.rs`) with its bound material (`material.rs`).
+//! (`xform.rs`; a skinned mesh where its UsdSkel binding puts it at the bind pose, with its
+//! joint influences: `skel.rs`) with its bound material (`material.rs`).
 
 mod material;
 mod mesh;
 mod resolver;
+mod skel;
 mod stage;
 mod xform;
 
@@ -32,7 +34,10 @@ use crate::usd::source::StageSource;
 /// proxies) are objects of their own. Positions are the mesh's points in its local space, the
 /// object's transform its world matrix (xformOps, `!resetXformStack!`), turned to +Y up where
 /// the stage's `upAxis` is Z; lengths stay in the stage's units (`metersPerUnit` is not
-/// applied, so a weld tolerance is in the stage's units). Normals from `primvars:normals`,
+/// applied, so a weld tolerance is in the stage's units). A skinned mesh (UsdSkel, under a
+/// SkelRoot) is placed where its skin binds it, `geomBindTransform` then its skeleton's world
+/// matrix, and carries its joint influences (joints numbered across the stage); a binding that
+/// cannot be used is a warning, and the mesh is read unskinned. Normals from `primvars:normals`,
 /// else `normals`, none on a subdivision surface (a warning says so); UVs from `primvars:st`
 /// (else the first `texCoord2f[]` primvar), V up. Values are the default, else the earliest
 /// time sample. Materials from UsdPreviewSurface.
@@ -76,6 +81,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let up = stage::up_axis(stage).map_err(at_root)?;
     let mut xforms = xform::Xforms::new(stage);
     let mut materials = material::Materials::new(stage, path, &options.asset_roots);
+    let mut skels = skel::Skels::new(stage);
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
@@ -89,7 +95,20 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
             continue;
         }
         let world = xforms.world(&prim_path).map_err(at)?;
-        let read = mesh::read(&prim, world, up, path, options, &mut warnings)?;
+        let skin = match skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)? {
+            Some(Ok(binding)) => Some(binding),
+            Some(Err(reason)) => {
+                warnings.push(format!(
+                    "{}: mesh <{}>: its skin is ignored ({reason}): read unskinned, at its own transform",
+                    path.display(),
+                    prim_path.as_str()
+                ));
+                None
+            }
+            None => None,
+        };
+        let placement = mesh::Placement { world, up, skin };
+        let read = mesh::read(&prim, placement, path, options, &mut warnings)?;
         let mut object = read.object;
         object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
         triangles += object.triangle_count();
@@ -115,7 +134,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         ..Asset::default()
     };
     let metadata = stage::metadata(stage).map_err(at_root)?;
-    Ok((asset, StageSource { meshes: sources, metadata }))
+    Ok((asset, StageSource { meshes: sources, metadata, joints: skels.joints }))
 }
 
 /// An attribute's value: its default, else its earliest time sample (the rest pose of a

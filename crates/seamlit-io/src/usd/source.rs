@@ -11,6 +11,8 @@ use glam::Vec3;
 pub(crate) struct StageSource {
     pub meshes: Vec<MeshSource>,
     pub metadata: Vec<(String, String)>,
+    /// The joints that skinned objects' influences name: per id, (skeleton prim, joint path).
+    pub joints: Vec<(String, String)>,
 }
 
 /// What the writer needs of a mesh besides its object: how the object's triangles map onto
@@ -34,4 +36,30 @@ pub(crate) struct MeshSource {
     pub plain_normals: bool,
     /// Whether the prim is an instance proxy (its normals cannot be overridden).
     pub instance_proxy: bool,
+    /// The skin binding the object's influences came from, for a skinned mesh.
+    pub skin: Option<SkinSource>,
+}
+
+/// A skinned mesh's binding as read (UsdSkelBindingAPI), so the writer can put matched
+/// influences back in the mesh's own terms.
+#[derive(Clone, Debug)]
+pub(crate) struct SkinSource {
+    /// The skeleton prim.
+    pub skeleton: String,
+    /// The joint ids (indices into [`StageSource::joints`]) the mesh's joint indices index.
+    pub joints: Vec<u32>,
+    /// Whether that order is a `skel:joints` (which the writer may grow), not the skeleton's.
+    pub own_order: bool,
+    /// Influences per element (`elementSize`).
+    pub element_size: usize,
+    /// Whether one element holds the whole mesh's influences (constant interpolation).
+    pub constant: bool,
+    /// `primvars:skel:jointIndices` as read.
+    pub indices: Vec<i32>,
+    /// `primvars:skel:jointWeights` as read.
+    pub weights: Vec<f32>,
+    /// Per input vertex of the object: its point.
+    pub vertex_point: Vec<u32>,
+    /// The mesh's number of points.
+    pub points: usize,
 }

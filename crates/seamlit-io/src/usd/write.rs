@@ -5,7 +5,10 @@
 //! `primvars:normals` (faceVarying, its values and `primvars:normals:indices`, so that the
 //! weaker layer's indices never apply) and, where the input has a plain `normals` attribute,
 //! a block of it (`primvars:normals` wins over it anyway; the block keeps tools that read
-//! `normals` from reading the old values).
+//! `normals` from reading the old values). A skinned mesh whose influences
+//! [`crate::match_skin_seams`] changed also gets its `primvars:skel:jointIndices` and
+//! `primvars:skel:jointWeights` (per point, in its own joint order) and, where that order
+//! had to grow, its `skel:joints`.
 //!
 //! The text is written here, not by openusd's usda writer (which writes `apiSchemas`
 //! without brackets, `uniform rel`, and other text Pixar's USD does not read): it is a small
@@ -23,7 +26,7 @@ use rustc_hash::FxHashMap;
 use seamlit_mesh::Object;
 
 use super::error::UsdOutput;
-use super::source::{MeshSource, StageSource};
+use super::source::{MeshSource, SkinSource, StageSource};
 use crate::asset::Asset;
 use crate::error::IoError;
 use crate::options::LoadOptions;
@@ -58,11 +61,32 @@ pub(crate) fn save_usdc(asset: &Asset, path: &Path) -> Result<Vec<String>, IoErr
         path: path.to_path_buf(),
         kind: UsdOutput::Usdc { reason: format!("{e:#}") },
     };
-    let data = openusd::usda::parse(&text).map_err(refuse)?;
+    let mut data = openusd::usda::parse(&text).map_err(refuse)?;
+    element_sizes_as_ints(&mut data);
     let mut bytes = io::Cursor::new(Vec::new());
     openusd::usdc::CrateWriter::write(&data, &mut bytes).map_err(refuse)?;
     crate::files::write(path, bytes.get_ref())?;
     Ok(layer.warnings)
+}
+
+/// Retags every `elementSize` (the skin primvars') as an `int`: openusd's text parser reads an
+/// untyped metadata integer as an `int64`, its crate writer writes that type, and Pixar's USD
+/// takes a primvar's `elementSize` only as an `int` (an `int64` one reads as 1: UsdSkel then
+/// finds its joint indices mis-sized and skins nothing).
+fn element_sizes_as_ints(data: &mut openusd::sdf::Data) {
+    use openusd::sdf::Value;
+    let paths: Vec<openusd::sdf::Path> = data
+        .iter()
+        .filter(|(_, spec)| matches!(spec.get("elementSize"), Some(Value::Int64(_))))
+        .map(|(path, _)| path.clone())
+        .collect();
+    for path in paths {
+        if let Some(size) = data.spec_mut(&path).and_then(|spec| spec.get_mut("elementSize"))
+            && let Value::Int64(n) = *size
+        {
+            *size = Value::Int(i32::try_from(n).unwrap_or(i32::MAX));
+        }
+    }
 }
 
 /// The override layer for `asset`, but for the asset path by which it sublayers the input
@@ -72,9 +96,8 @@ pub(crate) struct Layer {
     pub input: PathBuf,
     /// The stage's meshes and metadata, as read.
     stage: Arc<StageSource>,
-    /// The meshes whose normals are written (indices into the stage's meshes), and their
-    /// normals at each face corner.
-    overs: Vec<(usize, Vec<Vec3>)>,
+    /// The meshes overridden, in the order of the stage's meshes.
+    overs: Vec<MeshOver>,
     /// Meshes whose normals are not written, and why.
     pub warnings: Vec<String>,
 }
@@ -102,6 +125,16 @@ impl Layer {
     }
 }
 
+/// What the layer authors on one mesh.
+struct MeshOver {
+    /// An index into the stage's meshes.
+    mesh: usize,
+    /// Its normals at each face corner, where they changed.
+    normals: Option<Vec<Vec3>>,
+    /// Its skin influences, where they changed.
+    skin: Option<SkinOver>,
+}
+
 /// Checks `asset` against the stage it was loaded from and finds the normals to write.
 ///
 /// # Errors
@@ -118,32 +151,53 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
     let mut warnings = Vec::new();
     let mut overs = Vec::new();
     for (m, (object, mesh)) in asset.model.objects.iter().zip(&stage.meshes).enumerate() {
-        let Some(normals) = corner_normals(object, mesh) else { continue };
-        if !normals.iter().all(|n| n.is_finite()) {
-            return Err(refuse(UsdOutput::NotFinite { object: object.name.clone() }));
+        let normals = changed_normals(object, mesh, path, &mut warnings).map_err(refuse)?;
+        let skin = match &mesh.skin {
+            Some(skin) if asset.skins_changed.objects.contains(&m) => {
+                skin_over(object, mesh, skin, &stage.joints, path, &mut warnings)
+            }
+            _ => None,
+        };
+        if normals.is_some() || skin.is_some() {
+            overs.push(MeshOver { mesh: m, normals, skin });
         }
-        if mesh.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
-            continue;
-        }
-        if let Some(scheme) = &mesh.subdivision {
-            warnings.push(format!(
-                "{}: mesh <{}> is a subdivision surface (subdivisionScheme {scheme}): no normals are written on it (renderers ignore them)",
-                path.display(),
-                mesh.prim
-            ));
-            continue;
-        }
-        if mesh.instance_proxy {
-            warnings.push(format!(
-                "{}: mesh <{}> is inside an instance, whose prims a layer cannot override one by one: its normals are not written",
-                path.display(),
-                mesh.prim
-            ));
-            continue;
-        }
-        overs.push((m, normals));
     }
     Ok(Layer { input: input.to_path_buf(), stage, overs, warnings })
+}
+
+/// The object's normals at its mesh's face corners where they are to be written: changed,
+/// finite, on a mesh that is neither a subdivision surface nor inside an instance (those get
+/// a warning).
+fn changed_normals(
+    object: &Object,
+    mesh: &MeshSource,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Vec<Vec3>>, UsdOutput> {
+    let Some(normals) = corner_normals(object, mesh) else { return Ok(None) };
+    if !normals.iter().all(|n| n.is_finite()) {
+        return Err(UsdOutput::NotFinite { object: object.name.clone() });
+    }
+    if mesh.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
+        return Ok(None);
+    }
+    if let Some(scheme) = &mesh.subdivision {
+        warnings.push(format!(
+            "{}: mesh <{}> is a subdivision surface (subdivisionScheme {scheme}): no normals are written on it (renderers ignore them)",
+            path.display(),
+            mesh.prim
+        ));
+        return Ok(None);
+    }
+    if mesh.instance_proxy {
+        warnings.push(format!(
+            "{}: mesh <{}> is inside an instance, whose prims a layer cannot override one by one: its normals are not written",
+            path.display(),
+            mesh.prim
+        ));
+        return Ok(None);
+    }
+    Ok(Some(normals))
 }
 
 /// Whether `path` names a USD file by its extension.
@@ -261,8 +315,13 @@ impl Over {
         let pad = "    ".repeat(depth);
         writeln!(out, "{pad}over \"{}\"\n{pad}{{", self.name)?;
         if let Some(k) = self.mesh {
-            let (m, normals) = &layer.overs[k];
-            let body = normals_text(normals, layer.stage.meshes[*m].plain_normals);
+            let over = &layer.overs[k];
+            let mut body = over.normals.as_ref().map_or_else(String::new, |normals| {
+                normals_text(normals, layer.stage.meshes[over.mesh].plain_normals)
+            });
+            if let Some(skin) = &over.skin {
+                body.push_str(&skin.text());
+            }
             for line in body.lines() {
                 writeln!(out, "{pad}    {line}")?;
             }
@@ -285,9 +344,9 @@ fn document(out: &mut impl fmt::Write, sublayer: &str, layer: &Layer) -> fmt::Re
     }
     writeln!(out, "    subLayers = [\n        @{sublayer}@\n    ]\n)\n")?;
     let mut root = Over::default();
-    for (k, (m, _)) in layer.overs.iter().enumerate() {
+    for (k, over) in layer.overs.iter().enumerate() {
         let mut node = &mut root;
-        for name in layer.stage.meshes[*m].prim.split('/').filter(|n| !n.is_empty()) {
+        for name in layer.stage.meshes[over.mesh].prim.split('/').filter(|n| !n.is_empty()) {
             node = node.at(name);
         }
         node.mesh = Some(k);
@@ -367,4 +426,160 @@ fn relative(input: &Path, output: &Path) -> String {
     parts.extend(std::iter::repeat_n("..".to_owned(), up));
     parts.extend(to[common..].iter().map(|c| c.as_os_str().to_string_lossy().into_owned()));
     parts.join("/")
+}
+
+/// A skinned mesh's influences as the layer authors them (UsdSkelBindingAPI): its joint
+/// indices and weights per point, and its `skel:joints` where it had to grow.
+struct SkinOver {
+    /// The mesh's `skel:joints`, where joints were added to it.
+    joints: Option<Vec<String>>,
+    element_size: usize,
+    indices: Vec<u32>,
+    weights: Vec<f32>,
+}
+
+impl SkinOver {
+    /// The override's properties: vertex interpolation, `elementSize` per point.
+    fn text(&self) -> String {
+        let mut out = String::new();
+        if let Some(joints) = &self.joints {
+            out.push_str("uniform token[] skel:joints = [");
+            for (k, joint) in joints.iter().enumerate() {
+                let sep = if k == 0 { "" } else { ", " };
+                let quoted = joint.replace('\\', "\\\\").replace('"', "\\\"");
+                let _ = write!(out, "{sep}\"{quoted}\"");
+            }
+            out.push_str("]\n");
+        }
+        let layout = format!(
+            "] (\n    elementSize = {}\n    interpolation = \"vertex\"\n)\n",
+            self.element_size
+        );
+        out.push_str("int[] primvars:skel:jointIndices = [");
+        for (k, i) in self.indices.iter().enumerate() {
+            let sep = if k == 0 { "" } else { ", " };
+            let _ = write!(out, "{sep}{i}");
+        }
+        out.push_str(&layout);
+        out.push_str("float[] primvars:skel:jointWeights = [");
+        for (k, w) in self.weights.iter().enumerate() {
+            let sep = if k == 0 { "" } else { ", " };
+            let _ = write!(out, "{sep}{w}");
+        }
+        out.push_str(&layout);
+        out
+    }
+}
+
+/// The skinned `object`'s influences in its mesh's terms, where some point's differ from what
+/// was read: per point, the influences of its first input vertex (every vertex of a point
+/// has the same after matching), else as read; joints the mesh's order lacks appended to its
+/// `skel:joints`. `None`, with a warning, where they cannot be written: a joint of another
+/// skeleton, a mesh that uses its skeleton's order and names a joint outside it, a mesh
+/// inside an instance.
+fn skin_over(
+    object: &Object,
+    mesh: &MeshSource,
+    skin: &SkinSource,
+    joints: &[(String, String)],
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Option<SkinOver> {
+    let warn = |warnings: &mut Vec<String>, why: &str| {
+        warnings.push(format!(
+            "{}: mesh <{}>: its matched skin influences are not written ({why})",
+            path.display(),
+            mesh.prim
+        ));
+    };
+    if mesh.instance_proxy {
+        warn(warnings, "it is inside an instance, whose prims a layer cannot override one by one");
+        return None;
+    }
+    let mut order = skin.joints.clone();
+    let mut per_point: Vec<Option<Vec<(u32, f32)>>> = vec![None; skin.points];
+    let mut changed = false;
+    for (v, &p) in skin.vertex_point.iter().enumerate() {
+        let slot = &mut per_point[p as usize];
+        if slot.is_some() {
+            continue;
+        }
+        let now: Vec<(u32, f32)> = object
+            .skin
+            .iter()
+            .flat_map(|set| set.joints[v].into_iter().zip(set.weights[v]))
+            .collect();
+        let read = read_lanes(skin, p as usize);
+        let same = now.len() >= read.len()
+            && now
+                .iter()
+                .zip(&read)
+                .all(|(a, b)| a.0 == skin.joints[b.0 as usize] && a.1.to_bits() == b.1.to_bits())
+            && now[read.len()..].iter().all(|&(_, w)| w == 0.0);
+        if same {
+            *slot = Some(read);
+            continue;
+        }
+        changed = true;
+        let mut lanes = Vec::new();
+        for (joint, weight) in now.into_iter().filter(|&(_, w)| w > 0.0) {
+            let local = match order.iter().position(|&j| j == joint) {
+                Some(k) => k,
+                None => {
+                    let (skeleton, name) = &joints[joint as usize];
+                    if !skin.own_order || *skeleton != skin.skeleton {
+                        warn(
+                            warnings,
+                            &format!(
+                                "joint {name:?} of <{skeleton}> is not one its skeleton <{}> lets it name",
+                                skin.skeleton
+                            ),
+                        );
+                        return None;
+                    }
+                    order.push(joint);
+                    order.len() - 1
+                }
+            };
+            #[expect(
+                clippy::cast_possible_truncation,
+                reason = "joints are far fewer than u32::MAX"
+            )]
+            lanes.push((local as u32, weight));
+        }
+        *slot = Some(lanes);
+    }
+    if !changed {
+        return None;
+    }
+    let element_size =
+        per_point.iter().flatten().map(Vec::len).max().unwrap_or(0).max(skin.element_size);
+    let mut out = SkinOver {
+        joints: (order.len() > skin.joints.len())
+            .then(|| order.iter().map(|&j| joints[j as usize].1.clone()).collect()),
+        element_size,
+        indices: Vec::with_capacity(skin.points * element_size),
+        weights: Vec::with_capacity(skin.points * element_size),
+    };
+    for (p, lanes) in per_point.into_iter().enumerate() {
+        let lanes = lanes.unwrap_or_else(|| read_lanes(skin, p));
+        for k in 0..element_size {
+            let (i, w) = lanes.get(k).copied().unwrap_or((0, 0.0));
+            out.indices.push(i);
+            out.weights.push(w);
+        }
+    }
+    Some(out)
+}
+
+/// Point `p`'s influences as read: (index into the mesh's joints, weight).
+fn read_lanes(skin: &SkinSource, p: usize) -> Vec<(u32, f32)> {
+    let element = if skin.constant { 0 } else { p };
+    let range = element * skin.element_size..(element + 1) * skin.element_size;
+    #[expect(clippy::cast_sign_loss, reason = "indices were checked non-negative")]
+    skin.indices[range.clone()]
+        .iter()
+        .zip(&skin.weights[range])
+        .map(|(&i, &w)| (i as u32, w))
+        .collect()
 }

@@ -12,6 +12,14 @@
                                               (usd-core 26 has no UsdUtils.ComplianceChecker:
                                               `validate` runs its usdz validators)
     pxr_check.py layer LAYER OUT.json         the layer alone as Sdf exports it to text
+    pxr_check.py skinned STAGE OUT.json [JOINT DEGREES | bind]
+                                              world-space points of every skinned mesh as
+                                              UsdSkel skins them, at the rest pose with JOINT
+                                              turned DEGREES about Z (or at the bind pose:
+                                              every skinning matrix the identity); and at the
+                                              bind pose the largest angle between normals of
+                                              different meshes at shared positions (`seam` for
+                                              skinned meshes)
 
 Each writes JSON to OUT.json. Nothing here uses seamlit.
 """
@@ -20,7 +28,7 @@ import json
 import math
 import sys
 
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdValidation
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdSkel, UsdValidation, Vt
 
 NORMAL_PROPERTIES = ("primvars:normals", "primvars:normals:indices", "normals")
 
@@ -196,7 +204,66 @@ def layer(layer_path, out):
     json.dump({"text": Sdf.Layer.FindOrOpen(layer_path).ExportToString()}, open(out, "w"))
 
 
+def skinned(stage_path, out, joint=None, degrees="0"):
+    """Per skinned mesh: its points skinned by pxr (`UsdSkelSkinningQuery.ComputeSkinnedPoints`,
+    in the skeleton's space, then the skeleton's local-to-world), at the skeleton's rest pose
+    with `joint` (a joint path) turned `degrees` about its Z axis, or with `joint` "bind" at
+    the bind pose. And the seam at the bind pose: normals moved as the points are
+    (`geomBindTransform`, then the skeleton's local-to-world), compared as `seam` compares
+    them."""
+    stage = Usd.Stage.Open(stage_path)
+    to_y = up(stage)
+    time = Usd.TimeCode.Default()
+    cache = UsdSkel.Cache()
+    result, corners = {}, []
+    for root in Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
+        if not root.IsA(UsdSkel.Root):
+            continue
+        cache.Populate(UsdSkel.Root(root), Usd.TraverseInstanceProxies())
+        for binding in cache.ComputeSkelBindings(UsdSkel.Root(root), Usd.TraverseInstanceProxies()):
+            skel = cache.GetSkelQuery(binding.GetSkeleton())
+            locals_ = skel.ComputeJointLocalTransforms(time, True)
+            joints = [str(j) for j in skel.GetJointOrder()]
+            if joint not in (None, "bind"):
+                k = joints.index(joint)
+                turn = Gf.Matrix4d(1).SetRotate(Gf.Rotation(Gf.Vec3d(0, 0, 1), float(degrees)))
+                locals_[k] = turn * locals_[k]
+            xforms = UsdSkel.ConcatJointTransforms(skel.GetTopology(), locals_)
+            binds = skel.GetSkeleton().GetBindTransformsAttr().Get()
+            skinning = Vt.Matrix4dArray([binds[i].GetInverse() * xforms[i] for i in range(len(xforms))])
+            if joint == "bind":
+                skinning = Vt.Matrix4dArray([Gf.Matrix4d(1)] * len(xforms))
+            skel_world = UsdGeom.Xformable(binding.GetSkeleton().GetPrim()).ComputeLocalToWorldTransform(time)
+            for query in binding.GetSkinningTargets():
+                prim = query.GetPrim()
+                mesh = UsdGeom.Mesh(prim)
+                pts = Vt.Vec3fArray(mesh.GetPointsAttr().Get())
+                query.ComputeSkinnedPoints(skinning, pts, time)
+                result[str(prim.GetPath())] = [to_y(skel_world.Transform(Gf.Vec3d(p))) for p in pts]
+                normals = corner_normals(mesh)
+                if normals is None:
+                    continue
+                rest = query.GetGeomBindTransform(time) * skel_world
+                normal_matrix = rest.GetInverse().GetTranspose()
+                rest_points = mesh.GetPointsAttr().Get()
+                for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
+                    n = normal_matrix.TransformDir(Gf.Vec3d(normals[c])).GetNormalized()
+                    corners.append((str(prim.GetPath()), rest.Transform(Gf.Vec3d(rest_points[p])), n))
+    by_position = {}
+    for mesh, p, n in corners:
+        by_position.setdefault(tuple(round(x, 4) for x in p), []).append((mesh, n))
+    largest, pairs = 0.0, 0
+    for group in by_position.values():
+        for i in range(len(group)):
+            for j in range(i + 1, len(group)):
+                if group[i][0] != group[j][0]:
+                    pairs += 1
+                    d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
+                    largest = max(largest, math.degrees(math.acos(d)))
+    json.dump({"points": result, "seam": {"largest_degrees": largest, "pairs": pairs}}, open(out, "w"))
+
+
 if __name__ == "__main__":
     command, args = sys.argv[1], sys.argv[2:]
     {"points": points, "compare": compare, "validate": validate, "seam": seam,
-     "package": package, "layer": layer}[command](*args)
+     "package": package, "layer": layer, "skinned": skinned}[command](*args)

@@ -18,13 +18,14 @@ use anyhow::{Context, bail};
 use glam::{DMat4, Mat4, Vec2, Vec3};
 use openusd::{sdf, usd};
 use rustc_hash::FxHashMap;
-use seamlit_mesh::Object;
+use seamlit_mesh::{Influences, Object};
 
+use super::skel::Binding;
 use super::{f32_of, value};
 use crate::error::IoError;
 use crate::options::LoadOptions;
 use crate::usd::error::UsdKind;
-use crate::usd::source::MeshSource;
+use crate::usd::source::{MeshSource, SkinSource};
 
 /// No vertex: a corner of a face of fewer than three corners.
 const NONE: u32 = u32::MAX;
@@ -105,8 +106,16 @@ pub(super) struct Read {
     pub source: MeshSource,
 }
 
-/// Reads the `Mesh` prim at `path` with world matrix `world` under the up-axis rotation
-/// `up`.
+/// Where a mesh is placed: its world matrix, the up-axis rotation, and its skin binding
+/// (which, where it fits the mesh, places it instead: `geomBindTransform`, then the
+/// skeleton's world matrix).
+pub(super) struct Placement {
+    pub world: DMat4,
+    pub up: DMat4,
+    pub skin: Option<Binding>,
+}
+
+/// Reads the `Mesh` prim at `path`, placed by `placement`.
 ///
 /// # Errors
 ///
@@ -114,8 +123,7 @@ pub(super) struct Read {
 /// the mesh; [`IoError::TooManyElements`] past `options.max_elements`.
 pub(super) fn read(
     prim: &usd::Prim,
-    world: DMat4,
-    up: DMat4,
+    placement: Placement,
     file: &Path,
     options: &LoadOptions,
     warnings: &mut Vec<String>,
@@ -124,6 +132,18 @@ pub(super) fn read(
     let at =
         At { file, prim: path.as_str(), limit: options.max_elements.min(u32::MAX as usize - 1) };
     let topology = Topology::read(prim, &at, warnings)?;
+    let Placement { world, up, skin } = placement;
+    let skin = skin.filter(|binding| match binding.misfit(topology.points.len()) {
+        None => true,
+        Some(reason) => {
+            at.warn(
+                warnings,
+                &format!("its skin is ignored ({reason}): read unskinned, at its own transform"),
+            );
+            false
+        }
+    });
+    let world = skin.as_ref().map_or(world, |b| b.skeleton_world * b.geom_bind);
     let subdivision =
         at.token(prim, "subdivisionScheme")?.unwrap_or_else(|| "catmullClark".to_owned());
     let subdivision = (subdivision != "none").then_some(subdivision);
@@ -149,12 +169,25 @@ pub(super) fn read(
         normals.map(|n| corners.keys.iter().map(|k| n.values[k[1] as usize]).collect());
     let object_uvs = uvs.map(|u| corners.keys.iter().map(|k| u.values[k[2] as usize]).collect());
     let transform = model.as_mat4();
+    let vertex_point: Vec<u32> = corners.keys.iter().map(|k| k[0]).collect();
     let object = Object {
         normals: object_normals,
         uvs: object_uvs,
         transform: (transform != Mat4::IDENTITY).then_some(transform),
+        skin: skin.as_ref().map(|b| influences(b, &vertex_point)).unwrap_or_default(),
         ..Object::new(at.prim, positions, corners.triangles)
     };
+    let skin = skin.map(|b| SkinSource {
+        skeleton: b.skeleton,
+        joints: b.joints,
+        own_order: b.own_order,
+        element_size: b.element_size,
+        constant: b.constant,
+        indices: b.indices,
+        weights: b.weights,
+        vertex_point,
+        points: topology.points.len(),
+    });
     let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
     let source = MeshSource {
         prim: at.prim.to_owned(),
@@ -164,8 +197,29 @@ pub(super) fn read(
         subdivision,
         plain_normals,
         instance_proxy,
+        skin,
     };
     Ok(Read { object, source })
+}
+
+/// Per vertex (whose points `vertex_point` gives), the binding's influences of its point, in
+/// sets of four (`elementSize` 5 gives two sets, the second padded with zero weights).
+fn influences(binding: &Binding, vertex_point: &[u32]) -> Vec<Influences> {
+    let sets = binding.element_size.div_ceil(4);
+    let mut out = vec![
+        Influences {
+            joints: vec![[0; 4]; vertex_point.len()],
+            weights: vec![[0.0; 4]; vertex_point.len()],
+        };
+        sets
+    ];
+    for (v, &p) in vertex_point.iter().enumerate() {
+        for (lane, (joint, weight)) in binding.of_point(p as usize).enumerate() {
+            out[lane / 4].joints[v][lane % 4] = joint;
+            out[lane / 4].weights[v][lane % 4] = weight;
+        }
+    }
+    out
 }
 
 /// The mesh being read: where its errors and warnings point, and the element limit.
