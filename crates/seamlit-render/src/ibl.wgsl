@@ -150,8 +150,11 @@ fn hammersley(i: u32, n: u32) -> vec2<f32> {
 // A GGX-distributed half vector about n for a = roughness^2, from the point xi.
 fn importance_ggx(xi: vec2<f32>, n: vec3<f32>, a: f32) -> vec3<f32> {
     let phi = 2.0 * PI * xi.x;
-    let cos_theta = sqrt((1.0 - xi.y) / (1.0 + (a * a - 1.0) * xi.y));
-    let sin_theta = sqrt(1.0 - cos_theta * cos_theta);
+    // GPUs' square roots are not correctly rounded: near the narrow lobe of a smooth surface
+    // cos_theta can come out a hair above 1, and 1 - cos^2 below 0 (NaN through the whole
+    // table, seen on an NVIDIA H200; lavapipe rounds exactly). Both clamped.
+    let cos_theta = min(sqrt((1.0 - xi.y) / (1.0 + (a * a - 1.0) * xi.y)), 1.0);
+    let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     let h = vec3<f32>(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
     let up = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 0.0, 1.0), abs(n.z) < 0.999);
     let tx = normalize(cross(up, n));
@@ -251,7 +254,8 @@ fn cs_brdf_lut(@builtin(global_invocation_id) id: vec3<u32>) {
         let vis = 0.5 / (n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2) + n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2));
         // BRDF * n.l / pdf with pdf = D * n.h / (4 v.h).
         let g = vis * 4.0 * n_dot_l * v_dot_h / max(n_dot_h, 1e-6);
-        let fc = pow(1.0 - v_dot_h, 5.0);
+        // pow of a negative base is undefined in WGSL (NaN on GPUs): v.h can round above 1.
+        let fc = pow(max(1.0 - v_dot_h, 0.0), 5.0);
         scale = scale + (1.0 - fc) * g;
         bias = bias + fc * g;
     }

@@ -157,7 +157,8 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
         let radiance = light.color * inc.w * shadow_factor(light, p, n);
         let h = safe_normalize(l + v, n);
         let v_dot_h = max(dot(v, h), 0.0);
-        let schlick = pow(1.0 - v_dot_h, 5.0);
+        // pow of a negative base is undefined in WGSL: v.h can round above 1.
+        let schlick = pow(max(1.0 - v_dot_h, 0.0), 5.0);
         let n_dot_l = max(dot(n, l), 0.0);
         // A transmissive surface is lit through from behind too.
         if n_dot_l > 0.0 || layers.transmission > 0.0 {
@@ -370,14 +371,14 @@ fn iridescence_fresnel(film_ior_in: f32, cos1: f32, thickness: f32, base_f0: vec
     }
     let cos2 = sqrt(cos2_sq);
     let r0 = ((film_ior - outside) / (film_ior + outside)) * ((film_ior - outside) / (film_ior + outside));
-    let r12 = r0 + (1.0 - r0) * pow(1.0 - cos1, 5.0);
+    let r12 = r0 + (1.0 - r0) * pow(max(1.0 - cos1, 0.0), 5.0);
     let t121 = 1.0 - r12;
     let phi12 = select(0.0, PI, film_ior < outside);
     let phi21 = PI - phi12;
     let sqrt_f0 = sqrt(clamp(base_f0, vec3<f32>(0.0), vec3<f32>(0.9999)));
     let base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0);
     let r1 = sq3((base_ior - film_ior) / (base_ior + film_ior));
-    let r23 = r1 + (1.0 - r1) * pow(1.0 - cos2, 5.0);
+    let r23 = r1 + (1.0 - r1) * pow(max(1.0 - cos2, 0.0), 5.0);
     let phi23 = select(vec3<f32>(0.0), vec3<f32>(PI), base_ior < vec3<f32>(film_ior));
     let opd = 2.0 * film_ior * thickness * cos2;
     let phi = vec3<f32>(phi21) + phi23;

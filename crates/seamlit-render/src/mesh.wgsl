@@ -381,7 +381,8 @@ fn shade_pbr(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, c_diff: vec3<f32>, f0: ve
         let h = safe_normalize(l + v, n);
         let n_dot_h = max(dot(n, h), 0.0);
         let v_dot_h = max(dot(v, h), 0.0);
-        let schlick = pow(1.0 - v_dot_h, 5.0);
+        // pow of a negative base is undefined in WGSL: v.h can round above 1.
+        let schlick = pow(max(1.0 - v_dot_h, 0.0), 5.0);
         let fresnel = f0 + (1.0 - f0) * schlick;
         // Appendix B: the diffuse layer sits under the dielectric's Fresnel (f0 = 0.04), not
         // under the metallic-mixed f0 (which would tint it with the base colour's complement).
@@ -455,7 +456,7 @@ fn brdf_lut_ab(n_dot_v: f32, roughness: f32) -> vec2<f32> {
 // Image-based Lighting", JCGT 2019), as the Khronos glTF Sample Viewer computes it.
 fn environment_fresnel(f0: vec3<f32>, ab: vec2<f32>, n_dot_v: f32, roughness: f32, weight: f32) -> vec3<f32> {
     let fr = max(vec3<f32>(1.0 - roughness), f0) - f0;
-    let k_s = f0 + fr * pow(1.0 - n_dot_v, 5.0);
+    let k_s = f0 + fr * pow(max(1.0 - n_dot_v, 0.0), 5.0);
     let single = weight * (k_s * ab.x + ab.y);
     let e_ms = 1.0 - (ab.x + ab.y);
     let f_avg = weight * (f0 + (1.0 - f0) / 21.0);
