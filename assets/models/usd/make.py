@@ -289,6 +289,64 @@ def instanced(folder):
     stage.GetRootLayer().Save()
 
 
+def instanced_seams(folder):
+    """The head and body of `head_body` (each smoothed on its own, 22.5 degrees apart at the
+    equator) as one prototype, `class "Prototypes"`'s Character, drawn by three instanceable
+    prims that reference it inside the stage, each moved and the third turned; a cap outside
+    the instances closes the first one's body at its lowest ring, smoothed on its own. And
+    two instances of a part from another layer (`instanced_part.usda`, referenced), whose
+    prototype's opinions come from that layer only."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    part = stage_at(os.path.join(folder, "instanced_part.usda"))
+    root = UsdGeom.Xform.Define(part, "/Part")
+    part.SetDefaultPrim(root.GetPrim())
+    lower, faces = box((0, 0, 0), (1, 1, 1))
+    mesh(part, "/Part/Lower", lower, faces)
+    upper, faces = box((0, 1, 0), (1, 2, 1))
+    mesh(part, "/Part/Upper", upper, faces)
+    part.GetRootLayer().Save()
+
+    stage = stage_at(os.path.join(folder, "instanced_seams.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    UsdGeom.Xform.Define(stage, "/Prototypes/Character")
+    stage.GetPrimAtPath("/Prototypes").SetSpecifier(Sdf.SpecifierClass)
+    used, faces = band(segments, 1, rings // 2)
+    head_points = [points[p] for p in used]
+    head = mesh(stage, "/Prototypes/Character/Head", head_points, faces)
+    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
+    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    used, faces = band(segments, rings // 2, rings - 1)
+    body_points = [points[p] for p in used]
+    body = mesh(stage, "/Prototypes/Character/Body", body_points, faces)
+    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    places = [("One", (0, 0, 0), 0), ("Two", (3, 0, 0), 0), ("Three", (-3, 0, 0), 90)]
+    for name, at, turn in places:
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddInternalReference("/Prototypes/Character")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(*at))
+        if turn:
+            UsdGeom.Xformable(inst).AddRotateYOp().Set(float(turn))
+    # The cap: the first instance's lowest ring and the south pole, fanned.
+    ring = [points[(rings - 1) * segments + s] for s in range(segments)]
+    cap_points = ring + [points[rings * segments]]
+    cap_faces = [[s, segments, (s + 1) % segments] for s in range(segments)]
+    cap_faces = [[f[0], f[2], f[1]] if dot(cross(sub(cap_points[f[1]], cap_points[f[0]]), sub(cap_points[f[2]], cap_points[f[0]])), (0, -1, 0)) < 0 else f for f in cap_faces]
+    cap = mesh(stage, "/World/Cap", cap_points, cap_faces)
+    cap.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(cap_points, cap_faces)])
+    cap.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    for k, name in enumerate(["PartA", "PartB"]):
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddReference("./instanced_part.usda")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(2 * k, 0, 4))
+    stage.GetRootLayer().Save()
+
+
 def skinned_neck(folder):
     """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
     sharing the equator as `head_body` does, with skin influences that differ there. The
@@ -350,6 +408,7 @@ def main():
     catmull(folder)
     layered(folder)
     instanced(folder)
+    instanced_seams(folder)
     skinned_neck(folder)
 
 
