@@ -197,6 +197,8 @@ pub(super) fn read(
         subdivision,
         plain_normals,
         instance_proxy,
+        instance: None,
+        root_sites: Vec::new(),
         skin,
     };
     Ok(Read { object, source })
