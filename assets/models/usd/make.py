@@ -347,6 +347,36 @@ def instanced_seams(folder):
     stage.GetRootLayer().Save()
 
 
+def instanced_source(folder):
+    """The head of `head_body` drawn at /World/Original, beside the body (outside it, sharing
+    the equator), and two instances elsewhere that reference /World/Original inside the
+    stage: the prototype's source is itself a drawn mesh, so what is written on it the
+    instances compose."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    stage = stage_at(os.path.join(folder, "instanced_source.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    UsdGeom.Xform.Define(stage, "/World/Original")
+    used, faces = band(segments, 1, rings // 2)
+    head_points = [points[p] for p in used]
+    head = mesh(stage, "/World/Original/Head", head_points, faces)
+    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
+    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    used, faces = band(segments, rings // 2, rings - 1)
+    body_points = [points[p] for p in used]
+    body = mesh(stage, "/World/Body", body_points, faces)
+    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    for k, name in enumerate(["One", "Two"]):
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddInternalReference("/World/Original")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(0, 0, 3 * (k + 1)))
+    stage.GetRootLayer().Save()
+
+
 def skinned_neck(folder):
     """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
     sharing the equator as `head_body` does, with skin influences that differ there. The
@@ -409,6 +439,7 @@ def main():
     layered(folder)
     instanced(folder)
     instanced_seams(folder)
+    instanced_source(folder)
     skinned_neck(folder)
 
 

@@ -557,6 +557,30 @@ fn an_instanced_prototype_is_fixed_once_for_all_its_instances() {
     }
 }
 
+/// A prototype whose source is itself a drawn mesh (instances referencing /World/Original,
+/// whose head meets a body outside it): the head's fixed normals are written on it, pxr
+/// composes them into both instances too, and one warning says so.
+#[test]
+fn a_drawn_prototype_source_is_written_and_its_instances_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = stage("instanced_source.usda");
+    let output = dir.path().join("instanced_source.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    assert_eq!(warnings.len(), 1, "{warnings:#?}");
+    assert!(
+        warnings[0].contains("mesh </World/Original/Head>: its normals, written there, are composed by 2 instances too"),
+        "{warnings:?}"
+    );
+    let seams = pxr("seams", &[&output]);
+    assert!(seams["/World/Body /World/Original/Head"].as_f64().unwrap() < 0.005, "{seams}");
+    let normals = pxr("normals", &[&output]);
+    for instance in ["/World/One/Head", "/World/Two/Head"] {
+        assert_eq!(normals[instance], normals["/World/Original/Head"], "{instance}");
+    }
+    let diff = pxr("compare", &[&input, &output]);
+    assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
+}
+
 /// The head's material: UsdPreviewSurface with its diffuse colour from a texture beside the
 /// layer (or inside the package); the body's a colour, metallic and roughness.
 #[test]

@@ -197,6 +197,17 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
         written.push((over.prim.clone(), copies[0]));
         overs.push(over);
     }
+    for (_, copies) in &prototypes {
+        let instance = stage.meshes[copies[0]].instance.as_ref();
+        let Some(site) = instance.and_then(|i| i.site.as_ref().ok()) else { continue };
+        if overs.iter().any(|o| o.prim == *site && stage.meshes[o.mesh].instance.is_none()) {
+            warnings.push(format!(
+                "{}: mesh <{site}>: its normals, written there, are composed by {} too (they reference it)",
+                path.display(),
+                plural(copies.len(), "instance")
+            ));
+        }
+    }
     Ok(Layer { input: input.to_path_buf(), stage, overs, warnings })
 }
 
@@ -269,15 +280,11 @@ fn prototype_over(
     if first.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
         return Ok(None);
     }
-    let instances = if copies.len() == 1 {
-        "1 instance".to_owned()
-    } else {
-        format!("{} instances", copies.len())
-    };
     let named = format!(
-        "{}: mesh <{}> (the prototype of {instances}, <{}> among them)",
+        "{}: mesh <{}> (the prototype of {}, <{}> among them)",
         path.display(),
         instance.site.as_deref().unwrap_or(&first.prim),
+        plural(copies.len(), "instance"),
         instance.instance
     );
     if let Some(scheme) = &first.subdivision {
@@ -311,6 +318,11 @@ fn prototype_over(
         ));
     }
     Ok(Some(MeshOver { mesh: copies[0], prim: site, normals: Some(normals), skin: None }))
+}
+
+/// `count` `thing`s, in English.
+fn plural(count: usize, thing: &str) -> String {
+    if count == 1 { format!("1 {thing}") } else { format!("{count} {thing}s") }
 }
 
 /// Per face corner: the normal every copy has (the first copy's), else the input's where
