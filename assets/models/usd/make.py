@@ -377,6 +377,20 @@ def instanced_source(folder):
     stage.GetRootLayer().Save()
 
 
+def teapots_polygonal(folder):
+    """The usd-wg teapots (`others/intent-vfx`, 494 instances of one teapot, catmullClark),
+    sublayered, with the teapot's class turned polygonal (`subdivisionScheme = "none"` in
+    an `over` of `/_class_/teapot`, which every instance inherits), so that fix writes
+    normals on it."""
+    layer = Sdf.Layer.CreateNew(os.path.join(folder, "teapots_polygonal.usda"))
+    layer.subLayerPaths.append("./others/intent-vfx/scenes/teapotScene_layout.usd")
+    layer.defaultPrim = "Scene"
+    body = Sdf.CreatePrimInLayer(layer, "/_class_/teapot/geo/default/Body")
+    scheme = Sdf.AttributeSpec(body, "subdivisionScheme", Sdf.ValueTypeNames.Token, variability=Sdf.VariabilityUniform)
+    scheme.default = "none"
+    layer.Save()
+
+
 def skinned_neck(folder):
     """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
     sharing the equator as `head_body` does, with skin influences that differ there. The
@@ -440,6 +454,7 @@ def main():
     instanced(folder)
     instanced_seams(folder)
     instanced_source(folder)
+    teapots_polygonal(folder)
     skinned_neck(folder)
 
 

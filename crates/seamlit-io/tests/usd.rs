@@ -581,6 +581,58 @@ fn a_drawn_prototype_source_is_written_and_its_instances_named() {
     assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
 }
 
+/// A real stage by others with instancing: usd-wg's teapot layout (`others/intent-vfx`), 494
+/// instances of one teapot (an external reference and an inherit of `/_class_/teapot`,
+/// which lies in the stage's root layer stack), each drawn. Its teapot is a subdivision
+/// surface: one warning for the prototype, naming the class's mesh, nothing written. With
+/// the class turned polygonal (teapots_polygonal.usda, ours, over the layout), the normals
+/// are written once, on `/_class_/teapot/geo/default/Body`, and pxr composes them into
+/// every instance, the stage still of one prototype.
+#[test]
+fn instanced_teapots_by_others_are_written_once_on_their_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = stage("others/intent-vfx");
+    let input = stage("others/intent-vfx/scenes/teapotScene_layout.usd");
+    let options = LoadOptions { asset_roots: vec![folder], ..LoadOptions::GEOMETRY };
+    let output = dir.path().join("teapots.usda");
+    let (asset, warnings) = fix_to_with(&input, &output, &options);
+    assert_eq!(asset.model.objects.len(), 494);
+    assert_eq!(warnings.len(), 1, "{warnings:#?}");
+    assert!(
+        warnings[0]
+            .contains("mesh </_class_/teapot/geo/default/Body> (the prototype of 494 instances")
+            && warnings[0].contains("is a subdivision surface"),
+        "{warnings:?}"
+    );
+    assert!(!std::fs::read_to_string(&output).unwrap().contains("over"));
+
+    let input = stage("teapots_polygonal.usda");
+    let output = dir.path().join("teapots_polygonal.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    assert!(warnings.is_empty(), "{warnings:#?}");
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert_eq!(text.matches("primvars:normals = ").count(), 1);
+    assert!(text.contains("over \"_class_\"\n{\n    over \"teapot\""), "{}", &text[..400]);
+    let bodies = [
+        "/Scene/ring000/teapot000/geo/default/Body",
+        "/Scene/ring027/teapot500/geo/default/Body",
+        "/Scene/ring044/teapot999/geo/default/Body",
+        "/Scene/ring038/instancer_teapot038/Prototypes/teapot/geo/default/Body",
+    ];
+    let mut args: Vec<&Path> = vec![&input];
+    args.extend(bodies.iter().map(Path::new));
+    let before = pxr("normals", &args);
+    args[0] = &output;
+    let after = pxr("normals", &args);
+    assert_eq!(before["<prototypes>"], 1);
+    assert_eq!(after["<prototypes>"], 1);
+    for body in bodies {
+        assert_eq!(before[body]["normals"], Value::Null, "{body}");
+        assert_eq!(after[body]["normals"].as_array().map(Vec::len), Some(4944), "{body}");
+        assert_eq!(after[body], after[bodies[0]], "{body}");
+    }
+}
+
 /// The head's material: UsdPreviewSurface with its diffuse colour from a texture beside the
 /// layer (or inside the package); the body's a colour, metallic and roughness.
 #[test]

@@ -8,8 +8,10 @@
     pxr_check.py seam STAGE OUT.json          the largest angle between normals of different
                                               meshes at shared positions, world space
     pxr_check.py seams STAGE OUT.json         `seam` per pair of meshes: "MESH MESH" -> degrees
-    pxr_check.py normals STAGE OUT.json       per drawn mesh: its faceVertexIndices and the
-                                              normal a renderer uses at each face corner
+    pxr_check.py normals STAGE [PRIM ...] OUT.json
+                                              per drawn mesh (or PRIM named): its
+                                              faceVertexIndices and the normal a renderer uses
+                                              at each face corner; the number of prototypes
     pxr_check.py package USDZ OUT.json        the package's files (name, data offset, whether
                                               stored uncompressed, sizes) and its root layer
                                               (usd-core 26 has no UsdUtils.ComplianceChecker:
@@ -218,10 +220,14 @@ def seams(stage_path, out):
     json.dump(result, open(out, "w"))
 
 
-def normals(stage_path, out):
+def normals(stage_path, *rest):
+    """`normals STAGE [PRIM ...] OUT`: of every drawn mesh, or of the PRIMs named; and the
+    stage's number of instancing prototypes, as "<prototypes>"."""
+    out, named = rest[-1], rest[:-1]
     stage = Usd.Stage.Open(stage_path)
-    result = {}
-    for prim, _ in drawn_meshes(stage):
+    result = {"<prototypes>": len(stage.GetPrototypes())}
+    meshes = [(stage.GetPrimAtPath(p), None) for p in named] if named else drawn_meshes(stage)
+    for prim, _ in meshes:
         mesh = UsdGeom.Mesh(prim)
         values = corner_normals(mesh)
         result[str(prim.GetPath())] = {
