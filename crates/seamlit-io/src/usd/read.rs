@@ -32,7 +32,8 @@ use crate::usd::source::StageSource;
 ///
 /// What comes in: one object per `Mesh` prim a renderer draws (not invisible, not of purpose
 /// guide or proxy), named by its prim path, in traversal order; an instance's meshes (instance
-/// proxies) are objects of their own. Positions are the mesh's points in its local space, the
+/// proxies) are objects of their own, and the writer learns their prototype and where its
+/// opinions can be authored for every instance. Positions are the mesh's points in its local space, the
 /// object's transform its world matrix (xformOps, `!resetXformStack!`), turned to +Y up where
 /// the stage's `upAxis` is Z; lengths stay in the stage's units (`metersPerUnit` is not
 /// applied, so a weld tolerance is in the stage's units). A skinned mesh (UsdSkel, under a

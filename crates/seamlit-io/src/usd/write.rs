@@ -13,8 +13,9 @@
 //! The text is written here, not by openusd's usda writer (which writes `apiSchemas`
 //! without brackets, `uniform rel`, and other text Pixar's USD does not read): it is a small
 //! document of a fully known shape. Meshes that are subdivision surfaces get no normals
-//! (renderers ignore them); meshes inside instances cannot be overridden per instance and
-//! are reported.
+//! (renderers ignore them). Meshes inside instances cannot be overridden per instance: each
+//! prototype mesh is written once, at the site the reader found for it (`read/instance.rs`),
+//! with the normals its instances agree on (`prototype_over`).
 
 use std::fmt::{self, Write as _};
 use std::io;
