@@ -391,6 +391,43 @@ def teapots_polygonal(folder):
     layer.Save()
 
 
+def time_sampled(folder):
+    """Two heads and bodies as in `head_body` (each smoothed on its own, 22.5 degrees apart at
+    the equator), the second pair beside the first: the first body's points time-sampled
+    (frames 1 and 2, the second moved down by 0.25), the second head's `primvars:normals`
+    time-sampled (frames 1 and 2, the same values)."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    stage = stage_at(os.path.join(folder, "time_sampled.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    stage.SetStartTimeCode(1)
+    stage.SetEndTimeCode(2)
+    for k in (1, 2):
+        dx = 3.0 * (k - 1)
+        used, faces = band(segments, 1, rings // 2)
+        head_points = [(points[p][0] + dx, points[p][1], points[p][2]) for p in used]
+        head = mesh(stage, "/World/Head%d" % k, head_points, faces)
+        n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+        values = [Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)]
+        if k == 2:
+            n.Set(values, 1)
+            n.Set(values, 2)
+        else:
+            n.Set(values)
+        n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+        used, faces = band(segments, rings // 2, rings - 1)
+        body_points = [(points[p][0] + dx, points[p][1], points[p][2]) for p in used]
+        body = mesh(stage, "/World/Body%d" % k, body_points, faces)
+        body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+        body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        if k == 1:
+            moved = [Gf.Vec3f(p[0], p[1] - 0.25, p[2]) for p in body_points]
+            body.GetPointsAttr().Set([Gf.Vec3f(*p) for p in body_points], 1)
+            body.GetPointsAttr().Set(moved, 2)
+    stage.GetRootLayer().Save()
+
+
 def skinned_neck(folder):
     """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
     sharing the equator as `head_body` does, with skin influences that differ there. The
@@ -455,6 +492,7 @@ def main():
     instanced_seams(folder)
     instanced_source(folder)
     teapots_polygonal(folder)
+    time_sampled(folder)
     skinned_neck(folder)
 
 
