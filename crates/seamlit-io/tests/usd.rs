@@ -873,6 +873,43 @@ fn time_sampled_points_are_read_at_the_earliest_sample() {
     );
 }
 
+/// Time samples (time_sampled.usda): two heads and bodies smoothed apart, the first body's
+/// points time-sampled, the second head's normals. A value the layer writes would hold for
+/// every frame (USD takes the strongest layer's opinion, samples or default), so those two
+/// meshes get no normals written, one warning each naming the layer and the mesh, and pxr
+/// composes their normals (the second head's samples) as the input's; their static partners
+/// are written.
+#[test]
+fn time_sampled_points_or_normals_are_not_overridden() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = stage("time_sampled.usda");
+    let output = dir.path().join("time_sampled.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    let refused: Vec<&String> =
+        warnings.iter().filter(|w| w.contains("its normals are not written")).collect();
+    assert_eq!(refused.len(), 2, "{warnings:#?}");
+    let layer = output.display().to_string();
+    assert!(
+        refused[0].starts_with(&layer)
+            && refused[0].contains("mesh </World/Body1>: its `points` is time-sampled, and normals fixed for one shape would hold for every frame"),
+        "{refused:?}"
+    );
+    assert!(
+        refused[1].starts_with(&layer)
+            && refused[1].contains("mesh </World/Head2>: its `primvars:normals` is time-sampled, and one value would replace its normals at every frame"),
+        "{refused:?}"
+    );
+    let diff = pxr("compare", &[&input, &output]);
+    assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
+    let changed: BTreeSet<&str> = diff["normals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap().split(' ').next().unwrap())
+        .collect();
+    assert_eq!(changed, BTreeSet::from(["/World/Body2", "/World/Head1"]), "{diff:#}");
+}
+
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400
 /// copies of each with four bytes overwritten (a fixed pseudo-random sequence; 2,000 copies
 /// of the `.usdc`, with one to four bytes overwritten, half of them inside its structural

@@ -41,6 +41,9 @@ pub(crate) struct MeshSource {
     /// For a mesh outside instances, in a stage that has instances: the sites in the root
     /// layer stack its opinions come from (its own path among them).
     pub root_sites: Vec<String>,
+    /// Its attributes that decide its normals and are time-sampled (`points`,
+    /// `primvars:normals`, ...): a value the layer writes would hold for every frame.
+    pub time_sampled: Vec<String>,
     /// The skin binding the object's influences came from, for a skinned mesh.
     pub skin: Option<SkinSource>,
 }

@@ -15,7 +15,9 @@
 //! document of a fully known shape. Meshes that are subdivision surfaces get no normals
 //! (renderers ignore them). Meshes inside instances cannot be overridden per instance: each
 //! prototype mesh is written once, at the site the reader found for it (`read/instance.rs`),
-//! with the normals its instances agree on (`prototype_over`).
+//! with the normals its instances agree on (`prototype_over`). A mesh whose points or
+//! normals are time-sampled keeps the input's normals (a value here would hold for every
+//! frame).
 
 use std::fmt::{self, Write as _};
 use std::io;
@@ -236,6 +238,10 @@ fn changed_normals(
         ));
         return Ok(None);
     }
+    if let Some(why) = time_sampled(mesh) {
+        warnings.push(format!("{}: mesh <{}>: {why}", path.display(), mesh.prim));
+        return Ok(None);
+    }
     if mesh.instance_proxy {
         warnings.push(format!(
             "{}: mesh <{}> is inside an instance, whose prims a layer cannot override one by one: its normals are not written",
@@ -294,6 +300,10 @@ fn prototype_over(
         ));
         return Ok(None);
     }
+    if let Some(why) = time_sampled(first) {
+        warnings.push(format!("{named}: {why}"));
+        return Ok(None);
+    }
     let site = match &instance.site {
         Ok(site) => site.clone(),
         Err(why) => {
@@ -346,6 +356,26 @@ fn agreed_normals(copies: &[Vec<Vec3>], input: Option<&[Vec3]>) -> (Vec<Vec3>, u
         })
         .collect();
     (normals, differ)
+}
+
+/// Why normals written on `mesh` would replace the input's frames, where they would: its
+/// points or its normals are time-sampled, and the layer writes one value, which holds for
+/// every frame (USD takes the strongest layer's opinion, samples or default).
+fn time_sampled(mesh: &MeshSource) -> Option<String> {
+    let names = &mesh.time_sampled;
+    if names.is_empty() {
+        return None;
+    }
+    let which = names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    let frames = if names.iter().any(|n| n != "points") {
+        "one value would replace its normals at every frame"
+    } else {
+        "normals fixed for one shape would hold for every frame"
+    };
+    Some(format!(
+        "its {which} {} time-sampled, and {frames}: its normals are not written (kept as the input has them)",
+        if names.len() == 1 { "is" } else { "are" }
+    ))
 }
 
 /// Whether `path` names a USD file by its extension.
