@@ -289,6 +289,145 @@ def instanced(folder):
     stage.GetRootLayer().Save()
 
 
+def instanced_seams(folder):
+    """The head and body of `head_body` (each smoothed on its own, 22.5 degrees apart at the
+    equator) as one prototype, `class "Prototypes"`'s Character, drawn by three instanceable
+    prims that reference it inside the stage, each moved and the third turned; a cap outside
+    the instances closes the first one's body at its lowest ring, smoothed on its own. And
+    two instances of a part from another layer (`instanced_part.usda`, referenced), whose
+    prototype's opinions come from that layer only."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    part = stage_at(os.path.join(folder, "instanced_part.usda"))
+    root = UsdGeom.Xform.Define(part, "/Part")
+    part.SetDefaultPrim(root.GetPrim())
+    lower, faces = box((0, 0, 0), (1, 1, 1))
+    mesh(part, "/Part/Lower", lower, faces)
+    upper, faces = box((0, 1, 0), (1, 2, 1))
+    mesh(part, "/Part/Upper", upper, faces)
+    part.GetRootLayer().Save()
+
+    stage = stage_at(os.path.join(folder, "instanced_seams.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    UsdGeom.Xform.Define(stage, "/Prototypes/Character")
+    stage.GetPrimAtPath("/Prototypes").SetSpecifier(Sdf.SpecifierClass)
+    used, faces = band(segments, 1, rings // 2)
+    head_points = [points[p] for p in used]
+    head = mesh(stage, "/Prototypes/Character/Head", head_points, faces)
+    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
+    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    used, faces = band(segments, rings // 2, rings - 1)
+    body_points = [points[p] for p in used]
+    body = mesh(stage, "/Prototypes/Character/Body", body_points, faces)
+    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    places = [("One", (0, 0, 0), 0), ("Two", (3, 0, 0), 0), ("Three", (-3, 0, 0), 90)]
+    for name, at, turn in places:
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddInternalReference("/Prototypes/Character")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(*at))
+        if turn:
+            UsdGeom.Xformable(inst).AddRotateYOp().Set(float(turn))
+    # The cap: the first instance's lowest ring and the south pole, fanned.
+    ring = [points[(rings - 1) * segments + s] for s in range(segments)]
+    cap_points = ring + [points[rings * segments]]
+    cap_faces = [[s, segments, (s + 1) % segments] for s in range(segments)]
+    cap_faces = [[f[0], f[2], f[1]] if dot(cross(sub(cap_points[f[1]], cap_points[f[0]]), sub(cap_points[f[2]], cap_points[f[0]])), (0, -1, 0)) < 0 else f for f in cap_faces]
+    cap = mesh(stage, "/World/Cap", cap_points, cap_faces)
+    cap.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(cap_points, cap_faces)])
+    cap.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    for k, name in enumerate(["PartA", "PartB"]):
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddReference("./instanced_part.usda")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(2 * k, 0, 4))
+    stage.GetRootLayer().Save()
+
+
+def instanced_source(folder):
+    """The head of `head_body` drawn at /World/Original, beside the body (outside it, sharing
+    the equator), and two instances elsewhere that reference /World/Original inside the
+    stage: the prototype's source is itself a drawn mesh, so what is written on it the
+    instances compose."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    stage = stage_at(os.path.join(folder, "instanced_source.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    UsdGeom.Xform.Define(stage, "/World/Original")
+    used, faces = band(segments, 1, rings // 2)
+    head_points = [points[p] for p in used]
+    head = mesh(stage, "/World/Original/Head", head_points, faces)
+    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
+    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    used, faces = band(segments, rings // 2, rings - 1)
+    body_points = [points[p] for p in used]
+    body = mesh(stage, "/World/Body", body_points, faces)
+    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    for k, name in enumerate(["One", "Two"]):
+        inst = UsdGeom.Xform.Define(stage, "/World/" + name)
+        inst.GetPrim().GetReferences().AddInternalReference("/World/Original")
+        inst.GetPrim().SetInstanceable(True)
+        UsdGeom.Xformable(inst).AddTranslateOp().Set(Gf.Vec3d(0, 0, 3 * (k + 1)))
+    stage.GetRootLayer().Save()
+
+
+def teapots_polygonal(folder):
+    """The usd-wg teapots (`others/intent-vfx`, 494 instances of one teapot, catmullClark),
+    sublayered, with the teapot's class turned polygonal (`subdivisionScheme = "none"` in
+    an `over` of `/_class_/teapot`, which every instance inherits), so that fix writes
+    normals on it."""
+    layer = Sdf.Layer.CreateNew(os.path.join(folder, "teapots_polygonal.usda"))
+    layer.subLayerPaths.append("./others/intent-vfx/scenes/teapotScene_layout.usd")
+    layer.defaultPrim = "Scene"
+    body = Sdf.CreatePrimInLayer(layer, "/_class_/teapot/geo/default/Body")
+    scheme = Sdf.AttributeSpec(body, "subdivisionScheme", Sdf.ValueTypeNames.Token, variability=Sdf.VariabilityUniform)
+    scheme.default = "none"
+    layer.Save()
+
+
+def time_sampled(folder):
+    """Two heads and bodies as in `head_body` (each smoothed on its own, 22.5 degrees apart at
+    the equator), the second pair beside the first: the first body's points time-sampled
+    (frames 1 and 2, the second moved down by 0.25), the second head's `primvars:normals`
+    time-sampled (frames 1 and 2, the same values)."""
+    segments, rings = 16, 8
+    points = sphere_rings(segments, rings)
+    stage = stage_at(os.path.join(folder, "time_sampled.usda"))
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    stage.SetStartTimeCode(1)
+    stage.SetEndTimeCode(2)
+    for k in (1, 2):
+        dx = 3.0 * (k - 1)
+        used, faces = band(segments, 1, rings // 2)
+        head_points = [(points[p][0] + dx, points[p][1], points[p][2]) for p in used]
+        head = mesh(stage, "/World/Head%d" % k, head_points, faces)
+        n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+        values = [Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)]
+        if k == 2:
+            n.Set(values, 1)
+            n.Set(values, 2)
+        else:
+            n.Set(values)
+        n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+        used, faces = band(segments, rings // 2, rings - 1)
+        body_points = [(points[p][0] + dx, points[p][1], points[p][2]) for p in used]
+        body = mesh(stage, "/World/Body%d" % k, body_points, faces)
+        body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
+        body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        if k == 1:
+            moved = [Gf.Vec3f(p[0], p[1] - 0.25, p[2]) for p in body_points]
+            body.GetPointsAttr().Set([Gf.Vec3f(*p) for p in body_points], 1)
+            body.GetPointsAttr().Set(moved, 2)
+    stage.GetRootLayer().Save()
+
+
 def skinned_neck(folder):
     """A head and a body bound to one skeleton (Hips, Chest, Neck) under a translated SkelRoot,
     sharing the equator as `head_body` does, with skin influences that differ there. The
@@ -350,6 +489,10 @@ def main():
     catmull(folder)
     layered(folder)
     instanced(folder)
+    instanced_seams(folder)
+    instanced_source(folder)
+    teapots_polygonal(folder)
+    time_sampled(folder)
     skinned_neck(folder)
 
 

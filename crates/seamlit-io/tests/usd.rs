@@ -404,24 +404,233 @@ fn sublayers_and_references_compose() {
     assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
 }
 
-/// Two instances of one prototype are two objects; a layer cannot override an instance's
-/// prims, so their normals are reported, not written.
+/// Two instances of one prototype (a box in a `class`, referenced inside the stage) are two
+/// objects, drawn where each instance is; their normals are written once, at the
+/// prototype's source, and pxr composes them into both instances.
 #[test]
-fn instances_are_objects_of_their_own() {
+fn instances_are_objects_and_their_prototype_is_written_once() {
     let dir = tempfile::tempdir().unwrap();
     let input = stage("instanced.usda");
+    assert_points_match_pxr(&input);
     let asset = load(&input);
     let names: Vec<&str> = asset.model.objects.iter().map(|o| o.name.as_str()).collect();
     assert_eq!(names, ["/World/One/Geom", "/World/Two/Geom"]);
     let output = dir.path().join("instanced.usda");
     let (_, warnings) = fix_to(&input, &output);
-    assert_eq!(
-        warnings.iter().filter(|w| w.contains("inside an instance")).count(),
-        2,
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert!(
+        text.contains("over \"Prototypes\"\n{\n    over \"Crate\"\n    {\n        over \"Geom\""),
+        "{text}"
+    );
+    assert_eq!(text.matches("primvars:normals = ").count(), 1, "{text}");
+    let diff = pxr("compare", &[&input, &output]);
+    assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
+    let mut normals: Vec<&str> =
+        diff["normals"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    normals.sort_unstable();
+    let mut expected = Vec::new();
+    for prim in ["/Prototypes/Crate/Geom", "/World/One/Geom", "/World/Two/Geom"] {
+        expected.push(format!("{prim} primvars:normals: absent -> valued"));
+        expected.push(format!("{prim} primvars:normals:indices: absent -> valued"));
+    }
+    expected.sort_unstable();
+    assert_eq!(normals, expected, "{diff:#}");
+}
+
+/// The face corners of `mesh` (pxr's `normals`) at which its normal moved by more than
+/// 1e-6 between the stages `before` and `after`, as the points there.
+fn moved_points(before: &Value, after: &Value, mesh: &str) -> BTreeSet<u64> {
+    let (a, b) = (&before[mesh], &after[mesh]);
+    let indices = a["indices"].as_array().unwrap();
+    let normal = |v: &Value, c: usize| -> Vec<f64> {
+        v["normals"][c].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    (0..indices.len())
+        .filter(|&c| {
+            let (n, m) = (normal(a, c), normal(b, c));
+            let length = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            (0..3).any(|k| (n[k] / length(&n) - m[k] / length(&m)).abs() > 1e-6)
+        })
+        .map(|c| indices[c].as_u64().unwrap())
+        .collect()
+}
+
+/// The head and body of head_body.usda as one prototype (in a `class`), drawn by three
+/// instances referencing it inside the stage, one turned; a cap outside the instances
+/// touching the first one's body; two instances of a part referenced from another layer.
+/// Each instance is drawn (pxr's points); fixed, the layer authors the head's and the
+/// body's normals once, on the class's meshes, and pxr composes them into every instance:
+/// the neck of each instance is closed (22.5 degrees before, 0.00 after), and the body's
+/// normals moved at the neck and nowhere else, in every instance, although the first
+/// instance's lowest ring was fixed against the cap (those corners differ per instance:
+/// the input's are kept, one warning says so). The part's prototype, whose opinions come
+/// from the other layer only, is not written: one warning per mesh names it. Nothing but
+/// normals differs, in `.usda`, `.usdc` and `.usdz`; no new validation error.
+#[test]
+fn an_instanced_prototype_is_fixed_once_for_all_its_instances() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = stage("instanced_seams.usda");
+    assert_points_match_pxr(&input);
+    let before = pxr("seams", &[&input]);
+    let necks = ["One", "Two", "Three"].map(|i| format!("/World/{i}/Body /World/{i}/Head"));
+    for neck in &necks {
+        assert!((before[neck].as_f64().unwrap() - 22.5).abs() < 1e-3, "{before}");
+    }
+    let normals_before = pxr("normals", &[&input]);
+    for extension in ["usda", "usdc", "usdz"] {
+        let output = dir.path().join(format!("instanced_seams_out.{extension}"));
+        let options =
+            LoadOptions { asset_roots: vec![dir.path().to_path_buf()], ..options_for(&input) };
+        let (asset, warnings) = fix_to_with(&input, &output, &options);
+        assert_eq!(asset.model.objects.len(), 11, "{extension}");
+        // Switched off (the first instance's normals written for all), the cap's ring
+        // would bend the body of every instance there.
+        let kept: Vec<&String> =
+            warnings.iter().filter(|w| w.contains("different normals")).collect();
+        assert_eq!(kept.len(), 1, "{extension}: {warnings:#?}");
+        assert!(
+            kept[0].contains("</Prototypes/Character/Body>")
+                && kept[0].contains("at 32 face corners"),
+            "{kept:?}"
+        );
+        let external: Vec<&String> = warnings
+            .iter()
+            .filter(|w| w.contains("outside the stage's root layer stack"))
+            .collect();
+        assert_eq!(external.len(), 2, "{extension}: {warnings:#?}");
+        for (w, mesh) in external.iter().zip(["Lower", "Upper"]) {
+            assert!(
+                w.contains(&format!("mesh </World/PartA/{mesh}>"))
+                    && w.contains("instanced_part.usda"),
+                "{w}"
+            );
+        }
+        assert_eq!(warnings.len(), 3, "{extension}: {warnings:#?}");
+
+        let after = pxr("seams", &[&output]);
+        for neck in &necks {
+            assert!(after[neck].as_f64().unwrap() < 0.005, "{extension}: {neck}: {after}");
+        }
+        let normals_after = pxr("normals", &[&output]);
+        let equator: BTreeSet<u64> = (0..16).collect();
+        for i in ["One", "Two", "Three"] {
+            let body = format!("/World/{i}/Body");
+            assert_eq!(
+                moved_points(&normals_before, &normals_after, &body),
+                equator,
+                "{extension}: {body}"
+            );
+            let head = format!("/World/{i}/Head");
+            assert!(
+                !moved_points(&normals_before, &normals_after, &head).is_empty(),
+                "{extension}: {head}"
+            );
+            assert_eq!(normals_after[&head], normals_after["/World/One/Head"], "{extension}");
+        }
+        for part in ["PartA/Lower", "PartA/Upper", "PartB/Lower", "PartB/Upper"] {
+            let mesh = format!("/World/{part}");
+            assert_eq!(normals_after[&mesh], normals_before[&mesh], "{extension}: {mesh}");
+        }
+        let diff = pxr("compare", &[&input, &output]);
+        assert_eq!(diff["differences"], serde_json::json!([]), "{extension}: {diff:#}");
+        let changed: BTreeSet<&str> = diff["normals"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l.as_str().unwrap().split(' ').next().unwrap())
+            .collect();
+        let expected: BTreeSet<String> =
+            ["/Prototypes/Character", "/World/One", "/World/Two", "/World/Three"]
+                .iter()
+                .flat_map(|p| [format!("{p}/Head"), format!("{p}/Body")])
+                .chain(["/World/Cap".to_owned()])
+                .collect();
+        assert_eq!(changed, expected.iter().map(String::as_str).collect(), "{extension}: {diff:#}");
+        let errors_in = pxr("validate", &[&input]);
+        for e in pxr("validate", &[&output]).as_array().unwrap() {
+            assert!(
+                errors_in.as_array().unwrap().contains(e),
+                "{extension}: new validation error {e}"
+            );
+        }
+    }
+}
+
+/// A prototype whose source is itself a drawn mesh (instances referencing /World/Original,
+/// whose head meets a body outside it): the head's fixed normals are written on it, pxr
+/// composes them into both instances too, and one warning says so.
+#[test]
+fn a_drawn_prototype_source_is_written_and_its_instances_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = stage("instanced_source.usda");
+    let output = dir.path().join("instanced_source.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    assert_eq!(warnings.len(), 1, "{warnings:#?}");
+    assert!(
+        warnings[0].contains("mesh </World/Original/Head>: its normals, written there, are composed by 2 instances too"),
         "{warnings:?}"
     );
+    let seams = pxr("seams", &[&output]);
+    assert!(seams["/World/Body /World/Original/Head"].as_f64().unwrap() < 0.005, "{seams}");
+    let normals = pxr("normals", &[&output]);
+    for instance in ["/World/One/Head", "/World/Two/Head"] {
+        assert_eq!(normals[instance], normals["/World/Original/Head"], "{instance}");
+    }
     let diff = pxr("compare", &[&input, &output]);
-    assert_eq!(diff, serde_json::json!({"differences": [], "normals": []}));
+    assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
+}
+
+/// A real stage by others with instancing: usd-wg's teapot layout (`others/intent-vfx`), 494
+/// instances of one teapot (an external reference and an inherit of `/_class_/teapot`,
+/// which lies in the stage's root layer stack), each drawn. Its teapot is a subdivision
+/// surface: one warning for the prototype, naming the class's mesh, nothing written. With
+/// the class turned polygonal (teapots_polygonal.usda, ours, over the layout), the normals
+/// are written once, on `/_class_/teapot/geo/default/Body`, and pxr composes them into
+/// every instance, the stage still of one prototype.
+#[test]
+fn instanced_teapots_by_others_are_written_once_on_their_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = stage("others/intent-vfx");
+    let input = stage("others/intent-vfx/scenes/teapotScene_layout.usd");
+    let options = LoadOptions { asset_roots: vec![folder], ..LoadOptions::GEOMETRY };
+    let output = dir.path().join("teapots.usda");
+    let (asset, warnings) = fix_to_with(&input, &output, &options);
+    assert_eq!(asset.model.objects.len(), 494);
+    assert_eq!(warnings.len(), 1, "{warnings:#?}");
+    assert!(
+        warnings[0]
+            .contains("mesh </_class_/teapot/geo/default/Body> (the prototype of 494 instances")
+            && warnings[0].contains("is a subdivision surface"),
+        "{warnings:?}"
+    );
+    assert!(!std::fs::read_to_string(&output).unwrap().contains("over"));
+
+    let input = stage("teapots_polygonal.usda");
+    let output = dir.path().join("teapots_polygonal.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    assert!(warnings.is_empty(), "{warnings:#?}");
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert_eq!(text.matches("primvars:normals = ").count(), 1);
+    assert!(text.contains("over \"_class_\"\n{\n    over \"teapot\""), "{}", &text[..400]);
+    let bodies = [
+        "/Scene/ring000/teapot000/geo/default/Body",
+        "/Scene/ring027/teapot500/geo/default/Body",
+        "/Scene/ring044/teapot999/geo/default/Body",
+        "/Scene/ring038/instancer_teapot038/Prototypes/teapot/geo/default/Body",
+    ];
+    let mut args: Vec<&Path> = vec![&input];
+    args.extend(bodies.iter().map(Path::new));
+    let before = pxr("normals", &args);
+    args[0] = &output;
+    let after = pxr("normals", &args);
+    assert_eq!(before["<prototypes>"], 1);
+    assert_eq!(after["<prototypes>"], 1);
+    for body in bodies {
+        assert_eq!(before[body]["normals"], Value::Null, "{body}");
+        assert_eq!(after[body]["normals"].as_array().map(Vec::len), Some(4944), "{body}");
+        assert_eq!(after[body], after[bodies[0]], "{body}");
+    }
 }
 
 /// The head's material: UsdPreviewSurface with its diffuse colour from a texture beside the
@@ -662,6 +871,43 @@ fn time_sampled_points_are_read_at_the_earliest_sample() {
         "{:?}",
         asset.warnings
     );
+}
+
+/// Time samples (time_sampled.usda): two heads and bodies smoothed apart, the first body's
+/// points time-sampled, the second head's normals. A value the layer writes would hold for
+/// every frame (USD takes the strongest layer's opinion, samples or default), so those two
+/// meshes get no normals written, one warning each naming the layer and the mesh, and pxr
+/// composes their normals (the second head's samples) as the input's; their static partners
+/// are written.
+#[test]
+fn time_sampled_points_or_normals_are_not_overridden() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = stage("time_sampled.usda");
+    let output = dir.path().join("time_sampled.usda");
+    let (_, warnings) = fix_to(&input, &output);
+    let refused: Vec<&String> =
+        warnings.iter().filter(|w| w.contains("its normals are not written")).collect();
+    assert_eq!(refused.len(), 2, "{warnings:#?}");
+    let layer = output.display().to_string();
+    assert!(
+        refused[0].starts_with(&layer)
+            && refused[0].contains("mesh </World/Body1>: its `points` is time-sampled, and normals fixed for one shape would hold for every frame"),
+        "{refused:?}"
+    );
+    assert!(
+        refused[1].starts_with(&layer)
+            && refused[1].contains("mesh </World/Head2>: its `primvars:normals` is time-sampled, and one value would replace its normals at every frame"),
+        "{refused:?}"
+    );
+    let diff = pxr("compare", &[&input, &output]);
+    assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
+    let changed: BTreeSet<&str> = diff["normals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap().split(' ').next().unwrap())
+        .collect();
+    assert_eq!(changed, BTreeSet::from(["/World/Body2", "/World/Head1"]), "{diff:#}");
 }
 
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400

@@ -4,6 +4,7 @@
 //! (`xform.rs`; a skinned mesh where its UsdSkel binding puts it at the bind pose, with its
 //! joint influences: `skel.rs`) with its bound material (`material.rs`).
 
+mod instance;
 mod material;
 mod mesh;
 mod resolver;
@@ -31,7 +32,8 @@ use crate::usd::source::StageSource;
 ///
 /// What comes in: one object per `Mesh` prim a renderer draws (not invisible, not of purpose
 /// guide or proxy), named by its prim path, in traversal order; an instance's meshes (instance
-/// proxies) are objects of their own. Positions are the mesh's points in its local space, the
+/// proxies) are objects of their own, and the writer learns their prototype and where its
+/// opinions can be authored for every instance. Positions are the mesh's points in its local space, the
 /// object's transform its world matrix (xformOps, `!resetXformStack!`), turned to +Y up where
 /// the stage's `upAxis` is Z; lengths stay in the stage's units (`metersPerUnit` is not
 /// applied, so a weld tolerance is in the stage's units). A skinned mesh (UsdSkel, under a
@@ -82,6 +84,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let mut xforms = xform::Xforms::new(stage);
     let mut materials = material::Materials::new(stage, path, &options.asset_roots);
     let mut skels = skel::Skels::new(stage);
+    let mut instances = instance::Instances::new(stage);
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
@@ -108,7 +111,11 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
             None => None,
         };
         let placement = mesh::Placement { world, up, skin };
-        let read = mesh::read(&prim, placement, path, options, &mut warnings)?;
+        let mut read = mesh::read(&prim, placement, path, options, &mut warnings)?;
+        read.source.instance = instances.source(&prim).map_err(at)?;
+        if read.source.instance.is_none() {
+            read.source.root_sites = instances.root_sites(&prim_path).map_err(at)?;
+        }
         let mut object = read.object;
         object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
         triangles += object.triangle_count();

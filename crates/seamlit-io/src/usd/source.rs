@@ -34,10 +34,28 @@ pub(crate) struct MeshSource {
     pub subdivision: Option<String>,
     /// Whether a plain `normals` attribute has a value (the writer blocks it).
     pub plain_normals: bool,
-    /// Whether the prim is an instance proxy (its normals cannot be overridden).
+    /// Whether the prim is an instance proxy (its own properties cannot be overridden).
     pub instance_proxy: bool,
+    /// For an instance proxy: its prototype, and where its normals can be written.
+    pub instance: Option<InstanceSource>,
+    /// For a mesh outside instances, in a stage that has instances: the sites in the root
+    /// layer stack its opinions come from (its own path among them).
+    pub root_sites: Vec<String>,
+    /// Its attributes that decide its normals and are time-sampled (`points`,
+    /// `primvars:normals`, ...): a value the layer writes would hold for every frame.
+    pub time_sampled: Vec<String>,
     /// The skin binding the object's influences came from, for a skinned mesh.
     pub skin: Option<SkinSource>,
+}
+
+/// An instance proxy mesh: the prototype prim it stands for (`/__Prototype_1/Geom`), its
+/// instance, and the path in the root layer stack where an `over` changes it in every
+/// instance of that prototype (`/Prototypes/Crate/Geom`), or why there is none.
+#[derive(Clone, Debug)]
+pub(crate) struct InstanceSource {
+    pub prototype: String,
+    pub instance: String,
+    pub site: Result<String, String>,
 }
 
 /// A skinned mesh's binding as read (UsdSkelBindingAPI), so the writer can put matched

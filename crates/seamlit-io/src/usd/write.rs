@@ -13,8 +13,11 @@
 //! The text is written here, not by openusd's usda writer (which writes `apiSchemas`
 //! without brackets, `uniform rel`, and other text Pixar's USD does not read): it is a small
 //! document of a fully known shape. Meshes that are subdivision surfaces get no normals
-//! (renderers ignore them); meshes inside instances cannot be overridden per instance and
-//! are reported.
+//! (renderers ignore them). Meshes inside instances cannot be overridden per instance: each
+//! prototype mesh is written once, at the site the reader found for it (`read/instance.rs`),
+//! with the normals its instances agree on (`prototype_over`). A mesh whose points or
+//! normals are time-sampled keeps the input's normals (a value here would hold for every
+//! frame).
 
 use std::fmt::{self, Write as _};
 use std::io;
@@ -127,8 +130,11 @@ impl Layer {
 
 /// What the layer authors on one mesh.
 struct MeshOver {
-    /// An index into the stage's meshes.
+    /// An index into the stage's meshes (for a prototype's, its first instance's copy).
     mesh: usize,
+    /// The prim the `over` is written at: the mesh's, or for an instance's mesh the
+    /// prototype's site in the root layer stack.
+    prim: String,
     /// Its normals at each face corner, where they changed.
     normals: Option<Vec<Vec3>>,
     /// Its skin influences, where they changed.
@@ -150,16 +156,59 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
         .map_err(|reason| refuse(UsdOutput::ModelChanged { reason }))?;
     let mut warnings = Vec::new();
     let mut overs = Vec::new();
+    // The instance proxies of each prototype mesh, in the order of the stage's meshes.
+    let mut prototypes: Vec<(&str, Vec<usize>)> = Vec::new();
     for (m, (object, mesh)) in asset.model.objects.iter().zip(&stage.meshes).enumerate() {
-        let normals = changed_normals(object, mesh, path, &mut warnings).map_err(refuse)?;
         let skin = match &mesh.skin {
             Some(skin) if asset.skins_changed.objects.contains(&m) => {
                 skin_over(object, mesh, skin, &stage.joints, path, &mut warnings)
             }
             _ => None,
         };
+        if let Some(instance) = &mesh.instance {
+            match prototypes.iter_mut().find(|(p, _)| *p == instance.prototype) {
+                Some((_, copies)) => copies.push(m),
+                None => prototypes.push((&instance.prototype, vec![m])),
+            }
+            continue;
+        }
+        let normals = changed_normals(object, mesh, path, &mut warnings).map_err(refuse)?;
         if normals.is_some() || skin.is_some() {
-            overs.push(MeshOver { mesh: m, normals, skin });
+            overs.push(MeshOver { mesh: m, prim: mesh.prim.clone(), normals, skin });
+        }
+    }
+    let mut written: Vec<(String, usize)> = Vec::new();
+    for (_, copies) in &prototypes {
+        let Some(over) = prototype_over(&asset.model.objects, &stage, copies, path, &mut warnings)
+            .map_err(refuse)?
+        else {
+            continue;
+        };
+        // Two prototypes (instances of one source with different arcs) cannot share a site.
+        if let Some((_, other)) = written.iter().find(|(site, _)| *site == over.prim) {
+            warnings.push(format!(
+                "{}: mesh <{}>: the instances of two prototypes (<{}>, <{}>) compose their normals from <{}>, where they differ: its normals are not written",
+                path.display(),
+                stage.meshes[copies[0]].prim,
+                stage.meshes[*other].prim,
+                stage.meshes[copies[0]].prim,
+                over.prim
+            ));
+            overs.retain(|o| o.prim != over.prim);
+            continue;
+        }
+        written.push((over.prim.clone(), copies[0]));
+        overs.push(over);
+    }
+    for (_, copies) in &prototypes {
+        let instance = stage.meshes[copies[0]].instance.as_ref();
+        let Some(site) = instance.and_then(|i| i.site.as_ref().ok()) else { continue };
+        if overs.iter().any(|o| o.prim == *site && stage.meshes[o.mesh].instance.is_none()) {
+            warnings.push(format!(
+                "{}: mesh <{site}>: its normals, written there, are composed by {} too (they reference it)",
+                path.display(),
+                plural(copies.len(), "instance")
+            ));
         }
     }
     Ok(Layer { input: input.to_path_buf(), stage, overs, warnings })
@@ -189,6 +238,10 @@ fn changed_normals(
         ));
         return Ok(None);
     }
+    if let Some(why) = time_sampled(mesh) {
+        warnings.push(format!("{}: mesh <{}>: {why}", path.display(), mesh.prim));
+        return Ok(None);
+    }
     if mesh.instance_proxy {
         warnings.push(format!(
             "{}: mesh <{}> is inside an instance, whose prims a layer cannot override one by one: its normals are not written",
@@ -198,6 +251,131 @@ fn changed_normals(
         return Ok(None);
     }
     Ok(Some(normals))
+}
+
+/// The largest angle, in degrees, between two instances' normals of one face corner that
+/// still counts as the same: `f32` rounding through different instance transforms (the
+/// usd-wg teapots, 0.3 units across, up to 2.7 from the origin, turned and scaled, differ by
+/// up to 0.07 degrees at their tiniest faces), far below a seam's degrees.
+const SAME_NORMAL_DEGREES: f32 = 0.25;
+
+/// The `over` of one prototype mesh, from its instance proxies `copies` (indices into the
+/// stage's meshes and the objects), written where the stage lets one layer change every
+/// instance (the site the reader found). At each face corner it authors the normal every
+/// instance was given; where they were given different ones (a seam with a mesh outside the
+/// instances, different in each), the input's normal (without one, the instances' mean), with
+/// one warning. `None`, with a warning, where nothing can be written: a subdivision surface,
+/// no site (an external reference), or a site that is also a mesh outside instances.
+fn prototype_over(
+    objects: &[Object],
+    stage: &StageSource,
+    copies: &[usize],
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Option<MeshOver>, UsdOutput> {
+    let first = &stage.meshes[copies[0]];
+    let Some(instance) = &first.instance else { return Ok(None) };
+    let mut all = Vec::with_capacity(copies.len());
+    for &m in copies {
+        let Some(normals) = corner_normals(&objects[m], &stage.meshes[m]) else { return Ok(None) };
+        if !normals.iter().all(|n| n.is_finite()) {
+            return Err(UsdOutput::NotFinite { object: objects[m].name.clone() });
+        }
+        all.push(normals);
+    }
+    let (normals, differ) = agreed_normals(&all, first.corner_normals.as_deref());
+    if first.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
+        return Ok(None);
+    }
+    let named = format!(
+        "{}: mesh <{}> (the prototype of {}, <{}> among them)",
+        path.display(),
+        instance.site.as_deref().unwrap_or(&first.prim),
+        plural(copies.len(), "instance"),
+        instance.instance
+    );
+    if let Some(scheme) = &first.subdivision {
+        warnings.push(format!(
+            "{named} is a subdivision surface (subdivisionScheme {scheme}): no normals are written on it (renderers ignore them)"
+        ));
+        return Ok(None);
+    }
+    if let Some(why) = time_sampled(first) {
+        warnings.push(format!("{named}: {why}"));
+        return Ok(None);
+    }
+    let site = match &instance.site {
+        Ok(site) => site.clone(),
+        Err(why) => {
+            warnings.push(format!("{named}: its normals are not written: {why}"));
+            return Ok(None);
+        }
+    };
+    if let Some(other) = stage.meshes.iter().find(|m| m.root_sites.contains(&site)) {
+        warnings.push(format!(
+            "{named}: its normals are not written: mesh <{}>, outside instances, composes from <{site}> too and would change with them",
+            other.prim
+        ));
+        return Ok(None);
+    }
+    if differ > 0 {
+        let kept = if first.corner_normals.is_some() {
+            "the input's normals are kept there"
+        } else {
+            "the instances' mean is written there"
+        };
+        warnings.push(format!(
+            "{named}: at {differ} face corners its instances were given different normals (seams with meshes outside the instances, different in each, which one prototype cannot close): {kept}"
+        ));
+    }
+    Ok(Some(MeshOver { mesh: copies[0], prim: site, normals: Some(normals), skin: None }))
+}
+
+/// `count` `thing`s, in English.
+fn plural(count: usize, thing: &str) -> String {
+    if count == 1 { format!("1 {thing}") } else { format!("{count} {thing}s") }
+}
+
+/// Per face corner: the normal every copy has (the first copy's), else the input's where
+/// there is one, else the copies' mean; and the number of corners where the copies differ.
+fn agreed_normals(copies: &[Vec<Vec3>], input: Option<&[Vec3]>) -> (Vec<Vec3>, usize) {
+    let cos_same = SAME_NORMAL_DEGREES.to_radians().cos();
+    let same = |a: Vec3, b: Vec3| a.normalize_or_zero().dot(b.normalize_or_zero()) >= cos_same;
+    let mut differ = 0;
+    let normals = (0..copies[0].len())
+        .map(|c| {
+            let first = copies[0][c];
+            if copies.iter().all(|n| same(n[c], first)) {
+                return first;
+            }
+            differ += 1;
+            match input {
+                Some(input) => input[c],
+                None => copies.iter().map(|n| n[c]).sum::<Vec3>().try_normalize().unwrap_or(first),
+            }
+        })
+        .collect();
+    (normals, differ)
+}
+
+/// Why normals written on `mesh` would replace the input's frames, where they would: its
+/// points or its normals are time-sampled, and the layer writes one value, which holds for
+/// every frame (USD takes the strongest layer's opinion, samples or default).
+fn time_sampled(mesh: &MeshSource) -> Option<String> {
+    let names = &mesh.time_sampled;
+    if names.is_empty() {
+        return None;
+    }
+    let which = names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    let frames = if names.iter().any(|n| n != "points") {
+        "one value would replace its normals at every frame"
+    } else {
+        "normals fixed for one shape would hold for every frame"
+    };
+    Some(format!(
+        "its {which} {} time-sampled, and {frames}: its normals are not written (kept as the input has them)",
+        if names.len() == 1 { "is" } else { "are" }
+    ))
 }
 
 /// Whether `path` names a USD file by its extension.
@@ -346,7 +524,7 @@ fn document(out: &mut impl fmt::Write, sublayer: &str, layer: &Layer) -> fmt::Re
     let mut root = Over::default();
     for (k, over) in layer.overs.iter().enumerate() {
         let mut node = &mut root;
-        for name in layer.stage.meshes[over.mesh].prim.split('/').filter(|n| !n.is_empty()) {
+        for name in over.prim.split('/').filter(|n| !n.is_empty()) {
             node = node.at(name);
         }
         node.mesh = Some(k);

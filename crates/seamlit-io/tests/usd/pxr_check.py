@@ -7,6 +7,11 @@
     pxr_check.py validate STAGE OUT.json      UsdValidation's errors
     pxr_check.py seam STAGE OUT.json          the largest angle between normals of different
                                               meshes at shared positions, world space
+    pxr_check.py seams STAGE OUT.json         `seam` per pair of meshes: "MESH MESH" -> degrees
+    pxr_check.py normals STAGE [PRIM ...] OUT.json
+                                              per drawn mesh (or PRIM named): its
+                                              faceVertexIndices and the normal a renderer uses
+                                              at each face corner; the number of prototypes
     pxr_check.py package USDZ OUT.json        the package's files (name, data offset, whether
                                               stored uncompressed, sizes) and its root layer
                                               (usd-core 26 has no UsdUtils.ComplianceChecker:
@@ -189,6 +194,49 @@ def seam(stage_path, out):
     json.dump({"largest_degrees": largest, "pairs": pairs}, open(out, "w"))
 
 
+def seams(stage_path, out):
+    stage = Usd.Stage.Open(stage_path)
+    by_position = {}
+    for prim, world in drawn_meshes(stage):
+        mesh = UsdGeom.Mesh(prim)
+        normals = corner_normals(mesh)
+        if normals is None:
+            continue
+        pts = mesh.GetPointsAttr().Get()
+        normal_matrix = world.GetInverse().GetTranspose()
+        for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
+            n = normal_matrix.TransformDir(Gf.Vec3d(normals[c])).GetNormalized()
+            key = tuple(round(x, 4) for x in world.Transform(Gf.Vec3d(pts[p])))
+            by_position.setdefault(key, []).append((str(prim.GetPath()), n))
+    result = {}
+    for group in by_position.values():
+        for i in range(len(group)):
+            for j in range(i + 1, len(group)):
+                if group[i][0] == group[j][0]:
+                    continue
+                pair = " ".join(sorted([group[i][0], group[j][0]]))
+                d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
+                result[pair] = max(result.get(pair, 0.0), math.degrees(math.acos(d)))
+    json.dump(result, open(out, "w"))
+
+
+def normals(stage_path, *rest):
+    """`normals STAGE [PRIM ...] OUT`: of every drawn mesh, or of the PRIMs named; and the
+    stage's number of instancing prototypes, as "<prototypes>"."""
+    out, named = rest[-1], rest[:-1]
+    stage = Usd.Stage.Open(stage_path)
+    result = {"<prototypes>": len(stage.GetPrototypes())}
+    meshes = [(stage.GetPrimAtPath(p), None) for p in named] if named else drawn_meshes(stage)
+    for prim, _ in meshes:
+        mesh = UsdGeom.Mesh(prim)
+        values = corner_normals(mesh)
+        result[str(prim.GetPath())] = {
+            "indices": list(mesh.GetFaceVertexIndicesAttr().Get() or []),
+            "normals": None if values is None else [[n[0], n[1], n[2]] for n in values],
+        }
+    json.dump(result, open(out, "w"))
+
+
 def package(usdz_path, out):
     zf = Sdf.ZipFile.Open(usdz_path)
     files = []
@@ -265,5 +313,5 @@ def skinned(stage_path, out, joint=None, degrees="0"):
 
 if __name__ == "__main__":
     command, args = sys.argv[1], sys.argv[2:]
-    {"points": points, "compare": compare, "validate": validate, "seam": seam,
+    {"points": points, "compare": compare, "validate": validate, "seam": seam, "seams": seams, "normals": normals,
      "package": package, "layer": layer, "skinned": skinned}[command](*args)

@@ -189,6 +189,7 @@ pub(super) fn read(
         points: topology.points.len(),
     });
     let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
+    let time_sampled = time_sampled(prim).map_err(|e| at.openusd(e))?;
     let source = MeshSource {
         prim: at.prim.to_owned(),
         triangle_corners: corners.triangle_corners,
@@ -197,6 +198,9 @@ pub(super) fn read(
         subdivision,
         plain_normals,
         instance_proxy,
+        instance: None,
+        root_sites: Vec::new(),
+        time_sampled,
         skin,
     };
     Ok(Read { object, source })
@@ -290,6 +294,18 @@ impl At<'_> {
     }
 }
 
+/// The attributes that decide the mesh's normals and have time samples (their own, a value
+/// clip's, or across an arc): `points`, `primvars:normals`, its indices, `normals`.
+fn time_sampled(prim: &usd::Prim) -> anyhow::Result<Vec<String>> {
+    let mut out = Vec::new();
+    for name in ["points", "primvars:normals", "primvars:normals:indices", "normals"] {
+        if !prim.attribute(name).time_sample_times()?.is_empty() {
+            out.push(name.to_owned());
+        }
+    }
+    Ok(out)
+}
+
 /// A mesh's points and polygons, checked: counts add up, indices name points, points are
 /// finite, sizes within the limit.
 struct Topology {
@@ -309,7 +325,7 @@ impl Topology {
         if samples.is_some_and(|s| !s.is_empty()) {
             at.warn(
                 warnings,
-                "its points are time-sampled; read at their default, else their earliest sample, and the normals fixed (and written) for that shape only",
+                "its points are time-sampled; read at their default, else their earliest sample, and the normals fixed for that shape only",
             );
         }
         let ints_of =
