@@ -544,9 +544,13 @@ fn the_anisotropy_texture_matches_the_sample_viewer() {
 /// roughness by texture, base and coat normal maps), each beside its uncoated base and its
 /// coat alone, with text labels. Under the one sun, mean FLIP 0.0337 (the aim), but
 /// 0.0335 without the clearcoat: the sun's highlights on the coat are too few pixels to
-/// count, most of the error being the labels' text and the tiles' edges. Under sky.hdr the
-/// coat reflects the sky on every tile: 0.0404 with it, 0.0504 without, so that comparison,
-/// over the 0.035 by the same labels and edges, is held under 0.045.
+/// count. Under sky.hdr the coat reflects the sky on every tile: 0.0404 with it, 0.0504
+/// without, held under 0.045. Most of that is not the coat: the tiles are dark, and the
+/// Sample Viewer encodes its output with pow(c, 1 / 2.2) where seamlit writes sRGB, which
+/// in dark tones is several levels brighter (a black coated tile: the Sample Viewer's
+/// (20, 15, 7), seamlit's (12, 6, 1), which is (20, 15, 6) so encoded; the uncoated tiles
+/// differ as much). Re-encoded as the Sample Viewer encodes ([`as_the_sample_viewer_encodes`]),
+/// 0.0288 with the coat and 0.0370 without: that comparison is held to 0.033.
 #[test]
 fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
     let model = "ClearCoatTest";
@@ -554,6 +558,38 @@ fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
     let extension = "KHR_materials_clearcoat";
     let scene = without_extension(model, extension);
     seen_under(Lighting::Environment, model, extension, &scene, 0.045);
+    let lighting = Lighting::Environment;
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    let encoded = |file: &str| {
+        let picture = image::open(dir.join(file)).expect("seen_under's picture").to_rgb8();
+        flip(&reference, &as_the_sample_viewer_encodes(&picture)).0
+    };
+    let with = encoded("ClearCoatTest.environment.png");
+    let without = encoded("ClearCoatTest.environment.without.png");
+    eprintln!("{model}.environment as the Sample Viewer encodes: {with:.4}, {without:.4} without");
+    assert!(with < 0.033, "{model}: mean FLIP {with:.4} as the Sample Viewer encodes");
+    assert!(without >= 0.033, "{model}: mean FLIP {without:.4} without the coat");
+}
+
+/// seamlit's picture (sRGB bytes) as the Sample Viewer would have written the same light:
+/// its shaders end with `linearTosRGB`, pow(c, 1 / 2.2) (GAMMA 2.2 in its
+/// tonemapping.glsl), not the sRGB curve. The background, which both clear to the same bytes
+/// (39, 39, 44) without a shader, is left as it is.
+#[expect(clippy::cast_possible_truncation, reason = "a value rounded within 0..=255")]
+fn as_the_sample_viewer_encodes(picture: &image::RgbImage) -> image::RgbImage {
+    let encode = |byte: u8| {
+        let c = f32::from(byte) / 255.0;
+        let linear = if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        (linear.powf(1.0 / 2.2) * 255.0).round() as u8
+    };
+    let mut out = picture.clone();
+    for pixel in out.pixels_mut() {
+        if pixel.0 != [39, 39, 44] {
+            pixel.0 = pixel.0.map(encode);
+        }
+    }
+    out
 }
 
 #[test]
