@@ -394,7 +394,8 @@ struct DefaultTextures {
     flat: wgpu::TextureView,
     /// White linear data: metallic-roughness and occlusion multiply their factors by it.
     white_data: wgpu::TextureView,
-    /// The sheen's directional albedo E(cos, roughness) (`sheen.rs`), a storage buffer.
+    /// The sheen's tables (`sheen.rs`), a storage buffer: its directional albedo
+    /// E(cos, roughness), then the scale of its image-based light.
     sheen_albedo: wgpu::Buffer,
     sampler: wgpu::Sampler,
 }

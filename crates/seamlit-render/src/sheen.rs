@@ -18,7 +18,7 @@ use wgpu::util::DeviceExt;
 use crate::GpuContext;
 
 /// Entries a side: x is cos theta (n.v or n.l), y the sheen roughness, each at the centres
-/// of SIZE equal steps (`SHEEN_TABLE_SIZE` in `mesh.wgsl`).
+/// of SIZE equal steps (`SHEEN_TABLE_SIZE` in `layers.wgsl`).
 pub(crate) const SIZE: u32 = 32;
 
 /// The Charlie distribution D(h) for a sheen roughness.
