@@ -341,6 +341,9 @@ fn without_extension(model: &str, extension: &str) -> PathBuf {
             }
         }
         json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != extension);
+        if let Some(required) = json.get_mut("extensionsRequired").and_then(|r| r.as_array_mut()) {
+            required.retain(|e| e != extension);
+        }
     })
 }
 
@@ -683,4 +686,48 @@ fn the_khronos_emissive_strength_test_matches_the_sample_viewer() {
     extension_seen_by_the_comparison(model, extension, 0.03);
     let scene = without_extension(model, extension);
     seen_under(Lighting::Environment, model, extension, &scene, 0.033);
+}
+
+/// The mean FLIP error of `model`'s picture, lit as `lighting` says, drawn from `scene`,
+/// against the Sample Viewer's over the left two thirds of the frame only; the whole
+/// frame's is printed beside it.
+fn left_two_thirds(model: &str, scene: &Path, lighting: Lighting, name: &str) -> f32 {
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours = render_scene(
+        scene,
+        lighting,
+        &[],
+        reference.dimensions(),
+        &dir.join(format!("{name}.png")),
+    );
+    let (w, h) = reference.dimensions();
+    let crop = |picture: &image::RgbImage| {
+        image::imageops::crop_imm(picture, 0, 0, w * 2 / 3, h).to_image()
+    };
+    let (whole, _) = flip(&reference, &ours);
+    let (left, _) = flip(&crop(&reference), &crop(&ours));
+    eprintln!("{name}: mean FLIP {left:.4} over the left two thirds, {whole:.4} over the frame");
+    left
+}
+
+/// Khronos' IridescenceSuzanne (glTF-Sample-Assets, UX3D and Pascal Schoen, CC0:
+/// assets/models/iridescence_suzanne), framed by compare.sh: three heads under a thin film,
+/// a dielectric and a metal (left two thirds of the frame) and a transmissive one (right),
+/// lit by the file's own lights and the comparison's sun. The transmissive head shows the
+/// transmission target's clear colour, which the Sample Viewer fills with the background's
+/// sRGB bytes taken as linear light (its (85, 85, 91) against seamlit's (13, 11, 19) there):
+/// a known difference of the two renderers, not of iridescence, and nine tenths of the
+/// frame's error (mean FLIP 0.0384 with the films, 0.0399 without). Over the left two thirds:
+/// 0.0068 with the films, 0.0102 with the extension taken out of the file.
+#[test]
+fn the_khronos_iridescence_suzanne_matches_the_sample_viewer() {
+    let (model, extension) = ("IridescenceSuzanne", "KHR_materials_iridescence");
+    let lighting = Lighting::PunctualOnly;
+    let with = left_two_thirds(model, &data().join(format!("{model}.toml")), lighting, model);
+    let scene = without_extension(model, extension);
+    let without = left_two_thirds(model, &scene, lighting, &format!("{model}.without"));
+    assert!(with < 0.0085, "{model}: mean FLIP {with:.4} over the left two thirds");
+    assert!(without >= 0.0085, "{model}: mean FLIP {without:.4} without {extension}");
 }
