@@ -720,7 +720,9 @@ fn left_two_thirds(model: &str, scene: &Path, lighting: Lighting, name: &str) ->
 /// sRGB bytes taken as linear light (its (85, 85, 91) against seamlit's (13, 11, 19) there):
 /// a known difference of the two renderers, not of iridescence, and nine tenths of the
 /// frame's error (mean FLIP 0.0384 with the films, 0.0399 without). Over the left two thirds:
-/// 0.0068 with the films, 0.0102 with the extension taken out of the file.
+/// 0.0068 with the films, 0.0102 with the extension taken out of the file. Under sky.hdr the
+/// films colour the metal head's reflections of the sky, and the whole frame is within the
+/// issue's aim: 0.0323 with them, 0.0567 without.
 #[test]
 fn the_khronos_iridescence_suzanne_matches_the_sample_viewer() {
     let (model, extension) = ("IridescenceSuzanne", "KHR_materials_iridescence");
@@ -730,4 +732,5 @@ fn the_khronos_iridescence_suzanne_matches_the_sample_viewer() {
     let without = left_two_thirds(model, &scene, lighting, &format!("{model}.without"));
     assert!(with < 0.0085, "{model}: mean FLIP {with:.4} over the left two thirds");
     assert!(without >= 0.0085, "{model}: mean FLIP {without:.4} without {extension}");
+    seen_under(Lighting::Environment, model, extension, &scene, EXTENSION_AIM);
 }
