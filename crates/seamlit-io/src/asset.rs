@@ -242,6 +242,55 @@ pub struct Material {
     /// The glTF PBR extensions the material uses beyond metallic-roughness (ior, specular,
     /// clearcoat, sheen); all `None` for a material without them.
     pub extensions: PbrExtensions,
+    /// How the material's textures are sampled: the glTF sampler of its base colour texture
+    /// (else of its first core texture that names one). Renderers sample every texture of a
+    /// material alike; the default (repeat, trilinear) is glTF's for a texture without one.
+    pub sampling: TextureSampling,
+}
+
+/// A glTF sampler: wrapping and filters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TextureSampling {
+    /// Wrapping across (glTF `wrapS`) and down (`wrapT`).
+    pub wrap: [Wrap; 2],
+    /// Magnification filter (glTF `magFilter`).
+    pub mag_filter: TextureFilter,
+    /// Minification filter within a mip (glTF `minFilter`).
+    pub min_filter: TextureFilter,
+    /// Filter between mips; `None` where `minFilter` is NEAREST or LINEAR, which sample the
+    /// full-size image only.
+    pub mipmap_filter: Option<TextureFilter>,
+}
+
+impl Default for TextureSampling {
+    fn default() -> Self {
+        Self {
+            wrap: [Wrap::Repeat; 2],
+            mag_filter: TextureFilter::Linear,
+            min_filter: TextureFilter::Linear,
+            mipmap_filter: Some(TextureFilter::Linear),
+        }
+    }
+}
+
+/// How texture coordinates outside 0..1 read a texture (glTF `wrapS`, `wrapT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image tiles (REPEAT, 10497).
+    Repeat,
+    /// The edge texels extend (CLAMP_TO_EDGE, 33071).
+    ClampToEdge,
+    /// The image tiles, every other copy mirrored (MIRRORED_REPEAT, 33648).
+    MirroredRepeat,
+}
+
+/// A texture filter (glTF's NEAREST and LINEAR, and the halves of its mipmap filters).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// The nearest texel (or mip).
+    Nearest,
+    /// A linear blend of the nearest texels (or mips).
+    Linear,
 }
 
 /// glTF material extensions that add to the metallic-roughness BRDF, as their specifications
@@ -528,6 +577,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             unlit: false,
             extensions: PbrExtensions::default(),
+            sampling: TextureSampling::default(),
         }
     }
 }

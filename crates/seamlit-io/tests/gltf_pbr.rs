@@ -132,6 +132,42 @@ fn the_specification_defaults_apply_when_the_file_is_silent() {
     assert_eq!(blend.materials[0].alpha_mode, AlphaMode::Blend);
 }
 
+/// The glTF sampler of a material's base colour texture (else of its first core texture
+/// that names one) is its `sampling`; a material whose textures name none reads as glTF's
+/// default sampler (repeat, trilinear).
+#[test]
+fn a_material_s_textures_are_sampled_as_its_gltf_sampler_says() {
+    use seamlit_io::{TextureFilter, TextureSampling, Wrap};
+    let dir = tempfile::tempdir().unwrap();
+    let material = json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } },
+                           "normalTexture": { "index": 1 } });
+    let samplers = json!({ "samplers": [
+        { "wrapS": 33071, "wrapT": 33648, "magFilter": 9728, "minFilter": 9729 },
+        { "wrapS": 10497 } ] });
+    let mut doc = document(&material, 2, &samplers);
+    doc["textures"][0]["sampler"] = json!(0);
+    doc["textures"][1]["sampler"] = json!(1);
+    let asset = load(dir.path(), "clamped.gltf", &doc);
+    let expected = TextureSampling {
+        wrap: [Wrap::ClampToEdge, Wrap::MirroredRepeat],
+        mag_filter: TextureFilter::Nearest,
+        min_filter: TextureFilter::Linear,
+        mipmap_filter: None,
+    };
+    assert_eq!(asset.materials[0].sampling, expected);
+    // Without a sampler on the base colour texture, the normal map's (repeat, and glTF's
+    // defaults for what it leaves out) is the material's.
+    doc["textures"][0].as_object_mut().unwrap().remove("sampler");
+    let asset = load(dir.path(), "normal.gltf", &doc);
+    assert_eq!(asset.materials[0].sampling, TextureSampling::default());
+    let khronos = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets/models/texture_transform_test/TextureTransformTest.gltf");
+    let asset = seamlit_io::load(&khronos, &LoadOptions::default()).unwrap();
+    let clamped = TextureSampling { wrap: [Wrap::ClampToEdge; 2], mipmap_filter: None, ..expected };
+    let clamped = TextureSampling { mag_filter: TextureFilter::Linear, ..clamped };
+    assert_eq!(asset.materials[0].sampling, clamped, "{}", asset.materials[0].name);
+}
+
 #[test]
 fn punctual_lights_are_placed_by_their_nodes() {
     let dir = tempfile::tempdir().unwrap();

@@ -18,6 +18,12 @@ const SPECULAR_SIZE: u32 = 128;
 pub(crate) const SPECULAR_MIPS: u32 = 6;
 /// Face size of the irradiance cube.
 const IRRADIANCE_SIZE: u32 = 32;
+/// Mips of the irradiance cube after its first that hold KHR_materials_sheen's environment
+/// (Charlie-prefiltered, as the Khronos glTF Sample Viewer prefilters it): mip `1 + m` for
+/// sheen roughness `m / (SHEEN_MIPS - 1)` (`SHEEN_MIPS` in `layers.wgsl`). They share the
+/// irradiance's texture because a material's shader stage has no sampled texture left for
+/// a cube of their own (see `Layouts::environment`).
+pub(crate) const SHEEN_MIPS: u32 = 5;
 /// The base cube's mip that the irradiance sums over, texel by texel (16 x 16 per face).
 const IRRADIANCE_SOURCE_MIP: u32 = 4;
 /// Size of the split-sum BRDF table (n.v across, roughness down).
@@ -58,7 +64,8 @@ impl Environment {
 }
 
 /// An environment on the GPU: the specular cube (GGX-prefiltered mips), the irradiance cube
-/// and the split-sum BRDF table, bound together for the mesh shader. Give it to
+/// (with the sheen's Charlie-prefiltered environment in its smaller mips) and the split-sum
+/// BRDF table, bound together for the mesh shader. Give it to
 /// [`crate::Renderer::set_environment`]. Cloning shares the textures.
 #[derive(Clone, Debug)]
 pub struct GpuEnvironment {
@@ -81,8 +88,8 @@ struct Targets {
 
 impl GpuEnvironment {
     /// Prefilters `environment` on the GPU: resamples it into a cube map with mips, then
-    /// prefilters the specular mips (one per roughness), sums the irradiance and computes the
-    /// BRDF table.
+    /// prefilters the specular mips (one per roughness), sums the irradiance, prefilters the
+    /// sheen's mips and computes the BRDF table.
     ///
     /// # Errors
     ///
@@ -104,6 +111,7 @@ impl GpuEnvironment {
             encode_base_mips(ctx, &module, &mut encoder, &targets);
             encode_specular(ctx, &module, &mut encoder, &targets);
             encode_irradiance(ctx, &module, &mut encoder, &targets);
+            encode_sheen(ctx, &module, &mut encoder, &targets);
             encode_lut(ctx, &module, &mut encoder, &targets);
             let lut = lut_buffer(ctx);
             encoder.copy_texture_to_buffer(
@@ -151,7 +159,7 @@ impl Targets {
         Self {
             base: cube_texture(ctx, "seamlit environment", BASE_SIZE, base_mips),
             specular: cube_texture(ctx, "seamlit specular", SPECULAR_SIZE, SPECULAR_MIPS),
-            irradiance: cube_texture(ctx, "seamlit irradiance", IRRADIANCE_SIZE, 1),
+            irradiance: cube_texture(ctx, "seamlit irradiance", IRRADIANCE_SIZE, 1 + SHEEN_MIPS),
             lut: texture_2d(ctx, "seamlit brdf lut", LUT_SIZE),
         }
     }
@@ -363,13 +371,7 @@ fn encode_specular(
 ) {
     let specular = step(ctx, module, "cs_specular");
     let base = cube_view(&targets.base, None);
-    let sampler = ctx.device().create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("seamlit ibl"),
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        mipmap_filter: wgpu::MipmapFilterMode::Linear,
-        ..Default::default()
-    });
+    let sampler = trilinear(ctx);
     for mip in 0..SPECULAR_MIPS {
         let out = cube_view(&targets.specular, Some(mip));
         let roughness = mip as f32 / (SPECULAR_MIPS - 1) as f32;
@@ -386,6 +388,17 @@ fn encode_specular(
             6,
         );
     }
+}
+
+/// A clamping trilinear sampler for the prefilters' reads of the base cube.
+fn trilinear(ctx: &GpuContext) -> wgpu::Sampler {
+    ctx.device().create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("seamlit ibl"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    })
 }
 
 /// Step 4: the irradiance cube, summed over every texel of a small mip of the base cube.
@@ -410,7 +423,36 @@ fn encode_irradiance(
     );
 }
 
-/// Step 5: the split-sum BRDF table.
+/// Step 5: KHR_materials_sheen's environment in the irradiance cube's mips `1 + m`, each
+/// Charlie-prefiltered for sheen roughness `m / (SHEEN_MIPS - 1)` from the whole base cube.
+fn encode_sheen(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    encoder: &mut wgpu::CommandEncoder,
+    targets: &Targets,
+) {
+    let sheen = step(ctx, module, "cs_sheen");
+    let base = cube_view(&targets.base, None);
+    let sampler = trilinear(ctx);
+    for m in 0..SHEEN_MIPS {
+        let out = cube_view(&targets.irradiance, Some(1 + m));
+        let roughness = m as f32 / (SHEEN_MIPS - 1) as f32;
+        dispatch(
+            ctx,
+            encoder,
+            &sheen,
+            ParamsRaw { roughness, ..params((IRRADIANCE_SIZE >> (1 + m)).max(1)) },
+            &[
+                (5, wgpu::BindingResource::TextureView(&base)),
+                (6, wgpu::BindingResource::Sampler(&sampler)),
+                (7, wgpu::BindingResource::TextureView(&out)),
+            ],
+            6,
+        );
+    }
+}
+
+/// Step 6: the split-sum BRDF table.
 fn encode_lut(
     ctx: &GpuContext,
     module: &wgpu::ShaderModule,

@@ -6,7 +6,9 @@
 // one mip of the specular cube for one roughness by GGX importance sampling, reading the base
 // cube at the mip that matches each sample's solid angle (filtered importance sampling,
 // GPU Gems 3, chapter 20); cs_irradiance integrates cos-weighted radiance over every texel of
-// a small mip of the base cube; cs_brdf_lut integrates the GGX BRDF with height-correlated
+// a small mip of the base cube; cs_sheen prefilters KHR_materials_sheen's environment with
+// the Charlie distribution, as the Khronos glTF Sample Viewer 1.1 does (into the irradiance
+// cube's mips 1 and after); cs_brdf_lut integrates the GGX BRDF with height-correlated
 // Smith visibility (glTF 2.0, Appendix B) into the scale and bias applied to f0.
 //
 // Cube faces are in wgpu's order +X, -X, +Y, -Y, +Z, -Z. Equirectangular images: the
@@ -32,6 +34,8 @@ const SKY_EQUIRECT: u32 = 0u;
 const SKY_STUDIO: u32 = 1u;
 const SPECULAR_SAMPLES: u32 = 128u;
 const LUT_SAMPLES: u32 = 256u;
+// The Sample Viewer's sample count for its Charlie-prefiltered cube.
+const SHEEN_SAMPLES: u32 = 64u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // cs_sky
@@ -40,7 +44,7 @@ const LUT_SAMPLES: u32 = 256u;
 // cs_downsample and cs_irradiance read a mip as an array of six faces.
 @group(0) @binding(3) var faces_in: texture_2d_array<f32>;
 @group(0) @binding(4) var faces_out: texture_storage_2d_array<rgba16float, write>;
-// cs_specular
+// cs_specular and cs_sheen
 @group(0) @binding(5) var base_cube: texture_cube<f32>;
 @group(0) @binding(6) var base_sampler: sampler;
 @group(0) @binding(7) var specular_out: texture_storage_2d_array<rgba16float, write>;
@@ -196,6 +200,67 @@ fn cs_specular(@builtin(global_invocation_id) id: vec3<u32>) {
         let sample_angle = 1.0 / (f32(SPECULAR_SAMPLES) * pdf + 1e-6);
         let lod = max(0.5 * log2(sample_angle / texel_angle) + 1.0, 0.0);
         sum = sum + textureSampleLevel(base_cube, base_sampler, l, lod).rgb * n_dot_l;
+        weight = weight + n_dot_l;
+    }
+    textureStore(specular_out, vec2<u32>(id.xy), id.z, vec4<f32>(sum / max(weight, 1e-6), 1.0));
+}
+
+// The Charlie distribution as the Sample Viewer's prefilter evaluates it (ibl_filtering.frag
+// D_Charlie, given alpha = roughness^2 where the shading gives the roughness).
+fn charlie_of_alpha(alpha: f32, n_dot_h: f32) -> f32 {
+    let inv = 1.0 / max(alpha, 1e-6);
+    let sin2 = max(1.0 - n_dot_h * n_dot_h, 0.0);
+    return (2.0 + inv) * pow(sin2, inv * 0.5) / (2.0 * PI);
+}
+
+// The frame about n in which the Sample Viewer lays out its samples (generateTBN): the
+// tangent across +Y, or across +Z or -Z where n is +Y or -Y.
+fn viewer_frame(n: vec3<f32>) -> mat3x3<f32> {
+    var b = vec3<f32>(0.0, 1.0, 0.0);
+    let n_dot_up = dot(n, b);
+    if 1.0 - abs(n_dot_up) <= 1e-7 {
+        b = vec3<f32>(0.0, 0.0, sign(n_dot_up));
+    }
+    let t = normalize(cross(b, n));
+    return mat3x3<f32>(t, cross(n, t), n);
+}
+
+// KHR_materials_sheen's environment for a sheen roughness (one mip of the irradiance cube):
+// the Sample Viewer's Charlie prefilter. Half vectors drawn from the Charlie distribution
+// (sin theta = xi^(alpha / (2 alpha + 1))), reflected about n = v; each sample reads the base
+// cube at the mip its pdf (D / 4) gives over 64 samples, and weighs by n.l. Most of these
+// half vectors lie near the horizon and reflect below it, so the few kept come from near n
+// at small pdfs: the result is the base cube's smallest mips around n.
+@compute @workgroup_size(8, 8, 1)
+fn cs_sheen(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.size || id.y >= params.size {
+        return;
+    }
+    let n = face_direction(id.z, id.x, id.y, params.size);
+    let frame = viewer_frame(n);
+    let alpha = params.roughness * params.roughness;
+    let exponent = alpha / (2.0 * alpha + 1.0);
+    let last_mip = f32(textureNumLevels(base_cube) - 1u);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var i = 0u; i < SHEEN_SAMPLES; i = i + 1u) {
+        let xi = hammersley(i, SHEEN_SAMPLES);
+        // pow(0, e) is 0 for e > 0; at roughness 0 every half vector lies on the horizon.
+        var sin_theta = select(pow(xi.y, exponent), 0.0, xi.y <= 0.0);
+        if exponent <= 0.0 {
+            sin_theta = 1.0;
+        }
+        let cos_theta = sqrt(max(1.0 - sin_theta * sin_theta, 0.0));
+        let phi = 2.0 * PI * xi.x;
+        let h = normalize(frame * vec3<f32>(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta));
+        let l = normalize(2.0 * dot(n, h) * h - n);
+        let n_dot_l = dot(n, l);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        let pdf = charlie_of_alpha(alpha, cos_theta) * 0.25;
+        let lod = 0.5 * log2(6.0 * params.base_size * params.base_size / (f32(SHEEN_SAMPLES) * max(pdf, 1e-30)));
+        sum = sum + textureSampleLevel(base_cube, base_sampler, l, clamp(lod, 0.0, last_mip)).rgb * n_dot_l;
         weight = weight + n_dot_l;
     }
     textureStore(specular_out, vec2<u32>(id.xy), id.z, vec4<f32>(sum / max(weight, 1e-6), 1.0));

@@ -107,21 +107,35 @@ fn sheen_v(n_dot_l: f32, n_dot_v: f32, roughness: f32) -> f32 {
     return clamp(1.0 / denom, 0.0, 1.0);
 }
 
-// Entries a side of the sheen's albedo table (sheen.rs SIZE).
+// Entries a side of the sheen's tables (sheen.rs SIZE).
 const SHEEN_TABLE_SIZE: u32 = 32u;
+// The sheen's Charlie-prefiltered environment: the irradiance cube's mips 1 to SHEEN_MIPS,
+// mip 1 + m for sheen roughness m / (SHEEN_MIPS - 1) (environment.rs SHEEN_MIPS).
+const SHEEN_MIPS: u32 = 5u;
 
-// The sheen's directional albedo E(cos, roughness) from its table, filtered bilinearly
-// between entry centres and clamped at the edges (as the reference viewer's texture lookup
-// is).
-fn sheen_albedo(cos_theta: f32, roughness: f32) -> f32 {
+// Entry (cos, roughness) of the sheen's table that starts at `first` in sheen_albedo_table,
+// filtered bilinearly between entry centres and clamped at the edges (as the reference
+// viewer's texture lookup is).
+fn sheen_table(first: u32, cos_theta: f32, roughness: f32) -> f32 {
     let last = f32(SHEEN_TABLE_SIZE - 1u);
     let p = clamp(vec2<f32>(cos_theta, roughness) * f32(SHEEN_TABLE_SIZE) - 0.5, vec2<f32>(0.0), vec2<f32>(last));
     let i0 = vec2<u32>(floor(p));
     let i1 = min(i0 + 1u, vec2<u32>(SHEEN_TABLE_SIZE - 1u));
     let f = p - floor(p);
-    let row0 = mix(sheen_albedo_table[i0.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[i0.y * SHEEN_TABLE_SIZE + i1.x], f.x);
-    let row1 = mix(sheen_albedo_table[i1.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[i1.y * SHEEN_TABLE_SIZE + i1.x], f.x);
+    let row0 = mix(sheen_albedo_table[first + i0.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[first + i0.y * SHEEN_TABLE_SIZE + i1.x], f.x);
+    let row1 = mix(sheen_albedo_table[first + i1.y * SHEEN_TABLE_SIZE + i0.x], sheen_albedo_table[first + i1.y * SHEEN_TABLE_SIZE + i1.x], f.x);
     return mix(row0, row1, f.y);
+}
+
+// The sheen's directional albedo E(cos, roughness) (the first table).
+fn sheen_albedo(cos_theta: f32, roughness: f32) -> f32 {
+    return sheen_table(0u, cos_theta, roughness);
+}
+
+// The scale of the sheen's image-based light (the second table: the Sample Viewer's Charlie
+// table, sheen.rs environment_scale).
+fn sheen_environment_scale(cos_theta: f32, roughness: f32) -> f32 {
+    return sheen_table(SHEEN_TABLE_SIZE * SHEEN_TABLE_SIZE, cos_theta, roughness);
 }
 
 fn max3(c: vec3<f32>) -> f32 {
@@ -206,9 +220,10 @@ fn shade_layers(n: vec3<f32>, v: vec3<f32>, p: vec3<f32>, albedo: vec3<f32>, met
 }
 
 // The environment's light with the layers, under (base) and of (coat) the clearcoat. The
-// sheen's environment term is the irradiance times the sheen colour and its albedo (the
-// reference viewer prefilters a cube with the Charlie lobe for it; this is the diffuse limit
-// of that lobe).
+// sheen's environment term is the Sample Viewer's (ibl.glsl getIBLRadianceCharlie): the
+// Charlie-prefiltered environment about the mirror direction at the sheen roughness, times
+// the sheen colour and its environment scale; what lies under it is scaled by 1 - max(sheen
+// colour) E, as under direct light.
 fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, layers: Layers) -> LayeredLight {
     var out: LayeredLight;
     let n_dot_v = clamp(abs(dot(n, v)), 1e-3, 1.0);
@@ -237,8 +252,11 @@ fn shade_environment_layers(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metal
     }
     var color = mix(dielectric, metal, metallic);
     if (material.flags & MAT_SHEEN) != 0u {
-        let e = sheen_albedo(n_dot_v, layers.sheen_roughness);
-        color = irradiance * layers.sheen_color * e + color * (1.0 - max3(layers.sheen_color) * e);
+        let mirror = environment_direction(reflect(-v, n));
+        let lod = 1.0 + layers.sheen_roughness * f32(SHEEN_MIPS - 1u);
+        let sheen_light = textureSampleLevel(environment_irradiance, environment_sampler, mirror, lod).rgb;
+        let lobe = sheen_light * layers.sheen_color * sheen_environment_scale(n_dot_v, layers.sheen_roughness);
+        color = lobe + color * (1.0 - max3(layers.sheen_color) * sheen_albedo(n_dot_v, layers.sheen_roughness));
     }
     out.base = color * frame.environment_intensity;
     let rc = environment_direction(reflect(-v, layers.clearcoat_n));

@@ -194,6 +194,7 @@ const PI: f32 = 3.141592653589793;
 @group(1) @binding(11) var clearcoat_normal_texture: texture_2d<f32>;
 @group(1) @binding(12) var sheen_color_texture: texture_2d<f32>;
 @group(1) @binding(13) var sheen_roughness_texture: texture_2d<f32>;
+// The sheen's tables (sheen.rs): its albedo E, then its environment scale (layers.wgsl).
 @group(1) @binding(14) var<storage, read> sheen_albedo_table: array<f32>;
 @group(2) @binding(0) var<uniform> object: Object;
 @group(2) @binding(1) var<storage, read> vertex_data: array<f32>;

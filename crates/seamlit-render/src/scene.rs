@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef};
+use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef, TextureSampling};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
@@ -373,8 +373,12 @@ fn upload_material(
         contents: bytemuck::bytes_of(&raw),
         usage: wgpu::BufferUsages::UNIFORM,
     });
+    // A glTF sampler other than the default (repeat, trilinear) gets a sampler of its own.
+    let own_sampler = (material.sampling != TextureSampling::default())
+        .then(|| texture::sampler_for(ctx, cache.options, &material.sampling));
+    let sampler = own_sampler.as_ref().unwrap_or(&defaults.sampler);
     Ok(GpuMaterial {
-        bind_group: material_bind_group(ctx, &material.name, &uniform, &views, defaults),
+        bind_group: material_bind_group(ctx, &material.name, &uniform, &views, defaults, sampler),
         double_sided: material.double_sided,
         blend: material.alpha_mode == AlphaMode::Blend,
         layers: raw.flags & MAT_LAYERS != 0,
@@ -390,7 +394,8 @@ struct DefaultTextures {
     flat: wgpu::TextureView,
     /// White linear data: metallic-roughness and occlusion multiply their factors by it.
     white_data: wgpu::TextureView,
-    /// The sheen's directional albedo E(cos, roughness) (`sheen.rs`), a storage buffer.
+    /// The sheen's tables (`sheen.rs`), a storage buffer: its directional albedo
+    /// E(cos, roughness), then the scale of its image-based light.
     sheen_albedo: wgpu::Buffer,
     sampler: wgpu::Sampler,
 }
@@ -525,6 +530,7 @@ fn material_bind_group<'a>(
     uniform: &wgpu::Buffer,
     views: &'a MaterialViews,
     defaults: &'a DefaultTextures,
+    sampler: &wgpu::Sampler,
 ) -> wgpu::BindGroup {
     let view = |binding, view: &'a Option<wgpu::TextureView>, default: &'a wgpu::TextureView| {
         wgpu::BindGroupEntry {
@@ -536,10 +542,7 @@ fn material_bind_group<'a>(
         wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
         view(1, &views.base, &defaults.white),
         view(2, &views.normal, &defaults.flat),
-        wgpu::BindGroupEntry {
-            binding: 3,
-            resource: wgpu::BindingResource::Sampler(&defaults.sampler),
-        },
+        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(sampler) },
         view(4, &views.metallic_roughness, &defaults.white_data),
         view(5, &views.occlusion, &defaults.white_data),
         view(6, &views.emissive, &defaults.white),

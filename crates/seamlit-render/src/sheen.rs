@@ -4,6 +4,11 @@
 //! `lut_sheen_E.png`). Computed here once per process: the sheen BRDF of the specification
 //! (the Charlie distribution of Estevez and Kulla, "Production Friendly Microfacet Sheen
 //! BRDF", 2017, with their fitted visibility) integrated over the hemisphere on a grid.
+//!
+//! Beside it, the scale of the sheen's image-based light (the Sample Viewer 1.1's Charlie
+//! table, the blue channel of the `lut_charlie` it computes when it loads an environment):
+//! the environment, Charlie-prefiltered for the sheen roughness, times the sheen colour and
+//! this scale is the sheen's light from the environment ([`environment_scale`]).
 
 use std::f32::consts::PI;
 use std::sync::OnceLock;
@@ -13,7 +18,7 @@ use wgpu::util::DeviceExt;
 use crate::GpuContext;
 
 /// Entries a side: x is cos theta (n.v or n.l), y the sheen roughness, each at the centres
-/// of SIZE equal steps (`SHEEN_TABLE_SIZE` in `mesh.wgsl`).
+/// of SIZE equal steps (`SHEEN_TABLE_SIZE` in `layers.wgsl`).
 pub(crate) const SIZE: u32 = 32;
 
 /// The Charlie distribution D(h) for a sheen roughness.
@@ -45,6 +50,46 @@ pub(crate) fn visibility(n_dot_l: f32, n_dot_v: f32, roughness: f32) -> f32 {
     (1.0 / denom).clamp(0.0, 1.0)
 }
 
+/// The Sample Viewer's estimate of the sheen's image-based scale for a view at cos `mu`
+/// (ibl_filtering.frag, `LUT` with its Charlie distribution): 512 Hammersley points drawn
+/// as its prefilter draws Charlie half vectors (sin theta = xi^(alpha / (2 alpha + 1)),
+/// alpha = roughness^2), each kept light direction adding D V n.l v.h with D evaluated at
+/// alpha = roughness and Ashikhmin's visibility, times 8 pi over the count. These are the
+/// reference's numbers, not an unbiased integral: seamlit uses them to draw what it draws.
+#[must_use]
+pub(crate) fn environment_scale(mu: f32, roughness: f32) -> f32 {
+    const SAMPLES: u32 = 512;
+    let v = [(1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu];
+    let alpha = roughness * roughness;
+    let exponent = alpha / (2.0 * alpha + 1.0);
+    let inv = 1.0 / roughness.max(1e-6);
+    let mut sum = 0.0;
+    for i in 0..SAMPLES {
+        let xi = (i as f32 / SAMPLES as f32, i.reverse_bits() as f32 * 2.328_306_4e-10);
+        let sin_t = if exponent <= 0.0 {
+            1.0
+        } else if xi.1 <= 0.0 {
+            0.0
+        } else {
+            xi.1.powf(exponent)
+        };
+        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
+        let (sin_p, cos_p) = (2.0 * PI * xi.0).sin_cos();
+        let h = [sin_t * cos_p, sin_t * sin_p, cos_t];
+        let v_dot_h = v[0] * h[0] + v[2] * h[2];
+        let l_z = 2.0 * v_dot_h * h[2] - v[2];
+        if l_z <= 0.0 {
+            continue;
+        }
+        let n_dot_l = l_z.min(1.0);
+        let n_dot_h = h[2].clamp(0.0, 1.0);
+        let d = (2.0 + inv) * (1.0 - n_dot_h * n_dot_h).max(0.0).powf(inv * 0.5) / (2.0 * PI);
+        let visibility = (1.0 / (4.0 * (n_dot_l + mu - n_dot_l * mu))).clamp(0.0, 1.0);
+        sum += visibility * d * n_dot_l * v_dot_h.clamp(0.0, 1.0);
+    }
+    8.0 * PI * sum / SAMPLES as f32
+}
+
 /// E(mu, roughness): the integral over the hemisphere of D V (n.l) for a view at cos = mu
 /// (a midpoint rule, 64 steps in theta and 64 in phi over the half the symmetry leaves).
 #[must_use]
@@ -73,19 +118,27 @@ pub(crate) fn albedo(mu: f32, roughness: f32) -> f32 {
     2.0 * sum * dt * dp
 }
 
-/// The table, row by row: entry (x, y) is E at cos = (x + 0.5) / SIZE and roughness
-/// (y + 0.5) / SIZE (texel centres, as a texture's would be).
+/// The two tables, each row by row: entry (x, y) of the first is E at cos = (x + 0.5) / SIZE
+/// and roughness (y + 0.5) / SIZE (texel centres, as a texture's would be); the second, at
+/// the same points, is [`environment_scale`].
 fn table() -> &'static [f32] {
     static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
     TABLE.get_or_init(|| {
-        let at = |i: u32| (i as f32 + 0.5) / SIZE as f32;
-        (0..SIZE * SIZE).map(|i| albedo(at(i % SIZE), at(i / SIZE)).clamp(0.0, 1.0)).collect()
+        let at = |i: u32| (at_centre(i % SIZE), at_centre(i / SIZE));
+        let albedos = (0..SIZE * SIZE).map(|i| albedo(at(i).0, at(i).1).clamp(0.0, 1.0));
+        let scales = (0..SIZE * SIZE).map(|i| environment_scale(at(i).0, at(i).1));
+        albedos.chain(scales).collect()
     })
 }
 
-/// The table on the GPU as a storage buffer of `SIZE * SIZE` floats (`mesh.wgsl` filters
-/// it bilinearly); where no material uses sheen (`used` false), one zero, and the table is
-/// not computed.
+/// The centre of step `i` of SIZE over 0..1.
+fn at_centre(i: u32) -> f32 {
+    (i as f32 + 0.5) / SIZE as f32
+}
+
+/// The tables on the GPU as a storage buffer of `2 * SIZE * SIZE` floats (`layers.wgsl`
+/// filters them bilinearly); where no material uses sheen (`used` false), one zero, and the
+/// tables are not computed.
 pub(crate) fn albedo_table(ctx: &GpuContext, used: bool) -> wgpu::Buffer {
     let zero = [0.0_f32];
     let contents: &[f32] = if used { table() } else { &zero };
@@ -110,6 +163,20 @@ mod tests {
                 assert!(e >= last, "E({mu}, {r}) = {e} < {last}");
                 last = e;
             }
+        }
+    }
+
+    /// The Sample Viewer 1.0.10 shipped a table of the same quantity precomputed
+    /// (`lut_charlie.png`, 8 bits, blue; 1.1 computes it at load with 512 samples, as here):
+    /// read there at (mu, roughness), 139, 118 and 97 of 255 at roughness 1 and mu 0.02, 0.3
+    /// and 0.5, and 80 at roughness 0.5 and mu 0.5. (At grazing views of a mid roughness the
+    /// two differ: 240 there at mu 0.02, 0.78 with 512 samples.)
+    #[test]
+    fn the_environment_scale_is_the_sample_viewer_s() {
+        for (mu, r, png) in [(0.02, 1.0, 139_u8), (0.3, 1.0, 118), (0.5, 1.0, 97), (0.5, 0.5, 80)] {
+            let scale = environment_scale(mu, r);
+            let expected = f32::from(png) / 255.0;
+            assert!((scale - expected).abs() < 0.025, "({mu}, {r}): {scale} against {expected}");
         }
     }
 }

@@ -2,6 +2,7 @@
 //! space (sRGB colour is averaged in linear light, normal maps as unit vectors).
 
 use image::RgbaImage;
+use seamlit_io::{TextureFilter, TextureSampling, Wrap};
 use wgpu::util::DeviceExt;
 
 use crate::{GpuContext, RenderError};
@@ -178,6 +179,44 @@ pub(crate) fn sampler(ctx: &GpuContext, options: &TextureOptions) -> wgpu::Sampl
         min_filter: wgpu::FilterMode::Linear,
         mipmap_filter: wgpu::MipmapFilterMode::Linear,
         anisotropy_clamp: options.anisotropy.clamp(1, 16),
+        ..Default::default()
+    })
+}
+
+/// A material sampler for a glTF sampler: its wrapping and filters; without a mipmap filter
+/// (glTF's minFilter NEAREST or LINEAR) only the full-size image is read. Anisotropic as
+/// `options` say where every filter is linear (the only case the API allows it).
+pub(crate) fn sampler_for(
+    ctx: &GpuContext,
+    options: &TextureOptions,
+    sampling: &TextureSampling,
+) -> wgpu::Sampler {
+    let address = |wrap: Wrap| match wrap {
+        Wrap::Repeat => wgpu::AddressMode::Repeat,
+        Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+        Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+    };
+    let filter = |f: TextureFilter| match f {
+        TextureFilter::Nearest => wgpu::FilterMode::Nearest,
+        TextureFilter::Linear => wgpu::FilterMode::Linear,
+    };
+    let mipmap_filter = match sampling.mipmap_filter {
+        Some(TextureFilter::Nearest) | None => wgpu::MipmapFilterMode::Nearest,
+        Some(TextureFilter::Linear) => wgpu::MipmapFilterMode::Linear,
+    };
+    let all_linear = sampling.mag_filter == TextureFilter::Linear
+        && sampling.min_filter == TextureFilter::Linear
+        && sampling.mipmap_filter == Some(TextureFilter::Linear);
+    ctx.device().create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("seamlit material sampler (glTF sampler)"),
+        address_mode_u: address(sampling.wrap[0]),
+        address_mode_v: address(sampling.wrap[1]),
+        address_mode_w: wgpu::AddressMode::Repeat,
+        mag_filter: filter(sampling.mag_filter),
+        min_filter: filter(sampling.min_filter),
+        mipmap_filter,
+        lod_max_clamp: if sampling.mipmap_filter.is_some() { 32.0 } else { 0.0 },
+        anisotropy_clamp: if all_linear { options.anisotropy.clamp(1, 16) } else { 1 },
         ..Default::default()
     })
 }

@@ -14,7 +14,9 @@
 //! under the punctual light, most also with the extension taken out of the file drawn at
 //! least the aim away; KHR_materials_variants is compared with each variant selected. The
 //! textures of transmission, volume, iridescence and anisotropy have a model each, and fail
-//! with the texture taken out; Khronos' own ClearCoatTest is compared under both lightings.
+//! with the texture taken out; Khronos' own ClearCoatTest, TextureTransformTest (with its
+//! glTF sampler), TransmissionTest and EmissiveStrengthTest are compared under both
+//! lightings.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -139,8 +141,8 @@ const EXTENSION_AIM: f32 = 0.035;
 /// [`EXTENSION_AIM`], or less where the picture drawn without the extension (its layers
 /// switched off in the renderer) also stays under that, so that the test fails without it.
 /// (Its `NAME.environment.viewer.png` is checked in too; the comparison
-/// with the environment is asserted for clearcoat, specular, transmission and ClearCoatTest
-/// (`seen_under`):
+/// with the environment is asserted for clearcoat, sheen, specular, transmission and
+/// ClearCoatTest (`seen_under`):
 /// on the machine the others were made on, lavapipe returned black for every prefiltered
 /// level but the first, before issue 34's changes as after
 /// (`a_white_furnace_returns_the_environment_times_the_albedo` in
@@ -276,6 +278,17 @@ fn sheen_matches_the_sample_viewer() {
     extension_matches_the_sample_viewer("sheen", EXTENSION_AIM);
 }
 
+/// The sheen model under sky.hdr: the sheen's light from the environment is the Sample
+/// Viewer's (the environment Charlie-prefiltered for the sheen roughness, times its Charlie
+/// table: crates/seamlit-render/src/sheen.rs). Mean FLIP 0.0162 (0.0355 while seamlit lit the
+/// sheen with the irradiance times its albedo), 0.0898 without the sheen.
+#[test]
+fn sheen_in_an_environment_matches_the_sample_viewer() {
+    let (model, extension) = ("sheen", "KHR_materials_sheen");
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.025);
+}
+
 #[test]
 fn ior_and_specular_match_the_sample_viewer() {
     // Mean FLIP 0.0073 with ior and specular, 0.0169 without.
@@ -328,6 +341,9 @@ fn without_extension(model: &str, extension: &str) -> PathBuf {
             }
         }
         json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != extension);
+        if let Some(required) = json.get_mut("extensionsRequired").and_then(|r| r.as_array_mut()) {
+            required.retain(|e| e != extension);
+        }
     })
 }
 
@@ -533,9 +549,13 @@ fn the_anisotropy_texture_matches_the_sample_viewer() {
 /// roughness by texture, base and coat normal maps), each beside its uncoated base and its
 /// coat alone, with text labels. Under the one sun, mean FLIP 0.0337 (the issue's aim), but
 /// 0.0335 without the clearcoat: the sun's highlights on the coat are too few pixels to
-/// count, most of the error being the labels' text and the tiles' edges. Under sky.hdr the
-/// coat reflects the sky on every tile: 0.0404 with it, 0.0504 without, so that comparison,
-/// over the issue's 0.035 by the same labels and edges, is held under 0.045.
+/// count. Under sky.hdr the coat reflects the sky on every tile: 0.0404 with it, 0.0504
+/// without, held under 0.045. Most of that is not the coat: the tiles are dark, and the
+/// Sample Viewer encodes its output with pow(c, 1 / 2.2) where seamlit writes sRGB, which
+/// in dark tones is several levels brighter (a black coated tile: the Sample Viewer's
+/// (20, 15, 7), seamlit's (12, 6, 1), which is (20, 15, 6) so encoded; the uncoated tiles
+/// differ as much). Re-encoded as the Sample Viewer encodes ([`as_the_sample_viewer_encodes`]),
+/// 0.0288 with the coat and 0.0370 without: that comparison is held to 0.033.
 #[test]
 fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
     let model = "ClearCoatTest";
@@ -543,6 +563,38 @@ fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
     let extension = "KHR_materials_clearcoat";
     let scene = without_extension(model, extension);
     seen_under(Lighting::Environment, model, extension, &scene, 0.045);
+    let lighting = Lighting::Environment;
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    let encoded = |file: &str| {
+        let picture = image::open(dir.join(file)).expect("seen_under's picture").to_rgb8();
+        flip(&reference, &as_the_sample_viewer_encodes(&picture)).0
+    };
+    let with = encoded("ClearCoatTest.environment.png");
+    let without = encoded("ClearCoatTest.environment.without.png");
+    eprintln!("{model}.environment as the Sample Viewer encodes: {with:.4}, {without:.4} without");
+    assert!(with < 0.033, "{model}: mean FLIP {with:.4} as the Sample Viewer encodes");
+    assert!(without >= 0.033, "{model}: mean FLIP {without:.4} without the coat");
+}
+
+/// seamlit's picture (sRGB bytes) as the Sample Viewer would have written the same light:
+/// its shaders end with `linearTosRGB`, pow(c, 1 / 2.2) (GAMMA 2.2 in its
+/// tonemapping.glsl), not the sRGB curve. The background, which both clear to the same bytes
+/// (39, 39, 44) without a shader, is left as it is.
+#[expect(clippy::cast_possible_truncation, reason = "a value rounded within 0..=255")]
+fn as_the_sample_viewer_encodes(picture: &image::RgbImage) -> image::RgbImage {
+    let encode = |byte: u8| {
+        let c = f32::from(byte) / 255.0;
+        let linear = if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        (linear.powf(1.0 / 2.2) * 255.0).round() as u8
+    };
+    let mut out = picture.clone();
+    for pixel in out.pixels_mut() {
+        if pixel.0 != [39, 39, 44] {
+            pixel.0 = pixel.0.map(encode);
+        }
+    }
+    out
 }
 
 #[test]
@@ -558,4 +610,127 @@ fn the_specular_texture_matches_the_sample_viewer() {
     // Mean FLIP 0.0056 with the texture, 0.0142 without.
     let (model, extension) = ("specular_texture", "KHR_materials_specular");
     texture_seen_by_the_comparison(model, extension, "specularTexture", 0.008);
+}
+
+/// `model` with every KHR_texture_transform taken out of its materials' texture infos.
+fn without_texture_transforms(model: &str) -> PathBuf {
+    fn strip(value: &mut serde_json::Value) {
+        match value {
+            serde_json::Value::Object(object) => {
+                if let Some(extensions) =
+                    object.get_mut("extensions").and_then(|e| e.as_object_mut())
+                {
+                    extensions.remove("KHR_texture_transform");
+                }
+                object.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(items) => items.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    edited_copy(model, &format!("{model}-without-transforms"), |json| {
+        strip(&mut json["materials"]);
+        json["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != "KHR_texture_transform");
+    })
+}
+
+/// `model` with the glTF samplers taken out of its textures: every texture read as glTF's
+/// default sampler reads (repeat, trilinear), as seamlit read all of them before it honoured
+/// samplers.
+fn without_samplers(model: &str) -> PathBuf {
+    edited_copy(model, &format!("{model}-without-samplers"), |json| {
+        for texture in json["textures"].as_array_mut().unwrap() {
+            texture.as_object_mut().unwrap().remove("sampler");
+        }
+    })
+}
+
+/// Khronos' TextureTransformTest (glTF-Sample-Assets, Microsoft, CC0: assets/models/
+/// texture_transform_test), framed by compare.sh: three quads offsetting a UV grid, and an
+/// arrow rotated, scaled and both, each of which must point at its green marker. Its sampler
+/// clamps to the textures' grey border and reads no mips, and the Sample Viewer honours it:
+/// mean FLIP 0.0347 under the one sun and 0.0316 under sky.hdr; without the sampler (seamlit
+/// read every texture with repeat before) 0.0779 and 0.0617; without the transforms 0.3064
+/// and 0.3260.
+#[test]
+fn the_khronos_texture_transform_test_matches_the_sample_viewer() {
+    let model = "TextureTransformTest";
+    let what = "KHR_texture_transform";
+    seen_by_the_comparison(model, what, &without_texture_transforms(model), EXTENSION_AIM);
+    let environment = Lighting::Environment;
+    seen_under(environment, model, "the glTF sampler", &without_samplers(model), EXTENSION_AIM);
+    seen_by_the_comparison(model, "the glTF sampler", &without_samplers(model), EXTENSION_AIM);
+}
+
+/// Khronos' TransmissionTest (glTF-Sample-Assets, Adobe, CC0: assets/sample-viewer/
+/// TransmissionTest.glb), framed by compare.sh: a grid of spheres, transmission by factor
+/// and by texture, with alpha masks, roughness and metalness, before a draped cloth. Under
+/// the one sun: mean FLIP 0.0173, 0.0388 with the extension taken out of the file; under
+/// sky.hdr 0.0210 and 0.0416.
+#[test]
+fn the_khronos_transmission_test_matches_the_sample_viewer() {
+    let (model, extension) = ("TransmissionTest", "KHR_materials_transmission");
+    extension_seen_by_the_comparison(model, extension, 0.025);
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.03);
+}
+
+/// Khronos' EmissiveStrengthTest (glTF-Sample-Assets, Ed Mackey, AGI, CC-BY 4.0: assets/
+/// models/emissive_strength_test), framed by compare.sh: five cubes emitting one light blue
+/// at strength 1, 2, 4, 8 and 16, between black dividers before a grey tiled wall. Under
+/// the one sun: mean FLIP 0.0256, 0.0403 with the extension taken out of the file (every
+/// cube the first one's blue); under sky.hdr 0.0269 and 0.0400.
+#[test]
+fn the_khronos_emissive_strength_test_matches_the_sample_viewer() {
+    let (model, extension) = ("EmissiveStrengthTest", "KHR_materials_emissive_strength");
+    extension_seen_by_the_comparison(model, extension, 0.03);
+    let scene = without_extension(model, extension);
+    seen_under(Lighting::Environment, model, extension, &scene, 0.033);
+}
+
+/// The mean FLIP error of `model`'s picture, lit as `lighting` says, drawn from `scene`,
+/// against the Sample Viewer's over the left two thirds of the frame only; the whole
+/// frame's is printed beside it.
+fn left_two_thirds(model: &str, scene: &Path, lighting: Lighting, name: &str) -> f32 {
+    let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours = render_scene(
+        scene,
+        lighting,
+        &[],
+        reference.dimensions(),
+        &dir.join(format!("{name}.png")),
+    );
+    let (w, h) = reference.dimensions();
+    let crop = |picture: &image::RgbImage| {
+        image::imageops::crop_imm(picture, 0, 0, w * 2 / 3, h).to_image()
+    };
+    let (whole, _) = flip(&reference, &ours);
+    let (left, _) = flip(&crop(&reference), &crop(&ours));
+    eprintln!("{name}: mean FLIP {left:.4} over the left two thirds, {whole:.4} over the frame");
+    left
+}
+
+/// Khronos' IridescenceSuzanne (glTF-Sample-Assets, UX3D and Pascal Schoen, CC0:
+/// assets/models/iridescence_suzanne), framed by compare.sh: three heads under a thin film,
+/// a dielectric and a metal (left two thirds of the frame) and a transmissive one (right),
+/// lit by the file's own lights and the comparison's sun. The transmissive head shows the
+/// transmission target's clear colour, which the Sample Viewer fills with the background's
+/// sRGB bytes taken as linear light (its (85, 85, 91) against seamlit's (13, 11, 19) there):
+/// a known difference of the two renderers, not of iridescence, and nine tenths of the
+/// frame's error (mean FLIP 0.0384 with the films, 0.0399 without). Over the left two thirds:
+/// 0.0068 with the films, 0.0102 with the extension taken out of the file. Under sky.hdr the
+/// films colour the metal head's reflections of the sky, and the whole frame is within the
+/// issue's aim: 0.0323 with them, 0.0567 without.
+#[test]
+fn the_khronos_iridescence_suzanne_matches_the_sample_viewer() {
+    let (model, extension) = ("IridescenceSuzanne", "KHR_materials_iridescence");
+    let lighting = Lighting::PunctualOnly;
+    let with = left_two_thirds(model, &data().join(format!("{model}.toml")), lighting, model);
+    let scene = without_extension(model, extension);
+    let without = left_two_thirds(model, &scene, lighting, &format!("{model}.without"));
+    assert!(with < 0.0085, "{model}: mean FLIP {with:.4} over the left two thirds");
+    assert!(without >= 0.0085, "{model}: mean FLIP {without:.4} without {extension}");
+    seen_under(Lighting::Environment, model, extension, &scene, EXTENSION_AIM);
 }

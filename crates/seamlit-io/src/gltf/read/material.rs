@@ -6,7 +6,8 @@
 
 use crate::asset::{
     AlphaMode, Anisotropy, Clearcoat, Iridescence, Material, PbrExtensions, Sheen, Specular,
-    TextureRef, Transmission, UvTransform, VariantObject, Variants, Volume,
+    TextureFilter, TextureRef, TextureSampling, Transmission, UvTransform, VariantObject, Variants,
+    Volume, Wrap,
 };
 use crate::gltf::source::Instance;
 
@@ -120,6 +121,50 @@ pub(super) fn material(m: &gltf::Material<'_>, document: &gltf::Document) -> Mat
         },
         unlit: m.extension_value("KHR_materials_unlit").is_some(),
         extensions: extensions(m, document, images),
+        sampling: sampling(m),
+    }
+}
+
+/// The sampler of `m`'s base colour texture, else of its first core texture that names one
+/// (normal, metallic-roughness, occlusion, emissive); glTF's default sampling without.
+fn sampling(m: &gltf::Material<'_>) -> TextureSampling {
+    let pbr = m.pbr_metallic_roughness();
+    let textures = [
+        pbr.base_color_texture().map(|i| i.texture()),
+        m.normal_texture().map(|n| n.texture()),
+        pbr.metallic_roughness_texture().map(|i| i.texture()),
+        m.occlusion_texture().map(|o| o.texture()),
+        m.emissive_texture().map(|i| i.texture()),
+    ];
+    let Some(sampler) = textures.into_iter().flatten().find_map(|t| {
+        let sampler = t.sampler();
+        sampler.index().map(|_| sampler)
+    }) else {
+        return TextureSampling::default();
+    };
+    let wrap = |mode: gltf::texture::WrappingMode| match mode {
+        gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+    };
+    use TextureFilter::{Linear, Nearest};
+    use gltf::texture::MinFilter as Min;
+    let (min_filter, mipmap_filter) = match sampler.min_filter() {
+        Some(Min::Nearest) => (Nearest, None),
+        Some(Min::Linear) => (Linear, None),
+        Some(Min::NearestMipmapNearest) => (Nearest, Some(Nearest)),
+        Some(Min::LinearMipmapNearest) => (Linear, Some(Nearest)),
+        Some(Min::NearestMipmapLinear) => (Nearest, Some(Linear)),
+        Some(Min::LinearMipmapLinear) | None => (Linear, Some(Linear)),
+    };
+    TextureSampling {
+        wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+        mag_filter: match sampler.mag_filter() {
+            Some(gltf::texture::MagFilter::Nearest) => Nearest,
+            _ => Linear,
+        },
+        min_filter,
+        mipmap_filter,
     }
 }
 
