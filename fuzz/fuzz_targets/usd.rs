@@ -30,11 +30,15 @@ fuzz_target!(
     let extension = ["usda", "usdc", "usdz"][usize::from(choice % 3)];
     let path = folder().join(format!("model.{extension}"));
     std::fs::write(&path, bytes).expect("write the stage");
-    let options = LoadOptions { max_elements: 1 << 20, ..LoadOptions::DEFAULT };
-    if let Err(IoError::Usd { kind: UsdKind::Panicked { message }, .. }) =
-        seamlit_io::load(&path, &options)
-    {
-        panic!("openusd panicked (caught by seamlit-io): {message}");
+    // As `render` and `view` read it: the materials of GeomSubsets too, cut by them.
+    let options =
+        LoadOptions { max_elements: 1 << 20, ..LoadOptions::DEFAULT }.with_subset_materials();
+    match seamlit_io::load(&path, &options) {
+        Err(IoError::Usd { kind: UsdKind::Panicked { message }, .. }) => {
+            panic!("openusd panicked (caught by seamlit-io): {message}");
+        }
+        Ok(mut asset) => asset.split_triangle_materials(),
+        Err(_) => {}
     }
     let _ = std::fs::remove_file(&path);
 });

@@ -481,6 +481,56 @@ def skinned_neck(folder):
     stage.GetRootLayer().Save()
 
 
+def subsets(folder):
+    """One mesh, a 2 x 1 x 1 box cut at x = 0 into its left and right halves (five faces
+    each), bound to a grey material, whose two `materialBind` GeomSubsets (a partition) bind
+    the left half red and the right half blue; and `subsets_bad.usda`, the same mesh whose
+    subsets cannot all be used: indices past the faces, a face in two subsets, a subset of
+    points, a binding on a subset of another family."""
+    xs, ys, zs = (-1, 0, 1), (0, 1), (-0.5, 0.5)
+    points = [(x, y, z) for x in xs for y in ys for z in zs]
+    at = {p: i for i, p in enumerate(points)}
+    def quad(*corners):
+        return [at[c] for c in corners]
+    faces = []
+    for a, b in ((-1, 0), (0, 1)):
+        faces += [
+            quad((a, 0, 0.5), (b, 0, 0.5), (b, 1, 0.5), (a, 1, 0.5)),  # front
+            quad((b, 0, -0.5), (a, 0, -0.5), (a, 1, -0.5), (b, 1, -0.5)),  # back
+            quad((a, 1, 0.5), (b, 1, 0.5), (b, 1, -0.5), (a, 1, -0.5)),  # top
+            quad((a, 0, -0.5), (b, 0, -0.5), (b, 0, 0.5), (a, 0, 0.5)),  # bottom
+        ]
+    faces.append(quad((-1, 0, -0.5), (-1, 0, 0.5), (-1, 1, 0.5), (-1, 1, -0.5)))  # left end
+    faces.append(quad((1, 0, 0.5), (1, 0, -0.5), (1, 1, -0.5), (1, 1, 0.5)))  # right end
+    left, right = [0, 1, 2, 3, 8], [4, 5, 6, 7, 9]
+    for name, bad in (("subsets.usda", False), ("subsets_bad.usda", True)):
+        stage = stage_at(os.path.join(folder, name))
+        root = UsdGeom.Xform.Define(stage, "/Model")
+        stage.SetDefaultPrim(root.GetPrim())
+        grey = preview_material(stage, "/Model/Materials/Grey", (0.5, 0.5, 0.5))
+        red = preview_material(stage, "/Model/Materials/Red", (0.8, 0.02, 0.02))
+        blue = preview_material(stage, "/Model/Materials/Blue", (0.02, 0.02, 0.8))
+        m = mesh(stage, "/Model/Box", points, faces)
+        UsdShade.MaterialBindingAPI.Apply(m.GetPrim()).Bind(grey)
+        if not bad:
+            for subset_name, indices, material in (("Left", left, red), ("Right", right, blue)):
+                subset = UsdGeom.Subset.CreateGeomSubset(
+                    m, subset_name, UsdGeom.Tokens.face, Vt.IntArray(indices),
+                    UsdShade.Tokens.materialBind, UsdGeom.Tokens.partition)
+                UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(material)
+        else:
+            for subset_name, element, indices, family, material in (
+                ("Left", UsdGeom.Tokens.face, left + [10, 40], UsdShade.Tokens.materialBind, red),
+                ("Right", UsdGeom.Tokens.face, right + [8], UsdShade.Tokens.materialBind, blue),
+                ("Points", UsdGeom.Tokens.point, [0, 1], UsdShade.Tokens.materialBind, blue),
+                ("Other", UsdGeom.Tokens.face, right, "parts", red),
+            ):
+                subset = UsdGeom.Subset.CreateGeomSubset(
+                    m, subset_name, element, Vt.IntArray(indices), family)
+                UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(material)
+        stage.GetRootLayer().Save()
+
+
 def main():
     folder = sys.argv[1]
     head_body(folder)
@@ -494,6 +544,7 @@ def main():
     teapots_polygonal(folder)
     time_sampled(folder)
     skinned_neck(folder)
+    subsets(folder)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use seamlit_mesh::Model;
+use seamlit_mesh::{Influences, Model, MorphTarget, Object};
 
 use crate::animation::{Animation, Skin, SkinsChanged, Trs};
 use crate::gltf::source::GltfSource;
@@ -57,6 +57,22 @@ pub struct Asset {
     /// glTF KHR_materials_variants: the file's variants and the material each gives the
     /// objects it maps ([`Asset::select_variant`]); empty for a file without them.
     pub variants: Variants,
+    /// Materials of parts of objects (OpenUSD `materialBind` GeomSubsets): for each object
+    /// listed, the material of each of its triangles. [`crate::save`] and `seamlit_mesh::fix`
+    /// ignore it (an object stays one object, its normals computed across its parts);
+    /// [`Asset::split_triangle_materials`] cuts the objects into one per material for
+    /// drawing. Empty for formats without it.
+    pub triangle_materials: Vec<TriangleMaterials>,
+}
+
+/// The materials of one object's triangles ([`Asset::triangle_materials`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriangleMaterials {
+    /// Index into `model.objects`.
+    pub object: usize,
+    /// Per triangle of the object: its material (an index into [`Asset::materials`]),
+    /// `None` where it has the object's own.
+    pub materials: Vec<Option<usize>>,
 }
 
 /// How an OpenUSD stage was read ([`Asset::usd_source`]): the folders besides the root
@@ -137,6 +153,151 @@ impl Asset {
         }
         Ok(())
     }
+
+    /// The number of objects the model has after [`Asset::split_triangle_materials`].
+    #[must_use]
+    pub fn split_object_count(&self) -> usize {
+        let extra: usize = self
+            .model
+            .objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, object)| {
+                let entry = self.split_entry(i, object)?;
+                let parts = materials_in_order(object, &entry.materials).len();
+                Some(parts.saturating_sub(1))
+            })
+            .sum();
+        self.model.objects.len() + extra
+    }
+
+    /// The entry of [`Asset::triangle_materials`] that cuts object `i`, if one does.
+    fn split_entry(&self, i: usize, object: &Object) -> Option<&TriangleMaterials> {
+        self.triangle_materials
+            .iter()
+            .find(|e| e.object == i && e.materials.len() == object.triangles.len())
+    }
+
+    /// Cuts each object that [`Asset::triangle_materials`] lists into one object per material
+    /// of its triangles (in the order the materials first appear), each with only the
+    /// vertices its triangles use, and empties the list; node and variant references to a
+    /// cut object name all its parts. For drawing, after the fix: the parts keep the normals
+    /// and tangents the whole object was given, so the cut makes no seam. An entry whose
+    /// length is not the object's number of triangles is skipped.
+    pub fn split_triangle_materials(&mut self) {
+        if self.triangle_materials.is_empty() {
+            return;
+        }
+        let old = std::mem::take(&mut self.model.objects);
+        let mut parts_of: Vec<Vec<usize>> = Vec::with_capacity(old.len());
+        let mut objects = Vec::with_capacity(old.len());
+        for (i, object) in old.into_iter().enumerate() {
+            let first = objects.len();
+            match self.split_entry(i, &object) {
+                Some(entry) => objects.extend(split_object(object, &entry.materials)),
+                None => objects.push(object),
+            }
+            parts_of.push((first..objects.len()).collect());
+        }
+        self.model.objects = objects;
+        self.triangle_materials.clear();
+        let parts = |o: usize| parts_of.get(o).cloned().unwrap_or_default();
+        for node in &mut self.nodes {
+            node.objects = node.objects.iter().flat_map(|&o| parts(o)).collect();
+        }
+        self.variants.objects = std::mem::take(&mut self.variants.objects)
+            .into_iter()
+            .flat_map(|v| {
+                parts(v.object).into_iter().map(move |o| VariantObject { object: o, ..v.clone() })
+            })
+            .collect();
+        self.skins_changed.objects =
+            self.skins_changed.objects.iter().flat_map(|&o| parts(o)).collect();
+    }
+}
+
+/// `object` cut into one object per material of its triangles (`materials`, `None` the
+/// object's own), each with the vertices its triangles use, in their order.
+fn split_object(object: Object, materials: &[Option<usize>]) -> Vec<Object> {
+    let material_of = |t: usize| materials[t].or(object.material);
+    let order = materials_in_order(&object, materials);
+    if order.len() <= 1 {
+        return vec![Object { material: order.first().copied().flatten(), ..object }];
+    }
+    order
+        .iter()
+        .map(|&material| {
+            let triangles: Vec<usize> =
+                (0..object.triangles.len()).filter(|&t| material_of(t) == material).collect();
+            let mut new_index = vec![u32::MAX; object.positions.len()];
+            let mut kept: Vec<usize> = Vec::new();
+            let remapped: Vec<[u32; 3]> = triangles
+                .iter()
+                .map(|&t| {
+                    object.triangles[t].map(|v| {
+                        let slot = &mut new_index[v as usize];
+                        if *slot == u32::MAX {
+                            #[expect(clippy::cast_possible_truncation, reason = "fewer vertices")]
+                            let next = kept.len() as u32;
+                            *slot = next;
+                            kept.push(v as usize);
+                        }
+                        *slot
+                    })
+                })
+                .collect();
+            Object {
+                name: object.name.clone(),
+                positions: pick(&object.positions, &kept),
+                uvs: object.uvs.as_ref().map(|v| pick(v, &kept)),
+                uvs1: object.uvs1.as_ref().map(|v| pick(v, &kept)),
+                normals: object.normals.as_ref().map(|v| pick(v, &kept)),
+                colors: object.colors.as_ref().map(|v| pick(v, &kept)),
+                tangents: object.tangents.as_ref().map(|v| pick(v, &kept)),
+                triangles: remapped,
+                transform: object.transform,
+                material,
+                smoothing_groups: object.smoothing_groups.as_ref().map(|g| pick(g, &triangles)),
+                split_from: Vec::new(),
+                skin: object
+                    .skin
+                    .iter()
+                    .map(|s| Influences {
+                        joints: pick(&s.joints, &kept),
+                        weights: pick(&s.weights, &kept),
+                    })
+                    .collect(),
+                morph_targets: object
+                    .morph_targets
+                    .iter()
+                    .map(|m| MorphTarget {
+                        name: m.name.clone(),
+                        position_deltas: pick(&m.position_deltas, &kept),
+                        normal_deltas: m.normal_deltas.as_ref().map(|v| pick(v, &kept)),
+                        tangent_deltas: m.tangent_deltas.as_ref().map(|v| pick(v, &kept)),
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// The materials of `object`'s triangles (`materials`, `None` the object's own), each once,
+/// in the order they first appear.
+fn materials_in_order(object: &Object, materials: &[Option<usize>]) -> Vec<Option<usize>> {
+    let mut order: Vec<Option<usize>> = Vec::new();
+    for m in materials.iter().map(|m| m.or(object.material)) {
+        if !order.contains(&m) {
+            order.push(m);
+        }
+    }
+    order
+}
+
+/// `values` at `indices`, in their order (a value past the end is skipped: a per-vertex
+/// array shorter than the positions, which the fix refuses, never panics here).
+fn pick<T: Clone>(values: &[T], indices: &[usize]) -> Vec<T> {
+    indices.iter().filter_map(|&i| values.get(i).cloned()).collect()
 }
 
 /// A node of the scene hierarchy (glTF): its name, local transform and parent.

@@ -76,8 +76,9 @@ pub use animation::{
 pub use asset::{
     AlphaMode, Anisotropy, Asset, Clearcoat, Iridescence, Material, Node, PbrExtensions,
     PunctualKind, PunctualLight, Sheen, Specular, Texture, TextureFilter, TextureRef,
-    TextureSampling, TextureSource, Transmission, UnknownVariant, UsdSource, UvTransform,
-    VariantObject, Variants, Volume, Wrap, roughness_to_shininess, shininess_to_roughness,
+    TextureSampling, TextureSource, Transmission, TriangleMaterials, UnknownVariant, UsdSource,
+    UvTransform, VariantObject, Variants, Volume, Wrap, roughness_to_shininess,
+    shininess_to_roughness,
 };
 pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
 pub use fbx::error::FbxKind;

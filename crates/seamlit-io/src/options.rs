@@ -35,6 +35,11 @@ pub struct LoadOptions {
     /// elsewhere is refused ([`crate::UsdKind::Outside`]); a texture elsewhere is not used
     /// (a warning).
     pub asset_roots: Vec<std::path::PathBuf>,
+    /// Whether to read the materials that OpenUSD `materialBind` GeomSubsets bind to parts
+    /// of meshes, into [`crate::Asset::triangle_materials`] (and their materials and
+    /// textures into the asset's lists), for drawing. Off by default and for `fix`: a mesh
+    /// is then one object with its own material, and what is written from it does not change.
+    pub subset_materials: bool,
 }
 
 impl LoadOptions {
@@ -51,6 +56,7 @@ impl LoadOptions {
         max_texture_bytes: 1 << 30,
         strict: false,
         asset_roots: Vec::new(),
+        subset_materials: false,
     };
 
     /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).
@@ -59,6 +65,14 @@ impl LoadOptions {
     /// These options with textures not loaded.
     const fn without_textures(mut self) -> Self {
         self.load_textures = false;
+        self
+    }
+
+    /// These options with the materials of USD GeomSubsets read, for drawing (builder style;
+    /// [`LoadOptions::subset_materials`]).
+    #[must_use]
+    pub fn with_subset_materials(mut self) -> Self {
+        self.subset_materials = true;
         self
     }
 

@@ -1050,3 +1050,79 @@ fn stages_by_others_compose_back_unchanged() {
         }
     }
 }
+
+/// The materials of `materialBind` GeomSubsets are read only when asked for (for drawing):
+/// the box's left half has the red material, its right half the blue, the mesh its own grey.
+/// Cut after the fix, each half is an object of its own whose every triangle corner keeps the
+/// position and normal the whole mesh was given there, so the cut makes no seam; by default
+/// (`fix`) the mesh is one object and nothing is read of its subsets.
+#[test]
+fn subset_materials_are_read_for_drawing_and_cut_after_the_fix() {
+    let input = stage("subsets.usda");
+    let plain = seamlit_io::load(&input, &LoadOptions::GEOMETRY).unwrap();
+    assert!(plain.triangle_materials.is_empty());
+    let names = |a: &Asset| a.materials.iter().map(|m| m.name.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&plain), ["Grey"]);
+
+    let options = LoadOptions::GEOMETRY.with_subset_materials();
+    let mut asset = seamlit_io::load(&input, &options).unwrap();
+    assert!(asset.warnings.is_empty(), "{:?}", asset.warnings);
+    assert_eq!(asset.model.objects.len(), 1);
+    assert_eq!(asset.split_object_count(), 2);
+    let fix = asset.fix_options(FixOptions::default(), false);
+    seamlit_mesh::fix_in_place(&mut asset.model, &fix).unwrap();
+    let whole = asset.model.objects[0].clone();
+    let by_name = |n: &str| asset.materials.iter().position(|m| m.name == n);
+    let [red, blue] = [by_name("Red"), by_name("Blue")];
+    assert!(red.is_some() && blue.is_some(), "{:?}", names(&asset));
+    let per_triangle = asset.triangle_materials[0].materials.clone();
+    assert_eq!(per_triangle.iter().filter(|m| **m == red).count(), 10);
+    assert_eq!(per_triangle.iter().filter(|m| **m == blue).count(), 10);
+
+    asset.split_triangle_materials();
+    assert!(asset.triangle_materials.is_empty());
+    let parts = &asset.model.objects;
+    assert_eq!(parts.iter().map(|o| o.material).collect::<Vec<_>>(), [red, blue]);
+    let normals = |o: &seamlit_mesh::Object| o.normals.clone().unwrap();
+    for part in parts {
+        // The whole mesh's triangles of this part's material, in order.
+        let mut of_part = (0..whole.triangles.len()).filter(|&t| per_triangle[t] == part.material);
+        assert_eq!(part.triangles.len(), 10);
+        for t in &part.triangles {
+            let w = whole.triangles[of_part.next().unwrap()];
+            for (&v, &wv) in t.iter().zip(&w) {
+                assert_eq!(part.positions[v as usize], whole.positions[wv as usize]);
+                assert_eq!(normals(part)[v as usize], normals(&whole)[wv as usize]);
+            }
+        }
+    }
+}
+
+/// Subsets that cannot be used (indices past the faces, a face in two subsets, a subset of
+/// points, a binding on a subset of another family) are one warning naming the layer and the
+/// mesh; the usable faces keep their subsets' materials.
+#[test]
+fn unusable_subsets_are_one_warning() {
+    let input = stage("subsets_bad.usda");
+    let options = LoadOptions::GEOMETRY.with_subset_materials();
+    let asset = seamlit_io::load(&input, &options).unwrap();
+    assert_eq!(asset.warnings.len(), 1, "{:?}", asset.warnings);
+    let w = &asset.warnings[0];
+    for needle in [
+        "subsets_bad.usda",
+        "</Model/Box>",
+        "Left has 2 indices outside the mesh's 10 faces",
+        "Right has 1 face that an earlier subset holds",
+        "Points has elementType \"point\"",
+        "Other binds a material but its family is \"parts\"",
+    ] {
+        assert!(w.contains(needle), "{w:?} lacks {needle:?}");
+    }
+    let red = asset.materials.iter().position(|m| m.name == "Red");
+    let blue = asset.materials.iter().position(|m| m.name == "Blue");
+    let per_triangle = &asset.triangle_materials[0].materials;
+    assert_eq!(per_triangle.iter().filter(|m| **m == red).count(), 10);
+    // Face 8 is Left's (red), though Right lists it too; Other's binding is not used.
+    assert_eq!(per_triangle.iter().filter(|m| **m == blue).count(), 10);
+    assert_eq!(per_triangle[16..18], [red, red]);
+}

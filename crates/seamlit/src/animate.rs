@@ -69,7 +69,8 @@ pub(crate) fn own_moments(
     let mut own = Vec::new();
     let (mut object, mut animation) = (0, 0);
     for (model, part) in &loaded.parts {
-        let objects = part.model.objects.len();
+        // As drawn: objects cut by their triangles' materials (`Loaded::build`).
+        let objects = part.split_object_count();
         if flags.animation.is_none()
             && let Some(choice) = &model.animation
         {

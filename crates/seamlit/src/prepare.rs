@@ -56,7 +56,8 @@ impl SceneArgs {
     /// # Errors
     /// As [`load`].
     pub(crate) fn load(&self) -> Result<Loaded, Failure> {
-        let options = self.load.options(LoadOptions::DEFAULT);
+        // Drawn, so USD GeomSubsets' materials are read too (`fix` reads none).
+        let options = self.load.options(LoadOptions::DEFAULT).with_subset_materials();
         let mut loaded = load(&self.input, &options)?;
         loaded.select_variant(self.variant.as_deref(), true)?;
         Ok(loaded)
@@ -138,7 +139,9 @@ impl Loaded {
         names
     }
 
-    /// Fixes every model with its options changed by `fix`, places it and merges them.
+    /// Fixes every model with its options changed by `fix`, cuts its objects by the
+    /// materials of their triangles ([`Asset::split_triangle_materials`]), places it and
+    /// merges them.
     ///
     /// # Errors
     /// [`Failure::BadInput`] when a model has bad geometry (NaN positions, indices out of
@@ -161,6 +164,9 @@ impl Loaded {
                     .map_err(bad)?;
                 seamlit_io::match_skin_seams(&mut fixed, &copies);
             }
+            // Parts of an object bound to materials of their own (USD GeomSubsets) drawn as
+            // objects of their own, cut after the fix: their normals are the whole object's.
+            fixed.split_triangle_materials();
             assets.push(fixed);
         }
         Ok(self.scene.assemble(assets))

@@ -209,3 +209,53 @@ fn skin_seams_of_usd_stages_are_reported_and_matched() {
     assert!(!text.contains("skel:"), "{text}");
     assert_eq!(text.matches("primvars:normals = ").count(), 2, "{text}");
 }
+
+/// `render` draws each `materialBind` GeomSubset with its bound material: the box's left
+/// half red and its right half blue, where the mesh's own material is grey; `fix` writes the
+/// mesh as one object, as without subsets. Subsets that cannot be used are one warning
+/// naming the layer and the mesh, and the stage still renders.
+#[test]
+fn geom_subsets_are_drawn_with_their_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("subsets.png").display().to_string();
+    let o = seamlit(&["render", &usd("subsets.usda"), "-o", &png, "--size", "96x72"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+    let img = image::open(&png).unwrap().to_rgba8();
+    let bg = img.get_pixel(0, 0).0;
+    let foreground: Vec<(u32, [u8; 4])> = img
+        .enumerate_pixels()
+        .filter(|(_, _, p)| {
+            p.0.iter().zip(bg).any(|(&a, b)| (i32::from(a) - i32::from(b)).abs() > 12)
+        })
+        .map(|(x, _, p)| (x, p.0))
+        .collect();
+    let lo = foreground.iter().map(|f| f.0).min().unwrap();
+    let hi = foreground.iter().map(|f| f.0).max().unwrap();
+    assert!(hi - lo > 48, "the box spans {lo}..{hi}");
+    // The outer quarters of the box's columns: the left all red, the right all blue.
+    let quarter = (hi - lo) / 4;
+    let side = |keep: &dyn Fn(u32) -> bool| -> Vec<[u8; 4]> {
+        foreground.iter().filter(|f| keep(f.0)).map(|f| f.1).collect()
+    };
+    let (left, right) = (side(&|x| x < lo + quarter), side(&|x| x > hi - quarter));
+    let dominant = |p: &[u8; 4], c: usize| (0..3).all(|k| k == c || p[c] > p[k].saturating_add(40));
+    assert!(left.len() > 100 && right.len() > 100, "{} and {}", left.len(), right.len());
+    let red = left.iter().filter(|p| dominant(p, 0)).count();
+    let blue = right.iter().filter(|p| dominant(p, 2)).count();
+    assert!(red * 100 >= left.len() * 95, "{red} of {} left pixels red", left.len());
+    assert!(blue * 100 >= right.len() * 95, "{blue} of {} right pixels blue", right.len());
+
+    let out = dir.path().join("subsets_fixed.usda").display().to_string();
+    let o = seamlit(&["fix", &usd("subsets.usda"), "-o", &out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+
+    let o = seamlit(&["render", &usd("subsets_bad.usda"), "-o", &png, "--size", "32x24"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("warning: ")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    for needle in ["subsets_bad.usda", "</Model/Box>", "GeomSubsets"] {
+        assert!(warnings[0].contains(needle), "{:?} lacks {needle:?}", warnings[0]);
+    }
+}

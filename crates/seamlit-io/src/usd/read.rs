@@ -12,6 +12,7 @@ mod skel;
 mod stage;
 mod xform;
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -21,7 +22,7 @@ use seamlit_mesh::{Model, VAxis};
 pub(crate) use resolver::allowed_folders;
 pub(crate) use stage::{check_text_nesting, guarded};
 
-use crate::asset::{Asset, UsdSource};
+use crate::asset::{Asset, TriangleMaterials, UsdSource};
 use crate::error::IoError;
 use crate::options::LoadOptions;
 use crate::usd::source::StageSource;
@@ -88,12 +89,25 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
+    // The meshes, and the GeomSubsets under each (by the mesh's path).
+    let mut meshes = Vec::new();
+    let mut subsets: HashMap<String, Vec<sdf::Path>> = HashMap::new();
     for prim_path in prims {
+        let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
+        match stage.prim(prim_path.clone()).type_name().map_err(at)?.as_ref().map(|t| t.as_str()) {
+            Some("Mesh") => meshes.push(prim_path),
+            Some("GeomSubset") if options.subset_materials => {
+                if let Some(parent) = prim_path.parent() {
+                    subsets.entry(parent.as_str().to_owned()).or_default().push(prim_path);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut triangle_materials = Vec::new();
+    for prim_path in meshes {
         let prim = stage.prim(prim_path.clone());
         let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
-        if prim.type_name().map_err(at)?.is_none_or(|t| t.as_str() != "Mesh") {
-            continue;
-        }
         if xforms.hidden(&prim_path).map_err(at)? {
             continue;
         }
@@ -118,6 +132,13 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         }
         let mut object = read.object;
         object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
+        if let Some(subsets) = subsets.get(prim_path.as_str()) {
+            let faces = (read.triangle_faces.as_slice(), read.faces);
+            let parts = materials.subsets(&prim_path, subsets, faces, &mut warnings).map_err(at)?;
+            if let Some(materials) = parts {
+                triangle_materials.push(TriangleMaterials { object: objects.len(), materials });
+            }
+        }
         triangles += object.triangle_count();
         if triangles > options.max_model_triangles {
             return Err(IoError::TooManyElements {
@@ -138,6 +159,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
         textures: std::mem::take(&mut materials.textures),
         source: Some(path.to_path_buf()),
         warnings,
+        triangle_materials,
         ..Asset::default()
     };
     let metadata = stage::metadata(stage).map_err(at_root)?;

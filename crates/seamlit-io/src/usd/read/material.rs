@@ -63,6 +63,91 @@ impl<'s> Materials<'s> {
         Ok(None)
     }
 
+    /// The material of each triangle of the mesh at `mesh` (`triangle_faces` its triangles'
+    /// faces, of `faces`) by its `materialBind` GeomSubsets (`subsets`, its GeomSubset
+    /// children): a face in a subset with a `material:binding` of its own has that material,
+    /// other faces the mesh's (`None`). `None` when no face has a material of a subset. A
+    /// subset that cannot be used (indices out of range or not an int array, a face in two
+    /// subsets, an `elementType` other than `face`, a binding on a subset of another family)
+    /// is one warning naming the layer and the mesh; its faces keep the mesh's material (a
+    /// face in two subsets the first's).
+    pub(super) fn subsets(
+        &mut self,
+        mesh: &sdf::Path,
+        subsets: &[sdf::Path],
+        (triangle_faces, faces): (&[u32], usize),
+        warnings: &mut Vec<String>,
+    ) -> anyhow::Result<Option<Vec<Option<usize>>>> {
+        let mut face_material: Vec<Option<usize>> = vec![None; faces];
+        let mut problems: Vec<String> = Vec::new();
+        for subset in subsets {
+            let token = |name: &str| -> anyhow::Result<Option<String>> {
+                Ok(match value(&self.stage.attribute(subset.append_property(name)?))? {
+                    Some(sdf::Value::Token(t)) => Some(t.as_str().to_owned()),
+                    Some(sdf::Value::String(s)) => Some(s),
+                    _ => None,
+                })
+            };
+            let name = subset.name().unwrap_or_default().to_owned();
+            let family = token("familyName")?.unwrap_or_default();
+            let binding = self.stage.prim(subset.clone()).relationship("material:binding");
+            let Some(target) = binding.targets()?.first().cloned() else { continue };
+            if family != "materialBind" {
+                problems.push(format!(
+                    "{name} binds a material but its family is {family:?}, not \"materialBind\""
+                ));
+                continue;
+            }
+            let element = token("elementType")?.unwrap_or_else(|| "face".to_owned());
+            if element != "face" {
+                problems.push(format!("{name} has elementType {element:?}, not \"face\""));
+                continue;
+            }
+            let indices = match value(&self.stage.attribute(subset.append_property("indices")?))? {
+                Some(sdf::Value::IntVec(v)) => v,
+                None => Vec::new(),
+                Some(_) => {
+                    problems.push(format!("{name}'s indices are not an int array"));
+                    continue;
+                }
+            };
+            let material = self.material(&target, warnings)?;
+            let (mut outside, mut overlapping) = (0usize, 0usize);
+            for &index in &indices {
+                match usize::try_from(index).ok().and_then(|f| face_material.get_mut(f)) {
+                    None => outside += 1,
+                    Some(Some(_)) => overlapping += 1,
+                    Some(slot) => *slot = Some(material),
+                }
+            }
+            if outside > 0 {
+                problems
+                    .push(format!("{name} has {outside} indices outside the mesh's {faces} faces"));
+            }
+            if overlapping > 0 {
+                let faces = if overlapping == 1 { "face" } else { "faces" };
+                problems
+                    .push(format!("{name} has {overlapping} {faces} that an earlier subset holds"));
+            }
+        }
+        if !problems.is_empty() {
+            warnings.push(format!(
+                "{}: mesh <{}>: GeomSubsets not used as bound: {}; those faces are drawn with the mesh's material (a face in two subsets with the first's)",
+                self.file.display(),
+                mesh.as_str(),
+                problems.join("; ")
+            ));
+        }
+        if face_material.iter().all(Option::is_none) {
+            return Ok(None);
+        }
+        let triangles = triangle_faces
+            .iter()
+            .map(|&f| face_material.get(f as usize).copied().flatten())
+            .collect();
+        Ok(Some(triangles))
+    }
+
     fn material(&mut self, path: &sdf::Path, warnings: &mut Vec<String>) -> anyhow::Result<usize> {
         if let Some(&i) = self.by_path.get(path.as_str()) {
             return Ok(i);

@@ -104,6 +104,10 @@ impl<T> Primvar<T> {
 pub(super) struct Read {
     pub object: Object,
     pub source: MeshSource,
+    /// Per triangle of the object: the face (an index of `faceVertexCounts`) it is part of.
+    pub triangle_faces: Vec<u32>,
+    /// The mesh's number of faces.
+    pub faces: usize,
 }
 
 /// Where a mesh is placed: its world matrix, the up-axis rotation, and its skin binding
@@ -190,6 +194,14 @@ pub(super) fn read(
     });
     let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
     let time_sampled = time_sampled(prim).map_err(|e| at.openusd(e))?;
+    let mut corner_face = vec![0u32; topology.indices.len()];
+    for (face, range) in topology.faces() {
+        #[expect(clippy::cast_possible_truncation, reason = "faces are below the limit")]
+        corner_face[range].fill(face as u32);
+    }
+    let triangle_faces =
+        corners.triangle_corners.iter().map(|t| corner_face[t[0] as usize]).collect();
+    let faces = topology.faces().count();
     let source = MeshSource {
         prim: at.prim.to_owned(),
         triangle_corners: corners.triangle_corners,
@@ -203,7 +215,7 @@ pub(super) fn read(
         time_sampled,
         skin,
     };
-    Ok(Read { object, source })
+    Ok(Read { object, source, triangle_faces, faces })
 }
 
 /// Per vertex (whose points `vertex_point` gives), the binding's influences of its point, in
