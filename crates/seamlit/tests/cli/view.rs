@@ -2,6 +2,15 @@
 
 use super::*;
 
+/// Held while a test runs `xvfb-run -a`: two at once can race for one display number, and
+/// under load one of them then failed its own clean-up (exit status 5, "problem while cleaning
+/// up temporary directory") after the viewer had exited as it should.
+static XVFB: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_xvfb_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    XVFB.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 // --- demo --------------------------------------------------------------------------------
 
 #[test]
@@ -50,6 +59,7 @@ fn view_opens_a_window_under_xvfb_and_its_screenshot_shows_the_teapot() {
     let dir = tempfile::tempdir().unwrap();
     // The folder does not exist yet: view creates it, as every command does.
     let shot = dir.path().join("shots/today/view.png");
+    let _xvfb = one_xvfb_at_a_time();
     let o = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_seamlit"), "view"])
         .arg(example("teapot.toml"))
@@ -154,6 +164,7 @@ fn a_screenshot_that_cannot_be_written_fails_the_viewer() {
     // The folder exists, but the picture's name is taken by a folder.
     let shot = dir.path().join("taken.png");
     std::fs::create_dir(&shot).unwrap();
+    let _xvfb = one_xvfb_at_a_time();
     let o = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 640x480x24", env!("CARGO_BIN_EXE_seamlit"), "view"])
         .arg(models().join("cornell_box/cornell_box.obj"))
