@@ -89,21 +89,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let mut objects = Vec::new();
     let mut sources = Vec::new();
     let mut triangles = 0usize;
-    // The meshes, and the GeomSubsets under each (by the mesh's path).
-    let mut meshes = Vec::new();
-    let mut subsets: HashMap<String, Vec<sdf::Path>> = HashMap::new();
-    for prim_path in prims {
-        let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
-        match stage.prim(prim_path.clone()).type_name().map_err(at)?.as_ref().map(|t| t.as_str()) {
-            Some("Mesh") => meshes.push(prim_path),
-            Some("GeomSubset") if options.subset_materials => {
-                if let Some(parent) = prim_path.parent() {
-                    subsets.entry(parent.as_str().to_owned()).or_default().push(prim_path);
-                }
-            }
-            _ => {}
-        }
-    }
+    let (meshes, subsets) = meshes_and_subsets(stage, prims, path, options)?;
     let mut triangle_materials = Vec::new();
     for prim_path in meshes {
         let prim = stage.prim(prim_path.clone());
@@ -112,18 +98,8 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
             continue;
         }
         let world = xforms.world(&prim_path).map_err(at)?;
-        let skin = match skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)? {
-            Some(Ok(binding)) => Some(binding),
-            Some(Err(reason)) => {
-                warnings.push(format!(
-                    "{}: mesh <{}>: its skin is ignored ({reason}): read unskinned, at its own transform",
-                    path.display(),
-                    prim_path.as_str()
-                ));
-                None
-            }
-            None => None,
-        };
+        let binding = skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)?;
+        let skin = usable_skin(binding, path, &prim_path, &mut warnings);
         let placement = mesh::Placement { world, up, skin };
         let mut read = mesh::read(&prim, placement, path, options, &mut warnings)?;
         read.source.instance = instances.source(&prim).map_err(at)?;
@@ -164,6 +140,54 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     };
     let metadata = stage::metadata(stage).map_err(at_root)?;
     Ok((asset, StageSource { meshes: sources, metadata, joints: skels.joints }))
+}
+
+/// The stage's meshes among `prims`, and the GeomSubsets under each (by the mesh's path;
+/// only where `options` asks for subset materials).
+type MeshesAndSubsets = (Vec<sdf::Path>, HashMap<String, Vec<sdf::Path>>);
+
+fn meshes_and_subsets(
+    stage: &usd::Stage,
+    prims: Vec<sdf::Path>,
+    path: &Path,
+    options: &LoadOptions,
+) -> Result<MeshesAndSubsets, IoError> {
+    let mut meshes = Vec::new();
+    let mut subsets: HashMap<String, Vec<sdf::Path>> = HashMap::new();
+    for prim_path in prims {
+        let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
+        match stage.prim(prim_path.clone()).type_name().map_err(at)?.as_ref().map(|t| t.as_str()) {
+            Some("Mesh") => meshes.push(prim_path),
+            Some("GeomSubset") if options.subset_materials => {
+                if let Some(parent) = prim_path.parent() {
+                    subsets.entry(parent.as_str().to_owned()).or_default().push(prim_path);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok((meshes, subsets))
+}
+
+/// The mesh's skin binding where it can be used; one warning naming the mesh where it cannot
+/// (the mesh is then read unskinned, at its own transform).
+fn usable_skin(
+    binding: Option<Result<skel::Binding, String>>,
+    path: &Path,
+    prim_path: &sdf::Path,
+    warnings: &mut Vec<String>,
+) -> Option<skel::Binding> {
+    match binding? {
+        Ok(binding) => Some(binding),
+        Err(reason) => {
+            warnings.push(format!(
+                "{}: mesh <{}>: its skin is ignored ({reason}): read unskinned, at its own transform",
+                path.display(),
+                prim_path.as_str()
+            ));
+            None
+        }
+    }
 }
 
 /// An attribute's value: its default, else its earliest time sample (the rest pose of a

@@ -688,66 +688,93 @@ fn skin_over(
             .flat_map(|set| set.joints[v].into_iter().zip(set.weights[v]))
             .collect();
         let read = read_lanes(skin, p as usize);
-        let same = now.len() >= read.len()
-            && now
-                .iter()
-                .zip(&read)
-                .all(|(a, b)| a.0 == skin.joints[b.0 as usize] && a.1.to_bits() == b.1.to_bits())
-            && now[read.len()..].iter().all(|&(_, w)| w == 0.0);
-        if same {
+        if same_influences(&now, &read, skin) {
             *slot = Some(read);
             continue;
         }
         changed = true;
-        let mut lanes = Vec::new();
-        for (joint, weight) in now.into_iter().filter(|&(_, w)| w > 0.0) {
-            let local = match order.iter().position(|&j| j == joint) {
-                Some(k) => k,
-                None => {
-                    let (skeleton, name) = &joints[joint as usize];
-                    if !skin.own_order || *skeleton != skin.skeleton {
-                        warn(
-                            warnings,
-                            &format!(
-                                "joint {name:?} of <{skeleton}> is not one its skeleton <{}> lets it name",
-                                skin.skeleton
-                            ),
-                        );
-                        return None;
-                    }
-                    order.push(joint);
-                    order.len() - 1
+        match local_lanes(now, &mut order, skin, joints) {
+            Ok(lanes) => *slot = Some(lanes),
+            Err(why) => {
+                warn(warnings, &why);
+                return None;
+            }
+        }
+    }
+    changed.then(|| SkinOver::from_points(per_point, &order, skin, joints))
+}
+
+/// Whether the influences `now` (joint ids and weights, after matching) are the point's
+/// influences as `read` (in the mesh's order), bit for bit, but for trailing zero weights.
+fn same_influences(now: &[(u32, f32)], read: &[(u32, f32)], skin: &SkinSource) -> bool {
+    now.len() >= read.len()
+        && now
+            .iter()
+            .zip(read)
+            .all(|(a, b)| a.0 == skin.joints[b.0 as usize] && a.1.to_bits() == b.1.to_bits())
+        && now[read.len()..].iter().all(|&(_, w)| w == 0.0)
+}
+
+/// The influences `now` (joint ids) with a nonzero weight, as indices into the mesh's joint
+/// `order`, which grows by the joints it lacks where the mesh has an order of its own; `Err`
+/// with the reason where a joint cannot be named.
+fn local_lanes(
+    now: Vec<(u32, f32)>,
+    order: &mut Vec<u32>,
+    skin: &SkinSource,
+    joints: &[(String, String)],
+) -> Result<Vec<(u32, f32)>, String> {
+    let mut lanes = Vec::new();
+    for (joint, weight) in now.into_iter().filter(|&(_, w)| w > 0.0) {
+        let local = match order.iter().position(|&j| j == joint) {
+            Some(k) => k,
+            None => {
+                let (skeleton, name) = &joints[joint as usize];
+                if !skin.own_order || *skeleton != skin.skeleton {
+                    return Err(format!(
+                        "joint {name:?} of <{skeleton}> is not one its skeleton <{}> lets it name",
+                        skin.skeleton
+                    ));
                 }
-            };
-            #[expect(
-                clippy::cast_possible_truncation,
-                reason = "joints are far fewer than u32::MAX"
-            )]
-            lanes.push((local as u32, weight));
+                order.push(joint);
+                order.len() - 1
+            }
+        };
+        #[expect(clippy::cast_possible_truncation, reason = "joints are far fewer than u32::MAX")]
+        lanes.push((local as u32, weight));
+    }
+    Ok(lanes)
+}
+
+impl SkinOver {
+    /// The override of every point: its matched influences where `per_point` has them, else
+    /// as read, `elementSize` lanes each (the largest needed), and the grown joint `order`
+    /// where it grew.
+    fn from_points(
+        per_point: Vec<Option<Vec<(u32, f32)>>>,
+        order: &[u32],
+        skin: &SkinSource,
+        joints: &[(String, String)],
+    ) -> Self {
+        let element_size =
+            per_point.iter().flatten().map(Vec::len).max().unwrap_or(0).max(skin.element_size);
+        let mut out = Self {
+            joints: (order.len() > skin.joints.len())
+                .then(|| order.iter().map(|&j| joints[j as usize].1.clone()).collect()),
+            element_size,
+            indices: Vec::with_capacity(skin.points * element_size),
+            weights: Vec::with_capacity(skin.points * element_size),
+        };
+        for (p, lanes) in per_point.into_iter().enumerate() {
+            let lanes = lanes.unwrap_or_else(|| read_lanes(skin, p));
+            for k in 0..element_size {
+                let (i, w) = lanes.get(k).copied().unwrap_or((0, 0.0));
+                out.indices.push(i);
+                out.weights.push(w);
+            }
         }
-        *slot = Some(lanes);
+        out
     }
-    if !changed {
-        return None;
-    }
-    let element_size =
-        per_point.iter().flatten().map(Vec::len).max().unwrap_or(0).max(skin.element_size);
-    let mut out = SkinOver {
-        joints: (order.len() > skin.joints.len())
-            .then(|| order.iter().map(|&j| joints[j as usize].1.clone()).collect()),
-        element_size,
-        indices: Vec::with_capacity(skin.points * element_size),
-        weights: Vec::with_capacity(skin.points * element_size),
-    };
-    for (p, lanes) in per_point.into_iter().enumerate() {
-        let lanes = lanes.unwrap_or_else(|| read_lanes(skin, p));
-        for k in 0..element_size {
-            let (i, w) = lanes.get(k).copied().unwrap_or((0, 0.0));
-            out.indices.push(i);
-            out.weights.push(w);
-        }
-    }
-    Some(out)
 }
 
 /// Point `p`'s influences as read: (index into the mesh's joints, weight).

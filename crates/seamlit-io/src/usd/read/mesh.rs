@@ -137,16 +137,7 @@ pub(super) fn read(
         At { file, prim: path.as_str(), limit: options.max_elements.min(u32::MAX as usize - 1) };
     let topology = Topology::read(prim, &at, warnings)?;
     let Placement { world, up, skin } = placement;
-    let skin = skin.filter(|binding| match binding.misfit(topology.points.len()) {
-        None => true,
-        Some(reason) => {
-            at.warn(
-                warnings,
-                &format!("its skin is ignored ({reason}): read unskinned, at its own transform"),
-            );
-            false
-        }
-    });
+    let skin = fitting_skin(skin, topology.points.len(), &at, warnings);
     let world = skin.as_ref().map_or(world, |b| b.skeleton_world * b.geom_bind);
     let subdivision =
         at.token(prim, "subdivisionScheme")?.unwrap_or_else(|| "catmullClark".to_owned());
@@ -181,26 +172,10 @@ pub(super) fn read(
         skin: skin.as_ref().map(|b| influences(b, &vertex_point)).unwrap_or_default(),
         ..Object::new(at.prim, positions, corners.triangles)
     };
-    let skin = skin.map(|b| SkinSource {
-        skeleton: b.skeleton,
-        joints: b.joints,
-        own_order: b.own_order,
-        element_size: b.element_size,
-        constant: b.constant,
-        indices: b.indices,
-        weights: b.weights,
-        vertex_point,
-        points: topology.points.len(),
-    });
+    let skin = skin.map(|b| skin_source(b, vertex_point, topology.points.len()));
     let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
     let time_sampled = time_sampled(prim).map_err(|e| at.openusd(e))?;
-    let mut corner_face = vec![0u32; topology.indices.len()];
-    for (face, range) in topology.faces() {
-        #[expect(clippy::cast_possible_truncation, reason = "faces are below the limit")]
-        corner_face[range].fill(face as u32);
-    }
-    let triangle_faces =
-        corners.triangle_corners.iter().map(|t| corner_face[t[0] as usize]).collect();
+    let triangle_faces = triangle_faces(&topology, &corners.triangle_corners);
     let faces = topology.faces().count();
     let source = MeshSource {
         prim: at.prim.to_owned(),
@@ -216,6 +191,51 @@ pub(super) fn read(
         skin,
     };
     Ok(Read { object, source, triangle_faces, faces })
+}
+
+/// The skin binding where it fits a mesh of `points` points; one warning where it does not
+/// (the mesh is then read unskinned, at its own transform).
+fn fitting_skin(
+    skin: Option<Binding>,
+    points: usize,
+    at: &At<'_>,
+    warnings: &mut Vec<String>,
+) -> Option<Binding> {
+    skin.filter(|binding| match binding.misfit(points) {
+        None => true,
+        Some(reason) => {
+            at.warn(
+                warnings,
+                &format!("its skin is ignored ({reason}): read unskinned, at its own transform"),
+            );
+            false
+        }
+    })
+}
+
+/// What the writer needs of a skinned mesh's binding (`vertex_point`: each vertex's point).
+fn skin_source(b: Binding, vertex_point: Vec<u32>, points: usize) -> SkinSource {
+    SkinSource {
+        skeleton: b.skeleton,
+        joints: b.joints,
+        own_order: b.own_order,
+        element_size: b.element_size,
+        constant: b.constant,
+        indices: b.indices,
+        weights: b.weights,
+        vertex_point,
+        points,
+    }
+}
+
+/// Per triangle (the corners it was cut from: `triangle_corners`), the face it belongs to.
+fn triangle_faces(topology: &Topology, triangle_corners: &[[u32; 3]]) -> Vec<u32> {
+    let mut corner_face = vec![0u32; topology.indices.len()];
+    for (face, range) in topology.faces() {
+        #[expect(clippy::cast_possible_truncation, reason = "faces are below the limit")]
+        corner_face[range].fill(face as u32);
+    }
+    triangle_corners.iter().map(|t| corner_face[t[0] as usize]).collect()
 }
 
 /// Per vertex (whose points `vertex_point` gives), the binding's influences of its point, in

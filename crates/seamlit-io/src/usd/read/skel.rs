@@ -27,6 +27,17 @@ use openusd::{sdf, usd};
 
 use super::value;
 
+/// The value of a check that found the binding usable, or, from the enclosing function, the
+/// reason it is not (`Ok(Err(reason))`: the caller warns).
+macro_rules! usable {
+    ($check:expr) => {
+        match $check {
+            Ok(value) => value,
+            Err(reason) => return Ok(Err(reason)),
+        }
+    };
+}
+
 /// The API schema a prim's skin binding properties are read on (pxr ignores them elsewhere:
 /// a mesh without it is not skinned, an ancestor without it binds no skeleton).
 const BINDING_API: &str = "SkelBindingAPI";
@@ -115,6 +126,8 @@ impl<'s> Skels<'s> {
         Ok(Some(self.checked(prim, indices, weights, world)?))
     }
 
+    /// [`Self::binding`]'s checks, as named steps: the skeleton bound, the joint order, the
+    /// primvars' layout, their values, the bind transform.
     fn checked(
         &mut self,
         prim: &usd::Prim,
@@ -123,104 +136,12 @@ impl<'s> Skels<'s> {
         world: &mut impl FnMut(&sdf::Path) -> anyhow::Result<DMat4>,
     ) -> anyhow::Result<Result<Binding, String>> {
         let path = prim.path().clone();
-        if !self.under_skel_root(&path)? {
-            return Ok(Err("it is not under a SkelRoot, so USD does not skin it".to_owned()));
-        }
-        if !prim.has_api_schema(BINDING_API)? {
-            return Ok(Err(format!("{BINDING_API} is not applied to it, so USD does not skin it")));
-        }
-        let Some(skeleton) = self.inherited(&path, |p| {
-            Ok(p.relationship("skel:skeleton").targets()?.into_iter().next())
-        })?
-        else {
-            return Ok(Err(format!(
-                "no skel:skeleton is bound to it or an ancestor with {BINDING_API}"
-            )));
-        };
-        let skeleton_joints = match self.skeleton(&skeleton)? {
-            Ok(joints) => joints,
-            Err(reason) => return Ok(Err(reason)),
-        };
-        let own = self.inherited(&path, |p| value(&p.attribute("skel:joints")))?;
-        let (joints, own_order) = match own {
-            None => (skeleton_joints, false),
-            Some(sdf::Value::TokenVec(tokens)) => {
-                let mut ids = Vec::with_capacity(tokens.len());
-                for t in &tokens {
-                    let key = (skeleton.as_str().to_owned(), t.as_str().to_owned());
-                    match self.ids.get(&key) {
-                        Some(&id) if skeleton_joints.contains(&id) => ids.push(id),
-                        _ => {
-                            return Ok(Err(format!(
-                                "its skel:joints names {:?}, not a joint of <{}>",
-                                t.as_str(),
-                                skeleton.as_str()
-                            )));
-                        }
-                    }
-                }
-                (ids, true)
-            }
-            Some(_) => return Ok(Err("its skel:joints is not a token array".to_owned())),
-        };
-        let (sdf::Value::IntVec(indices), sdf::Value::FloatVec(weights)) = (indices, weights)
-        else {
-            return Ok(Err(
-                "its skel:jointIndices is not an int array or its skel:jointWeights not a float array"
-                    .to_owned(),
-            ));
-        };
-        let layout = |name: &str| -> anyhow::Result<(Option<i64>, Option<String>)> {
-            let attribute = prim.attribute(name);
-            let size = match attribute.get_metadata::<sdf::Value>("elementSize")? {
-                Some(sdf::Value::Int(n)) => Some(i64::from(n)),
-                Some(sdf::Value::Int64(n)) => Some(n),
-                Some(sdf::Value::Uint(n)) => Some(i64::from(n)),
-                _ => None,
-            };
-            let interpolation = match attribute.get_metadata::<sdf::Value>("interpolation")? {
-                Some(sdf::Value::Token(t)) => Some(t.as_str().to_owned()),
-                Some(sdf::Value::String(s)) => Some(s),
-                _ => None,
-            };
-            Ok((size, interpolation))
-        };
-        let of_indices = layout("primvars:skel:jointIndices")?;
-        let of_weights = layout("primvars:skel:jointWeights")?;
-        if of_indices != of_weights {
-            return Ok(Err(format!(
-                "its skel:jointIndices and skel:jointWeights differ in elementSize or interpolation ({of_indices:?}, {of_weights:?})"
-            )));
-        }
-        let (size, interpolation) = of_indices;
-        let element_size = match size.unwrap_or(1) {
-            n @ 1..=64 => usize::try_from(n).unwrap_or(1),
-            n => return Ok(Err(format!("its skel:jointIndices has elementSize {n}"))),
-        };
-        let constant = match interpolation.as_deref() {
-            Some("constant") => true,
-            Some("vertex" | "varying") | None => false,
-            Some(other) => {
-                return Ok(Err(format!("its skel:jointIndices has {other} interpolation")));
-            }
-        };
-        if indices.len() != weights.len() {
-            return Ok(Err(format!(
-                "{} skel:jointIndices, {} skel:jointWeights",
-                indices.len(),
-                weights.len()
-            )));
-        }
-        if let Some(bad) = indices.iter().find(|&&i| i < 0 || i as usize >= joints.len()) {
-            return Ok(Err(format!("skel:jointIndices holds {bad}, for {} joints", joints.len())));
-        }
-        if !weights.iter().all(|w| w.is_finite()) {
-            return Ok(Err("a skel:jointWeights value is not finite".to_owned()));
-        }
-        let geom_bind = match geom_bind_transform(prim)? {
-            Ok(m) => m,
-            Err(reason) => return Ok(Err(reason)),
-        };
+        let skeleton = usable!(self.bound_skeleton(prim, &path)?);
+        let skeleton_joints = usable!(self.skeleton(&skeleton)?);
+        let (joints, own_order) = usable!(self.joint_order(&path, &skeleton, skeleton_joints)?);
+        let (element_size, constant) = usable!(influence_layout(prim)?);
+        let (indices, weights) = usable!(influence_values(indices, weights, joints.len()));
+        let geom_bind = usable!(geom_bind_transform(prim)?);
         let skeleton_world = world(&skeleton)?;
         Ok(Ok(Binding {
             skeleton: skeleton.as_str().to_owned(),
@@ -233,6 +154,57 @@ impl<'s> Skels<'s> {
             indices,
             weights,
         }))
+    }
+
+    /// The skeleton that skins the mesh `prim` at `path`: it must be under a `SkelRoot`, with
+    /// the binding API applied, and name one with `skel:skeleton` (its own or an ancestor's).
+    fn bound_skeleton(
+        &self,
+        prim: &usd::Prim,
+        path: &sdf::Path,
+    ) -> anyhow::Result<Result<sdf::Path, String>> {
+        if !self.under_skel_root(path)? {
+            return Ok(Err("it is not under a SkelRoot, so USD does not skin it".to_owned()));
+        }
+        if !prim.has_api_schema(BINDING_API)? {
+            return Ok(Err(format!("{BINDING_API} is not applied to it, so USD does not skin it")));
+        }
+        let skeleton = self.inherited(path, |p| {
+            Ok(p.relationship("skel:skeleton").targets()?.into_iter().next())
+        })?;
+        Ok(skeleton.ok_or_else(|| {
+            format!("no skel:skeleton is bound to it or an ancestor with {BINDING_API}")
+        }))
+    }
+
+    /// The joints the mesh at `path` indexes, and whether that order is its own
+    /// `skel:joints` (else the skeleton's, `skeleton_joints`).
+    fn joint_order(
+        &self,
+        path: &sdf::Path,
+        skeleton: &sdf::Path,
+        skeleton_joints: Vec<u32>,
+    ) -> anyhow::Result<Result<(Vec<u32>, bool), String>> {
+        let tokens = match self.inherited(path, |p| value(&p.attribute("skel:joints")))? {
+            None => return Ok(Ok((skeleton_joints, false))),
+            Some(sdf::Value::TokenVec(tokens)) => tokens,
+            Some(_) => return Ok(Err("its skel:joints is not a token array".to_owned())),
+        };
+        let mut ids = Vec::with_capacity(tokens.len());
+        for t in &tokens {
+            let key = (skeleton.as_str().to_owned(), t.as_str().to_owned());
+            match self.ids.get(&key) {
+                Some(&id) if skeleton_joints.contains(&id) => ids.push(id),
+                _ => {
+                    return Ok(Err(format!(
+                        "its skel:joints names {:?}, not a joint of <{}>",
+                        t.as_str(),
+                        skeleton.as_str()
+                    )));
+                }
+            }
+        }
+        Ok(Ok((ids, true)))
     }
 
     /// Whether a prim above `path` is a `SkelRoot`.
@@ -299,6 +271,73 @@ impl<'s> Skels<'s> {
         self.ids.insert(key, id);
         id
     }
+}
+
+/// The influences' `elementSize` (1 to 64) and whether they are constant (one element for
+/// the whole mesh) rather than per point: the same for both primvars.
+fn influence_layout(prim: &usd::Prim) -> anyhow::Result<Result<(usize, bool), String>> {
+    let layout = |name: &str| -> anyhow::Result<(Option<i64>, Option<String>)> {
+        let attribute = prim.attribute(name);
+        let size = match attribute.get_metadata::<sdf::Value>("elementSize")? {
+            Some(sdf::Value::Int(n)) => Some(i64::from(n)),
+            Some(sdf::Value::Int64(n)) => Some(n),
+            Some(sdf::Value::Uint(n)) => Some(i64::from(n)),
+            _ => None,
+        };
+        let interpolation = match attribute.get_metadata::<sdf::Value>("interpolation")? {
+            Some(sdf::Value::Token(t)) => Some(t.as_str().to_owned()),
+            Some(sdf::Value::String(s)) => Some(s),
+            _ => None,
+        };
+        Ok((size, interpolation))
+    };
+    let of_indices = layout("primvars:skel:jointIndices")?;
+    let of_weights = layout("primvars:skel:jointWeights")?;
+    if of_indices != of_weights {
+        return Ok(Err(format!(
+            "its skel:jointIndices and skel:jointWeights differ in elementSize or interpolation ({of_indices:?}, {of_weights:?})"
+        )));
+    }
+    let (size, interpolation) = of_indices;
+    let element_size = match size.unwrap_or(1) {
+        n @ 1..=64 => usize::try_from(n).unwrap_or(1),
+        n => return Ok(Err(format!("its skel:jointIndices has elementSize {n}"))),
+    };
+    let constant = match interpolation.as_deref() {
+        Some("constant") => true,
+        Some("vertex" | "varying") | None => false,
+        Some(other) => return Ok(Err(format!("its skel:jointIndices has {other} interpolation"))),
+    };
+    Ok(Ok((element_size, constant)))
+}
+
+/// The joint indices and weights, checked: an int and a float array of one length, every
+/// index one of the `joints`, every weight finite.
+fn influence_values(
+    indices: sdf::Value,
+    weights: sdf::Value,
+    joints: usize,
+) -> Result<(Vec<i32>, Vec<f32>), String> {
+    let (sdf::Value::IntVec(indices), sdf::Value::FloatVec(weights)) = (indices, weights) else {
+        return Err(
+            "its skel:jointIndices is not an int array or its skel:jointWeights not a float array"
+                .to_owned(),
+        );
+    };
+    if indices.len() != weights.len() {
+        return Err(format!(
+            "{} skel:jointIndices, {} skel:jointWeights",
+            indices.len(),
+            weights.len()
+        ));
+    }
+    if let Some(bad) = indices.iter().find(|&&i| i < 0 || i as usize >= joints) {
+        return Err(format!("skel:jointIndices holds {bad}, for {joints} joints"));
+    }
+    if !weights.iter().all(|w| w.is_finite()) {
+        return Err("a skel:jointWeights value is not finite".to_owned());
+    }
+    Ok((indices, weights))
 }
 
 /// `primvars:skel:geomBindTransform` (else the older `skel:geomBindTransform`), the identity
