@@ -133,11 +133,18 @@ impl Smooth {
 
     /// The normal of corner `c` (at vertex `v`) and a key that tells normals at one position
     /// apart: 0 at a simple position (one normal), else one more than the corner's frame.
+    #[inline]
     pub fn corner_normal(&self, c: u32, v: usize) -> (Vec3, u32) {
         let r = self.roots[v] as usize;
         if self.flags[r] & COMPLEX == 0 {
             return (self.slots[r].n, 0);
         }
+        self.complex_corner_normal(c)
+    }
+
+    /// [`Self::corner_normal`] at a complex position: the corner's group's frame.
+    #[cold]
+    fn complex_corner_normal(&self, c: u32) -> (Vec3, u32) {
         let i = self.complex.partition_point(|&e| (e >> 32) < u64::from(c));
         let frame = low_half(self.complex[i]);
         (self.frames[frame as usize].normal, frame + 1)

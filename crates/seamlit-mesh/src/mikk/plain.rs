@@ -112,13 +112,14 @@ where
         let terms =
             (bits != IRREGULAR).then(|| corner_terms(surface, &face, t, normals.map(|n| n.0)));
         let w = if face.is(ORIENTED) { 1.0 } else { -1.0 };
+        // Vertices, not keys: a fan closed by vertex is closed by key (at a simple position
+        // the corners of one vertex across an edge share a normal group); one closed only
+        // through another vertex with the same key is not plain.
+        let spreads = tri.map(|v| spread(v.into()));
         for (k, &v) in tri.iter().enumerate() {
             let g = &mut gathered[v as usize - base];
             g.flags |= bits | if normals[k].1 != 0 { IRREGULAR } else { 0 };
-            // Vertices, not keys: a fan closed by vertex is closed by key (at a simple
-            // position the corners of one vertex across an edge share a normal group);
-            // one closed only through another vertex with the same key is not plain.
-            let (next, prev) = (spread(tri[(k + 1) % 3].into()), spread(tri[(k + 2) % 3].into()));
+            let (next, prev) = (spreads[(k + 1) % 3], spreads[(k + 2) % 3]);
             g.closure = g.closure.wrapping_add(next).wrapping_sub(prev);
             if let Some(terms) = terms {
                 let (s, angle) = terms[k];
