@@ -13,35 +13,15 @@ mod common;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::Vec3;
 use seamlit_io::{Asset, IoError, LoadOptions, SaveOptions, UsdKind, UsdOutput};
 use seamlit_mesh::{FixOptions, ReportOptions};
 use serde_json::Value;
 
-fn python() -> String {
-    std::env::var("PYTHON").unwrap_or_else(|_| "python3".to_owned())
-}
-
 /// Runs pxr_check.py `command` on `args` and returns the JSON it writes.
 fn pxr(command: &str, args: &[&Path]) -> Value {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/usd/pxr_check.py");
-    let out = tempfile::NamedTempFile::new().unwrap();
-    let output = Command::new(python())
-        .arg(script)
-        .arg(command)
-        .args(args)
-        .arg(out.path())
-        .output()
-        .expect("python3 with usd-core (pip install usd-core) is needed for the USD tests");
-    assert!(
-        output.status.success(),
-        "pxr_check.py {command} {args:?} failed (is usd-core installed? pip install usd-core):\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    serde_json::from_str(&std::fs::read_to_string(out.path()).unwrap()).unwrap()
+    common::pxr_check(command, args, &[])
 }
 
 fn stage(relative: &str) -> PathBuf {
@@ -534,19 +514,17 @@ fn an_instanced_prototype_is_fixed_once_for_all_its_instances() {
         }
         let diff = pxr("compare", &[&input, &output]);
         assert_eq!(diff["differences"], serde_json::json!([]), "{extension}: {diff:#}");
-        let changed: BTreeSet<&str> = diff["normals"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|l| l.as_str().unwrap().split(' ').next().unwrap())
-            .collect();
         let expected: BTreeSet<String> =
             ["/Prototypes/Character", "/World/One", "/World/Two", "/World/Three"]
                 .iter()
                 .flat_map(|p| [format!("{p}/Head"), format!("{p}/Body")])
                 .chain(["/World/Cap".to_owned()])
                 .collect();
-        assert_eq!(changed, expected.iter().map(String::as_str).collect(), "{extension}: {diff:#}");
+        assert_eq!(
+            prims_with_new_normals(&diff),
+            expected.iter().map(String::as_str).collect(),
+            "{extension}: {diff:#}"
+        );
         let errors_in = pxr("validate", &[&input]);
         for e in pxr("validate", &[&output]).as_array().unwrap() {
             assert!(
@@ -901,13 +879,11 @@ fn time_sampled_points_or_normals_are_not_overridden() {
     );
     let diff = pxr("compare", &[&input, &output]);
     assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
-    let changed: BTreeSet<&str> = diff["normals"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|l| l.as_str().unwrap().split(' ').next().unwrap())
-        .collect();
-    assert_eq!(changed, BTreeSet::from(["/World/Body2", "/World/Head1"]), "{diff:#}");
+    assert_eq!(
+        prims_with_new_normals(&diff),
+        BTreeSet::from(["/World/Body2", "/World/Head1"]),
+        "{diff:#}"
+    );
 }
 
 /// Every prefix of the committed stages (binary, package, text) at 61 lengths, and 400
@@ -997,6 +973,13 @@ fn a_usdc_child_that_is_not_a_name_does_not_hang_the_traversal() {
 fn metadata_arrays_of_arrays_are_refused_at_once() {
     let result = load_within_60_s("usd_metadata_arrays_nested_48_deep.usda");
     assert!(result.as_ref().is_err_and(|e| e.contains("an array of arrays")), "{result:?}");
+}
+
+/// The prims whose normals `pxr_check.py compare` found changed (each line of its `normals`
+/// starts with the prim's path).
+fn prims_with_new_normals(diff: &Value) -> BTreeSet<&str> {
+    let lines = diff["normals"].as_array().expect("compare lists the normals");
+    lines.iter().map(|l| l.as_str().unwrap().split(' ').next().unwrap()).collect()
 }
 
 /// Loads a regression input on a thread: the number of objects, or the error's line; the

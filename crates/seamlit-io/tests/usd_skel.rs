@@ -14,7 +14,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::Vec3;
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
@@ -30,31 +29,11 @@ const TURN: &str = "40";
 const HEAD_EQUATOR: usize = 48;
 const RING: usize = 16;
 
-fn python() -> String {
-    std::env::var("PYTHON").unwrap_or_else(|_| "python3".to_owned())
-}
-
 /// Runs pxr_check.py `command` on `args` (the output JSON's path goes after the first) and
 /// returns the JSON it writes.
 fn pxr(command: &str, args: &[&str]) -> Value {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/usd/pxr_check.py");
-    let out = tempfile::NamedTempFile::new().unwrap();
     let (inputs, extra) = args.split_at(if command == "skinned" { 1 } else { args.len() });
-    let output = Command::new(python())
-        .arg(script)
-        .arg(command)
-        .args(inputs)
-        .arg(out.path())
-        .args(extra)
-        .output()
-        .expect("python3 with usd-core (pip install usd-core) is needed for the USD tests");
-    assert!(
-        output.status.success(),
-        "pxr_check.py {command} {args:?} failed (is usd-core installed? pip install usd-core):\n{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    serde_json::from_str(&std::fs::read_to_string(out.path()).unwrap()).unwrap()
+    common::pxr_check(command, inputs, extra)
 }
 
 fn neck_stage() -> PathBuf {

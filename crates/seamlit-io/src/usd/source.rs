@@ -58,24 +58,46 @@ pub(crate) struct InstanceSource {
     pub site: Result<String, String>,
 }
 
-/// A skinned mesh's binding as read (UsdSkelBindingAPI), so the writer can put matched
-/// influences back in the mesh's own terms.
+/// A skinned mesh's influences as authored (UsdSkelBindingAPI) and checked: what the reader
+/// skins the mesh with and the writer puts matched influences back in terms of.
 #[derive(Clone, Debug)]
-pub(crate) struct SkinSource {
+pub(crate) struct SkinInfluences {
     /// The skeleton prim.
     pub skeleton: String,
-    /// The joint ids (indices into [`StageSource::joints`]) the mesh's joint indices index.
+    /// The joint ids (indices into [`StageSource::joints`]) the mesh's joint indices index,
+    /// in its order.
     pub joints: Vec<u32>,
-    /// Whether that order is a `skel:joints` (which the writer may grow), not the skeleton's.
+    /// Whether that order is a `skel:joints` of the mesh's own (or an ancestor's), which a
+    /// writer may grow; else it is the skeleton's.
     pub own_order: bool,
-    /// Influences per element (`elementSize`).
+    /// Influences per element (`elementSize`, 1 to 64).
     pub element_size: usize,
-    /// Whether one element holds the whole mesh's influences (constant interpolation).
+    /// Whether one element holds the whole mesh's influences (constant interpolation), not
+    /// one per point (vertex).
     pub constant: bool,
-    /// `primvars:skel:jointIndices` as read.
+    /// `primvars:skel:jointIndices` as authored (`element_size` per element), each checked to
+    /// index `joints`.
     pub indices: Vec<i32>,
-    /// `primvars:skel:jointWeights` as read.
+    /// `primvars:skel:jointWeights` as authored, as many as `indices`, finite.
     pub weights: Vec<f32>,
+}
+
+impl SkinInfluences {
+    /// Point `p`'s influences as authored: (index into `joints`, weight), `element_size` of
+    /// them.
+    pub fn of_point(&self, p: usize) -> impl Iterator<Item = (u32, f32)> + '_ {
+        let element = if self.constant { 0 } else { p };
+        let range = element * self.element_size..(element + 1) * self.element_size;
+        #[expect(clippy::cast_sign_loss, reason = "indices are checked non-negative")]
+        self.indices[range.clone()].iter().zip(&self.weights[range]).map(|(&i, &w)| (i as u32, w))
+    }
+}
+
+/// A skinned mesh's binding as read, so the writer can put matched influences back in the
+/// mesh's own terms.
+#[derive(Clone, Debug)]
+pub(crate) struct SkinSource {
+    pub influences: SkinInfluences,
     /// Per input vertex of the object: its point.
     pub vertex_point: Vec<u32>,
     /// The mesh's number of points.

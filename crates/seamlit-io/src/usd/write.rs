@@ -674,7 +674,7 @@ fn skin_over(
         warn(warnings, "it is inside an instance, whose prims a layer cannot override one by one");
         return None;
     }
-    let mut order = skin.joints.clone();
+    let mut order = skin.influences.joints.clone();
     let mut per_point: Vec<Option<Vec<(u32, f32)>>> = vec![None; skin.points];
     let mut changed = false;
     for (v, &p) in skin.vertex_point.iter().enumerate() {
@@ -708,10 +708,9 @@ fn skin_over(
 /// influences as `read` (in the mesh's order), bit for bit, but for trailing zero weights.
 fn same_influences(now: &[(u32, f32)], read: &[(u32, f32)], skin: &SkinSource) -> bool {
     now.len() >= read.len()
-        && now
-            .iter()
-            .zip(read)
-            .all(|(a, b)| a.0 == skin.joints[b.0 as usize] && a.1.to_bits() == b.1.to_bits())
+        && now.iter().zip(read).all(|(a, b)| {
+            a.0 == skin.influences.joints[b.0 as usize] && a.1.to_bits() == b.1.to_bits()
+        })
         && now[read.len()..].iter().all(|&(_, w)| w == 0.0)
 }
 
@@ -730,10 +729,10 @@ fn local_lanes(
             Some(k) => k,
             None => {
                 let (skeleton, name) = &joints[joint as usize];
-                if !skin.own_order || *skeleton != skin.skeleton {
+                if !skin.influences.own_order || *skeleton != skin.influences.skeleton {
                     return Err(format!(
                         "joint {name:?} of <{skeleton}> is not one its skeleton <{}> lets it name",
-                        skin.skeleton
+                        skin.influences.skeleton
                     ));
                 }
                 order.push(joint);
@@ -756,10 +755,15 @@ impl SkinOver {
         skin: &SkinSource,
         joints: &[(String, String)],
     ) -> Self {
-        let element_size =
-            per_point.iter().flatten().map(Vec::len).max().unwrap_or(0).max(skin.element_size);
+        let element_size = per_point
+            .iter()
+            .flatten()
+            .map(Vec::len)
+            .max()
+            .unwrap_or(0)
+            .max(skin.influences.element_size);
         let mut out = Self {
-            joints: (order.len() > skin.joints.len())
+            joints: (order.len() > skin.influences.joints.len())
                 .then(|| order.iter().map(|&j| joints[j as usize].1.clone()).collect()),
             element_size,
             indices: Vec::with_capacity(skin.points * element_size),
@@ -779,12 +783,5 @@ impl SkinOver {
 
 /// Point `p`'s influences as read: (index into the mesh's joints, weight).
 fn read_lanes(skin: &SkinSource, p: usize) -> Vec<(u32, f32)> {
-    let element = if skin.constant { 0 } else { p };
-    let range = element * skin.element_size..(element + 1) * skin.element_size;
-    #[expect(clippy::cast_sign_loss, reason = "indices were checked non-negative")]
-    skin.indices[range.clone()]
-        .iter()
-        .zip(&skin.weights[range])
-        .map(|(&i, &w)| (i as u32, w))
-        .collect()
+    skin.influences.of_point(p).collect()
 }

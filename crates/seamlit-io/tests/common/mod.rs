@@ -147,3 +147,31 @@ pub fn assert_valid(path: &Path) {
     let (errors, report) = validate(path);
     assert_eq!(errors, 0, "{}: {report}", path.display());
 }
+
+/// Runs tests/usd/pxr_check.py `command` with Pixar's USD (PyPI usd-core, through `python3`
+/// or `$PYTHON`) on `inputs`, then the path of the JSON it writes, then `extra`; returns that
+/// JSON.
+pub fn pxr_check<S: AsRef<std::ffi::OsStr> + std::fmt::Debug>(
+    command: &str,
+    inputs: &[S],
+    extra: &[&str],
+) -> serde_json::Value {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/usd/pxr_check.py");
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".to_owned());
+    let out = tempfile::NamedTempFile::new().unwrap();
+    let output = Command::new(python)
+        .arg(script)
+        .arg(command)
+        .args(inputs)
+        .arg(out.path())
+        .args(extra)
+        .output()
+        .expect("python3 with usd-core (pip install usd-core) is needed for the USD tests");
+    assert!(
+        output.status.success(),
+        "pxr_check.py {command} {inputs:?} {extra:?} failed (is usd-core installed? pip install usd-core):\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(out.path()).unwrap()).unwrap()
+}

@@ -172,7 +172,11 @@ pub(super) fn read(
         skin: skin.as_ref().map(|b| influences(b, &vertex_point)).unwrap_or_default(),
         ..Object::new(at.prim, positions, corners.triangles)
     };
-    let skin = skin.map(|b| skin_source(b, vertex_point, topology.points.len()));
+    let skin = skin.map(|b| SkinSource {
+        influences: b.influences,
+        vertex_point,
+        points: topology.points.len(),
+    });
     let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
     let time_sampled = time_sampled(prim).map_err(|e| at.openusd(e))?;
     let triangle_faces = triangle_faces(&topology, &corners.triangle_corners);
@@ -213,21 +217,6 @@ fn fitting_skin(
     })
 }
 
-/// What the writer needs of a skinned mesh's binding (`vertex_point`: each vertex's point).
-fn skin_source(b: Binding, vertex_point: Vec<u32>, points: usize) -> SkinSource {
-    SkinSource {
-        skeleton: b.skeleton,
-        joints: b.joints,
-        own_order: b.own_order,
-        element_size: b.element_size,
-        constant: b.constant,
-        indices: b.indices,
-        weights: b.weights,
-        vertex_point,
-        points,
-    }
-}
-
 /// Per triangle (the corners it was cut from: `triangle_corners`), the face it belongs to.
 fn triangle_faces(topology: &Topology, triangle_corners: &[[u32; 3]]) -> Vec<u32> {
     let mut corner_face = vec![0u32; topology.indices.len()];
@@ -241,7 +230,7 @@ fn triangle_faces(topology: &Topology, triangle_corners: &[[u32; 3]]) -> Vec<u32
 /// Per vertex (whose points `vertex_point` gives), the binding's influences of its point, in
 /// sets of four (`elementSize` 5 gives two sets, the second padded with zero weights).
 fn influences(binding: &Binding, vertex_point: &[u32]) -> Vec<Influences> {
-    let sets = binding.element_size.div_ceil(4);
+    let sets = binding.influences.element_size.div_ceil(4);
     let mut out = vec![
         Influences {
             joints: vec![[0; 4]; vertex_point.len()],

@@ -26,6 +26,7 @@ use glam::DMat4;
 use openusd::{sdf, usd};
 
 use super::value;
+use crate::usd::source::SkinInfluences;
 
 /// The value of a check that found the binding usable, or, from the enclosing function, the
 /// reason it is not (`Ok(Err(reason))`: the caller warns).
@@ -54,52 +55,32 @@ pub(super) struct Skels<'s> {
 
 /// A mesh's skin binding, read and checked but for the number of points.
 pub(super) struct Binding {
-    /// The skeleton prim.
-    pub skeleton: String,
     /// The skeleton's world matrix (before the up axis).
     pub skeleton_world: DMat4,
     /// `primvars:skel:geomBindTransform`: the mesh's points to the skeleton's space.
     pub geom_bind: DMat4,
-    /// The ids of the joints the mesh's joint indices index, in its order.
-    pub joints: Vec<u32>,
-    /// Whether the mesh's order is a `skel:joints` of its own (or an ancestor's), which a
-    /// writer may grow; else it is the skeleton's.
-    pub own_order: bool,
-    /// Influences per element (`elementSize`, 1 to 64).
-    pub element_size: usize,
-    /// Whether one element holds the whole mesh's influences (constant interpolation), not
-    /// one per point (vertex).
-    pub constant: bool,
-    /// `primvars:skel:jointIndices` as authored (`element_size` per element), each checked to
-    /// index `joints`.
-    pub indices: Vec<i32>,
-    /// `primvars:skel:jointWeights` as authored, as many as `indices`, finite.
-    pub weights: Vec<f32>,
+    pub influences: SkinInfluences,
 }
 
 impl Binding {
     /// Why the binding does not fit a mesh of `points` points, if it does not.
     pub fn misfit(&self, points: usize) -> Option<String> {
-        let elements = if self.constant { 1 } else { points };
-        let expected = elements * self.element_size;
-        (self.indices.len() != expected).then(|| {
+        let i = &self.influences;
+        let elements = if i.constant { 1 } else { points };
+        let expected = elements * i.element_size;
+        (i.indices.len() != expected).then(|| {
             format!(
                 "{} joint indices and weights for {elements} elements of {} influences",
-                self.indices.len(),
-                self.element_size
+                i.indices.len(),
+                i.element_size
             )
         })
     }
 
     /// Point `p`'s influences as (joint id, weight), `element_size` of them.
     pub fn of_point(&self, p: usize) -> impl Iterator<Item = (u32, f32)> + '_ {
-        let element = if self.constant { 0 } else { p };
-        let range = element * self.element_size..(element + 1) * self.element_size;
-        #[expect(clippy::cast_sign_loss, reason = "indices are checked non-negative")]
-        self.indices[range.clone()]
-            .iter()
-            .zip(&self.weights[range])
-            .map(|(&i, &w)| (self.joints[i as usize], w))
+        let joints = &self.influences.joints;
+        self.influences.of_point(p).map(|(i, w)| (joints[i as usize], w))
     }
 }
 
@@ -144,15 +125,17 @@ impl<'s> Skels<'s> {
         let geom_bind = usable!(geom_bind_transform(prim)?);
         let skeleton_world = world(&skeleton)?;
         Ok(Ok(Binding {
-            skeleton: skeleton.as_str().to_owned(),
             skeleton_world,
             geom_bind,
-            joints,
-            own_order,
-            element_size,
-            constant,
-            indices,
-            weights,
+            influences: SkinInfluences {
+                skeleton: skeleton.as_str().to_owned(),
+                joints,
+                own_order,
+                element_size,
+                constant,
+                indices,
+                weights,
+            },
         }))
     }
 
