@@ -20,10 +20,15 @@ use glam::{Mat3, Vec3, Vec4, Vec4Swizzles};
 /// handedness from the summed bitangent. `fallback` is used when the normal sum vanishes.
 #[must_use]
 pub(crate) fn finish(n_sum: Vec3, fallback: Vec3, t_sum: Vec3, b_sum: Vec3) -> (Vec3, Vec4) {
-    let n = n_sum.try_normalize().or_else(|| fallback.try_normalize()).unwrap_or(Vec3::Z);
+    let n = finish_normal(n_sum, fallback);
     let t = orthogonal_tangent(n, t_sum);
     let w = if n.cross(t).dot(b_sum) < 0.0 { -1.0 } else { 1.0 };
     (n, t.extend(w))
+}
+
+/// [`finish`]'s normal alone: `n_sum` normalised, or `fallback`, or +Z.
+pub(crate) fn finish_normal(n_sum: Vec3, fallback: Vec3) -> Vec3 {
+    n_sum.try_normalize().or_else(|| fallback.try_normalize()).unwrap_or(Vec3::Z)
 }
 
 /// The unit vector along `t`'s part across the unit normal `n`; where `t` has (nearly) no

@@ -31,6 +31,10 @@
 //! triangle) is *complex*: its corners are gathered, sorted by position, and grouped as in
 //! [`crate::group::group_position`], with the faces computed again for just those corners.
 //!
+//! Without tangents (MikkTSpace makes them, or none are wanted), the faces' UVs are not read:
+//! every face counts as one without usable UVs, and the frames' tangents are only a direction
+//! across the normal, which nobody reads.
+//!
 //! Everything is deterministic: sums run in triangle order within an object and in vertex
 //! order across a position; each position is settled by one task.
 
@@ -39,7 +43,7 @@ use rayon::prelude::*;
 
 use crate::Model;
 use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
-use crate::frame::finish;
+use crate::frame::{finish, finish_normal};
 use crate::group::{self, Frame, Rules, Scratch, weight};
 use crate::index::low_half;
 use crate::validate::Flat;
@@ -239,7 +243,8 @@ fn accumulate(
     parts.into_par_iter().enumerate().for_each(|(o, (slots, cones, flags))| {
         let object = &model.objects[o];
         let positions = &flat.positions[flat.vertex_start[o] as usize..][..slots.len()];
-        let uvs = object.uvs.as_deref();
+        // Without tangents the faces' UV frames are never read: not computed.
+        let uvs = object.uvs.as_deref().filter(|_| rules.tangents);
         for tri in &object.triangles {
             let p = tri.map(|i| positions[i as usize]);
             let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
@@ -394,6 +399,11 @@ fn finish_positions(
             *f |= COMPLEX;
             return;
         }
+        if !rules.tangents {
+            // Nobody reads the tangent (see the module's text): only the normal.
+            *s = Slot { n: finish_normal(s.n, Vec3::ZERO), t: Vec3::ZERO, b: Vec3::ZERO };
+            return;
+        }
         let (normal, tangent) = finish(s.n, Vec3::ZERO, s.t, s.b);
         // Where mirrored faces are split off, the handedness is the faces' own, not the sign
         // of the summed bitangent against the smoothed normal: across a smoothed hard edge
@@ -453,7 +463,8 @@ fn group_complex(
                         let o = flat.object_of_triangle(t);
                         let local = t - flat.triangle_start[o] as usize;
                         let c = flat.corners(model, o, local);
-                        faces.push(face(c.positions, c.uvs, model.v_axis));
+                        let uvs = c.uvs.filter(|_| rules.tangents);
+                        faces.push(face(c.positions, uvs, model.v_axis));
                         if grouped {
                             keys.push(group::smoothing_key(&model.objects[o], local));
                         }
