@@ -223,8 +223,8 @@ fn compute(
     let flat = &flat;
 
     if options.tangents == TangentMethod::Mikktspace {
-        let triangles = flat.triangles(model);
-        let uvs = flat.uvs(model);
+        let triangles: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
+        let uvs: Vec<Option<&[Vec2]>> = model.objects.iter().map(|o| o.uvs.as_deref()).collect();
         let surface = mikk::Surface {
             positions: &flat.positions,
             roots: smooth.roots(),
@@ -329,8 +329,8 @@ fn write_mikk(
     for v in 0..out.is_set.len() {
         let g = base + v;
         if smooth.is_used(g)
-            && let Some(tangent) = tangents.fan(g, smooth.roots()[g] as usize)
             && let Some(frame) = smooth.simple_frame(g)
+            && let Some(tangent) = tangents.fan(g, smooth.roots()[g] as usize, frame.normal)
         {
             out.set(v, Frame { normal: frame.normal, tangent });
         }

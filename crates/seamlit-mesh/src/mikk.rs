@@ -59,7 +59,7 @@ use rayon::prelude::*;
 
 use crate::VAxis;
 use keys::{FirstEqual, Keys, first_equal_vertex};
-use plain::{PlainFans, plain_fans};
+use plain::{Fans, PlainFans, plain_fans};
 use position::{ByPosition, resolve_orientations};
 
 /// The model as MikkTSpace sees it, in model space.
@@ -68,10 +68,11 @@ pub(crate) struct Surface<'a, N> {
     pub positions: &'a [Vec3],
     /// Per vertex: its weld root.
     pub roots: &'a [u32],
-    /// Per vertex (zero for objects without UVs).
-    pub uvs: &'a [Vec2],
-    /// Every triangle, indexing the vertices.
-    pub triangles: &'a [[u32; 3]],
+    /// Per object: its vertices' UVs (`None` for an object without: zero). Per object, as the
+    /// model holds them, so that nothing is copied.
+    pub uvs: &'a [Option<&'a [Vec2]>],
+    /// Per object: its triangles, indexing its own vertices (its first vertex is 0).
+    pub triangles: &'a [&'a [[u32; 3]]],
     /// Per object: its first vertex and first triangle, one extra entry at the end (an
     /// object's triangles use its vertices only).
     pub vertex_start: &'a [u32],
@@ -86,6 +87,40 @@ pub(crate) struct Surface<'a, N> {
     /// For glTF (V down) the V coordinate is flipped before MikkTSpace sees it, so that its
     /// bitangent points up the image, as with OBJ's V.
     pub v_axis: VAxis,
+}
+
+impl<N> Surface<'_, N> {
+    /// How many triangles the model has.
+    fn triangle_count(&self) -> usize {
+        self.triangle_start.last().map_or(0, |&n| n as usize)
+    }
+
+    /// The object triangle `t` belongs to.
+    fn object_of_triangle(&self, t: usize) -> usize {
+        self.triangle_start.partition_point(|&s| s as usize <= t) - 1
+    }
+
+    /// Triangle `t`'s vertices, numbered across the model.
+    fn triangle(&self, t: usize) -> [u32; 3] {
+        let o = self.object_of_triangle(t);
+        let base = self.vertex_start[o];
+        self.triangles[o][t - self.triangle_start[o] as usize].map(|v| v + base)
+    }
+
+    /// Vertex `v`'s UV (zero in an object without UVs).
+    fn uv(&self, v: usize) -> Vec2 {
+        let o = self.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+        self.uvs[o].map_or(Vec2::ZERO, |uvs| uvs[v - self.vertex_start[o] as usize])
+    }
+
+    /// Triangle `t`'s vertices (numbered across the model) and their UVs.
+    fn corners(&self, t: usize) -> ([u32; 3], [Vec2; 3]) {
+        let o = self.object_of_triangle(t);
+        let base = self.vertex_start[o];
+        let local = self.triangles[o][t - self.triangle_start[o] as usize];
+        let uv = self.uvs[o].map_or([Vec2::ZERO; 3], |uvs| local.map(|v| uvs[v as usize]));
+        (local.map(|v| v + base), uv)
+    }
 }
 
 /// MikkTSpace's tangent of every corner of a [`Surface`]: see [`Tangents::get`].
@@ -123,17 +158,23 @@ where
 pub(crate) struct Tangents {
     /// Per root vertex: whether its position is plain (see [`plain_fans`]).
     plain: Vec<bool>,
-    /// Per vertex at a plain position: the tangent of all its corners.
-    fans: Vec<Vec4>,
+    /// Per vertex at a plain position: its fan's sum.
+    fans: Fans,
     /// The tangent of every corner at the other positions, sorted by corner.
     rest: Vec<(u32, Vec4)>,
 }
 
 impl Tangents {
     /// The tangent of every corner of vertex `v` (whose root is `root`), where its position
-    /// is plain: all its corners have one.
-    pub fn fan(&self, v: usize, root: usize) -> Option<Vec4> {
-        self.plain[root].then(|| self.fans[v])
+    /// is plain: all its corners have one, made orthogonal to their `normal`, the one the
+    /// [`Surface`] gave them.
+    pub fn fan(&self, v: usize, root: usize, normal: Vec3) -> Option<Vec4> {
+        self.plain[root].then(|| self.fans.tangent(v, normal))
+    }
+
+    /// Whether the position of root `root` is plain: [`Self::fan`] gives its tangents.
+    pub fn is_plain(&self, root: usize) -> bool {
+        self.plain[root]
     }
 
     /// The corners in `corners` at positions that are not plain, ascending, with their
@@ -143,16 +184,21 @@ impl Tangents {
         &self.rest[at(corners.start)..at(corners.end)]
     }
 
-    /// The tangent of corner `c` (`triangle * 3 + k`) at vertex `v` whose root is `root`:
-    /// MikkTSpace's, made orthogonal to the corner's normal (it is, up to rounding), `w` the
-    /// handedness. A corner MikkTSpace leaves without a tangent space (a degenerate triangle
-    /// whose vertex has no healthy one) gets a direction across its normal, `w = +1`.
-    pub fn get(&self, c: usize, v: usize, root: usize) -> Vec4 {
-        if self.plain[root] {
-            return self.fans[v];
-        }
+    /// The tangent of corner `c` (`triangle * 3 + k`) at a position that is not plain.
+    pub fn other(&self, c: usize) -> Vec4 {
         let i = self.rest.partition_point(|&(e, _)| (e as usize) < c);
+        debug_assert_eq!(self.rest.get(i).map(|e| e.0 as usize), Some(c), "corner {c} is plain");
         self.rest[i].1
+    }
+
+    /// The tangent of corner `c` (`triangle * 3 + k`) at vertex `v` whose root is `root` and
+    /// whose normal is `normal`: MikkTSpace's, made orthogonal to the corner's normal (it
+    /// is, up to rounding), `w` the handedness. A corner MikkTSpace leaves without a tangent
+    /// space (a degenerate triangle whose vertex has no healthy one) gets a direction across
+    /// its normal, `w = +1`.
+    #[cfg(test)]
+    pub fn get(&self, c: usize, v: usize, root: usize, normal: Vec3) -> Vec4 {
+        self.fan(v, root, normal).unwrap_or_else(|| self.other(c))
     }
 }
 
@@ -197,8 +243,8 @@ mod tests {
         let surface = Surface {
             positions: &positions,
             roots: &roots,
-            uvs: &uvs,
-            triangles: &triangles,
+            uvs: &[Some(&uvs)],
+            triangles: &[&triangles],
             vertex_start: &vertex_start,
             triangle_start: &triangle_start,
             normal: |_, v: usize| (normals[v], 0),
@@ -209,8 +255,8 @@ mod tests {
         let plain = fast.plain.iter().filter(|&&p| p).count();
         assert!(plain > positions.len() / 2, "{plain} plain positions");
         for (c, &v) in triangles.as_flattened().iter().enumerate() {
-            let (a, b) =
-                (fast.get(c, v as usize, v as usize), grouped.get(c, v as usize, v as usize));
+            let (v, n) = (v as usize, normals[v as usize]);
+            let (a, b) = (fast.get(c, v, v, n), grouped.get(c, v, v, n));
             assert_eq!(
                 a.to_array().map(f32::to_bits),
                 b.to_array().map(f32::to_bits),

@@ -28,7 +28,7 @@
 //! position is settled by one task, its vertices compared pairwise. Nothing is computed for
 //! the rest of the model.
 
-use glam::{Vec3, Vec4, Vec4Swizzles};
+use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 use crate::face::face;
@@ -524,12 +524,14 @@ fn corner_frames(
                     linear[o].as_ref().map_or(n, |l| l.normal_to_model(n)).normalize_or(Vec3::Z)
                 })
                 .collect();
-            let uvs = flat.uvs(model);
+            let uvs: Vec<Option<&[Vec2]>> =
+                model.objects.iter().map(|o| o.uvs.as_deref()).collect();
+            let local: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
             let surface = crate::mikk::Surface {
                 positions: &flat.positions,
                 roots: &roots,
                 uvs: &uvs,
-                triangles: &triangles,
+                triangles: &local,
                 vertex_start: &flat.vertex_start,
                 triangle_start: &flat.triangle_start,
                 normal: |_, v: usize| (vertex_normals[v], 0),
@@ -537,13 +539,20 @@ fn corner_frames(
                 v_axis: model.v_axis,
             };
             let tangents = crate::mikk::tangents(&surface);
+            // Each plain vertex's tangent once, not once a corner.
+            let fans: Vec<Vec4> = (0..vertex_normals.len())
+                .into_par_iter()
+                .map(|v| tangents.fan(v, roots[v] as usize, vertex_normals[v]).unwrap_or_default())
+                .collect();
             triangles
                 .as_flattened()
                 .par_iter()
                 .enumerate()
-                .map(|(c, &v)| Frame {
-                    normal: vertex_normals[v as usize],
-                    tangent: tangents.get(c, v as usize, roots[v as usize] as usize),
+                .map(|(c, &v)| {
+                    let (v, root) = (v as usize, roots[v as usize] as usize);
+                    let plain = tangents.is_plain(root);
+                    let tangent = if plain { fans[v] } else { tangents.other(c) };
+                    Frame { normal: vertex_normals[v], tangent }
                 })
                 .collect()
         }

@@ -103,18 +103,6 @@ impl Flat {
         });
         out
     }
-
-    /// Every vertex's UV, zero for objects without UVs.
-    pub fn uvs(&self, model: &Model) -> Vec<Vec2> {
-        let mut out = vec![Vec2::ZERO; self.positions.len()];
-        let parts = split_at_starts(&mut out, &self.vertex_start);
-        parts.into_par_iter().zip(&model.objects).for_each(|(out, object)| {
-            if let Some(uvs) = &object.uvs {
-                out.copy_from_slice(uvs);
-            }
-        });
-        out
-    }
 }
 
 /// `values` cut at `starts` (each object's first entry, one extra entry at the end).

@@ -27,8 +27,8 @@ impl FaceTangent {
     }
 }
 
-/// For each corner `k` of triangle `t` (whose first-order frame is `f`), seen in the tangent
-/// plane of `normals[k]`: `s` projected and normalised, and the angle between the corner's
+/// For each corner `k` of the triangle of vertices `tri` (whose first-order frame is `f`),
+/// seen in the tangent plane of `normals[k]`: `s` projected and normalised, and the angle between the corner's
 /// edges projected.
 ///
 /// The three corners run side by side in SIMD lanes: each `Vec4` below holds one coordinate
@@ -38,10 +38,10 @@ impl FaceTangent {
 pub(super) fn corner_terms<N>(
     surface: &Surface<'_, N>,
     f: &FaceTangent,
-    t: usize,
+    tri: [u32; 3],
     normals: [Vec3; 3],
 ) -> [(Vec3, f32); 3] {
-    let p = surface.triangles[t].map(|v| surface.positions[v as usize]);
+    let p = tri.map(|v| surface.positions[v as usize]);
     let lanes = |c: fn(Vec3) -> f32, v: [Vec3; 3]| Vec4::new(c(v[0]), c(v[1]), c(v[2]), 0.0);
     let coords = |v: [Vec3; 3]| [lanes(|v| v.x, v), lanes(|v| v.y, v), lanes(|v| v.z, v)];
     let [px, py, pz] = coords(p);
@@ -74,10 +74,12 @@ pub(super) fn corner_terms<N>(
     })
 }
 
-/// Step 1 for triangle `t`: its flags, as [`face_tangent`] gives them, and its `s` where it
-/// is healthy (its `t` is computed where it is needed: [`face_tangent`]).
-pub(super) fn face_flags<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
-    let Some(raw) = first_order(surface, t) else {
+/// Step 1 for the triangle of vertices `tri` and UVs `uv`: its flags, as [`face_tangent`]
+/// gives them, and its `s` where it is healthy (its `t` is computed where it is needed:
+/// [`face_tangent`]).
+#[inline]
+pub(super) fn face_flags<N>(surface: &Surface<'_, N>, tri: [u32; 3], uv: [Vec2; 3]) -> FaceTangent {
+    let Some(raw) = first_order(surface, tri, uv) else {
         return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
     };
     let oriented = raw.area > 0.0;
@@ -89,34 +91,31 @@ pub(super) fn face_flags<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
     // full test, as face_tangent makes it.
     let sure = |v: Vec3| v.length_squared() > 1e-30 && raw.area.abs() < 1e20;
     if !(sure(raw.s) && sure(raw.t)) {
-        return FaceTangent { t: Vec3::ZERO, ..face_tangent(surface, t) };
+        return FaceTangent { t: Vec3::ZERO, ..tangent_of(raw) };
     }
     let sign = if oriented { 1.0 } else { -1.0 };
     FaceTangent { s: unit(raw.s, raw.s.length()) * sign, t: Vec3::ZERO, flags: u8::from(oriented) }
 }
 
 /// A healthy triangle's first-order tangent and UV area, before normalising.
-pub(super) struct FirstOrder {
+struct FirstOrder {
     s: Vec3,
     t: Vec3,
     /// Twice the signed UV area.
     area: f32,
 }
 
-/// Triangle `t`'s first-order frame (the thesis' equations 18 and 19) unnormalised; `None`
-/// where two of its corners share a position.
-pub(super) fn first_order<N>(surface: &Surface<'_, N>, t: usize) -> Option<FirstOrder> {
-    let tri = surface.triangles[t];
+/// The first-order frame (the thesis' equations 18 and 19) of the triangle of vertices `tri`
+/// and UVs `uv`, unnormalised; `None` where two of its corners share a position.
+#[inline]
+fn first_order<N>(surface: &Surface<'_, N>, tri: [u32; 3], uv: [Vec2; 3]) -> Option<FirstOrder> {
     let r = tri.map(|v| surface.roots[v as usize]);
     if r[0] == r[1] || r[1] == r[2] || r[2] == r[0] {
         return None;
     }
     let v_sign = surface.v_axis.bitangent_sign();
     let p = tri.map(|v| surface.positions[v as usize]);
-    let uv = tri.map(|v| {
-        let uv = surface.uvs[v as usize];
-        Vec2::new(uv.x, uv.y * v_sign)
-    });
+    let uv = uv.map(|uv| Vec2::new(uv.x, uv.y * v_sign));
     let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
     let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
     Some(FirstOrder {
@@ -135,9 +134,15 @@ pub(super) fn unit(v: Vec3, l: f32) -> Vec3 {
 /// Triangle `t`'s first-order tangent `s` and bitangent `t`, normalised and signed by its UV
 /// orientation, and its flags.
 pub(super) fn face_tangent<N>(surface: &Surface<'_, N>, t: usize) -> FaceTangent {
-    let Some(raw) = first_order(surface, t) else {
-        return FaceTangent { flags: DEGENERATE, ..FaceTangent::default() };
-    };
+    let (tri, uv) = surface.corners(t);
+    match first_order(surface, tri, uv) {
+        Some(raw) => tangent_of(raw),
+        None => FaceTangent { flags: DEGENERATE, ..FaceTangent::default() },
+    }
+}
+
+/// [`face_tangent`] of a triangle that is not degenerate, from its first-order frame.
+fn tangent_of(raw: FirstOrder) -> FaceTangent {
     let oriented = raw.area > 0.0;
     let mut face = FaceTangent { flags: ANY | u8::from(oriented), ..Default::default() };
     if not_zero(raw.area) {

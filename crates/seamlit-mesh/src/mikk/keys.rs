@@ -29,15 +29,18 @@ impl Keys {
     {
         let triangles: Vec<u32> = (0..surface.triangles.len())
             .into_par_iter()
-            .filter(|&t| {
-                surface.triangles[t].iter().any(|&v| !plain[surface.roots[v as usize] as usize])
+            .flat_map(|o| {
+                let (base, first) = (surface.vertex_start[o], surface.triangle_start[o]);
+                surface.triangles[o].par_iter().enumerate().filter_map(move |(i, tri)| {
+                    let not_plain = |&v: &u32| !plain[surface.roots[(v + base) as usize] as usize];
+                    tri.iter().any(not_plain).then_some(first + index(i))
+                })
             })
-            .map(index)
             .collect();
         let keys = triangles
             .par_iter()
             .map(|&t| {
-                let (t, tri) = (t as usize, surface.triangles[t as usize]);
+                let (t, tri) = (t as usize, surface.triangle(t as usize));
                 std::array::from_fn(|k| {
                     let normal = (surface.normal)(t * 3 + k, tri[k] as usize).1;
                     (u64::from(first[tri[k] as usize]) << 32) | u64::from(normal)
@@ -82,7 +85,7 @@ pub(super) fn first_equal_vertex<N: Sync>(surface: &Surface<'_, N>) -> FirstEqua
         .collect();
     welded.par_sort_unstable();
     let same = |a: usize, b: usize| {
-        let (ua, ub) = (surface.uvs[a], surface.uvs[b]);
+        let (ua, ub) = (surface.uv(a), surface.uv(b));
         let uv = bits(ua.x) == bits(ub.x) && bits(ua.y) == bits(ub.y);
         uv && surface.vertex_normals.is_none_or(|ns| {
             let (na, nb) = (ns[a], ns[b]);

@@ -1,7 +1,7 @@
 //! Plain positions: the fans whose tangent is one group's sum, found and summed in one pass
 //! per object without the grouping, with step 1 (each triangle's flags) in the same pass.
 
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::Surface;
@@ -23,21 +23,27 @@ pub(super) fn spread(key: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// What one pass over the triangles gathers per vertex, for [`plain_fans`].
-#[derive(Clone, Copy, Default)]
+/// What one pass over the triangles gathers per vertex, for [`plain_fans`], as three arrays
+/// (of 12, 8 and 1 bytes a vertex: at a million triangles these are fresh pages the kernel
+/// clears, a good part of the pass's cost).
 struct Gathered {
     /// The sum of its corners' projected `s` times angle (healthy triangles, in triangle
-    /// order) and its triangles' orientation (`w`, as the last one sets it: at a plain
-    /// position all agree).
-    sum: Vec3,
-    w: f32,
-    /// Its corners' normal (the last corner's: at a plain position all agree).
-    normal: Vec3,
+    /// order).
+    sums: Vec<Vec3>,
     /// The sum over its corners of the spread next vertex minus the spread previous one:
     /// zero where its triangles close around it.
-    closure: u64,
+    closures: Vec<u64>,
     /// `HAS_ORIENTED`, `HAS_REVERSED`, `IRREGULAR`.
-    flags: u8,
+    flags: Vec<u8>,
+}
+
+/// One object's part of [`Gathered`] and of the triangles' flags.
+struct ObjectPart<'x> {
+    o: usize,
+    sums: &'x mut [Vec3],
+    closures: &'x mut [u64],
+    flags: &'x mut [u8],
+    faces: &'x mut [u8],
 }
 
 /// Step 1 and the plain fans, in one pass over each object's triangles.
@@ -46,8 +52,29 @@ pub(super) struct PlainFans {
     pub(super) faces: Vec<u8>,
     /// Per root vertex: whether its position is plain (see [`plain_fans`]).
     pub(super) plain: Vec<bool>,
-    /// Per vertex at a plain position: the tangent of all its corners (zero elsewhere).
-    pub(super) fans: Vec<Vec4>,
+    /// Per vertex at a plain position: the fan's sum, whose part across the normal is the
+    /// tangent of all its corners (see [`Fans::tangent`]).
+    pub(super) fans: Fans,
+}
+
+/// The sums of the plain fans.
+pub(super) struct Fans {
+    sums: Vec<Vec3>,
+    flags: Vec<u8>,
+}
+
+impl Fans {
+    /// The tangent of every corner of vertex `v`, at a plain position, whose corners' normal
+    /// is `normal`: the sum made orthogonal to it, `w` its triangles' orientation (zero for a
+    /// vertex no triangle uses).
+    pub(super) fn tangent(&self, v: usize, normal: Vec3) -> Vec4 {
+        let w = match self.flags[v] & (HAS_ORIENTED | HAS_REVERSED) {
+            HAS_ORIENTED => 1.0,
+            HAS_REVERSED => -1.0,
+            _ => return Vec4::ZERO,
+        };
+        crate::frame::orthogonal_tangent(normal, self.sums[v]).extend(w)
+    }
 }
 
 /// Every triangle's flags, and per root vertex whether every vertex of its position is
@@ -66,38 +93,36 @@ pub(super) fn plain_fans<N>(surface: &Surface<'_, N>, shared: &[bool]) -> PlainF
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let mut faces = vec![0u8; surface.triangles.len()];
-    let mut gathered = vec![Gathered::default(); surface.roots.len()];
-    let parts = split_by_object(surface, &mut gathered, &mut faces);
-    parts
+    let n = surface.roots.len();
+    let mut faces = vec![0u8; surface.triangle_count()];
+    let mut gathered =
+        Gathered { sums: vec![Vec3::ZERO; n], closures: vec![0; n], flags: vec![0; n] };
+    split_by_object(surface, &mut gathered, &mut faces)
         .into_par_iter()
-        .for_each(|(o, (gathered, faces))| gather_object(surface, o, gathered, faces));
+        .for_each(|part| gather_object(surface, part));
     let plain = plain_positions(surface, &gathered, shared);
-    let fans = gathered
-        .par_iter()
-        .zip(surface.roots)
-        .map(|(g, &r)| {
-            if plain[r as usize] && g.w != 0.0 {
-                crate::frame::orthogonal_tangent(g.normal, g.sum).extend(g.w)
-            } else {
-                Vec4::ZERO
-            }
-        })
-        .collect();
-    PlainFans { faces, plain, fans }
+    let Gathered { sums, flags, .. } = gathered;
+    PlainFans { faces, plain, fans: Fans { sums, flags } }
 }
 
-/// [`plain_fans`]' pass over object `o`'s triangles: their flags into `faces` (the object's
-/// part), and what their corners tell into `gathered` (the object's vertices).
-fn gather_object<N>(surface: &Surface<'_, N>, o: usize, gathered: &mut [Gathered], faces: &mut [u8])
+/// [`plain_fans`]' pass over one object's triangles: their flags into `faces` (the object's
+/// part), and what their corners tell into the object's part of [`Gathered`].
+fn gather_object<N>(surface: &Surface<'_, N>, part: ObjectPart<'_>)
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let base = surface.vertex_start[o] as usize;
+    let ObjectPart { o, sums, closures, flags: vertex_flags, faces } = part;
+    let (b, base) = (surface.vertex_start[o], surface.vertex_start[o] as usize);
     let first = surface.triangle_start[o] as usize;
-    for (i, flags) in faces.iter_mut().enumerate() {
+    let uvs = surface.uvs[o];
+    for ((i, flags), local) in faces.iter_mut().enumerate().zip(surface.triangles[o]) {
         let t = first + i;
-        let face = face_flags(surface, t);
+        let uv = match uvs {
+            Some(uvs) => [uvs[local[0] as usize], uvs[local[1] as usize], uvs[local[2] as usize]],
+            None => [Vec2::ZERO; 3],
+        };
+        let tri = [local[0] + b, local[1] + b, local[2] + b];
+        let face = face_flags(surface, tri, uv);
         *flags = face.flags;
         let bits = if face.is(ANY | DEGENERATE) {
             IRREGULAR
@@ -106,26 +131,22 @@ where
         } else {
             HAS_REVERSED
         };
-        let tri = surface.triangles[t];
         let normals: [(Vec3, u32); 3] =
             std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize));
         let terms =
-            (bits != IRREGULAR).then(|| corner_terms(surface, &face, t, normals.map(|n| n.0)));
-        let w = if face.is(ORIENTED) { 1.0 } else { -1.0 };
+            (bits != IRREGULAR).then(|| corner_terms(surface, &face, tri, normals.map(|n| n.0)));
         // Vertices, not keys: a fan closed by vertex is closed by key (at a simple position
         // the corners of one vertex across an edge share a normal group); one closed only
         // through another vertex with the same key is not plain.
         let spreads = tri.map(|v| spread(v.into()));
         for (k, &v) in tri.iter().enumerate() {
-            let g = &mut gathered[v as usize - base];
-            g.flags |= bits | if normals[k].1 != 0 { IRREGULAR } else { 0 };
+            let v = v as usize - base;
+            vertex_flags[v] |= bits | if normals[k].1 != 0 { IRREGULAR } else { 0 };
             let (next, prev) = (spreads[(k + 1) % 3], spreads[(k + 2) % 3]);
-            g.closure = g.closure.wrapping_add(next).wrapping_sub(prev);
+            closures[v] = closures[v].wrapping_add(next).wrapping_sub(prev);
             if let Some(terms) = terms {
                 let (s, angle) = terms[k];
-                g.sum += s * angle;
-                g.w = w;
-                g.normal = normals[k].0;
+                sums[v] += s * angle;
             }
         }
     }
@@ -133,45 +154,45 @@ where
 
 /// Per root vertex: whether every vertex of its position is plain, from what
 /// [`gather_object`] gathered.
-fn plain_positions<N>(
-    surface: &Surface<'_, N>,
-    gathered: &[Gathered],
-    shared: &[bool],
-) -> Vec<bool> {
-    let not_plain: Vec<u32> = (0..gathered.len())
+fn plain_positions<N>(surface: &Surface<'_, N>, gathered: &Gathered, shared: &[bool]) -> Vec<bool> {
+    let n = gathered.flags.len();
+    let not_plain: Vec<u32> = (0..n)
         .into_par_iter()
         .filter(|&v| {
-            let f = gathered[v].flags;
+            let f = gathered.flags[v];
             let mixed = f & (HAS_ORIENTED | HAS_REVERSED) == HAS_ORIENTED | HAS_REVERSED;
-            f & IRREGULAR != 0 || mixed || gathered[v].closure != 0 || shared[v]
+            f & IRREGULAR != 0 || mixed || gathered.closures[v] != 0 || shared[v]
         })
         .map(|v| surface.roots[v])
         .collect();
-    let mut plain = vec![true; gathered.len()];
+    let mut plain = vec![true; n];
     for r in not_plain {
         plain[r as usize] = false;
     }
     plain
 }
 
-/// One object's part of a per-vertex and a per-triangle array, with the object's number.
-pub(super) type ObjectPart<'x, A, B> = (usize, (&'x mut [A], &'x mut [B]));
-
-/// `a` (one entry per vertex) and `b` (one per triangle) cut into each object's part,
-/// numbered.
-fn split_by_object<'x, N, A, B>(
+/// [`Gathered`] (one entry per vertex) and `faces` (one per triangle) cut into each object's
+/// part.
+fn split_by_object<'x, N>(
     surface: &Surface<'_, N>,
-    mut a: &'x mut [A],
-    mut b: &'x mut [B],
-) -> Vec<ObjectPart<'x, A, B>> {
-    let mut parts = Vec::with_capacity(surface.vertex_start.len());
-    for o in 0..surface.vertex_start.len() - 1 {
+    gathered: &'x mut Gathered,
+    faces: &'x mut [u8],
+) -> Vec<ObjectPart<'x>> {
+    let objects = surface.vertex_start.len() - 1;
+    let mut parts = Vec::with_capacity(objects);
+    let (mut sums, mut closures, mut flags) =
+        (&mut gathered.sums[..], &mut gathered.closures[..], &mut gathered.flags[..]);
+    let mut faces = faces;
+    for o in 0..objects {
         let vertices = (surface.vertex_start[o + 1] - surface.vertex_start[o]) as usize;
         let triangles = (surface.triangle_start[o + 1] - surface.triangle_start[o]) as usize;
-        let (pa, ra) = a.split_at_mut(vertices);
-        let (pb, rb) = b.split_at_mut(triangles);
-        parts.push((o, (pa, pb)));
-        (a, b) = (ra, rb);
+        let (s, rest_s) = sums.split_at_mut(vertices);
+        let (c, rest_c) = closures.split_at_mut(vertices);
+        let (f, rest_f) = flags.split_at_mut(vertices);
+        let (t, rest_t) = faces.split_at_mut(triangles);
+        parts.push(ObjectPart { o, sums: s, closures: c, flags: f, faces: t });
+        (sums, closures, flags, faces) = (rest_s, rest_c, rest_f, rest_t);
     }
     parts
 }

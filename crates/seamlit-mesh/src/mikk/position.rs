@@ -14,7 +14,7 @@ use crate::weld::union;
 /// normal `n`: its `s` and `t` projected and normalised, and its angle at the vertex between
 /// its edges projected (mikktspace.c's `EvalTspace`).
 pub(super) fn frame<N>(surface: &Surface<'_, N>, f: &FaceTangent, c: usize, n: Vec3) -> Projected {
-    let (s, angle) = corner_terms(surface, f, c / 3, [n; 3])[c % 3];
+    let (s, angle) = corner_terms(surface, f, surface.triangle(c / 3), [n; 3])[c % 3];
     Projected { s, t: (f.t - n * n.dot(f.t)).normalize_or_zero(), angle }
 }
 
@@ -41,7 +41,7 @@ impl ByPosition {
             .triangles()
             .par_iter()
             .flat_map_iter(|&t| {
-                let tri = surface.triangles[t as usize];
+                let tri = surface.triangle(t as usize);
                 (0..3).filter_map(move |k| {
                     let r = roots[tri[k] as usize];
                     let corner = u64::from(t) * 3 + k as u64;
@@ -311,7 +311,7 @@ where
     /// The normal of local corner `a`.
     fn normal_of(&self, a: usize) -> Vec3 {
         let c = self.corners[a] as usize;
-        (self.surface.normal)(c, self.surface.triangles[c / 3][c % 3] as usize).0
+        (self.surface.normal)(c, self.surface.triangle(c / 3)[c % 3] as usize).0
     }
 
     /// Local corner `a`'s triangle seen from the vertex: see [`frame`].
@@ -363,7 +363,7 @@ pub(super) fn resolve_orientations<N>(
         let own = keys.of_triangle(f);
         'corners: for k in 0..3 {
             let (next, prev) = (own[(k + 1) % 3], own[(k + 2) % 3]);
-            let r = surface.roots[surface.triangles[f][k] as usize];
+            let r = surface.roots[surface.triangle(f)[k] as usize];
             for &b in by_position.at(r) {
                 let (g, kb) = (b as usize / 3, b as usize % 3);
                 let fb = faces[g];
