@@ -105,6 +105,20 @@ where
     PlainFans { faces, plain, fans: Fans { sums, flags } }
 }
 
+/// What [`gather_object`] learns of one triangle before it adds it to its vertices.
+#[derive(Clone, Copy, Default)]
+struct Told {
+    /// `HAS_ORIENTED`, `HAS_REVERSED` or `IRREGULAR`, per corner (`IRREGULAR` where the corner's
+    /// normal is not its position's one).
+    bits: [u8; 3],
+    /// Per corner, its projected `s` times its angle, where the triangle is healthy.
+    terms: Option<[Vec3; 3]>,
+}
+
+/// Triangles [`gather_object`] works out before it adds them to their vertices: the work of
+/// one triangle does not wait on the previous one's sums, so the processor overlaps several.
+const BLOCK: usize = 32;
+
 /// [`plain_fans`]' pass over one object's triangles: their flags into `faces` (the object's
 /// part), and what their corners tell into the object's part of [`Gathered`].
 fn gather_object<N>(surface: &Surface<'_, N>, part: ObjectPart<'_>)
@@ -112,41 +126,54 @@ where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
     let ObjectPart { o, sums, closures, flags: vertex_flags, faces } = part;
-    let (b, base) = (surface.vertex_start[o], surface.vertex_start[o] as usize);
+    let b = surface.vertex_start[o];
     let first = surface.triangle_start[o] as usize;
     let uvs = surface.uvs[o];
-    for ((i, flags), local) in faces.iter_mut().enumerate().zip(surface.triangles[o]) {
-        let t = first + i;
-        let uv = match uvs {
-            Some(uvs) => [uvs[local[0] as usize], uvs[local[1] as usize], uvs[local[2] as usize]],
-            None => [Vec2::ZERO; 3],
-        };
-        let tri = [local[0] + b, local[1] + b, local[2] + b];
-        let face = face_flags(surface, tri, uv);
-        *flags = face.flags;
-        let bits = if face.is(ANY | DEGENERATE) {
-            IRREGULAR
-        } else if face.is(ORIENTED) {
-            HAS_ORIENTED
-        } else {
-            HAS_REVERSED
-        };
-        let normals: [(Vec3, u32); 3] =
-            std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize));
-        let terms =
-            (bits != IRREGULAR).then(|| corner_terms(surface, &face, tri, normals.map(|n| n.0)));
-        // Vertices, not keys: a fan closed by vertex is closed by key (at a simple position
-        // the corners of one vertex across an edge share a normal group); one closed only
-        // through another vertex with the same key is not plain.
-        let spreads = tri.map(|v| spread(v.into()));
-        for (k, &v) in tri.iter().enumerate() {
-            let v = v as usize - base;
-            vertex_flags[v] |= bits | if normals[k].1 != 0 { IRREGULAR } else { 0 };
-            let (next, prev) = (spreads[(k + 1) % 3], spreads[(k + 2) % 3]);
-            closures[v] = closures[v].wrapping_add(next).wrapping_sub(prev);
-            if let Some(terms) = terms {
-                let (s, angle) = terms[k];
-                sums[v] += s * angle;
+    let mut told = [Told::default(); BLOCK];
+    for (block, (faces, locals)) in
+        faces.chunks_mut(BLOCK).zip(surface.triangles[o].chunks(BLOCK)).enumerate()
+    {
+        for (i, (flags, local)) in faces.iter_mut().zip(locals).enumerate() {
+            let t = first + block * BLOCK + i;
+            let uv = match uvs {
+                Some(uvs) => {
+                    [uvs[local[0] as usize], uvs[local[1] as usize], uvs[local[2] as usize]]
+                }
+                None => [Vec2::ZERO; 3],
+            };
+            let tri = [local[0] + b, local[1] + b, local[2] + b];
+            let face = face_flags(surface, tri, uv);
+            *flags = face.flags;
+            let bits = if face.is(ANY | DEGENERATE) {
+                IRREGULAR
+            } else if face.is(ORIENTED) {
+                HAS_ORIENTED
+            } else {
+                HAS_REVERSED
+            };
+            let normals: [(Vec3, u32); 3] =
+                std::array::from_fn(|k| (surface.normal)(t * 3 + k, tri[k] as usize));
+            let terms = (bits != IRREGULAR).then(|| {
+                corner_terms(surface, &face, tri, normals.map(|n| n.0)).map(|(s, a)| s * a)
+            });
+            told[i] = Told {
+                bits: std::array::from_fn(|k| bits | if normals[k].1 != 0 { IRREGULAR } else { 0 }),
+                terms,
+            };
+        }
+        for (local, told) in locals.iter().zip(&told) {
+            // Vertices, not keys: a fan closed by vertex is closed by key (at a simple
+            // position the corners of one vertex across an edge share a normal group); one
+            // closed only through another vertex with the same key is not plain.
+            let spreads = local.map(|v| spread((v + b).into()));
+            for (k, &v) in local.iter().enumerate() {
+                let v = v as usize;
+                vertex_flags[v] |= told.bits[k];
+                let (next, prev) = (spreads[(k + 1) % 3], spreads[(k + 2) % 3]);
+                closures[v] = closures[v].wrapping_add(next).wrapping_sub(prev);
+                if let Some(terms) = &told.terms {
+                    sums[v] += terms[k];
+                }
             }
         }
     }
