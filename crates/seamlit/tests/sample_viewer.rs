@@ -680,14 +680,15 @@ fn the_khronos_transmission_test_matches_the_sample_viewer() {
 /// Khronos' EmissiveStrengthTest (glTF-Sample-Assets, Ed Mackey, AGI, CC-BY 4.0: assets/
 /// models/emissive_strength_test), framed by compare.sh: five cubes emitting one light blue
 /// at strength 1, 2, 4, 8 and 16, between black dividers before a grey tiled wall. Under
-/// the one sun: mean FLIP 0.0256, 0.0403 with the extension taken out of the file (every
-/// cube the first one's blue); under sky.hdr 0.0269 and 0.0400.
+/// the one sun: mean FLIP 0.0256 (lavapipe; 0.0303 on an NVIDIA H200), 0.0403 with the
+/// extension taken out of the file (every cube the first one's blue); under sky.hdr 0.0269
+/// and 0.0400. Both held to the aim, which the file without the extension misses.
 #[test]
 fn the_khronos_emissive_strength_test_matches_the_sample_viewer() {
     let (model, extension) = ("EmissiveStrengthTest", "KHR_materials_emissive_strength");
-    extension_seen_by_the_comparison(model, extension, 0.03);
+    extension_seen_by_the_comparison(model, extension, EXTENSION_AIM);
     let scene = without_extension(model, extension);
-    seen_under(Lighting::Environment, model, extension, &scene, 0.033);
+    seen_under(Lighting::Environment, model, extension, &scene, EXTENSION_AIM);
 }
 
 /// The mean FLIP error of `model`'s picture, lit as `lighting` says, drawn from `scene`,
