@@ -189,3 +189,29 @@ fn a_ktx2_image_past_the_size_limit_or_short_of_its_data_is_refused() {
         asset.warnings
     );
 }
+
+/// Basis Universal files made by others: its own test files (basis_universal's
+/// `test_files/kodim23.ktx2`, ETC1S of Kodak's kodim23, and `base_xuastc_zstd.ktx2`, XUASTC
+/// with Zstandard; assets/models/ktx2, Apache-2.0), each one clear line naming the file, the
+/// model loaded with the default texture.
+#[test]
+fn basis_universal_files_by_others_are_said_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models/ktx2");
+    let names = ["kodim23.ktx2", "base_xuastc_zstd.ktx2"];
+    for name in names {
+        std::fs::copy(ours.join(name), dir.path().join(name)).unwrap();
+    }
+    let path = quad(dir.path(), &names);
+    let asset = seamlit_io::load(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(asset.model.triangle_count(), 2);
+    assert!(asset.textures.iter().all(|t| t.image.is_none()));
+    assert_eq!(asset.warnings.len(), 2, "{:?}", asset.warnings);
+    for (warning, name) in asset.warnings.iter().zip(names) {
+        assert!(warning.contains(name), "{warning}");
+        assert!(
+            warning.contains("Basis Universal") && warning.contains("not supported"),
+            "{warning}"
+        );
+    }
+}
