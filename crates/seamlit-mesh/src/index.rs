@@ -32,9 +32,26 @@ pub(crate) const fn low_half(entry: u64) -> u32 {
     (entry & 0xFFFF_FFFF) as u32
 }
 
+/// The part that element `i` of a concatenation belongs to, where `starts` holds each part's
+/// first element (ascending; one extra entry at the end): the last part starting at or
+/// before `i`, so that empty parts, which start there too, are passed over.
+#[inline]
+#[must_use]
+pub(crate) fn part_of(starts: &[u32], i: usize) -> usize {
+    starts.partition_point(|&s| s as usize <= i) - 1
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_element_belongs_to_the_last_part_starting_at_or_before_it() {
+        // Parts 0..2, an empty part at 2, 2..5, an empty last part.
+        let starts = [0, 2, 2, 5, 5];
+        let parts: Vec<usize> = (0..5).map(|i| part_of(&starts, i)).collect();
+        assert_eq!(parts, [0, 0, 2, 2, 2]);
+    }
 
     #[test]
     fn packed_entries_give_back_their_index() {

@@ -97,7 +97,7 @@ impl<N> Surface<'_, N> {
 
     /// The object triangle `t` belongs to.
     fn object_of_triangle(&self, t: usize) -> usize {
-        self.triangle_start.partition_point(|&s| s as usize <= t) - 1
+        crate::index::part_of(self.triangle_start, t)
     }
 
     /// Triangle `t`'s vertices, numbered across the model.
@@ -109,7 +109,7 @@ impl<N> Surface<'_, N> {
 
     /// Vertex `v`'s UV (zero in an object without UVs).
     fn uv(&self, v: usize) -> Vec2 {
-        let o = self.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+        let o = crate::index::part_of(self.vertex_start, v);
         self.uvs[o].map_or(Vec2::ZERO, |uvs| uvs[v - self.vertex_start[o] as usize])
     }
 

@@ -516,7 +516,7 @@ fn corner_frames(
             let vertex_normals: Vec<Vec3> = (0..flat.positions.len())
                 .into_par_iter()
                 .map(|v| {
-                    let o = flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+                    let o = crate::index::part_of(&flat.vertex_start, v);
                     let n = model.objects[o]
                         .normals
                         .as_ref()

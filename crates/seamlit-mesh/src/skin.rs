@@ -91,7 +91,7 @@ fn at_shared_positions(roots: &[u32], shared: &[bool]) -> Vec<u64> {
 /// An entry of [`at_shared_positions`] as (object, vertex within the object).
 fn copy_of(flat: &Flat, entry: u64) -> (usize, usize) {
     let v = low_half(entry) as usize;
-    let o = flat.vertex_start.partition_point(|&s| s as usize <= v) - 1;
+    let o = crate::index::part_of(&flat.vertex_start, v);
     (o, v - flat.vertex_start[o] as usize)
 }
 

@@ -29,8 +29,7 @@ pub(crate) struct Flat {
 impl Flat {
     /// The object that triangle `t` (an index into the concatenation) belongs to.
     pub fn object_of_triangle(&self, t: usize) -> usize {
-        // The last object starting at or before `t`: empty objects before it start there too.
-        self.triangle_start.partition_point(|&s| s as usize <= t) - 1
+        crate::index::part_of(&self.triangle_start, t)
     }
 
     /// The three model-space positions and (if the object has them) UVs of triangle `t` of

@@ -44,12 +44,17 @@ impl Lighting {
         }
     }
 
+    /// The name of `name`'s pictures lit this way: `name`, or `name.environment`.
+    fn picture(self, name: &str) -> String {
+        match self {
+            Self::PunctualOnly | Self::Loose => name.to_owned(),
+            Self::Environment => format!("{name}.environment"),
+        }
+    }
+
     /// The reference picture's file name.
     fn reference(self, name: &str) -> String {
-        match self {
-            Self::PunctualOnly | Self::Loose => format!("{name}.viewer.png"),
-            Self::Environment => format!("{name}.environment.viewer.png"),
-        }
+        format!("{}.viewer.png", self.picture(name))
     }
 
     /// `seamlit render`'s flags for it, as compare.sh passes them.
@@ -129,10 +134,7 @@ fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, image::Rgb
 }
 
 fn within_aim_of_the_sample_viewer(model: &str, lighting: Lighting) {
-    let name = match lighting {
-        Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
-        Lighting::Environment => format!("{model}.environment"),
-    };
+    let name = lighting.picture(model);
     within_aim(model, &name, &lighting.reference(model), lighting, &[], lighting.aim());
 }
 
@@ -384,10 +386,7 @@ fn seen_by_the_comparison(model: &str, what: &str, scene: &Path, aim: f32) {
 
 /// As [`seen_by_the_comparison`], lit as `lighting` says, with any aim.
 fn seen_under(lighting: Lighting, model: &str, what: &str, scene: &Path, aim: f32) {
-    let name = match lighting {
-        Lighting::Environment => format!("{model}.environment"),
-        Lighting::PunctualOnly | Lighting::Loose => model.to_owned(),
-    };
+    let name = lighting.picture(model);
     within_aim(model, &name, &lighting.reference(model), lighting, &[], aim);
     let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
     let out = Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -565,18 +564,25 @@ fn the_khronos_clearcoat_test_matches_the_sample_viewer() {
     let extension = "KHR_materials_clearcoat";
     let scene = without_extension(model, extension);
     seen_under(Lighting::Environment, model, extension, &scene, 0.045);
+    seen_as_the_sample_viewer_encodes(model, extension, 0.033);
+}
+
+/// The pictures of `model` under sky.hdr that [`seen_under`] wrote, with and without
+/// `what`, encoded as the Sample Viewer encodes its output ([`as_the_sample_viewer_encodes`]):
+/// within `aim` of its picture with, at least `aim` away without.
+fn seen_as_the_sample_viewer_encodes(model: &str, what: &str, aim: f32) {
     let lighting = Lighting::Environment;
     let reference = image::open(data().join(lighting.reference(model))).unwrap().to_rgb8();
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
-    let encoded = |file: &str| {
+    let encoded = |file: String| {
         let picture = image::open(dir.join(file)).expect("seen_under's picture").to_rgb8();
         flip(&reference, &as_the_sample_viewer_encodes(&picture)).0
     };
-    let with = encoded("ClearCoatTest.environment.png");
-    let without = encoded("ClearCoatTest.environment.without.png");
-    eprintln!("{model}.environment as the Sample Viewer encodes: {with:.4}, {without:.4} without");
-    assert!(with < 0.033, "{model}: mean FLIP {with:.4} as the Sample Viewer encodes");
-    assert!(without >= 0.033, "{model}: mean FLIP {without:.4} without the coat");
+    let name = lighting.picture(model);
+    let (with, without) = (encoded(format!("{name}.png")), encoded(format!("{name}.without.png")));
+    eprintln!("{name} as the Sample Viewer encodes: {with:.4}, {without:.4} without");
+    assert!(with < aim, "{name}: mean FLIP {with:.4} as the Sample Viewer encodes, aim {aim}");
+    assert!(without >= aim, "{name}: mean FLIP {without:.4} without {what}, aim {aim}");
 }
 
 /// seamlit's picture (sRGB bytes) as the Sample Viewer would have written the same light:
@@ -794,10 +800,7 @@ fn the_ior_of_the_khronos_iridescence_suzanne_is_seen_by_the_comparison() {
     let scene = without_extension(model, extension);
     let ours = data().join(format!("{model}.toml"));
     for (lighting, aim) in [(Lighting::PunctualOnly, 0.009), (Lighting::Environment, 0.012)] {
-        let name = match lighting {
-            Lighting::Environment => format!("{model}.environment.ior"),
-            Lighting::PunctualOnly | Lighting::Loose => format!("{model}.ior"),
-        };
+        let name = format!("{}.ior", lighting.picture(model));
         let with = left_two_thirds(model, &ours, lighting, &name);
         let without = left_two_thirds(model, &scene, lighting, &format!("{name}.without"));
         assert!(with < aim, "{name}: mean FLIP {with:.4} over the left two thirds, aim {aim}");
@@ -824,18 +827,7 @@ fn the_khronos_specular_test_matches_the_sample_viewer() {
     let extension = "KHR_materials_specular";
     let scene = without_extension(model, extension);
     seen_under(Lighting::Environment, model, extension, &scene, 0.045);
-    let reference =
-        image::open(data().join(Lighting::Environment.reference(model))).unwrap().to_rgb8();
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sample_viewer");
-    let encoded = |file: &str| {
-        let picture = image::open(dir.join(file)).expect("seen_under's picture").to_rgb8();
-        flip(&reference, &as_the_sample_viewer_encodes(&picture)).0
-    };
-    let with = encoded("SpecularTest.environment.png");
-    let without = encoded("SpecularTest.environment.without.png");
-    eprintln!("{model}.environment as the Sample Viewer encodes: {with:.4}, {without:.4} without");
-    assert!(with < EXTENSION_AIM, "{model}: mean FLIP {with:.4} as the Sample Viewer encodes");
-    assert!(without >= EXTENSION_AIM, "{model}: mean FLIP {without:.4} without the specular");
+    seen_as_the_sample_viewer_encodes(model, extension, EXTENSION_AIM);
 }
 
 /// `model` with its samplers' NEAREST_MIPMAP_LINEAR minifying filter read as
