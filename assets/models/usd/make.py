@@ -128,6 +128,24 @@ def mesh(stage, path, points, faces, scheme="none"):
     return m
 
 
+def indexed_normals_mesh(stage, path, points, faces):
+    """A mesh smoothed on its own, its normals an indexed faceVarying `primvars:normals` (one
+    value a point, indexed by the corners)."""
+    m = mesh(stage, path, points, faces)
+    n = UsdGeom.PrimvarsAPI(m).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
+    n.Set([Gf.Vec3f(*v) for v in smooth_normals(points, faces)])
+    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    return m
+
+
+def vertex_normals_mesh(stage, path, points, faces):
+    """A mesh smoothed on its own, its normals a plain vertex `normals` attribute."""
+    m = mesh(stage, path, points, faces)
+    m.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(points, faces)])
+    m.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    return m
+
+
 def head_body(folder):
     """Head and body: the upper and lower halves of a sphere, each smoothed on its own, sharing
     the equator. The head sits under a translated Xform, its points moved down to match; its
@@ -160,9 +178,7 @@ def head_body(folder):
 
     used, faces = band(segments, rings // 2, rings - 1)
     body_points = [points[p] for p in used]
-    body = mesh(stage, "/World/Body", body_points, faces)
-    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
-    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    body = vertex_normals_mesh(stage, "/World/Body", body_points, faces)
     st = UsdGeom.PrimvarsAPI(body).CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex)
     st.Set([Gf.Vec2f((p[0] + 1) / 2, (p[1] + 1) / 2) for p in body_points])
     UsdShade.MaterialBindingAPI.Apply(body.GetPrim()).Bind(body_material)
@@ -314,15 +330,10 @@ def instanced_seams(folder):
     stage.GetPrimAtPath("/Prototypes").SetSpecifier(Sdf.SpecifierClass)
     used, faces = band(segments, 1, rings // 2)
     head_points = [points[p] for p in used]
-    head = mesh(stage, "/Prototypes/Character/Head", head_points, faces)
-    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
-    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
-    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    indexed_normals_mesh(stage, "/Prototypes/Character/Head", head_points, faces)
     used, faces = band(segments, rings // 2, rings - 1)
     body_points = [points[p] for p in used]
-    body = mesh(stage, "/Prototypes/Character/Body", body_points, faces)
-    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
-    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    body = vertex_normals_mesh(stage, "/Prototypes/Character/Body", body_points, faces)
     places = [("One", (0, 0, 0), 0), ("Two", (3, 0, 0), 0), ("Three", (-3, 0, 0), 90)]
     for name, at, turn in places:
         inst = UsdGeom.Xform.Define(stage, "/World/" + name)
@@ -336,9 +347,7 @@ def instanced_seams(folder):
     cap_points = ring + [points[rings * segments]]
     cap_faces = [[s, segments, (s + 1) % segments] for s in range(segments)]
     cap_faces = [[f[0], f[2], f[1]] if dot(cross(sub(cap_points[f[1]], cap_points[f[0]]), sub(cap_points[f[2]], cap_points[f[0]])), (0, -1, 0)) < 0 else f for f in cap_faces]
-    cap = mesh(stage, "/World/Cap", cap_points, cap_faces)
-    cap.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(cap_points, cap_faces)])
-    cap.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    vertex_normals_mesh(stage, "/World/Cap", cap_points, cap_faces)
     for k, name in enumerate(["PartA", "PartB"]):
         inst = UsdGeom.Xform.Define(stage, "/World/" + name)
         inst.GetPrim().GetReferences().AddReference("./instanced_part.usda")
@@ -360,15 +369,10 @@ def instanced_source(folder):
     UsdGeom.Xform.Define(stage, "/World/Original")
     used, faces = band(segments, 1, rings // 2)
     head_points = [points[p] for p in used]
-    head = mesh(stage, "/World/Original/Head", head_points, faces)
-    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
-    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
-    n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
+    indexed_normals_mesh(stage, "/World/Original/Head", head_points, faces)
     used, faces = band(segments, rings // 2, rings - 1)
     body_points = [points[p] for p in used]
-    body = mesh(stage, "/World/Body", body_points, faces)
-    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
-    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    body = vertex_normals_mesh(stage, "/World/Body", body_points, faces)
     for k, name in enumerate(["One", "Two"]):
         inst = UsdGeom.Xform.Define(stage, "/World/" + name)
         inst.GetPrim().GetReferences().AddInternalReference("/World/Original")
@@ -418,9 +422,7 @@ def time_sampled(folder):
         n.SetIndices(Vt.IntArray([i for f in faces for i in f]))
         used, faces = band(segments, rings // 2, rings - 1)
         body_points = [(points[p][0] + dx, points[p][1], points[p][2]) for p in used]
-        body = mesh(stage, "/World/Body%d" % k, body_points, faces)
-        body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
-        body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        body = vertex_normals_mesh(stage, "/World/Body%d" % k, body_points, faces)
         if k == 1:
             moved = [Gf.Vec3f(p[0], p[1] - 0.25, p[2]) for p in body_points]
             body.GetPointsAttr().Set([Gf.Vec3f(*p) for p in body_points], 1)
@@ -456,11 +458,7 @@ def skinned_neck(folder):
 
     used, faces = band(segments, 1, rings // 2)
     head_points = [(points[p][0], points[p][1] - 0.5, points[p][2]) for p in used]
-    head = mesh(stage, "/Character/Geom/Head", head_points, faces)
-    corners = [i for f in faces for i in f]
-    n = UsdGeom.PrimvarsAPI(head).CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, UsdGeom.Tokens.faceVarying)
-    n.Set([Gf.Vec3f(*v) for v in smooth_normals(head_points, faces)])
-    n.SetIndices(Vt.IntArray(corners))
+    head = indexed_normals_mesh(stage, "/Character/Geom/Head", head_points, faces)
     skin = UsdSkel.BindingAPI.Apply(head.GetPrim())
     skin.CreateJointsAttr(["Hips/Chest/Neck"])
     skin.CreateJointIndicesPrimvar(True, 1).Set([0])
@@ -469,9 +467,7 @@ def skinned_neck(folder):
 
     used, faces = band(segments, rings // 2, rings - 1)
     body_points = [points[p] for p in used]
-    body = mesh(stage, "/Character/Geom/Body", body_points, faces)
-    body.CreateNormalsAttr([Gf.Vec3f(*v) for v in smooth_normals(body_points, faces)])
-    body.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+    body = vertex_normals_mesh(stage, "/Character/Geom/Body", body_points, faces)
     # Per ring from the equator down: (joint, weight) pairs in the skeleton's order.
     by_ring = [[(1, 0.6), (2, 0.4)], [(1, 1.0), (0, 0.0)], [(0, 0.5), (1, 0.5)], [(0, 1.0), (0, 0.0)]]
     influences = [by_ring[p // segments - rings // 2] for p in used]

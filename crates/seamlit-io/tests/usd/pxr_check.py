@@ -165,38 +165,9 @@ def corner_normals(mesh):
     return result
 
 
-def seam(stage_path, out):
-    stage = Usd.Stage.Open(stage_path)
-    corners = []  # (mesh, world position, world unit normal)
-    for prim, world in drawn_meshes(stage):
-        mesh = UsdGeom.Mesh(prim)
-        normals = corner_normals(mesh)
-        if normals is None:
-            continue
-        pts = mesh.GetPointsAttr().Get()
-        normal_matrix = world.GetInverse().GetTranspose()
-        for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
-            n = normal_matrix.TransformDir(Gf.Vec3d(normals[c]))
-            corners.append((str(prim.GetPath()), world.Transform(Gf.Vec3d(pts[p])), n.GetNormalized()))
-    by_position = {}
-    for mesh, p, n in corners:
-        key = tuple(round(x, 4) for x in p)
-        by_position.setdefault(key, []).append((mesh, n))
-    largest, pairs = 0.0, 0
-    for group in by_position.values():
-        for i in range(len(group)):
-            for j in range(i + 1, len(group)):
-                if group[i][0] == group[j][0]:
-                    continue
-                pairs += 1
-                d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
-                largest = max(largest, math.degrees(math.acos(d)))
-    json.dump({"largest_degrees": largest, "pairs": pairs}, open(out, "w"))
-
-
-def seams(stage_path, out):
-    stage = Usd.Stage.Open(stage_path)
-    by_position = {}
+def drawn_corners(stage):
+    """Every corner of the drawn meshes with normals: (mesh, world position, world unit
+    normal)."""
     for prim, world in drawn_meshes(stage):
         mesh = UsdGeom.Mesh(prim)
         normals = corner_normals(mesh)
@@ -206,17 +177,43 @@ def seams(stage_path, out):
         normal_matrix = world.GetInverse().GetTranspose()
         for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
             n = normal_matrix.TransformDir(Gf.Vec3d(normals[c])).GetNormalized()
-            key = tuple(round(x, 4) for x in world.Transform(Gf.Vec3d(pts[p])))
-            by_position.setdefault(key, []).append((str(prim.GetPath()), n))
-    result = {}
+            yield str(prim.GetPath()), world.Transform(Gf.Vec3d(pts[p])), n
+
+
+def seam_pairs(corners):
+    """Every pair of `corners` ((mesh, position, unit normal)) of two different meshes at one
+    position (rounded to 1e-4), as (mesh, other mesh, the angle between their normals in
+    degrees)."""
+    by_position = {}
+    for mesh, p, n in corners:
+        by_position.setdefault(tuple(round(x, 4) for x in p), []).append((mesh, n))
     for group in by_position.values():
         for i in range(len(group)):
             for j in range(i + 1, len(group)):
                 if group[i][0] == group[j][0]:
                     continue
-                pair = " ".join(sorted([group[i][0], group[j][0]]))
                 d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
-                result[pair] = max(result.get(pair, 0.0), math.degrees(math.acos(d)))
+                yield group[i][0], group[j][0], math.degrees(math.acos(d))
+
+
+def largest_seam(corners):
+    """`seam`'s figures of `corners`: the largest angle and the number of pairs."""
+    largest, pairs = 0.0, 0
+    for _, _, degrees in seam_pairs(corners):
+        pairs += 1
+        largest = max(largest, degrees)
+    return {"largest_degrees": largest, "pairs": pairs}
+
+
+def seam(stage_path, out):
+    json.dump(largest_seam(drawn_corners(Usd.Stage.Open(stage_path))), open(out, "w"))
+
+
+def seams(stage_path, out):
+    result = {}
+    for a, b, degrees in seam_pairs(drawn_corners(Usd.Stage.Open(stage_path))):
+        pair = " ".join(sorted([a, b]))
+        result[pair] = max(result.get(pair, 0.0), degrees)
     json.dump(result, open(out, "w"))
 
 
@@ -297,18 +294,7 @@ def skinned(stage_path, out, joint=None, degrees="0"):
                 for c, p in enumerate(mesh.GetFaceVertexIndicesAttr().Get()):
                     n = normal_matrix.TransformDir(Gf.Vec3d(normals[c])).GetNormalized()
                     corners.append((str(prim.GetPath()), rest.Transform(Gf.Vec3d(rest_points[p])), n))
-    by_position = {}
-    for mesh, p, n in corners:
-        by_position.setdefault(tuple(round(x, 4) for x in p), []).append((mesh, n))
-    largest, pairs = 0.0, 0
-    for group in by_position.values():
-        for i in range(len(group)):
-            for j in range(i + 1, len(group)):
-                if group[i][0] != group[j][0]:
-                    pairs += 1
-                    d = max(-1.0, min(1.0, Gf.Dot(group[i][1], group[j][1])))
-                    largest = max(largest, math.degrees(math.acos(d)))
-    json.dump({"points": result, "seam": {"largest_degrees": largest, "pairs": pairs}}, open(out, "w"))
+    json.dump({"points": result, "seam": largest_seam(corners)}, open(out, "w"))
 
 
 if __name__ == "__main__":
