@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Runs `seamlit fix` on every model file under assets/ (.obj, .gltf, .glb, subfolders and
-# assets/validator-corpus included) and on the fuzz regression inputs of
-# crates/seamlit-io/tests/regressions (which fail, each with its own error) to .gltf, .glb and
-# .obj, and for glTF inputs once more
-# to .glb with --keep-compression, and writes a sha256 manifest of everything written: the
+# Runs `seamlit fix` on every model file under assets/ (.obj, .gltf, .glb, .vrm, .fbx, .usda,
+# .usdc, .usdz, .usd; subfolders and assets/validator-corpus included) and on the fuzz
+# regression inputs of crates/seamlit-io/tests/regressions (which fail, each with its own
+# error) to .gltf, .glb and .obj, for glTF inputs once more to .glb with --keep-compression,
+# for VRM inputs to .vrm and for USD inputs to .usda, .usdc and .usdz, and writes a sha256
+# manifest of everything written: the
 # output files, and for each run its exit code and stderr. Two manifests of two builds diff
 # empty when the builds write the same bytes and fail the same way (issue 24: a restructure
 # of seamlit-io must change no output).
@@ -46,10 +47,17 @@ while IFS= read -r input; do
   run "$name/obj" "$input" out.obj
   case ${input,,} in
     *.gltf | *.glb) run "$name/keep" "$input" out.glb --keep-compression ;;
+    *.vrm) run "$name/vrm" "$input" out.vrm ;;
+    *.usda | *.usdc | *.usdz | *.usd)
+      run "$name/usda" "$input" out.usda
+      run "$name/usdc" "$input" out.usdc
+      run "$name/usdz" "$input" out.usdz
+      ;;
   esac
   count=$((count + 1))
 done < <(find assets crates/seamlit-io/tests/regressions -type f \
-  \( -iname '*.obj' -o -iname '*.gltf' -o -iname '*.glb' \) | LC_ALL=C sort)
+  \( -iname '*.obj' -o -iname '*.gltf' -o -iname '*.glb' -o -iname '*.vrm' -o -iname '*.fbx' \
+  -o -iname '*.usda' -o -iname '*.usdc' -o -iname '*.usdz' -o -iname '*.usd' \) | LC_ALL=C sort)
 
 (cd "$work" && find . -type f | LC_ALL=C sort | xargs -d '\n' sha256sum) >"$manifest"
 failed=$(grep -l -v '^0$' "$work"/*/*/exit-code.txt | wc -l)

@@ -52,10 +52,11 @@ fn parse(text: &str, path: &Path) -> anyhow::Result<Asset> {
 
 fn mesh_object(mesh: &Value, world: Mat4) -> anyhow::Result<Object> {
     let positions: Vec<Vec3> =
-        floats(&mesh["vertices"]).chunks_exact(3).map(Vec3::from_slice).collect();
+        floats(&mesh["vertices"]).as_chunks::<3>().0.iter().map(|&c| Vec3::from_array(c)).collect();
     let n = positions.len();
     let vec3s = |key: &str| -> Option<Vec<Vec3>> {
-        let v: Vec<Vec3> = floats(&mesh[key]).chunks_exact(3).map(Vec3::from_slice).collect();
+        let v: Vec<Vec3> =
+            floats(&mesh[key]).as_chunks::<3>().0.iter().map(|&c| Vec3::from_array(c)).collect();
         (v.len() == n).then_some(v)
     };
     let normals = vec3s("normals");

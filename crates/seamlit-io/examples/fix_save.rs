@@ -35,7 +35,7 @@ fn main() -> ExitCode {
     let run = || -> Result<(), Box<dyn std::error::Error>> {
         let mut asset = seamlit_io::load(Path::new(input), &LoadOptions::DEFAULT)?;
         if how == "generic" {
-            asset.gltf_source = None;
+            asset.document = None;
         }
         let options = asset.fix_options(FixOptions { normals, ..FixOptions::DEFAULT }, false);
         seamlit_mesh::fix_in_place(&mut asset.model, &options)?;

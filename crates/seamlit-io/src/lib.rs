@@ -1,12 +1,24 @@
 //! # seamlit-io
 //!
-//! Model files in and out for seamlit: Wavefront OBJ through seamlit's own parser (MTL through
-//! tobj), glTF 2.0 and GLB through the gltf crate (written back as a pass-through of the input
-//! document when the model came from glTF), Newell's Bezier patch files, Autodesk FBX (read,
-//! through ufbx), OpenUSD stages (read through openusd, written as a `.usda` layer over the
-//! input), and textures through the image crate.
-//! Every file becomes an [`Asset`]: a [`seamlit_mesh::Model`] of named objects plus the
-//! materials and textures that lighting needs.
+//! The front door to seamlit's model files: [`load`] picks the reader and [`save`] the writer
+//! by the file's extension ([`Format::of`]), and [`folder`] holds the rules by which
+//! `seamlit fix DIR -o DIR` picks a folder's model files and names their outputs. Every file
+//! becomes a [`seamlit_asset::Asset`]: a [`seamlit_mesh::Model`] of named objects plus the
+//! materials, textures, nodes, skins and animations that lighting and writing need.
+//!
+//! Each format is a crate of its own, re-exported here under its name, and the only one this
+//! crate holds itself is Newell's Bezier patches ([`newell`], a few hundred lines):
+//!
+//! | module | crate | reads | writes | feature |
+//! |---|---|---|---|---|
+//! | [`gltf`] | seamlit-gltf | `.gltf`, `.glb`, `.vrm` (quantised, meshopt, Draco) | the same, as a pass-through of the input | `draco` for Draco |
+//! | [`obj`] | seamlit-obj | `.obj` + `.mtl` | `.obj` + `.mtl`, as a pass-through of the input | |
+//! | `fbx` | seamlit-fbx | `.fbx` (through the ufbx C library) | | `fbx` |
+//! | `usd` | seamlit-usd | `.usda`, `.usdc`, `.usdz`, `.usd` | a layer of the fixed normals, or a `.usdz` | `usd` |
+//! | [`newell`] | here | Newell's patches (`.bpt`, ...) | | |
+//!
+//! The features are on by default; without `fbx` and `usd` (and `draco`) the crate builds
+//! without a C library, for `wasm32-unknown-unknown` too.
 //!
 //! ```
 //! use seamlit_io::{LoadOptions, newell};
@@ -31,7 +43,8 @@
 //!
 //! ## The glTF pass-through
 //!
-//! An asset loaded from glTF or GLB keeps its document ([`Asset::gltf_source`]). Saved as glTF
+//! An asset loaded from glTF or GLB keeps its document ([`GltfSource`] in
+//! [`Asset::document`]). Saved as glTF
 //! or GLB, it is written as that document with only what seamlit owns changed: new NORMAL and
 //! TANGENT accessors, new indices, and, for the vertices [`seamlit_mesh::fix`] split, every
 //! other attribute and morph target duplicated from the vertex each copy came from. Skins,
@@ -42,7 +55,8 @@
 //!
 //! ## The OBJ pass-through
 //!
-//! An asset loaded from OBJ keeps its text ([`Asset::obj_source`]). Saved as OBJ, it is
+//! An asset loaded from OBJ keeps its text ([`ObjSource`] in [`Asset::document`]). Saved as
+//! OBJ, it is
 //! written as that text with only the `vn` lines new and each face corner's normal reference
 //! pointing at its fixed normal; every other line (comments, `o`/`g` names, `s`, `usemtl`,
 //! vertex colours, `vt`, `l`, unknown statements, line ends) is copied byte for byte, faces
@@ -51,43 +65,32 @@
 //! when computed ones are not written. The design: `docs/obj-pass-through.md`.
 #![deny(missing_docs)]
 
-mod animation;
-mod asset;
-mod check;
-mod error;
-pub mod fbx;
-mod files;
-pub mod gltf;
-pub mod motion;
+pub mod folder;
 pub mod newell;
-pub mod obj;
-mod options;
-mod paths;
-pub mod pose;
-mod skins;
-mod texture;
-pub mod usd;
 
 use std::path::Path;
 
-pub use animation::{
-    Animation, Channel, Interpolation, Property, Sampler, Skin, SkinsChanged, Trs,
-};
-pub use asset::{
-    AlphaMode, Anisotropy, Asset, Clearcoat, Iridescence, Material, Node, PbrExtensions,
-    PunctualKind, PunctualLight, Sheen, Specular, Texture, TextureFilter, TextureRef,
-    TextureSampling, TextureSource, Transmission, TriangleMaterials, UnknownVariant, UsdSource,
-    UvTransform, VariantObject, Variants, Volume, Wrap, roughness_to_shininess,
+use seamlit_asset::files::same_file;
+pub use seamlit_asset::{
+    AlphaMode, Animation, Anisotropy, Asset, BadAccessor, BadUri, Channel, Clearcoat, Draco,
+    FbxKind, Glb, GltfKind, Interpolation, InvalidAsset, IoError, Iridescence, KeepCompression,
+    LoadOptions, Material, Meshopt, Node, NotText, PbrExtensions, Property, PunctualKind,
+    PunctualLight, Sampler, SaveOptions, Sheen, Skin, SkinsChanged, SourceDocument, Specular,
+    Syntax, Texture, TextureFilter, TextureRef, TextureSampling, TextureSource, Transmission,
+    TriangleMaterials, Trs, UnknownVariant, UsdKind, UsdOutput, UvTransform, VariantObject,
+    Variants, Volume, Wrap, match_skin_seams, motion, pose, roughness_to_shininess,
     shininess_to_roughness,
 };
-pub use error::{InvalidAsset, IoError, KeepCompression, NotText, Syntax};
-pub use fbx::error::FbxKind;
-pub use gltf::error::{BadAccessor, BadUri, Draco, Glb, GltfKind, Meshopt};
-pub use gltf::source::GltfSource;
-pub use obj::source::ObjSource;
-pub use options::{LoadOptions, SaveOptions};
-pub use skins::match_skin_seams;
-pub use usd::error::{UsdKind, UsdOutput};
+#[cfg(feature = "fbx")]
+pub use seamlit_fbx as fbx;
+pub use seamlit_gltf as gltf;
+pub use seamlit_gltf::GltfSource;
+pub use seamlit_obj as obj;
+pub use seamlit_obj::ObjSource;
+#[cfg(feature = "usd")]
+pub use seamlit_usd as usd;
+#[cfg(feature = "usd")]
+pub use seamlit_usd::UsdSource;
 
 /// A model file format this crate reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -177,10 +180,10 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// `.vrm` (a VRM avatar loaded from a `.vrm`, through the pass-through, which keeps every VRM
 /// extension) or `.obj` (with a `.mtl` and the textures beside it).
 ///
-/// An asset loaded from glTF or GLB ([`Asset::gltf_source`]) and saved as `.gltf` or `.glb`
+/// An asset loaded from glTF or GLB ([`GltfSource`]) and saved as `.gltf` or `.glb`
 /// goes through the pass-through writer: the output is the input document with only NORMAL,
 /// TANGENT, the split vertices and the indices changed (see `docs/gltf-pass-through.md`).
-/// An asset loaded from OBJ ([`Asset::obj_source`]) and saved as `.obj` goes through the OBJ
+/// An asset loaded from OBJ ([`ObjSource`]) and saved as `.obj` goes through the OBJ
 /// pass-through: the input file with only the `vn` lines and the faces' normal references
 /// changed, its material libraries and textures copied as written (see
 /// `docs/obj-pass-through.md`). Other assets, and an asset whose model no longer matches its
@@ -210,76 +213,20 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// [`IoError::Io`] when writing fails.
 pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<SaveReport, IoError> {
     if !options.overwrite_input
-        && asset.source.as_deref().is_some_and(|source| files::same_file(source, path))
+        && asset.source.as_deref().is_some_and(|source| same_file(source, path))
     {
         return Err(IoError::WouldOverwriteInput { path: path.to_path_buf() });
     }
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let mut report = SaveReport::default();
-    match extension.as_deref() {
-        Some("vrm") => {
-            let source = asset.gltf_source.as_ref().filter(|s| s.is_vrm()).ok_or_else(|| {
-                IoError::VrmOutput {
-                    path: path.to_path_buf(),
-                    reason: "the model is not a VRM avatar".into(),
-                }
-            })?;
-            source
-                .check_model(&asset.model)
-                .map_err(|reason| IoError::VrmOutput { path: path.to_path_buf(), reason })?;
-            report.warnings =
-                gltf::passthrough::save(asset, source, path, true, options.keep_compression)?;
-        }
-        Some(extension @ ("gltf" | "glb")) => {
-            let binary = extension == "glb";
-            if let Some(source) = &asset.gltf_source {
-                match source.check_model(&asset.model) {
-                    Ok(()) => {
-                        let keep = options.keep_compression;
-                        report.warnings = gltf::passthrough::save(asset, source, path, binary, keep)?;
-                        return Ok(report);
-                    }
-                    Err(reason) => report.warnings.push(format!(
-                        "{}: written by the generic glTF writer (materials, skins, animations{} and extensions of the source are not kept): {reason}",
-                        path.display(),
-                        if options.keep_compression { ", compression" } else { "" }
-                    )),
-                }
-            }
-            gltf::write::save(asset, path, binary)?;
-        }
-        Some("obj") if options.keep_compression => {
-            return Err(IoError::CannotKeepCompression {
-                path: path.to_path_buf(),
-                kind: KeepCompression::ObjOutput,
-            });
-        }
-        Some("obj") => {
-            report.warnings.extend(obj::passthrough::tangents_not_written(&asset.model, path));
-            if let Some(source) = &asset.obj_source {
-                match source.check_model(&asset.model) {
-                    Ok(()) => {
-                        report.warnings.extend(obj::passthrough::save(asset, source, path)?);
-                        return Ok(report);
-                    }
-                    Err(reason) => report.warnings.push(format!(
-                        "{}: written by the generic OBJ writer (the material library is regenerated from seamlit's materials; comments, groups and statements seamlit does not use are not kept): {reason}",
-                        path.display()
-                    )),
-                }
-            }
-            obj::write::save(asset, path)?;
-        }
+    let warnings = match extension.as_deref() {
+        Some("gltf" | "glb" | "vrm") => gltf::save(asset, path, options)?,
+        Some("obj") => obj::save(asset, path, options)?,
         Some("fbx") => return Err(IoError::FbxOutput { path: path.to_path_buf() }),
         #[cfg(feature = "usd")]
-        Some("usda" | "usd") => report.warnings = usd::write::save(asset, path)?,
-        #[cfg(feature = "usd")]
-        Some("usdz") => report.warnings = usd::package::save(asset, path)?,
-        #[cfg(feature = "usd")]
-        Some("usdc") => report.warnings = usd::write::save_usdc(asset, path)?,
+        Some("usda" | "usd" | "usdc" | "usdz") => usd::save(asset, path)?,
         _ => return Err(IoError::UnknownFormat { path: path.to_path_buf() }),
-    }
-    Ok(report)
+    };
+    Ok(SaveReport { warnings })
 }
 
 /// What [`save`] reports besides the files it wrote.

@@ -36,7 +36,7 @@ pub struct Patches {
 /// [`IoError::Io`] if the file cannot be read, [`IoError::TooLarge`] past
 /// `options.max_file_bytes`, and the errors of [`parse`].
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let text = crate::files::read_text(path, options)?;
+    let text = seamlit_asset::files::read_text(path, options)?;
     let name =
         path.file_stem().map_or_else(|| "patches".to_owned(), |s| s.to_string_lossy().into_owned());
     let mut asset =

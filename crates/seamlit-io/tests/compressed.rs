@@ -249,8 +249,8 @@ fn match_within(
     };
     let mut used = vec![false; expected.len() / 3];
     let mut pairs = Vec::with_capacity(actual.len());
-    for (t, a) in actual.chunks_exact(3).enumerate() {
-        let found = expected.chunks_exact(3).enumerate().find_map(|(u, e)| {
+    for (t, a) in actual.as_chunks::<3>().0.iter().enumerate() {
+        let found = expected.as_chunks::<3>().0.iter().enumerate().find_map(|(u, e)| {
             let rotation = (0..3).find(|r| (0..3).all(|i| close(&a[i], &e[(i + r) % 3])))?;
             (!used[u]).then_some((u, rotation))
         });
@@ -572,7 +572,7 @@ fn a_draco_file_is_written_uncompressed_valid_and_says_so() {
 /// position): Draco's encoder drops the degenerate ones.
 #[cfg(feature = "draco")]
 fn without_degenerate(points: Vec<Point>) -> Vec<Point> {
-    let kept = points.chunks_exact(3).filter(|t| {
+    let kept = points.as_chunks::<3>().0.iter().filter(|t| {
         t[0].position != t[1].position
             && t[1].position != t[2].position
             && t[2].position != t[0].position

@@ -559,6 +559,23 @@ fn a_drawn_prototype_source_is_written_and_its_instances_named() {
     assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
 }
 
+/// The teapot layout without `--asset-root` refuses its teapot, a layer outside the stage's
+/// folder that 494 arcs reference: the error names the same arc on every run (openusd lists
+/// its composition errors in an order that changes from run to run; before, so did the line).
+#[test]
+fn a_layer_outside_the_folder_is_named_by_the_same_arc_every_time() {
+    let input = stage("others/intent-vfx/scenes/teapotScene_layout.usd");
+    let messages: BTreeSet<String> = (0..4)
+        .map(|_| match seamlit_io::load(&input, &LoadOptions::GEOMETRY) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("the teapot lies outside the stage's folder"),
+        })
+        .collect();
+    assert_eq!(messages.len(), 1, "{messages:#?}");
+    let message = messages.first().unwrap();
+    assert!(message.contains("at /Scene/ring000/teapot000:"), "{message}");
+}
+
 /// A real stage by others with instancing: usd-wg's teapot layout (`others/intent-vfx`), 494
 /// instances of one teapot (an external reference and an inherit of `/_class_/teapot`,
 /// which lies in the stage's root layer stack), each drawn. Its teapot is a subdivision

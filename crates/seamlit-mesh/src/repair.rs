@@ -572,7 +572,7 @@ fn corner_frames(
 fn write_tangents(object: &mut Object, linear: Option<Linear>, frames: &[Frame]) {
     let mut triangles = std::mem::take(&mut object.triangles);
     let mut out = Out::keeping_normals(object);
-    for (tri, f) in triangles.iter_mut().zip(frames.chunks_exact(3)) {
+    for (tri, f) in triangles.iter_mut().zip(frames.as_chunks::<3>().0) {
         for k in 0..3 {
             let (n0, t0) = match &linear {
                 Some(l) => l.frame_to_local(f[k].normal, f[k].tangent),

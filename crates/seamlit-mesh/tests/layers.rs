@@ -1,7 +1,7 @@
 //! The layering ARCHITECTURE.md states: a user who only wants repaired models depends on
-//! seamlit-mesh and seamlit-io and never compiles the GPU stack. Checked on Cargo.lock: the
-//! packages each of the two can reach (dev-dependencies included, so this over-approximates)
-//! contain no wgpu, winit or egui.
+//! seamlit-mesh and seamlit-io (and the asset and format crates below it) and never compiles
+//! the GPU stack. Checked on Cargo.lock: the packages each of them can reach (dev-dependencies
+//! included, so this over-approximates) contain no wgpu, winit or egui.
 
 use std::collections::{HashMap, HashSet};
 
@@ -53,11 +53,39 @@ fn the_geometry_and_file_crates_never_reach_the_gpu_stack() {
     for gpu in ["wgpu", "winit", "egui"] {
         assert!(binary.contains(gpu), "the parse lost {gpu} under the binary");
     }
-    for library in ["seamlit-mesh", "seamlit-io", "seamlit-py"] {
+    let libraries = [
+        "seamlit-mesh",
+        "seamlit-asset",
+        "seamlit-gltf",
+        "seamlit-obj",
+        "seamlit-fbx",
+        "seamlit-usd",
+        "seamlit-io",
+        "seamlit-py",
+    ];
+    for library in libraries {
         let reach = reachable(&graph, library);
         assert!(reach.len() > 5, "{library}: {reach:?}");
         for gpu in ["wgpu", "winit", "egui", "seamlit-render", "naga"] {
             assert!(!reach.contains(gpu), "{library} reaches {gpu}");
+        }
+    }
+}
+
+#[test]
+fn the_gltf_and_obj_crates_never_reach_another_format_s_library() {
+    // The web page builds glTF and OBJ for wasm32: no FBX C library, no USD parser.
+    let lock = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../Cargo.lock"))
+        .expect("the workspace's Cargo.lock");
+    let graph = lock_graph(&lock);
+    assert!(reachable(&graph, "seamlit-fbx").contains("ufbx"), "the parse lost ufbx");
+    assert!(reachable(&graph, "seamlit-usd").contains("openusd"), "the parse lost openusd");
+    for library in ["seamlit-asset", "seamlit-gltf", "seamlit-obj"] {
+        let reach = reachable(&graph, library);
+        for other in ["ufbx", "openusd", "tobj", "gltf"] {
+            let own = (library == "seamlit-obj" && other == "tobj")
+                || (library == "seamlit-gltf" && other == "gltf");
+            assert!(own || !reach.contains(other), "{library} reaches {other}");
         }
     }
 }

@@ -136,6 +136,20 @@ impl GpuContext {
         adapter: wgpu::Adapter,
         limits: wgpu::Limits,
     ) -> Result<Self, RenderError> {
+        pollster::block_on(Self::open(instance, adapter, limits))
+    }
+
+    /// As [`GpuContext::from_adapter_with_limits`], awaiting the device instead of blocking:
+    /// the only way to open one in a web page (WebGPU), where nothing may block.
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::RequestDevice`] when the adapter refuses.
+    pub async fn open(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        limits: wgpu::Limits,
+    ) -> Result<Self, RenderError> {
         let info = adapter.get_info();
         let desc = wgpu::DeviceDescriptor {
             label: Some("seamlit"),
@@ -144,11 +158,9 @@ impl GpuContext {
             ..Default::default()
         };
         let (device, queue) =
-            pollster::block_on(adapter.request_device(&desc)).map_err(|source| {
-                RenderError::RequestDevice {
-                    adapter: format!("{} ({:?})", info.name, info.backend),
-                    source,
-                }
+            adapter.request_device(&desc).await.map_err(|source| RenderError::RequestDevice {
+                adapter: format!("{} ({:?})", info.name, info.backend),
+                source,
             })?;
         let layouts = Layouts::new(&device);
         Ok(Self { instance, adapter, device, queue, layouts })
@@ -206,6 +218,7 @@ impl GpuContext {
 
     /// Runs `f` inside a validation error scope and turns a captured error into
     /// [`RenderError::Gpu`].
+    #[cfg(not(target_arch = "wasm32"))]
     pub(crate) fn scoped<T>(
         &self,
         during: &'static str,
@@ -220,6 +233,17 @@ impl GpuContext {
             return Err(RenderError::Gpu { during, message: error.to_string() });
         }
         result
+    }
+
+    /// In a web page nothing may block on the GPU, so errors are not scoped: WebGPU reports
+    /// them to the device's uncaptured-error handler (the browser's console).
+    #[cfg(target_arch = "wasm32")]
+    pub(crate) fn scoped<T>(
+        &self,
+        _during: &'static str,
+        f: impl FnOnce() -> Result<T, RenderError>,
+    ) -> Result<T, RenderError> {
+        f()
     }
 }
 

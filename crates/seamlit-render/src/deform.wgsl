@@ -9,7 +9,7 @@
 //   joint_palette: array<mat4x4>   model-space joint matrices, indexed by SkinVertex.joints
 //   morph_weights: array<f32>      one per target
 //
-// The maths (glTF 2.0, "Skins" and "Morph Targets"; seamlit_io::pose::posed_object on the
+// The maths (glTF 2.0, "Skins" and "Morph Targets"; seamlit_asset::pose::posed_object on the
 // CPU): v = base + sum_k w_k * delta_k for position, normal and tangent; then, for a skinned
 // object, M = sum over sets and lanes of weight * joint_palette[joint], position = M * v,
 // normal with M's inverse-transpose (the cofactor matrix times sign(det M)) normalised,

@@ -11,7 +11,7 @@
 //! emissive textures, alpha MASK and BLEND, unlit), tone mapped as [`ToneMapping`] says, with the
 //! glTF extensions that add to that BRDF (KHR_materials_ior, _specular, _clearcoat, _sheen,
 //! _anisotropy, _transmission, _volume, _iridescence, _dispersion, with their textures:
-//! `seamlit_io::PbrExtensions`) drawn by pipeline variants made on first use, so that a material
+//! `seamlit_asset::PbrExtensions`) drawn by pipeline variants made on first use, so that a material
 //! without them costs what it did. The textures of transmission, volume, iridescence and
 //! anisotropy need a device with 21 sampled textures a shader stage (lavapipe and desktop GPUs
 //! allow more): on one with fewer their factors are drawn alone
@@ -39,7 +39,7 @@
 //!
 //! ```
 //! use glam::{Vec2, Vec3};
-//! use seamlit_io::Asset;
+//! use seamlit_asset::Asset;
 //! use seamlit_mesh::{FixOptions, Model, Object, fix};
 //! use seamlit_render::{
 //!     CameraDescriptor, CameraView, FrameDescriptor, FrameSettings, GpuContext, GpuScene,
@@ -105,8 +105,9 @@ pub use error::RenderError;
 pub use light::{CameraDescriptor, CameraView, DebugView, Light, LightingModel, Projection};
 pub use pose::ObjectPose;
 pub use readback::PendingReadback;
+pub use readback::PosedVertices;
 pub use renderer::{DEFAULT_SAMPLE_COUNT, FrameDescriptor, FrameTimes, IMAGE_FORMAT, Renderer};
-pub use scene::{GpuScene, PosedVertices};
+pub use scene::GpuScene;
 pub use settings::{FrameSettings, ToneMapping};
 pub use texture::TextureOptions;
 /// The wgpu this crate is built on, for creating surfaces and sharing the device.

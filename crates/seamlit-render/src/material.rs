@@ -2,7 +2,7 @@
 //! transforms and the PBR extensions' parameters, from seamlit-io's `Material`.
 
 use bytemuck::{Pod, Zeroable};
-use seamlit_io::{AlphaMode, Material, PbrExtensions, TextureRef, Volume};
+use seamlit_asset::{AlphaMode, Material, PbrExtensions, TextureRef, Volume};
 
 /// Material flag: the material has a normal map.
 pub(crate) const MAT_NORMAL_MAP: u32 = 1;

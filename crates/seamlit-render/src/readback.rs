@@ -1,6 +1,7 @@
 //! Reading a rendered texture back into an image: a copy into a buffer with rows padded to
 //! wgpu's 256-byte alignment, then the padding stripped.
 
+use glam::Vec3;
 use image::RgbaImage;
 
 use crate::{GpuContext, RenderError};
@@ -117,7 +118,7 @@ pub(crate) fn read_posed(
     ctx: &GpuContext,
     object: &wgpu::BindGroup,
     count: u32,
-) -> Result<crate::PosedVertices, RenderError> {
+) -> Result<PosedVertices, RenderError> {
     let size = u64::from(count.max(1)) * POSED_STRIDE;
     let output = buffer(
         ctx,
@@ -219,14 +220,25 @@ fn workgroups(count: u32) -> (u32, u32) {
 }
 
 /// The first `count` posed vertices of what `posed.wgsl` wrote (12 floats a vertex).
-fn posed_vertices(floats: &[f32], count: usize) -> crate::PosedVertices {
-    let mut out = crate::PosedVertices::default();
-    for v in floats.chunks_exact(12).take(count) {
-        out.positions.push(glam::Vec3::new(v[0], v[1], v[2]));
-        out.normals.push(glam::Vec3::new(v[4], v[5], v[6]));
+fn posed_vertices(floats: &[f32], count: usize) -> PosedVertices {
+    let mut out = PosedVertices::default();
+    for v in floats.as_chunks::<12>().0.iter().take(count) {
+        out.positions.push(Vec3::new(v[0], v[1], v[2]));
+        out.normals.push(Vec3::new(v[4], v[5], v[6]));
         out.tangents.push(glam::Vec4::new(v[8], v[9], v[10], v[11]));
     }
     out
+}
+
+/// The posed vertices of one object, read back by [`crate::GpuScene::posed_vertices`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PosedVertices {
+    /// World-space positions.
+    pub positions: Vec<Vec3>,
+    /// World-space unit normals.
+    pub normals: Vec<Vec3>,
+    /// World-space tangents: xyz under the model matrix (not normalised), w the handedness.
+    pub tangents: Vec<glam::Vec4>,
 }
 
 #[cfg(test)]

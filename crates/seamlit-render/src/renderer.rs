@@ -247,7 +247,15 @@ impl Renderer {
             Some(msaa) => (msaa, Some(target)),
             None => (target, None),
         };
-        let colour = PassColour { view, resolve, clear: settings.clear_color };
+        // The clear colour is linear; a target that is not sRGB gets it encoded, as the
+        // shader encodes what it draws there.
+        let clear = if self.format.is_srgb() {
+            settings.clear_color
+        } else {
+            let [r, g, b, a] = settings.clear_color;
+            [linear_to_srgb(r), linear_to_srgb(g), linear_to_srgb(b), a]
+        };
+        let colour = PassColour { view, resolve, clear };
         let mut pass = begin_pass(encoder, "seamlit scene", colour, &attachments.depth);
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
         pass.set_bind_group(3, &self.environment.bind_group, &[]);
@@ -665,4 +673,10 @@ fn frame_bind_group(
 /// extensions' layers for a material that uses one.
 fn mesh_features(scene: &GpuScene, mesh: &crate::scene::GpuMesh) -> Features {
     Features { deform: mesh.posed, layers: scene.materials[mesh.material].layers }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of one linear channel, for the clear colour of a
+/// target that is not sRGB.
+fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }

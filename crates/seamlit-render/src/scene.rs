@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use seamlit_io::{AlphaMode, Asset, Material, Texture, TextureRef, TextureSampling};
+use seamlit_asset::{AlphaMode, Asset, Material, Texture, TextureRef, TextureSampling};
 use seamlit_mesh::{Model, Object, VAxis};
 use wgpu::util::DeviceExt;
 
@@ -13,6 +13,7 @@ use crate::material::{
     material_to_raw,
 };
 use crate::pose::{Deform, ObjectPose};
+use crate::readback::PosedVertices;
 use crate::texture::{self, ImageUpload, TexelKind, TextureOptions};
 use crate::{GpuContext, RenderError};
 
@@ -776,17 +777,6 @@ fn object_bind_group<'a>(
             storage(5, &d.weights),
         ],
     })
-}
-
-/// The posed vertices of one object, read back by [`GpuScene::posed_vertices`].
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PosedVertices {
-    /// World-space positions.
-    pub positions: Vec<Vec3>,
-    /// World-space unit normals.
-    pub normals: Vec<Vec3>,
-    /// World-space tangents: xyz under the model matrix (not normalised), w the handedness.
-    pub tangents: Vec<glam::Vec4>,
 }
 
 /// The centre of an object's bounds after `model`, the point blended objects are sorted by.

@@ -2,7 +2,7 @@
 //! space (sRGB colour is averaged in linear light, normal maps as unit vectors).
 
 use image::RgbaImage;
-use seamlit_io::{TextureFilter, TextureSampling, Wrap};
+use seamlit_asset::{TextureFilter, TextureSampling, Wrap};
 use wgpu::util::DeviceExt;
 
 use crate::{GpuContext, RenderError};

@@ -113,6 +113,12 @@ fn a_non_srgb_target_gets_the_same_image() {
             );
         }
     }
+    // The background (a corner, outside the plane): the clear colour is encoded too.
+    let (a, b) = (srgb.get_pixel(0, 0).0, unorm.get_pixel(0, 0).0);
+    assert!(
+        (0..3).all(|c| a[c].abs_diff(b[c]) <= 1) && a[0] > 30,
+        "background: sRGB target {a:?}, shader-encoded {b:?}"
+    );
 }
 
 #[test]

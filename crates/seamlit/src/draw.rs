@@ -129,7 +129,8 @@ fn srgb_to_linear(c: f32) -> f32 {
 /// every glTF viewer), none otherwise (OBJ models and the paper's demo keep their look).
 #[must_use]
 pub(crate) fn default_environment(loaded: &Loaded, lighting: LightingModel) -> EnvironmentChoice {
-    let all_gltf = loaded.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
+    let all_gltf =
+        loaded.parts.iter().all(|(_, asset)| asset.document::<seamlit_io::GltfSource>().is_some());
     if all_gltf && lighting == LightingModel::Pbr {
         EnvironmentChoice::Builtin
     } else {

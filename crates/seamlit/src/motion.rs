@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use seamlit_io::Asset;
-use seamlit_io::motion::{SeamMotion, morph_seams, seam_motion};
+use seamlit_io::motion::{Copies, SeamMotion, morph_seams};
 use seamlit_mesh::FixOptions;
 
 use crate::failure::Failure;
@@ -38,31 +38,12 @@ pub(crate) fn list(asset: &Asset) -> String {
     format!("its animations: {}", names.join(", "))
 }
 
-/// The copies of the positions the model's objects share ([`seamlit_mesh::shared_copies`]),
-/// where something can pull them apart (skins, morph targets or animations), and which of
-/// them are sides of a seam as `fix` with `options` judges them, from the normals the file
-/// carries ([`seamlit_mesh::seam_copies`]); none otherwise, which costs nothing.
-pub(crate) struct Copies {
-    /// Per shared position, its copies (object, vertex).
-    pub copies: Vec<Vec<(u32, u32)>>,
-    /// Per copy, whether it is a side of a seam (not an authored hard edge, not custom).
-    pub seams: Vec<Vec<bool>>,
-}
-
 /// The [`Copies`] of `asset`.
 ///
 /// # Errors
 /// [`Failure::BadInput`] naming `file` when the geometry is bad.
 pub(crate) fn copies(asset: &Asset, options: &FixOptions, file: &Path) -> Result<Copies, Failure> {
-    let moves = !asset.animations.is_empty()
-        || asset.model.objects.iter().any(|o| !o.skin.is_empty() || !o.morph_targets.is_empty());
-    if !moves {
-        return Ok(Copies { copies: Vec::new(), seams: Vec::new() });
-    }
-    let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
-    let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance).map_err(bad)?;
-    let seams = seamlit_mesh::seam_copies(&asset.model, &copies, options).map_err(bad)?;
-    Ok(Copies { copies, seams })
+    Copies::of(asset, options).map_err(|e| Failure::input(format!("{}: {e}", file.display())))
 }
 
 /// The seams of `asset` in each of `animations`, `samples` times each, at `copies` (see
@@ -74,13 +55,7 @@ pub(crate) fn measure(
     options: &FixOptions,
     copies: &Copies,
 ) -> Vec<SeamMotion> {
-    animations
-        .iter()
-        .map(|&a| {
-            let Copies { copies, seams } = copies;
-            seam_motion(asset, a, samples as usize, copies, seams, options.crease_angle_deg)
-        })
-        .collect()
+    copies.measure(asset, animations, samples, options)
 }
 
 /// The morph targets whose deltas differ across the seam, as a line (empty where none do).

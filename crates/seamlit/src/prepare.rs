@@ -177,7 +177,10 @@ impl Loaded {
     /// (OBJ/MTL and Newell patches, whose materials are Blinn-Phong's).
     #[must_use]
     pub(crate) fn lighting(&self) -> LightingModel {
-        let all_gltf = self.parts.iter().all(|(_, asset)| asset.gltf_source.is_some());
+        let all_gltf = self
+            .parts
+            .iter()
+            .all(|(_, asset)| asset.document::<seamlit_io::GltfSource>().is_some());
         self.scene.lighting.unwrap_or(if all_gltf {
             LightingModel::Pbr
         } else {

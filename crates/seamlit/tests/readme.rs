@@ -1,5 +1,5 @@
-//! Every command line that README.md and the example scenes show runs as written, from the
-//! repository's root, through the built binary. Placeholder file names (`model.obj`,
+//! Every command line that README.md, docs/rendering.md and the example scenes show runs as
+//! written, from the repository's root, through the built binary. Placeholder file names (`model.obj`,
 //! `scene.toml`, `DIR`...) stand for the repository's own models and for files in a temporary
 //! folder; optional parts in brackets (`[--json]`) are run with the option.
 
@@ -115,11 +115,16 @@ fn run(line: &str, tmp: &Path) -> Vec<(String, Output)> {
 #[test]
 fn every_command_line_in_the_readme_and_the_examples_runs() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let lines = readme_lines(&readme);
+    let mut lines = readme_lines(&readme);
     // The two commands, and the ten lines (the list is checked so that a README edit that
     // breaks the parsing fails here instead of testing nothing).
     assert!(lines.contains(&"seamlit demo".to_owned()), "{lines:?}");
-    assert_eq!(lines.len(), 14, "{lines:?}");
+    assert_eq!(lines.len(), 12, "{lines:?}");
+    // The rendering page's lines, moved there from the README (issue 40).
+    let rendering = std::fs::read_to_string(root().join("docs/rendering.md")).unwrap();
+    let moved = readme_lines(&rendering);
+    assert_eq!(moved.len(), 2, "{moved:?}");
+    lines.extend(moved);
     let examples = example_lines();
     assert!(examples.len() >= 2, "{examples:?}");
 

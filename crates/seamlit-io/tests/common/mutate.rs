@@ -324,6 +324,6 @@ pub fn use_asset(mut asset: seamlit_io::Asset, out: &Path) {
         seamlit_io::SaveOptions { overwrite_input: true, ..seamlit_io::SaveOptions::default() };
     let _ = seamlit_io::save(&asset, &out.join("pass.glb"), &save);
     let _ = seamlit_io::save(&asset, &out.join("pass.gltf"), &save);
-    asset.gltf_source = None;
+    asset.document = None;
     let _ = seamlit_io::save(&asset, &out.join("generic.glb"), &save);
 }

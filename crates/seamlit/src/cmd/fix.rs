@@ -14,16 +14,15 @@
 //! (`a_panic_in_one_file_of_a_folder_is_its_internal_error_and_the_others_go_on`,
 //! crates/seamlit/tests/hostile.rs).
 
-use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, PanicHookInfo};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use seamlit_io::{Format, InvalidAsset, IoError, LoadOptions, SaveOptions};
+use seamlit_io::{InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, ReportOptions};
 
-use crate::cli::{FixArgs, OutFormat, SkinSeamsArg};
+use crate::cli::{FixArgs, SkinSeamsArg};
 use crate::failure::{Classify, Failure};
 use crate::prepare::default_tangents;
 use crate::table::{changes_line, count};
@@ -306,14 +305,14 @@ fn run_folder(
     if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {wide_msg}") {
         bar.set_style(style);
     }
-    let mut used = HashSet::new();
+    let mut names = seamlit_io::folder::OutputNames::new();
     let (mut failed, mut bad_input) = (0usize, false);
     let quiet = QuietPanics::install();
     for input in &inputs {
         let relative = input.strip_prefix(&args.input).unwrap_or(input);
         bar.set_message(relative.display().to_string());
-        let output =
-            output_name(relative, &args.output, folder_extension(input, args.format), &mut used);
+        let extension = seamlit_io::folder::output_extension(input, args.format.extension());
+        let output = names.name(relative, &args.output, extension);
         let asked = args.fix.tangents.is_some();
         let skins = Skins { policy: args.skin_seams, samples: args.samples };
         match guarded(input, || fix_file(input, &output, options, asked, load, save, skins)) {
@@ -337,32 +336,16 @@ fn run_folder(
     }
 }
 
-/// The model files in `dir` and, with `recurse`, in its subfolders, sorted by path. Hidden
-/// entries (`.git`, `.cache`), symbolic links to folders (which could loop) and the output
-/// folder itself (when it lies inside `dir`, so a second run does not fix the first run's
-/// output) are skipped.
+/// The model files in `dir` by folder mode's rules ([`seamlit_io::folder::model_files`]), or
+/// bad input when the folder cannot be read or holds none.
 fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>, Failure> {
-    let skip = output.canonicalize().ok();
-    let mut files = Vec::new();
-    let mut folders = vec![dir.to_path_buf()];
-    while let Some(folder) = folders.pop() {
-        let entries = std::fs::read_dir(&folder).map_err(|e| {
-            Failure::input(format!("{}: cannot read the folder: {e}", folder.display()))
-        })?;
-        for entry in entries.filter_map(Result::ok) {
-            let path = entry.path();
-            let hidden = entry.file_name().to_string_lossy().starts_with('.');
-            let Ok(kind) = entry.file_type() else { continue };
-            if kind.is_dir() && recurse && !hidden {
-                if skip.is_none() || path.canonicalize().ok() != skip {
-                    folders.push(path);
-                }
-            } else if !hidden && path.is_file() && Format::of(&path).is_some() {
-                files.push(path);
+    let files =
+        seamlit_io::folder::model_files(dir, Some(output), recurse).map_err(|e| match e {
+            IoError::Io { path, source } => {
+                Failure::input(format!("{}: cannot read the folder: {source}", path.display()))
             }
-        }
-    }
-    files.sort();
+            other => Failure::input(other.to_string()),
+        })?;
     if files.is_empty() {
         let where_ = if recurse { "in this folder or its subfolders" } else { "in this folder" };
         return Err(Failure::input(format!(
@@ -371,27 +354,4 @@ fn model_files(dir: &Path, output: &Path, recurse: bool) -> Result<Vec<PathBuf>,
         )));
     }
     Ok(files)
-}
-
-/// The extension of a folder input's output: `format`'s, but a VRM avatar written as GLB
-/// stays a `.vrm` (the same bytes a `.glb` would hold, under the name avatar tools look for).
-fn folder_extension(input: &Path, format: OutFormat) -> &'static str {
-    let vrm = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("vrm"));
-    if vrm && format == OutFormat::Glb { "vrm" } else { format.extension() }
-}
-
-/// `out/sub/stem.ext` for the input `sub/stem.srcext` (relative to the input folder), or
-/// `out/sub/stem-srcext.ext` when two inputs of one folder share a stem.
-fn output_name(relative: &Path, out: &Path, ext: &str, used: &mut HashSet<PathBuf>) -> PathBuf {
-    let stem =
-        relative.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy().into_owned());
-    let folder = out.join(relative.parent().unwrap_or(Path::new("")));
-    let mut path = folder.join(format!("{stem}.{ext}"));
-    if used.contains(&path) {
-        let src =
-            relative.extension().map_or_else(String::new, |e| format!("-{}", e.to_string_lossy()));
-        path = folder.join(format!("{stem}{src}.{ext}"));
-    }
-    used.insert(path.clone());
-    path
 }

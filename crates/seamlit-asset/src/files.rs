@@ -1,0 +1,100 @@
+//! Files in and out, for every format: whole files read under the size limit
+//! ([`read_bytes`], [`read_text`]), and atomic output ([`write`], [`write_with`]): a
+//! temporary file in the destination folder, renamed over the destination once complete,
+//! so a failed write never leaves a half-written file. Also the names the writers give the
+//! files they write beside their output ([`safe_name`]), and whether two paths are one
+//! file ([`same_file`]).
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use crate::error::IoError;
+use crate::options::LoadOptions;
+
+/// Writes `bytes` to `path` atomically.
+///
+/// # Errors
+///
+/// [`IoError::Io`] naming `path` when the temporary file cannot be created, written or
+/// renamed.
+pub fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    write_with(path, |out| out.write_all(bytes))
+}
+
+/// Writes to `path` atomically what `contents` writes into a buffered writer: large outputs
+/// are streamed to the temporary file instead of being assembled in memory first.
+///
+/// # Errors
+///
+/// [`IoError::Io`] naming `path` when the temporary file cannot be created, written (by
+/// `contents` or when flushing) or renamed.
+pub fn write_with(
+    path: &Path,
+    contents: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), IoError> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let io = |e| IoError::io(path, e);
+    let mut builder = tempfile::Builder::new();
+    // A finished output is an ordinary file (tempfile would leave it readable by its owner
+    // only).
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut file = builder.prefix(".seamlit-").suffix(".tmp").tempfile_in(folder).map_err(io)?;
+    let mut out = BufWriter::with_capacity(1 << 16, file.as_file_mut());
+    contents(&mut out).map_err(io)?;
+    out.flush().map_err(io)?;
+    drop(out);
+    file.as_file().sync_all().map_err(io)?;
+    file.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+/// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).
+pub fn safe_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(
+            |c| if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' { c } else { '_' },
+        )
+        .collect();
+    if s.is_empty() || s.starts_with('.') { format!("model{s}") } else { s }
+}
+
+/// Whether two paths name the same file (by canonical path when both exist).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Refuses a file over `options.max_file_bytes` (and one that cannot be looked at).
+pub fn check_size(path: &Path, options: &LoadOptions) -> Result<(), IoError> {
+    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
+    if size > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: size,
+        });
+    }
+    Ok(())
+}
+
+/// Reads a file whole, refusing files over `options.max_file_bytes`.
+pub fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
+    check_size(path, options)?;
+    std::fs::read(path).map_err(|e| IoError::io(path, e))
+}
+
+/// Reads a text file whole (invalid UTF-8 replaced), refusing files over the size limit.
+pub fn read_text(path: &Path, options: &LoadOptions) -> Result<String, IoError> {
+    let bytes = read_bytes(path, options)?;
+    Ok(match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(err) => String::from_utf8_lossy(err.as_bytes()).into_owned(),
+    })
+}

@@ -1,0 +1,120 @@
+//! The glTF document an asset was loaded from, kept for the pass-through writer: the JSON as
+//! written, the buffers' bytes, and for each object of the model the node, mesh and
+//! primitive it came from. The reader makes it, the writer reads it, [`seamlit_asset::Asset`] holds
+//! it.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use seamlit_mesh::Model;
+use serde_json::Value;
+
+use crate::json::usize_member;
+
+/// The glTF document an [`seamlit_asset::Asset`] was loaded from: the JSON as written, the buffers'
+/// bytes, and for each object of the model the node, mesh and primitive it came from.
+///
+/// Opaque and cheap to clone (shared). `seamlit_io::save` uses it to write the input back with
+/// only normals, tangents, split vertices and indices changed.
+#[derive(Clone)]
+pub struct GltfSource(pub(crate) Arc<Source>);
+
+/// What a [`GltfSource`] shares.
+pub(crate) struct Source {
+    /// The document, as parsed from the file.
+    pub(crate) json: Value,
+    /// Each buffer's bytes (at least its `byteLength`).
+    pub(crate) buffers: Vec<Vec<u8>>,
+    /// The file it was read from: relative URIs are resolved against its folder.
+    pub(crate) path: PathBuf,
+    /// Per object of the loaded model: where it came from.
+    pub(crate) instances: Vec<Instance>,
+    /// Per node of [`seamlit_asset::Asset::nodes`]: its index in the document's `nodes`.
+    pub(crate) nodes: Vec<usize>,
+}
+
+/// Where an object came from: a primitive of a mesh, instanced by a node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Instance {
+    /// Index into `nodes`.
+    pub node: usize,
+    /// Index into `meshes`.
+    pub mesh: usize,
+    /// Index into the mesh's `primitives`.
+    pub primitive: usize,
+}
+
+impl std::fmt::Debug for GltfSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GltfSource")
+            .field("path", &self.0.path)
+            .field("objects", &self.0.instances.len())
+            .field("buffer_bytes", &self.0.buffers.iter().map(Vec::len).sum::<usize>())
+            .finish_non_exhaustive()
+    }
+}
+
+impl GltfSource {
+    /// Keeps a loaded document for the pass-through writer.
+    pub(crate) fn new(
+        json: Value,
+        buffers: Vec<Vec<u8>>,
+        path: &Path,
+        instances: Vec<Instance>,
+        nodes: Vec<usize>,
+    ) -> Self {
+        Self(Arc::new(Source { json, buffers, path: path.to_path_buf(), instances, nodes }))
+    }
+
+    /// Whether the document is a VRM avatar: VRM 0.x's `VRM` or VRM 1.0's `VRMC_vrm`
+    /// extension on the root.
+    pub fn is_vrm(&self) -> bool {
+        let extensions = &self.0.json["extensions"];
+        extensions.get("VRM").is_some() || extensions.get("VRMC_vrm").is_some()
+    }
+
+    /// Whether `model` is still the model of this source: one object per primitive instance,
+    /// each with the input's vertices first (plus split copies of them). Returns why not.
+    pub fn check_model(&self, model: &Model) -> Result<(), String> {
+        let source = &*self.0;
+        if model.objects.len() != source.instances.len() {
+            return Err(format!(
+                "the model has {} objects, its glTF source {} primitive instances",
+                model.objects.len(),
+                source.instances.len()
+            ));
+        }
+        for (object, instance) in model.objects.iter().zip(&source.instances) {
+            let expected = source
+                .primitive(*instance)
+                .and_then(|p| usize_member(&p["attributes"], "POSITION"))
+                .and_then(|a| usize_member(&source.json["accessors"][a], "count"));
+            let input = object.vertex_count().checked_sub(object.split_from.len());
+            if input.is_none() || input != expected {
+                return Err(format!(
+                    "object {:?} has {} input vertices, mesh {} primitive {} has {}",
+                    object.name,
+                    input.map_or_else(|| "fewer than no".to_owned(), |n| n.to_string()),
+                    instance.mesh,
+                    instance.primitive,
+                    expected.map_or_else(|| "none".to_owned(), |n| n.to_string())
+                ));
+            }
+            let input = input.unwrap_or_default();
+            if let Some(&v) = object.split_from.iter().find(|&&v| v as usize >= input) {
+                return Err(format!(
+                    "object {:?}: a split vertex copies vertex {v}, past the {input} input vertices",
+                    object.name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Source {
+    /// The JSON of a primitive.
+    pub(crate) fn primitive(&self, instance: Instance) -> Option<&Value> {
+        self.json["meshes"].get(instance.mesh)?["primitives"].get(instance.primitive)
+    }
+}

@@ -1,0 +1,138 @@
+//! The asset resolver seamlit opens stages with: openusd's default resolver, confined to the
+//! stage's folders and checking each layer before openusd parses it.
+//!
+//! A stage's layers (sublayers, references, payloads) may name any file by an absolute or
+//! `../` path. A layer that resolves outside the root layer's folder and the folders the user
+//! allows ([`seamlit_asset::LoadOptions::asset_roots`], `--asset-root`) is not opened: the stage fails
+//! to compose with one line naming it (as issue 33 asks: a model file cannot make seamlit read
+//! files elsewhere on the machine). Every layer opened, not only the root one, is held to the
+//! file size limit and, in text form, to the nesting depth openusd's parser survives.
+
+use std::io;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use openusd::ar::{self, Resolver};
+
+use super::nesting::{MAX_TEXT_NESTING, text_nesting};
+
+/// The folders a stage's files may come from, canonical: the root layer's and `roots`
+/// (folders that do not exist are left out).
+pub(crate) fn allowed_folders(root_layer: &Path, roots: &[PathBuf]) -> Vec<PathBuf> {
+    let folder = root_layer.parent().unwrap_or(Path::new("."));
+    let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
+    std::iter::once(folder)
+        .chain(roots.iter().map(PathBuf::as_path))
+        .filter_map(|r| r.canonicalize().ok())
+        .collect()
+}
+
+/// A layer the resolver would not open: its asset path and where it resolved.
+#[derive(Clone, Debug)]
+pub(super) struct Outside {
+    pub asset: String,
+    pub resolved: PathBuf,
+}
+
+/// The folders layers may come from, and what was refused.
+pub(super) struct Confined {
+    inner: ar::DefaultResolver,
+    /// Canonical folders.
+    roots: Vec<PathBuf>,
+    max_file_bytes: u64,
+    refused: Arc<Mutex<Vec<Outside>>>,
+}
+
+impl Confined {
+    /// A resolver for the stage whose root layer is `root_layer`: its folder and `roots`
+    /// allowed (folders that do not exist are left out). Layers it refuses are added to
+    /// `refused`.
+    pub(super) fn new(
+        root_layer: &Path,
+        roots: &[PathBuf],
+        max_file_bytes: u64,
+        refused: Arc<Mutex<Vec<Outside>>>,
+    ) -> Self {
+        let roots = allowed_folders(root_layer, roots);
+        Self { inner: ar::DefaultResolver::new(), roots, max_file_bytes, refused }
+    }
+
+    /// Whether the file `resolved` names (the package of a path inside a `.usdz`) lies in
+    /// one of the allowed folders.
+    fn allowed(&self, resolved: &Path) -> bool {
+        let text = resolved.to_string_lossy();
+        let file = match ar::split_package_relative_path_outer(&text) {
+            Some((package, _)) if ar::is_package_relative_path(&text) => PathBuf::from(package),
+            _ => resolved.to_path_buf(),
+        };
+        file.canonicalize().is_ok_and(|real| self.roots.iter().any(|r| real.starts_with(r)))
+    }
+}
+
+impl Resolver for Confined {
+    fn create_identifier(&self, asset_path: &str, anchor: Option<&ar::ResolvedPath>) -> String {
+        self.inner.create_identifier(asset_path, anchor)
+    }
+
+    fn resolve(&self, asset_path: &str) -> Option<ar::ResolvedPath> {
+        let resolved = self.inner.resolve(asset_path)?;
+        if self.allowed(&resolved) {
+            return Some(resolved);
+        }
+        let outside = Outside { asset: asset_path.to_owned(), resolved: resolved.to_path_buf() };
+        if let Ok(mut refused) = self.refused.lock() {
+            refused.push(outside);
+        }
+        None
+    }
+
+    fn resolve_for_new_asset(&self, asset_path: &str) -> Option<ar::ResolvedPath> {
+        self.inner.resolve_for_new_asset(asset_path)
+    }
+
+    fn open_asset(&self, resolved: &ar::ResolvedPath) -> io::Result<Box<dyn ar::Asset>> {
+        let mut asset = self.inner.open_asset(resolved)?;
+        let size = asset.size()?;
+        if size > self.max_file_bytes {
+            return Err(io::Error::other(format!(
+                "{size} bytes, more than the limit of {} bytes",
+                self.max_file_bytes
+            )));
+        }
+        let mut head = [0u8; 5];
+        let read = io::Read::read(&mut asset, &mut head)?;
+        io::Seek::seek(&mut asset, io::SeekFrom::Start(0))?;
+        if head[..read] == *b"#usda" {
+            let bytes = asset.read_all()?;
+            let depth = text_nesting(&bytes);
+            if depth > MAX_TEXT_NESTING {
+                return Err(io::Error::other(format!(
+                    "brackets nested {depth} levels deep, more than the {MAX_TEXT_NESTING} seamlit reads"
+                )));
+            }
+            return Ok(Box::new(io::Cursor::new(bytes)));
+        }
+        Ok(asset)
+    }
+
+    fn get_extension<'a>(&self, asset_path: &'a str) -> &'a str {
+        self.inner.get_extension(asset_path)
+    }
+
+    fn get_asset_info(&self, asset_path: &str, resolved: &ar::ResolvedPath) -> ar::AssetInfo {
+        self.inner.get_asset_info(asset_path, resolved)
+    }
+
+    fn get_modification_timestamp(
+        &self,
+        asset_path: &str,
+        resolved: &ar::ResolvedPath,
+    ) -> Option<std::time::SystemTime> {
+        self.inner.get_modification_timestamp(asset_path, resolved)
+    }
+
+    fn identity(&self) -> String {
+        let roots: String = self.roots.iter().map(|p| format!("{p:?}")).collect();
+        format!("seamlit-confined{roots}")
+    }
+}
