@@ -61,6 +61,14 @@ struct Settings {
     /// `--asset-root` ([`LoadOptions::asset_roots`]).
     #[serde(default)]
     asset_roots: Vec<PathBuf>,
+    /// `--skin-seams match` (the default) or `keep`, for [`fix_file_measured`].
+    #[serde(default = "default_match_skin_seams")]
+    match_skin_seams: bool,
+}
+
+/// `--skin-seams`' default: `match`.
+fn default_match_skin_seams() -> bool {
+    true
 }
 
 /// `--tessellation`'s default.
@@ -136,6 +144,51 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
     json(&py.detach(run)?)
 }
 
+/// `seamlit fix INPUT -o OUTPUT` with the command line's steps, so the same bytes: load,
+/// options for the asset, the copies of shared positions, the seam report as loaded, fix in
+/// place, skin weights matched at the copies (unless `match_skin_seams` is off: `--skin-seams
+/// keep`), the report after, save. One load for what `seamlit.ray` needs of a file: returns
+/// the JSON of `{"input", "output", "options", "as_loaded", "fixed", "changes", "warnings"}`.
+#[pyfunction]
+fn fix_file_measured(
+    py: Python<'_>,
+    input: PathBuf,
+    output: PathBuf,
+    settings: &str,
+) -> PyResult<String> {
+    let settings = Settings::parse(settings)?;
+    let load_options = settings.load_options(LoadOptions::DEFAULT);
+    let save = SaveOptions {
+        overwrite_input: settings.overwrite_input,
+        keep_compression: settings.keep_compression,
+    };
+    let run = || -> PyResult<serde_json::Value> {
+        let mut asset = load(&input, &load_options)?;
+        let options = asset.fix_options(settings.fix, settings.tangents_asked);
+        let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", input.display()));
+        let copies = seamlit_io::motion::Copies::of(&asset, &options).map_err(|e| at(&e))?;
+        let report_options = ReportOptions::from(&options);
+        let as_loaded = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
+        let changes = seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(|e| at(&e))?;
+        if settings.match_skin_seams {
+            seamlit_io::match_skin_seams(&mut asset, &copies.copies);
+        }
+        let fixed = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
+        let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
+        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved.warnings).collect();
+        Ok(serde_json::json!({
+            "input": input.display().to_string(),
+            "output": output.display().to_string(),
+            "options": options,
+            "as_loaded": as_loaded,
+            "fixed": fixed,
+            "changes": changes,
+            "warnings": warnings,
+        }))
+    };
+    json(&py.detach(run)?)
+}
+
 /// Loads `path` and measures its seams as loaded and after a fix, without writing
 /// anything; returns the JSON of `{"file", "options", "as_loaded", "fixed", "changes",
 /// "warnings"}`.
@@ -202,7 +255,7 @@ fn rows<T: numpy::Element + Copy, const N: usize>(
     let values = array
         .as_slice()
         .map_err(|_| error(format!("object {index}: {what} is not a contiguous array")))?;
-    Ok(values.chunks_exact(N).map(|c| std::array::from_fn(|i| c[i])).collect())
+    Ok(values.as_chunks::<N>().0.to_vec())
 }
 
 /// A model object from the arrays of object `index`.
@@ -313,6 +366,7 @@ fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SeamlitError", m.py().get_type::<SeamlitError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
+    m.add_function(wrap_pyfunction!(fix_file_measured, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

@@ -4,8 +4,9 @@
 //!
 //! The module is the crate's cdylib in the target folder (`lib_seamlit.so`); it is copied
 //! with the package's Python files into a temporary `seamlit/` folder put on `PYTHONPATH`.
-//! Needs Python 3 with numpy, pytest, trimesh and bpy (Blender as a module): `.ci/run`
-//! installs them; the test fails, saying what to install, when they are missing.
+//! Needs Python 3 with numpy, pytest, trimesh, bpy (Blender as a module), ray, pyarrow and
+//! moto (seamlit.ray's tests): `.ci/run` installs them; the test fails, saying what to
+//! install, when they are missing.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -19,6 +20,22 @@ fn artifacts() -> PathBuf {
 
 fn python() -> String {
     std::env::var("PYTHON").unwrap_or_else(|_| "python3".to_owned())
+}
+
+/// Copies the package's files, its subpackages (`seamlit.ray`) included, skipping caches.
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap();
+        if path.is_dir() {
+            if name != "__pycache__" {
+                copy_tree(&path, &to.join(name));
+            }
+        } else {
+            std::fs::copy(&path, to.join(name)).unwrap();
+        }
+    }
 }
 
 #[test]
@@ -42,22 +59,18 @@ fn the_python_package_and_the_blender_add_on_pass_their_tests() {
         cli.display()
     );
     let missing = Command::new(python())
-        .args(["-c", "import numpy, pytest, trimesh, bpy"])
+        .args(["-c", "import numpy, pytest, trimesh, bpy, ray, pyarrow, moto"])
         .output()
         .expect("python3 is needed for the Python package's tests");
     assert!(
         missing.status.success(),
-        "the Python tests need numpy, pytest, trimesh and bpy (pip install numpy pytest trimesh bpy==5.0.1): {}",
+        "the Python tests need numpy, pytest, trimesh, bpy, ray, pyarrow and moto (pip install numpy pytest trimesh bpy==5.0.1 'ray[data]==2.60.0' 'pyarrow<22' 'pandas<3' 'moto[server]'): {}",
         String::from_utf8_lossy(&missing.stderr)
     );
 
     let root = tempfile::tempdir().expect("a temporary folder");
     let package = root.path().join("seamlit");
-    std::fs::create_dir(&package).unwrap();
-    for entry in std::fs::read_dir(crate_dir.join("python/seamlit")).unwrap() {
-        let path = entry.unwrap().path();
-        std::fs::copy(&path, package.join(path.file_name().unwrap())).unwrap();
-    }
+    copy_tree(&crate_dir.join("python/seamlit"), &package);
     let suffix = if cfg!(windows) { "pyd" } else { "so" };
     std::fs::copy(&library, package.join(format!("_seamlit.{suffix}"))).unwrap();
 

@@ -11,7 +11,12 @@ Three calls, the same steps as the ``seamlit`` command line:
 - :func:`fix_file` -- ``seamlit fix INPUT -o OUTPUT``: a model file in, a fixed file out
   (glTF and GLB keep everything seamlit does not own);
 - :func:`inspect` -- ``seamlit inspect``: the seam report, as loaded and after a fix;
-- :func:`fix` -- the fix on NumPy arrays, for meshes you hold in memory.
+- :func:`fix` -- the fix on NumPy arrays, for meshes you hold in memory;
+- :func:`fix_bytes` -- :func:`fix_file` for a self-contained model file held in memory (GLB,
+  VRM, USDZ, FBX), as ``seamlit fix DIR -o DIR`` writes it (GLB; a VRM stays a VRM).
+
+On a Ray cluster, over folders or object stores: :mod:`seamlit.ray` (``pip install
+'seamlit[ray]'``).
 
 Options mirror the command line's flags (``--mode``, ``--crease``, ``--weld-tolerance``,
 ``--weighting``, ``--tangents``, ``--normals``); see ``seamlit fix --help``. Errors are
@@ -25,14 +30,16 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+import shutil
+import tempfile
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _seamlit
 from ._seamlit import SeamlitError, __version__
 
-__all__ = ["SeamlitError", "__version__", "fix", "fix_file", "inspect"]
+__all__ = ["SeamlitError", "__version__", "fix", "fix_bytes", "fix_file", "inspect"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -123,6 +130,104 @@ def fix_file(
     )
     text = _seamlit.fix_file(os.fspath(input), os.fspath(output), settings)
     return json.loads(text)
+
+
+def _fix_measured(input: PathLike, output: PathLike, *, skin_seams: str = "match", **options: Any) -> Dict[str, Any]:
+    """``seamlit fix INPUT -o OUTPUT`` with the command line's steps (so its bytes, skin
+    weights matched at seams unless ``skin_seams="keep"``), and the seam report both as loaded
+    and after, from one load: for :mod:`seamlit.ray` and :func:`fix_bytes`. Returns
+    ``input``, ``output``, ``options``, ``as_loaded``, ``fixed``, ``changes``, ``warnings``."""
+    if skin_seams not in ("match", "keep"):
+        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
+    options.pop("samples", None)  # motion is measured, never changed: no effect on the file
+    mode = options.pop("mode", "model")
+    names = ("crease", "weld_tolerance", "weighting", "tangents", "normals")
+    fixed = {k: options.pop(k, None) for k in names}
+    more = {
+        "tessellation": int(options.pop("tessellation", 16)),
+        "overwrite_input": bool(options.pop("overwrite_input", False)),
+        "keep_compression": bool(options.pop("keep_compression", False)),
+        "asset_roots": [os.fspath(r) for r in options.pop("asset_roots", ())],
+        "match_skin_seams": skin_seams == "match",
+    }
+    if options:
+        raise SeamlitError(f"{', '.join(sorted(options))}: not an option of seamlit fix")
+    settings = _settings(mode, **fixed, **more)
+    return json.loads(_seamlit.fix_file_measured(os.fspath(input), os.fspath(output), settings))
+
+
+#: Extensions of the models :func:`fix_bytes` takes: one file each, nothing beside it.
+SELF_CONTAINED = ("glb", "vrm", "usdz", "fbx")
+
+
+def fix_bytes(
+    data: bytes,
+    name: str,
+    *,
+    mode: str = "model",
+    crease: Optional[float] = None,
+    weld_tolerance: Union[str, float, None] = None,
+    weighting: Optional[str] = None,
+    tangents: Optional[str] = None,
+    normals: Optional[str] = None,
+    keep_compression: bool = False,
+    skin_seams: str = "match",
+) -> Tuple[bytes, Dict[str, Any]]:
+    """Fix a self-contained model file held in memory: ``data`` is the file, ``name`` its
+    name (the extension says the format: ``.glb``, ``.vrm``, ``.usdz`` or ``.fbx``).
+
+    Returns the output file's bytes, the bytes ``seamlit fix DIR -o DIR`` writes for it with
+    the same options (GLB; a VRM avatar stays a VRM; skin weights matched at seams unless
+    ``skin_seams="keep"``), and a dict: ``input``, ``output`` (the output's name),
+    ``options``, ``as_loaded`` and ``fixed`` (the seam reports before and after),
+    ``changes`` and ``warnings``. Raises ``SeamlitError`` naming ``name`` for a model seamlit
+    refuses, or for a format that needs files beside it (glTF, OBJ, USD layers: use
+    :func:`fix_file` on a folder).
+
+    The file goes through a private temporary folder (memory-backed where the system has
+    ``/dev/shm``) until the native module reads and writes memory itself (see
+    docs/fleet.md, Limits).
+    """
+    ext = name.rsplit(".", 1)[-1].lower() if "." in name else ""
+    if ext not in SELF_CONTAINED:
+        raise SeamlitError(
+            f"{name}: fix_bytes takes a model in one file (.glb, .vrm, .usdz, .fbx); "
+            "a .gltf, .obj or USD layer needs the files beside it: use fix_file"
+        )
+    base = os.path.basename(name.replace("\\", "/")) or f"model.{ext}"
+    stem = base.rsplit(".", 1)[0] or "model"
+    out_name = f"{stem}.{'vrm' if ext == 'vrm' else 'glb'}"
+    where = "/dev/shm" if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK) else None
+    folder = tempfile.mkdtemp(prefix="seamlit-bytes-", dir=where)
+    try:
+        source = os.path.join(folder, "in", base)
+        target = os.path.join(folder, "out", out_name)
+        os.makedirs(os.path.dirname(source))
+        os.makedirs(os.path.dirname(target))
+        with open(source, "wb") as f:
+            f.write(data)
+        try:
+            result = _fix_measured(
+                source,
+                target,
+                mode=mode,
+                crease=crease,
+                weld_tolerance=weld_tolerance,
+                weighting=weighting,
+                tangents=tangents,
+                normals=normals,
+                keep_compression=keep_compression,
+                skin_seams=skin_seams,
+            )
+        except (SeamlitError, FileNotFoundError) as e:
+            raise SeamlitError(str(e).replace(source, name)) from None
+        with open(target, "rb") as f:
+            output = f.read()
+        result["input"] = name
+        result["output"] = out_name
+        return output, result
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def inspect(

@@ -1,5 +1,5 @@
 import os
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, TypedDict, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -35,6 +35,21 @@ def fix_file(
     keep_compression: bool = False,
     asset_roots: Sequence[PathLike] = (),
 ) -> Dict[str, Any]: ...
+SELF_CONTAINED: Tuple[str, ...]
+
+def fix_bytes(
+    data: bytes,
+    name: str,
+    *,
+    mode: Mode = "model",
+    crease: Optional[float] = None,
+    weld_tolerance: Union[str, float, None] = None,
+    weighting: Optional[Weighting] = None,
+    tangents: Optional[Tangents] = None,
+    normals: Optional[Normals] = None,
+    keep_compression: bool = False,
+    skin_seams: Literal["match", "keep"] = "match",
+) -> Tuple[bytes, Dict[str, Any]]: ...
 def inspect(
     path: PathLike,
     *,

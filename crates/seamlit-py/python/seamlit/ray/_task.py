@@ -1,0 +1,356 @@
+"""One file's work, run in a Ray worker: read the model (and the files that travel with it)
+from SRC, fix or inspect it, write the output to DST under its final name only when it is
+complete, and return the file's row of the report.
+
+Every failure that is the file's (a model seamlit refuses, a file missing beside it) is a
+``refused`` row; only a dead worker process (a native crash, the out-of-memory killer, a lost
+node) escapes from here, and the driver retries that once (Ray's ``max_retries``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import posixpath
+import shutil
+import subprocess
+import tempfile
+import time
+import uuid
+from dataclasses import dataclass
+from typing import Any, Dict, Optional, Sequence, Tuple
+
+from pyarrow import fs as pafs
+
+from . import _files
+
+#: The report's row for one input file (see docs/fleet.md for the columns).
+Row = Dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Job:
+    """What a worker needs to process one file (sent to it pickled)."""
+
+    relative: str
+    src: str
+    dst: Optional[str]
+    output: Optional[str]
+    options: Dict[str, Any]
+    flags: Tuple[str, ...]
+    options_key: str
+    #: The previous run's input and companion hashes, when its row may be carried over.
+    previous: Optional[Tuple[str, str]] = None
+    #: The previous run's output (relative to DST) that must still be there to skip.
+    previous_output: Optional[str] = None
+    engine: str = "auto"
+
+
+def sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def empty_row(job: Job) -> Row:
+    """A row with every column, nothing measured yet."""
+    return {
+        "path": job.relative,
+        "status": None,
+        "error": None,
+        "objects": None,
+        "triangles": None,
+        "shared_positions": None,
+        "seams_repaired": None,
+        "kept_hard_edges": None,
+        "kept_custom": None,
+        "largest_seam_before_deg": None,
+        "largest_seam_after_deg": None,
+        "warnings": [],
+        "seconds": 0.0,
+        "output_path": job.output,
+        "output_sha256": None,
+        "input_sha256": None,
+        "companions_sha256": None,
+        "options": job.options_key,
+        "skipped": False,
+        "memory_bytes": None,
+    }
+
+
+def seamlit_binary() -> Optional[str]:
+    """The ``seamlit`` command line the worker can run: ``SEAMLIT_BIN`` or the one on
+    ``PATH``; ``None`` when there is none."""
+    path = os.environ.get("SEAMLIT_BIN") or shutil.which("seamlit")
+    return path if path and os.path.isfile(path) else None
+
+
+def _read(filesystem: pafs.FileSystem, path: str) -> bytes:
+    with filesystem.open_input_stream(path) as stream:
+        return stream.read()
+
+
+def _gather(
+    filesystem: pafs.FileSystem, root: str, relative: str, data: bytes
+) -> Dict[str, bytes]:
+    """The model's companions (relative to SRC -> bytes), followed from file to file (an OBJ
+    names its MTL, the MTL its textures; a USD layer its layers). Names that leave SRC or do
+    not exist are left out: the loader then names what is missing."""
+    found: Dict[str, bytes] = {}
+    pending = [(relative, data)]
+    seen = {relative}
+    while pending:
+        name, content = pending.pop()
+        folder = posixpath.dirname(name)
+        for companion in _files.companions_of(name, content):
+            path = posixpath.normpath(posixpath.join(folder, companion))
+            if path.startswith("../") or path == ".." or path in seen:
+                continue
+            seen.add(path)
+            try:
+                body = _read(filesystem, root + "/" + path)
+            except (FileNotFoundError, OSError):
+                continue
+            found[path] = body
+            if _files.extension(path) in ("mtl", "usda", "usdc", "usd", "gltf"):
+                pending.append((path, body))
+    return found
+
+
+def _companions_digest(files: Dict[str, bytes]) -> str:
+    digest = hashlib.sha256()
+    for name in sorted(files):
+        digest.update(name.encode() + b"\0" + sha256(files[name]).encode() + b"\n")
+    return digest.hexdigest()
+
+
+def _first_line(text: str) -> str:
+    for line in text.splitlines():
+        line = line.strip()
+        if line.startswith("error: "):
+            return line[len("error: ") :]
+    lines = [l.strip() for l in text.splitlines() if l.strip()]
+    return lines[-1] if lines else "failed without a message"
+
+
+def _measure(row: Row, report: Dict[str, Any]) -> None:
+    """Fills the row's seam columns from a ``seamlit.inspect`` result."""
+    before = report["as_loaded"]
+    after = report["fixed"]
+    shared = report["changes"].get("shared", {})
+    row["objects"] = before["objects"]
+    row["triangles"] = before["triangles"]
+    row["shared_positions"] = before["shared_positions"]
+    row["seams_repaired"] = shared.get("repaired", 0)
+    row["kept_hard_edges"] = shared.get("hard_edges", 0)
+    row["kept_custom"] = shared.get("custom", 0)
+    row["largest_seam_before_deg"] = before["cross_object"].get("max_normal_angle_deg")
+    row["largest_seam_after_deg"] = after["cross_object"].get("max_normal_angle_deg")
+    row["warnings"] = [str(w) for w in report.get("warnings", [])]
+    objects = report["changes"].get("objects", [])
+    row["_changed"] = any(o.get("normals_changed") or o.get("vertices_split") for o in objects)
+
+
+def _package_options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The options ``seamlit.fix_file`` takes (it has no skin-seam policy or motion samples
+    yet: it leaves skin weights as authored)."""
+    return {k: v for k, v in options.items() if k not in ("skin_seams", "samples")}
+
+
+def _inspect_options(options: Dict[str, Any]) -> Dict[str, Any]:
+    keep = ("mode", "crease", "weld_tolerance", "weighting", "tangents", "normals", "tessellation", "asset_roots")
+    return {k: v for k, v in options.items() if k in keep}
+
+
+class Crashed(RuntimeError):
+    """The ``seamlit`` process fixing a file died from a signal (a native crash, the
+    out-of-memory killer): Ray retries the task as it does for a dead worker."""
+
+
+def _run_cli(binary: str, local_input: str, local_output: str, flags: Sequence[str], relative: str) -> Tuple[int, str]:
+    # One thread per task: Ray gave the task one CPU.
+    env = dict(os.environ)
+    env.setdefault("RAYON_NUM_THREADS", "1")
+    done = subprocess.run(
+        [binary, "fix", local_input, "-o", local_output, *flags],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    if done.returncode < 0:
+        raise Crashed(f"{relative}: the seamlit process fixing it died from signal {-done.returncode}")
+    return done.returncode, done.stderr + done.stdout
+
+
+def _publish(filesystem: pafs.FileSystem, root: str, staged: str, output_relative: str) -> None:
+    """Moves every file the fix wrote (the output, and a .gltf's or .obj's files beside it)
+    from the staging folder to DST. A file appears under its name only complete: a rename
+    on a local filesystem, one upload (one object) on an object store."""
+    folder = posixpath.dirname(output_relative)
+    local = isinstance(filesystem, pafs.LocalFileSystem)
+    for dirpath, _, names in os.walk(staged):
+        for name in sorted(names):
+            source = os.path.join(dirpath, name)
+            inner = os.path.relpath(source, staged).replace(os.sep, "/")
+            target = root + "/" + posixpath.join(folder, inner)
+            if local:
+                os.makedirs(os.path.dirname(target), exist_ok=True)
+                partial = f"{target}.{uuid.uuid4().hex[:8]}.partial"
+                with open(source, "rb") as f, open(partial, "wb") as out:
+                    shutil.copyfileobj(f, out, 1 << 20)
+                    # On disk before it has its name, as the command line writes.
+                    out.flush()
+                    os.fsync(out.fileno())
+                os.replace(partial, target)
+            else:
+                with open(source, "rb") as f, filesystem.open_output_stream(target) as out:
+                    shutil.copyfileobj(f, out, 1 << 20)
+
+
+def process(job: Job) -> Row:
+    """Fixes (``job.dst`` set) or inspects one file and returns its row; the row of a file
+    whose input and options are those of the previous run is marked ``skipped``."""
+    # One thread per task (Ray gave it one CPU), set before the native module starts its pool.
+    os.environ.setdefault("RAYON_NUM_THREADS", "1")
+    import seamlit
+
+    started = time.perf_counter()
+    row = empty_row(job)
+    row["memory_bytes"] = _reserved_memory()
+    src_fs, src_root = _files.resolve(job.src)
+    local_src = isinstance(src_fs, pafs.LocalFileSystem)
+    scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
+    try:
+        try:
+            data = _read(src_fs, src_root + "/" + job.relative)
+        except (FileNotFoundError, OSError) as e:
+            row.update(status="refused", error=f"{job.relative}: cannot read it: {e}")
+            return row
+        row["input_sha256"] = sha256(data)
+        ext = _files.extension(job.relative) or ""
+        companions = {} if ext in _files.SELF_CONTAINED else _gather(src_fs, src_root, job.relative, data)
+        row["companions_sha256"] = _companions_digest(companions)
+        if job.previous == (row["input_sha256"], row["companions_sha256"]) and _still_there(job):
+            row["skipped"] = True
+            return row
+
+        # The model as a local file: SRC's own when SRC is local, else a staged copy with
+        # its companions at the same relative places (a memory-backed folder when there
+        # is one).
+        if local_src:
+            local_input = src_root + "/" + job.relative
+        else:
+            stage = os.path.join(scratch, "in")
+            for name, body in [(job.relative, data), *companions.items()]:
+                path = os.path.join(stage, *name.split("/"))
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                with open(path, "wb") as f:
+                    f.write(body)
+            local_input = os.path.join(stage, *job.relative.split("/"))
+        options = dict(job.options)
+        if not local_src and options.get("asset_roots"):
+            # Asset roots are SRC-relative folders for a remote SRC: their staged copies.
+            options["asset_roots"] = [os.path.join(scratch, "in", r) for r in options["asset_roots"]]
+
+        if job.dst is not None and job.output is not None and _native(job.engine):
+            return _fix_native(job, row, local_input, options, scratch)
+
+        try:
+            report = seamlit.inspect(local_input, **_inspect_options(options))
+        except (seamlit.SeamlitError, FileNotFoundError) as e:
+            row.update(status="refused", error=_relative_message(str(e), local_input, job.relative))
+            return row
+        _measure(row, report)
+        changed = row.pop("_changed")
+
+        if job.dst is not None and job.output is not None:
+            staged = os.path.join(scratch, "out")
+            os.makedirs(staged)
+            local_output = os.path.join(staged, posixpath.basename(job.output))
+            binary = seamlit_binary() if job.engine in ("auto", "cli") else None
+            if binary is not None:
+                code, text = _run_cli(binary, local_input, local_output, job.flags, job.relative)
+                if code != 0:
+                    status = "refused" if code == 2 else "failed"
+                    row.update(status=status, error=_relative_message(_first_line(text), local_input, job.relative))
+                    return row
+            else:
+                try:
+                    seamlit.fix_file(local_input, local_output, **_package_options(options))
+                except (seamlit.SeamlitError, FileNotFoundError) as e:
+                    row.update(status="refused", error=_relative_message(str(e), local_input, job.relative))
+                    return row
+            with open(local_output, "rb") as f:
+                row["output_sha256"] = sha256(f.read())
+            dst_fs, dst_root = _files.resolve(job.dst)
+            _publish(dst_fs, dst_root, staged, job.output)
+            row["status"] = "fixed" if changed else "unchanged"
+        else:
+            row["output_path"] = None
+            row["status"] = "fixed" if changed else "unchanged"
+        return row
+    finally:
+        row["seconds"] = time.perf_counter() - started
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _reserved_memory() -> Optional[int]:
+    """The memory Ray reserved for this task (asked from the file's size), when in Ray."""
+    try:
+        import ray
+
+        memory = ray.get_runtime_context().get_assigned_resources().get("memory")
+    except Exception:  # not in a Ray worker
+        return None
+    return int(memory) if memory else None
+
+
+def _native(engine: str) -> bool:
+    """Whether the task fixes in its own process with the extension module's
+    ``fix_file_measured`` (the command line's steps, one load): ``auto`` and ``package`` when
+    the module has it."""
+    from seamlit import _seamlit
+
+    return engine in ("auto", "package") and hasattr(_seamlit, "fix_file_measured")
+
+
+def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], scratch: str) -> Row:
+    import seamlit
+
+    assert job.dst is not None and job.output is not None
+    staged = os.path.join(scratch, "out")
+    os.makedirs(staged)
+    local_output = os.path.join(staged, posixpath.basename(job.output))
+    try:
+        result = seamlit._fix_measured(local_input, local_output, **options)
+    except (seamlit.SeamlitError, FileNotFoundError) as e:
+        row.update(status="refused", error=_relative_message(str(e), local_input, job.relative))
+        return row
+    _measure(row, result)
+    changed = row.pop("_changed")
+    with open(local_output, "rb") as f:
+        row["output_sha256"] = sha256(f.read())
+    dst_fs, dst_root = _files.resolve(job.dst)
+    _publish(dst_fs, dst_root, staged, job.output)
+    row["status"] = "fixed" if changed else "unchanged"
+    return row
+
+
+def _still_there(job: Job) -> bool:
+    """Whether the previous run's output of the job is still in DST (a file whose output was
+    removed is fixed again)."""
+    if job.dst is None or job.previous_output is None:
+        return True
+    filesystem, root = _files.resolve(job.dst)
+    return filesystem.get_file_info(root + "/" + job.previous_output).type == pafs.FileType.File
+
+
+def _relative_message(message: str, local: str, relative: str) -> str:
+    """The error's one line, naming the file by its path in SRC instead of the worker's
+    local copy."""
+    line = message.strip().splitlines()[0] if message.strip() else "failed without a message"
+    return line.replace(local, relative)
+
+
+def _scratch_root() -> Optional[str]:
+    """A memory-backed folder for staged copies where the machine has one."""
+    return "/dev/shm" if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK) else None

@@ -1,0 +1,437 @@
+"""seamlit.ray on a real Ray cluster (``ray.cluster_utils.Cluster``: nodes of one CPU each on
+this machine) and a real S3-compatible store (moto's server on 127.0.0.1, started here and
+stopped after): a tree of the repository's own models fixed from a folder and from s3://,
+compared byte for byte with ``seamlit fix DIR -o DIR``; the report checked against
+``seamlit inspect --json``; workers and a node killed mid-run.
+
+Needs ``ray[data]==2.60.0``, ``pyarrow`` and ``moto[server]`` (.ci/run installs them)."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+try:
+    import boto3
+    import pyarrow.parquet as pq
+    import ray
+    from ray.cluster_utils import Cluster
+except ImportError as e:  # a failure that says what to install, never a skip
+    raise ImportError(
+        f"the seamlit.ray tests need ray, pyarrow and moto: pip install 'ray[data]==2.60.0' pyarrow 'moto[server]' ({e})"
+    ) from e
+
+import seamlit
+import seamlit.ray
+
+REPO = Path(os.environ.get("SEAMLIT_REPO", Path(__file__).resolve().parents[3]))
+MODELS = REPO / "assets" / "models"
+BIN = os.environ["SEAMLIT_BIN"]
+
+
+def cli(*args):
+    return subprocess.run([BIN, *map(str, args)], capture_output=True, text=True)
+
+
+def vrm_of(glb: bytes) -> bytes:
+    """The GLB as a VRM 1.0 avatar (the VRMC_vrm extension added to its JSON chunk)."""
+    length = struct.unpack_from("<I", glb, 12)[0]
+    document = json.loads(glb[20 : 20 + length])
+    rest = glb[20 + length :]
+    document.setdefault("extensionsUsed", []).append("VRMC_vrm")
+    document.setdefault("extensions", {})["VRMC_vrm"] = {
+        "specVersion": "1.0",
+        "meta": {"name": "fox"},
+        "humanoid": {"humanBones": {"hips": {"node": 0}}},
+    }
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + rest
+    return struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body
+
+
+def make_tree(root: Path) -> None:
+    """The repository's models in subfolders, every kind seamlit reads, and one corrupted
+    file."""
+    copy = lambda src, dst: (dst.parent.mkdir(parents=True, exist_ok=True), shutil.copy(src, dst))
+    shutil.copytree(MODELS / "clearcoat_test", root / "gltf" / "clearcoat")
+    shutil.copytree(MODELS / "cornell_box", root / "obj" / "cornell_box")
+    for name in ("blender_272_cube_7400_binary.fbx", "maya_parented_cubes_7500_ascii.fbx", "blender_293_half_skinned_7400_binary.fbx"):
+        copy(MODELS / "ufbx" / name, root / "fbx" / name)
+    shutil.copytree(MODELS / "usd" / "layered", root / "usd" / "layered")
+    copy(MODELS / "usd" / "head_body.usdz", root / "usd" / "head_body.usdz")
+    copy(MODELS / "usd" / "head_body.usda", root / "usd" / "head_body.usda")
+    shutil.copytree(MODELS / "usd" / "others" / "SubdivisionSurfaces" / "Pyramid", root / "usd" / "pyramid")
+    copy(MODELS / "fox" / "Fox.glb", root / "glb" / "Fox.glb")
+    copy(MODELS / "NormalTangentTest.glb", root / "glb" / "NormalTangentTest.glb")
+    copy(MODELS / "compressed" / "teapot_mo.glb", root / "glb" / "deep" / "teapot_mo.glb")
+    (root / "vrm").mkdir()
+    (root / "vrm" / "fox.vrm").write_bytes(vrm_of((MODELS / "fox" / "Fox.glb").read_bytes()))
+    # Two models of one folder with one stem: the second is named cube-obj.glb.
+    copy(MODELS / "ufbx" / "blender_272_cube_7400_binary.fbx", root / "mixed" / "cube.fbx")
+    copy(MODELS / "cornell_box" / "cornell_box.obj", root / "mixed" / "cube.obj")
+    copy(MODELS / "cornell_box" / "cornell_box.mtl", root / "mixed" / "cornell_box.mtl")
+    # Hidden folders are not taken.
+    copy(MODELS / "fox" / "Fox.glb", root / ".cache" / "Fox.glb")
+    (root / "broken").mkdir()
+    (root / "broken" / "corrupt.glb").write_bytes(b"glTF\x02\x00\x00\x00" + os.urandom(200))
+
+
+def listing(folder: Path):
+    return sorted(
+        str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file() and "_seamlit" not in p.parts
+    )
+
+
+def assert_same_tree(actual: Path, expected: Path) -> None:
+    assert listing(actual) == listing(expected)
+    for name in listing(expected):
+        assert (actual / name).read_bytes() == (expected / name).read_bytes(), name
+
+
+def report(path) -> list:
+    return pq.read_table(str(path)).to_pylist()
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def s3():
+    """moto's S3 server on 127.0.0.1 (a free port), its address in the standard AWS
+    variables (the Ray workers started after this inherit them)."""
+    port = free_port()
+    server = subprocess.Popen(
+        [sys.executable, "-m", "moto.server", "-H", "127.0.0.1", "-p", str(port)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    env = {
+        "AWS_ENDPOINT_URL": f"http://127.0.0.1:{port}",
+        "AWS_ACCESS_KEY_ID": "testing",
+        "AWS_SECRET_ACCESS_KEY": "testing",
+        "AWS_REGION": "us-east-1",
+    }
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    client = boto3.client("s3", endpoint_url=env["AWS_ENDPOINT_URL"])
+    for _ in range(100):
+        try:
+            client.list_buckets()
+            break
+        except Exception:
+            time.sleep(0.1)
+    yield client
+    server.terminate()
+    server.wait(timeout=30)
+    for k, v in saved.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
+
+
+@pytest.fixture(scope="module")
+def cluster(s3):
+    """Two nodes of one CPU each (the head and one more)."""
+    c = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
+    c.add_node(num_cpus=1)
+    c.wait_for_nodes()
+    ray.init(address=c.address, log_to_driver=False)
+    yield c
+    ray.shutdown()
+    c.shutdown()
+
+
+@pytest.fixture(scope="module")
+def tree(tmp_path_factory):
+    root = tmp_path_factory.mktemp("library")
+    make_tree(root / "src")
+    expected = root / "expected"
+    done = cli("fix", root / "src", "-o", expected)
+    # Folder mode refuses the corrupted file and a USD layer without geometry (bad input:
+    # exit status 2) and fixes the rest.
+    assert done.returncode == 2, done.stderr
+    refused = sorted(
+        line[len("error: ") :].split(":")[0][len(str(root / "src")) + 1 :]
+        for line in done.stderr.splitlines()
+        if line.startswith("error: " + str(root / "src"))
+    )
+    assert refused == ["broken/corrupt.glb", "usd/pyramid/mtl.usda"], done.stderr
+    (root / "refused.json").write_text(json.dumps(refused))
+    return root
+
+
+def test_a_folder_is_fixed_byte_for_byte_as_folder_mode_and_every_file_is_reported(cluster, tree, tmp_path):
+    out = tmp_path / "out"
+    summary = seamlit.ray.fix(str(tree / "src"), str(out), pictures=2, progress=False)
+    assert_same_tree(out, tree / "expected")
+    assert "mixed/cube-obj.glb" in listing(out) and "vrm/fox.vrm" in listing(out)
+
+    rows = {r["path"]: r for r in report(out / "_seamlit" / "report.parquet")}
+    inputs = [
+        p
+        for p in listing(tree / "src")
+        if Path(p).suffix in (".glb", ".gltf", ".obj", ".fbx", ".usda", ".usdz", ".usd", ".vrm") and not p.startswith(".")
+    ]
+    assert sorted(rows) == sorted(inputs)
+    refused = json.loads((tree / "refused.json").read_text())
+    assert sorted(p for p, r in rows.items() if r["status"] == "refused") == refused
+    error = rows["broken/corrupt.glb"]["error"]
+    assert error.startswith("broken/corrupt.glb: ") and "\n" not in error, error
+    assert summary.refused == len(refused) and summary.failed == 0 and summary.skipped == 0
+    assert summary.fixed + summary.unchanged == len(inputs) - len(refused)
+    assert summary.fixed > 0 and summary.unchanged > 0
+
+    for path, row in rows.items():
+        if path in refused:
+            continue
+        assert row["status"] in ("fixed", "unchanged"), row
+        written = (out / row["output_path"]).read_bytes()
+        import hashlib
+
+        assert row["output_sha256"] == hashlib.sha256(written).hexdigest()
+        assert row["input_sha256"] == hashlib.sha256((tree / "src" / path).read_bytes()).hexdigest()
+        # The counts are those `seamlit inspect --json` gives for the file.
+        measured = cli("inspect", "--json", tree / "src" / path)
+        assert measured.returncode == 0, measured.stderr
+        truth = json.loads(measured.stdout)
+        before = truth["as_loaded"]
+        assert (row["objects"], row["triangles"], row["shared_positions"]) == (
+            before["objects"],
+            before["triangles"],
+            before["shared_positions"],
+        ), path
+        assert row["largest_seam_before_deg"] == pytest.approx(before["cross_object"]["max_normal_angle_deg"]), path
+        assert row["largest_seam_after_deg"] == pytest.approx(truth["model"]["cross_object"]["max_normal_angle_deg"]), path
+    # Ray reserved memory for each task, more for a larger file.
+    small = rows["obj/cornell_box/cornell_box.obj"]["memory_bytes"]
+    large = rows["glb/NormalTangentTest.glb"]["memory_bytes"]
+    assert small and large and large > small
+    assert large > 20 * (tree / "src" / "glb" / "NormalTangentTest.glb").stat().st_size
+    page = (out / "_seamlit" / "summary.html").read_text()
+    assert "<svg" in page and "broken/corrupt.glb" in page
+    # The two files that changed most, each pictured before and after by `seamlit render`.
+    assert page.count("<section>") == 2 and page.count('<img src="data:image/png;base64,') == 4, page[-3000:]
+
+
+def test_an_object_store_is_fixed_byte_for_byte_as_folder_mode(cluster, tree, s3, tmp_path):
+    s3.create_bucket(Bucket="library")
+    src = tree / "src"
+    for name in listing(src):
+        s3.upload_file(str(src / name), "library", f"models/{name}")
+    summary = seamlit.ray.fix("s3://library/models", "s3://library/fixed", pictures=1, progress=False)
+    assert summary.refused == 2 and summary.failed == 0
+    out = tmp_path / "out"
+    for page in s3.get_paginator("list_objects_v2").paginate(Bucket="library", Prefix="fixed/"):
+        for item in page.get("Contents", []):
+            target = out / item["Key"][len("fixed/") :]
+            target.parent.mkdir(parents=True, exist_ok=True)
+            s3.download_file("library", item["Key"], str(target))
+    assert_same_tree(out, tree / "expected")
+    rows = report(out / "_seamlit" / "report.parquet")
+    assert {r["status"] for r in rows} <= {"fixed", "unchanged", "refused"}
+    assert (out / "_seamlit" / "summary.html").read_text().count('<img src="data:image/png;base64,') == 2
+
+
+def test_a_second_run_skips_what_it_fixed_and_fixes_what_changed(cluster, tree, tmp_path):
+    src = tmp_path / "src"
+    shutil.copytree(tree / "src", src)
+    out = tmp_path / "out"
+    first = seamlit.ray.fix(str(src), str(out), pictures=0, progress=False)
+    assert first.skipped == 0
+    again = seamlit.ray.fix(str(src), str(out), pictures=0, progress=False)
+    assert again.skipped == first.files
+    assert again.fixed == again.unchanged == again.refused == again.failed == 0
+    # The command line, its defaults spelled out, is the same run: it skips everything too,
+    # says so in its one line, and exits 0 (this run refused nothing).
+    done = subprocess.run(
+        [sys.executable, "-m", "seamlit.ray", "fix", str(src), str(out), "--address", cluster.address, "--quiet", "--pictures", "0"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    assert f"0 fixed, 0 unchanged, 0 refused, 0 failed, {first.files} skipped of {first.files} files" in done.stdout
+    # One input changed (the teapot replaced by another model), one option changed.
+    shutil.copy(MODELS / "lowpoly" / "kenney-platformer-cube.glb", src / "glb" / "deep" / "teapot_mo.glb")
+    third = seamlit.ray.fix(str(src), str(out), pictures=0, progress=False)
+    assert third.skipped == first.files - 1
+    assert (out / "glb" / "deep" / "teapot_mo.glb").read_bytes() != (tree / "expected" / "glb" / "deep" / "teapot_mo.glb").read_bytes()
+    other = seamlit.ray.fix(str(src), str(out), pictures=0, progress=False, crease=30)
+    assert other.skipped == 0
+
+
+def test_inspect_writes_the_report_and_no_model(cluster, tree, tmp_path):
+    target = tmp_path / "survey" / "report.parquet"
+    summary = seamlit.ray.inspect(str(tree / "src"), str(target), progress=False)
+    assert listing(tmp_path) == ["survey/report.parquet"]
+    rows = {r["path"]: r for r in report(target)}
+    assert rows["broken/corrupt.glb"]["status"] == "refused"
+    fox = json.loads(cli("inspect", "--json", tree / "src" / "glb" / "Fox.glb").stdout)
+    assert rows["glb/Fox.glb"]["triangles"] == fox["as_loaded"]["triangles"]
+    assert rows["glb/Fox.glb"]["output_path"] is None
+    assert summary.refused == 2
+
+
+def slow_model(path: Path, n: int = 500) -> None:
+    """Two grids of n x n quads that meet along one edge: seconds of work for a fix."""
+    import numpy as np
+
+    lines = []
+    base = 1
+    for part in range(2):
+        xs, ys = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+        z = np.sin(xs * 3) * 0.1
+        pts = np.stack([xs + part, ys, z], -1).reshape(-1, 3)
+        lines.append(f"o part{part}")
+        lines.extend("v %.6f %.6f %.6f" % tuple(p) for p in pts)
+        i = np.arange(n)[:, None] * (n + 1) + np.arange(n)[None, :]
+        a = (i + base).ravel()
+        quads = np.stack([a, a + 1, a + n + 2, a + n + 1], -1)
+        lines.extend("f %d %d %d %d" % tuple(q) for q in quads)
+        base += len(pts)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n")
+
+
+def worker_of(task_name: str, timeout: float = 120.0) -> int:
+    """The pid of the Ray worker running the task (its process title is ``ray::NAME``)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        for entry in os.listdir("/proc"):
+            if not entry.isdigit():
+                continue
+            try:
+                title = Path(f"/proc/{entry}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            except OSError:
+                continue
+            if title.startswith(f"ray::{task_name}"):
+                return int(entry)
+        time.sleep(0.02)
+    raise AssertionError(f"no worker ran {task_name!r} within {timeout} s")
+
+
+def run_in_thread(**kwargs):
+    result = {}
+
+    def target():
+        try:
+            result["summary"] = seamlit.ray.fix(pictures=0, progress=False, **kwargs)
+        except BaseException as e:  # reported by the test
+            result["error"] = e
+
+    thread = threading.Thread(target=target)
+    thread.start()
+    return thread, result
+
+
+def test_a_worker_killed_while_it_fixes_a_file_is_retried_once_then_the_file_is_failed(cluster, tmp_path):
+    src = tmp_path / "src"
+    slow_model(src / "slow" / "big.obj")
+    shutil.copy(MODELS / "fox" / "Fox.glb", src / "Fox.glb")
+    # Killed once: retried, and done.
+    thread, result = run_in_thread(src=str(src), dst=str(tmp_path / "once"))
+    os.kill(worker_of("seamlit fix slow/big.obj"), signal.SIGKILL)
+    thread.join(timeout=600)
+    rows = {r["path"]: r for r in result["summary"].rows}
+    assert rows["slow/big.obj"]["status"] == "fixed", rows["slow/big.obj"]
+    expected = tmp_path / "expected"
+    assert cli("fix", src, "-o", expected).returncode == 0
+    assert_same_tree(tmp_path / "once", expected)
+
+    # Killed on both tries: a failed row with the reason; the other file is done.
+    thread, result = run_in_thread(src=str(src), dst=str(tmp_path / "twice"))
+    first = worker_of("seamlit fix slow/big.obj")
+    os.kill(first, signal.SIGKILL)
+    deadline = time.monotonic() + 120
+    while True:
+        second = worker_of("seamlit fix slow/big.obj")
+        if second != first:
+            break
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    os.kill(second, signal.SIGKILL)
+    thread.join(timeout=600)
+    summary = result["summary"]
+    rows = {r["path"]: r for r in summary.rows}
+    assert rows["slow/big.obj"]["status"] == "failed"
+    assert "slow/big.obj" in rows["slow/big.obj"]["error"] and "died" in rows["slow/big.obj"]["error"]
+    assert rows["Fox.glb"]["status"] == "fixed"
+    assert not (tmp_path / "twice" / "slow" / "big.glb").exists()
+    assert summary.failed == 1
+
+
+def test_a_node_lost_mid_run_loses_no_file(cluster, tmp_path):
+    src = tmp_path / "src"
+    for i in range(3):
+        slow_model(src / f"part{i}" / "big.obj", n=300)
+    for i in range(6):
+        shutil.copy(MODELS / "fox" / "Fox.glb", src / f"fox{i}.glb")
+    doomed = cluster.add_node(num_cpus=1)
+    cluster.wait_for_nodes()
+    thread, result = run_in_thread(src=str(src), dst=str(tmp_path / "out"))
+    # Wait until the doomed node's worker runs a file, then kill the node (its raylet and
+    # workers, no graceful shutdown).
+    deadline = time.monotonic() + 120
+    raylet = doomed.all_processes["raylet"][0].process.pid
+    while not any(_parent(pid) == raylet for pid in _seamlit_workers()):
+        assert time.monotonic() < deadline, "no task reached the added node"
+        time.sleep(0.05)
+    cluster.remove_node(doomed, allow_graceful=False)
+    thread.join(timeout=600)
+    assert "error" not in result, result.get("error")
+    summary = result["summary"]
+    assert summary.fixed == 9 and summary.failed == 0, [r for r in summary.rows if r["status"] != "fixed"]
+    expected = tmp_path / "expected"
+    assert cli("fix", src, "-o", expected).returncode == 0
+    assert_same_tree(tmp_path / "out", expected)
+
+
+def _seamlit_workers():
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                title = Path(f"/proc/{entry}/cmdline").read_bytes()
+            except OSError:
+                continue
+            if title.startswith(b"ray::seamlit fix"):
+                yield int(entry)
+
+
+def _parent(pid: int) -> int:
+    """The parent process of ``pid`` (a Ray worker's is its node's raylet), 0 if gone."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return 0
+    return int(stat.rsplit(")", 1)[1].split()[1])
+
+
+def test_fix_bytes_gives_the_bytes_the_command_line_writes(tmp_path):
+    for name in ("NormalTangentTest.glb", "fox/Fox.glb", "usd/head_body.usdz"):
+        data = (MODELS / name).read_bytes()
+        out, result = seamlit.fix_bytes(data, Path(name).name)
+        assert cli("fix", MODELS / name, "-o", tmp_path / "x.glb").returncode == 0
+        assert out == (tmp_path / "x.glb").read_bytes(), name
+        assert result["output"] == Path(name).stem + ".glb"
+    # The report as loaded and after: head_body's 22.5-degree seam is closed.
+    assert result["as_loaded"]["cross_object"]["max_normal_angle_deg"] > 20
+    assert result["fixed"]["cross_object"]["max_normal_angle_deg"] < 0.01
+    with pytest.raises(seamlit.SeamlitError, match="scene.gltf"):
+        seamlit.fix_bytes(b"{}", "scene.gltf")
+    with pytest.raises(seamlit.SeamlitError, match="bad.glb"):
+        seamlit.fix_bytes(b"glTF\x02\x00\x00\x00garbage", "bad.glb")
