@@ -1,0 +1,112 @@
+// The page's glue: the wasm module (crates/seamlit-web) does the work, this file wires the
+// canvas, the file input, drag and drop and the controls to it.
+import init, { Viewer } from "./pkg/seamlit_web.js";
+
+const $ = (id) => document.getElementById(id);
+const error = (line) => { $("error").textContent = line; };
+const status = (line) => { $("status").textContent = line; };
+
+let viewer = null;
+let pending = false;
+// Draws on the next animation frame, once however many changes ask for it.
+function redraw() {
+  if (!viewer || pending) return;
+  pending = true;
+  requestAnimationFrame(() => {
+    pending = false;
+    try { viewer.draw(); } catch (e) { error(String(e.message ?? e)); }
+  });
+}
+
+// Times since navigation started (performance.now()'s origin), for BENCHMARKS.md: the wasm
+// module compiled and instantiated, WebGPU opened, the demo's first picture on the canvas.
+const times = {};
+async function start() {
+  await init();
+  times.wasmMs = performance.now();
+  // For measurements from the console or puppeteer (web/test/bench.mjs).
+  window.seamlit = { Viewer };
+  try {
+    viewer = await Viewer.create($("view"));
+    times.webgpuMs = performance.now();
+  } catch (e) {
+    error(String(e.message ?? e));
+    document.body.dataset.state = "no-webgpu";
+    return;
+  }
+  status(`WebGPU: ${viewer.adapter()}`);
+  try {
+    // `seamlit demo`'s teapot: 8 quads a patch side.
+    viewer.showDemo(8);
+    times.demoMs = performance.now();
+    viewer.draw();
+    times.drawnMs = performance.now();
+  } catch (e) {
+    error(String(e.message ?? e));
+    document.body.dataset.state = "error";
+    return;
+  }
+  // The picture is on the canvas once the GPU has finished the frame.
+  await new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
+  status(`WebGPU: ${viewer.adapter()}. The demo teapot: ${viewer.marked} shared positions whose normals differ are marked on it as loaded.`);
+  document.body.dataset.marked = String(viewer.marked);
+  times.firstPictureMs = performance.now();
+  document.body.dataset.times = JSON.stringify(times);
+  document.body.dataset.state = "ready";
+}
+
+// Orbit camera: drag to turn, wheel to zoom.
+const canvas = $("view");
+let drag = null;
+canvas.addEventListener("pointerdown", (e) => { drag = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
+canvas.addEventListener("pointerup", () => { drag = null; });
+canvas.addEventListener("pointermove", (e) => {
+  if (!drag || !viewer) return;
+  viewer.rotate(e.clientX - drag[0], e.clientY - drag[1]);
+  drag = [e.clientX, e.clientY];
+  redraw();
+});
+canvas.addEventListener("wheel", (e) => {
+  if (!viewer) return;
+  e.preventDefault();
+  viewer.zoom(-Math.sign(e.deltaY));
+  redraw();
+}, { passive: false });
+
+for (const radio of document.querySelectorAll("input[name=view]")) {
+  radio.addEventListener("change", () => { viewer?.setView(radio.value); redraw(); });
+}
+for (const radio of document.querySelectorAll("input[name=state]")) {
+  radio.addEventListener("change", () => { viewer?.setFixed(radio.value === "fixed"); redraw(); });
+}
+
+// Files: the picker and drag and drop.
+async function takeFiles(files) {
+  error("");
+  if (!files.length || !viewer) return;
+  // The model among the files (a glTF's buffers and images would come with it).
+  const model = files.find((f) => /\.(glb|vrm|gltf|obj|fbx|usdz|usda|usdc|usd)$/i.test(f.name)) ?? files[0];
+  document.body.dataset.state = "loading";
+  try {
+    const bytes = new Uint8Array(await model.arrayBuffer());
+    const summary = viewer.loadFile(model.name, bytes);
+    status(summary);
+    redraw();
+    document.body.dataset.state = "ready";
+  } catch (e) {
+    error(String(e.message ?? e).split("\n")[0]);
+    document.body.dataset.state = "ready";
+  }
+  document.body.dataset.loads = String(Number(document.body.dataset.loads ?? 0) + 1);
+}
+$("file").addEventListener("change", (e) => takeFiles([...e.target.files]));
+const drop = $("drop");
+drop.addEventListener("dragover", (e) => { e.preventDefault(); drop.classList.add("over"); });
+drop.addEventListener("dragleave", () => drop.classList.remove("over"));
+drop.addEventListener("drop", (e) => {
+  e.preventDefault();
+  drop.classList.remove("over");
+  takeFiles([...e.dataTransfer.files]);
+});
+
+start();

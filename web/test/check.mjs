@@ -1,0 +1,74 @@
+// The page's browser checks (web/test/run.sh runs them): headless chromium, WebGPU on
+// SwiftShader. Usage: node check.mjs SITE_DIR OUT_DIR
+// - the page starts, draws seamlit demo's teapot and writes the canvas to OUT/canvas-demo.png
+//   (run.sh compares it with `seamlit demo`'s picture by FLIP);
+// - files through #file: Fox.glb shows, a corrupted GLB gets one line naming it, and the next
+//   model loads;
+// - a browser without WebGPU gets one line in #error and nothing else breaks.
+// Prints one JSON line of measurements; exits 1 on the first failed check.
+import { writeFile, readFile, mkdir } from "node:fs/promises";
+import { serve, launch, openPage } from "./browser.mjs";
+
+const [dir, out] = process.argv.slice(2);
+await mkdir(out, { recursive: true });
+const { server, base } = await serve(dir);
+const fail = (what) => { console.error(`web check failed: ${what}`); process.exitCode = 1; };
+const result = {};
+try {
+  const browser = await launch();
+  try {
+    const page = await openPage(browser, base);
+    const state = await page.evaluate(() => document.body.dataset.state);
+    const error = await page.$eval("#error", (e) => e.textContent);
+    result.adapter = await page.$eval("#status", (e) => e.textContent);
+    result.times = JSON.parse(await page.evaluate(() => document.body.dataset.times ?? "{}"));
+    if (state !== "ready" || error) fail(`the page did not draw the demo: state ${state}, error ${JSON.stringify(error)}`);
+    await writeFile(`${out}/canvas-demo.png`, await (await page.$("#view")).screenshot());
+
+    // Files through #file: a model, a corrupted one (one line naming it), then the next.
+    const input = await page.$("#file");
+    let loads = 0;
+    const load = async (path) => {
+      await input.uploadFile(path);
+      loads += 1;
+      await page.waitForFunction((n) => Number(document.body.dataset.loads ?? 0) >= n, { timeout: 120000 }, loads);
+      return {
+        error: await page.$eval("#error", (e) => e.textContent),
+        status: await page.$eval("#status", (e) => e.textContent),
+      };
+    };
+    const models = new URL("../../assets/models/", import.meta.url).pathname;
+    const fox = await load(`${models}fox/Fox.glb`);
+    if (fox.error || !/^Fox\.glb: 1 objects, 576 triangles/.test(fox.status)) fail(`Fox.glb: ${JSON.stringify(fox)}`);
+    await writeFile(`${out}/canvas-fox.png`, await (await page.$("#view")).screenshot());
+    const good = await readFile(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
+    await writeFile(`${out}/broken.glb`, good.subarray(0, good.length >> 1));
+    const broken = await load(`${out}/broken.glb`);
+    if (!/^broken\.glb/.test(broken.error) || broken.error.includes("\n")) fail(`broken.glb: ${JSON.stringify(broken)}`);
+    result.corrupted = broken.error;
+    const next = await load(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
+    if (next.error || !/^kenney-platformer-blockLevel\.glb: \d+ objects/.test(next.status)) {
+      fail(`after the corrupted file: ${JSON.stringify(next)}`);
+    }
+    result.loaded = [fox.status, next.status];
+    await writeFile(`${out}/canvas-blocklevel.png`, await (await page.$("#view")).screenshot());
+  } finally {
+    await browser.close();
+  }
+  // Without WebGPU: one line, no exception.
+  const plain = await launch({ webgpu: false });
+  try {
+    const page = await openPage(plain, base, () => {});
+    const state = await page.evaluate(() => document.body.dataset.state);
+    const error = await page.$eval("#error", (e) => e.textContent);
+    result.noWebGpu = error;
+    if (state !== "no-webgpu" || !/WebGPU/.test(error) || error.includes("\n")) {
+      fail(`without WebGPU: state ${state}, error ${JSON.stringify(error)}`);
+    }
+  } finally {
+    await plain.close();
+  }
+} finally {
+  server.close();
+}
+console.log(JSON.stringify(result));
