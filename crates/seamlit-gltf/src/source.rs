@@ -73,6 +73,13 @@ impl GltfSource {
         extensions.get("VRM").is_some() || extensions.get("VRMC_vrm").is_some()
     }
 
+    /// Whether the document is a VRM 0.x avatar (its root `VRM` extension): such an avatar
+    /// faces -Z, where glTF models and VRM 1.0 avatars face +Z.
+    pub fn is_vrm0(&self) -> bool {
+        let extensions = &self.0.json["extensions"];
+        extensions.get("VRM").is_some() && extensions.get("VRMC_vrm").is_none()
+    }
+
     /// Whether `model` is still the model of this source: one object per primitive instance,
     /// each with the input's vertices first (plus split copies of them). Returns why not.
     pub fn check_model(&self, model: &Model) -> Result<(), String> {

@@ -10,6 +10,16 @@ pub const FRAME_FILL: f32 = 0.9;
 /// Axis-aligned bounds in world space: `(min, max)`.
 pub type Bounds = (Vec3, Vec3);
 
+/// Which way a model faces, for the default camera ([`Camera::framing_facing`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Facing {
+    /// +Z: glTF's convention (and VRM 1.0's).
+    #[default]
+    PlusZ,
+    /// -Z: VRM 0.x avatars.
+    MinusZ,
+}
+
 /// A named perspective camera looking from `position` at `target`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -56,13 +66,25 @@ impl Camera {
     /// the pan is the middle of the offsets that fit), as glTF viewers frame a model.
     #[must_use]
     pub fn framing(bounds: Bounds, aspect: f32) -> Self {
+        Self::framing_facing(bounds, aspect, Facing::PlusZ)
+    }
+
+    /// [`Camera::framing`] for a model that faces `facing`: the same three-quarter view of its
+    /// front (for [`Facing::MinusZ`], from -Z, 35 degrees to the model's right), as three-vrm
+    /// turns a VRM 0.x avatar, which faces -Z by that version's convention, to face the viewer.
+    #[must_use]
+    pub fn framing_facing(bounds: Bounds, aspect: f32, facing: Facing) -> Self {
         let (min, max) = bounds;
         let center = (min + max) * 0.5;
         let (azimuth, elevation) = (35f32.to_radians(), 20f32.to_radians());
+        let turn = match facing {
+            Facing::PlusZ => 1.0,
+            Facing::MinusZ => -1.0,
+        };
         let back = Vec3::new(
-            azimuth.sin() * elevation.cos(),
+            turn * azimuth.sin() * elevation.cos(),
             elevation.sin(),
-            azimuth.cos() * elevation.cos(),
+            turn * azimuth.cos() * elevation.cos(),
         );
         let forward = -back;
         let right = forward.cross(Vec3::Y).normalize();

@@ -56,7 +56,7 @@ pub mod lights;
 mod scene;
 mod schema;
 
-pub use camera::{Bounds, Camera};
+pub use camera::{Bounds, Camera, Facing};
 pub use controller::{FpsController, FpsInput, OrbitController};
 pub use error::{Invalid, SceneError};
 pub use scene::{

@@ -4,10 +4,11 @@
 
 use std::path::Path;
 
+use glam::{Mat4, Vec3};
 use seamlit_io::{Asset, LoadOptions};
 use seamlit_mesh::{FixOptions, Mode};
-use seamlit_render::{Light, LightingModel};
-use seamlit_scene::{Bounds, Camera, Scene, SceneModel};
+use seamlit_render::{Light, LightingModel, ObjectPose};
+use seamlit_scene::{Bounds, Camera, Facing, Scene, SceneModel};
 
 use crate::cli::{FixFlags, SceneArgs};
 use crate::failure::{Classify, Failure};
@@ -206,17 +207,82 @@ impl Loaded {
         }
     }
 
-    /// The scene's cameras, or one framing `bounds` at this aspect ratio.
+    /// The scene's cameras, or one framing `bounds` at this aspect ratio from the models'
+    /// front ([`Loaded::facing`]).
     #[must_use]
     pub(crate) fn cameras(&self, bounds: Bounds, aspect: f32) -> Vec<Camera> {
-        self.scene.cameras_or_default(bounds, aspect)
+        match self.facing() {
+            Facing::MinusZ if self.scene.cameras.is_empty() => {
+                vec![Camera::framing_facing(bounds, aspect, Facing::MinusZ)]
+            }
+            _ => self.scene.cameras_or_default(bounds, aspect),
+        }
+    }
+
+    /// Which way the models face: -Z where every one is a VRM 0.x avatar (that version's
+    /// convention; three-vrm turns them to face the viewer), +Z otherwise (glTF's).
+    #[must_use]
+    pub(crate) fn facing(&self) -> Facing {
+        let vrm0 = |asset: &Asset| {
+            asset.document::<seamlit_io::GltfSource>().is_some_and(seamlit_io::GltfSource::is_vrm0)
+        };
+        if !self.parts.is_empty() && self.parts.iter().all(|(_, asset)| vrm0(asset)) {
+            Facing::MinusZ
+        } else {
+            Facing::PlusZ
+        }
     }
 }
 
 /// The bounds of an asset's model, or a unit cube around the origin for an empty one.
 #[must_use]
 pub(crate) fn bounds_of(asset: &Asset) -> Bounds {
-    asset.model.bounds().unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::ONE))
+    asset.model.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE))
+}
+
+/// The bounds of what is drawn: each object at its pose in `poses` (from
+/// [`crate::animate::poses`]: skinned by its joint palette, its morph targets weighted, placed
+/// by the pose's transform), as the renderer's `deform.wgsl` places its vertices; the model's
+/// bounds where nothing is posed ([`bounds_of`]). A skinned character whose armature scales
+/// its mesh (a Mixamo export: centimetres under a 0.01 armature) is drawn far from its
+/// unskinned bounds, and the default camera frames what is drawn.
+#[must_use]
+pub(crate) fn drawn_bounds(asset: &Asset, poses: Option<&[ObjectPose]>) -> Bounds {
+    let Some(poses) = poses else { return bounds_of(asset) };
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (object, pose) in asset.model.objects.iter().zip(poses) {
+        let palette = pose.joints.as_deref().filter(|_| !object.skin.is_empty());
+        let weights: Vec<(usize, f32)> =
+            pose.morph_weights.iter().copied().enumerate().filter(|&(_, w)| w != 0.0).collect();
+        for (v, &position) in object.positions.iter().enumerate() {
+            let mut p = position;
+            for &(k, w) in &weights {
+                if let Some(d) = object.morph_targets.get(k).and_then(|t| t.position_deltas.get(v))
+                {
+                    p += *d * w;
+                }
+            }
+            let skin = palette.map_or(Mat4::IDENTITY, |palette| blend(object, palette, v));
+            let q = pose.transform.transform_point3(skin.transform_point3(p));
+            if q.is_finite() {
+                (lo, hi) = (lo.min(q), hi.max(q));
+            }
+        }
+    }
+    if lo.x <= hi.x { (lo, hi) } else { bounds_of(asset) }
+}
+
+/// Vertex `v`'s blend of the joint matrices in `palette` by its skin influences.
+fn blend(object: &seamlit_mesh::Object, palette: &[Mat4], v: usize) -> Mat4 {
+    let mut m = Mat4::ZERO;
+    for set in &object.skin {
+        for (joint, weight) in set.joints[v].into_iter().zip(set.weights[v]) {
+            if weight != 0.0 {
+                m += palette.get(joint as usize).copied().unwrap_or(Mat4::IDENTITY) * weight;
+            }
+        }
+    }
+    m
 }
 
 /// Picks the camera called `name` (or the first).
@@ -253,5 +319,63 @@ mod tests {
         assert_eq!(skin_seams(&loaded.parts[0].1), 12, "the neck's copies differ as loaded");
         let built = loaded.build(&FixOverride::default()).unwrap();
         assert_eq!(skin_seams(&built), 0, "and agree in what is drawn");
+    }
+
+    /// The default camera frames what is drawn: a skinned character whose mesh is stored in
+    /// centimetres and brought to metres by its joints (a Mixamo export under an armature
+    /// that scales by 0.01) is framed as drawn, not by its stored, 100 times larger bounds.
+    #[test]
+    fn a_skinned_character_is_framed_as_drawn_not_as_stored() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("character.gltf");
+        character::write(&path);
+        let asset = load(&path, &LoadOptions::DEFAULT).unwrap().build(&FixOverride::default());
+        let metres = asset.unwrap();
+        let mut centimetres = metres.clone();
+        for object in &mut centimetres.model.objects {
+            object.positions.iter_mut().for_each(|p| *p *= 100.0);
+        }
+        for skin in &mut centimetres.skins {
+            for m in &mut skin.inverse_bind_matrices {
+                *m *= Mat4::from_scale(Vec3::splat(0.01));
+            }
+        }
+        let rest = crate::animate::Moment { animation: None, time: 0.0 };
+        let framed =
+            |asset: &Asset| drawn_bounds(asset, crate::animate::poses(asset, rest, &[]).as_deref());
+        let (want, got) = (framed(&metres), framed(&centimetres));
+        let size = (want.1 - want.0).length();
+        assert!(size > 0.1, "{want:?}");
+        let off = (want.0 - got.0).length().max((want.1 - got.1).length());
+        assert!(off < 1e-4 * size, "drawn bounds {got:?}, expected {want:?}");
+        // What the camera framed before: the stored bounds, a hundred times too large.
+        let stored = bounds_of(&centimetres);
+        assert!((stored.1 - stored.0).length() > 50.0 * size, "{stored:?}");
+    }
+
+    /// A VRM 0.x avatar faces -Z: the default camera looks at its front from there, as at a
+    /// VRM 1.0 avatar's (and any glTF model's) from +Z.
+    #[test]
+    fn a_vrm_0_avatar_is_seen_from_the_front() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("avatar.gltf");
+        character::write(&path);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let mut camera_z = |extension: &str| {
+            json["extensionsUsed"] = serde_json::json!([extension]);
+            json["extensions"] = serde_json::json!({ extension: {} });
+            std::fs::write(&path, json.to_string()).unwrap();
+            let loaded = load(&path, &LoadOptions::DEFAULT).unwrap();
+            let bounds = bounds_of(&loaded.parts[0].1);
+            let camera = &loaded.cameras(bounds, 1.0)[0];
+            (loaded.facing(), camera.position.z - camera.target.z)
+        };
+        let (facing, z) = camera_z("VRM");
+        assert_eq!(facing, Facing::MinusZ);
+        assert!(z < 0.0, "a VRM 0.x avatar seen from {z} along z");
+        let (facing, z) = camera_z("VRMC_vrm");
+        assert_eq!(facing, Facing::PlusZ);
+        assert!(z > 0.0, "a VRM 1.0 avatar seen from {z} along z");
     }
 }

@@ -86,13 +86,16 @@ fn a_model_s_own_animation_poses_that_model_only() {
             &path,
             format!(
                 "[[model]]\npath = {fox:?}\ntranslate = [-150, 0, 0]\n{keys}\n\n\
-                 [[model]]\npath = {fox:?}\ntranslate = [150, 0, 0]\n",
+                 [[model]]\npath = {fox:?}\ntranslate = [150, 0, 0]\n\n\
+                 [[camera]]\nname = \"both\"\nposition = [0, 150, 700]\ntarget = [0, 40, 0]\n\
+                 near = 10\nfar = 2000\n",
                 fox = fox()
             ),
         )
         .unwrap();
         path.display().to_string()
     };
+    // One camera for both pictures: the default one frames what is drawn, which the walk moves.
     let flags = ["--shadows", "off"];
     let rest = render(&scene(""), &at("rest.png"), &flags);
     let posed = render(&scene("animation = \"Walk\"\ntime = 0.35"), &at("posed.png"), &flags);

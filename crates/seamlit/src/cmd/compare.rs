@@ -8,7 +8,7 @@ use crate::cli::CompareArgs;
 use crate::draw::{Gpu, Look, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::{frame, labelled_row, most_different_window, save_png, stack, zoom};
-use crate::prepare::{FixOverride, Loaded, bounds_of, pick_camera};
+use crate::prepare::{FixOverride, Loaded, drawn_bounds, pick_camera};
 
 /// The three modes with their titles and the paper figure each reproduces.
 pub const MODES: [(Mode, &str, &str); 3] = [
@@ -38,11 +38,11 @@ pub(crate) fn render_modes(
     let mut jobs = Vec::with_capacity(MODES.len());
     for (mode, ..) in MODES {
         let asset = loaded.build(&FixOverride { mode: Some(mode), flags: flags.clone() })?;
-        let bounds = bounds_of(&asset);
-        let camera = pick_camera(&loaded.cameras(bounds, aspect), view.camera.as_deref(), input)?;
         let moment = crate::animate::moment(animation, loaded, &asset, input)?;
         let own = crate::animate::own_moments(animation, loaded, &asset, input)?;
         let poses = crate::animate::poses(&asset, moment, &own);
+        let bounds = drawn_bounds(&asset, poses.as_deref());
+        let camera = pick_camera(&loaded.cameras(bounds, aspect), view.camera.as_deref(), input)?;
         jobs.push((asset, poses, camera, bounds));
     }
     let mut gpu = match gpu {

@@ -6,7 +6,7 @@ use crate::cli::RenderArgs;
 use crate::draw::{Gpu, Look, check_png, frame_settings};
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
-use crate::prepare::{FixOverride, bounds_of, pick_camera};
+use crate::prepare::{FixOverride, drawn_bounds, pick_camera};
 use crate::table::count;
 
 /// Runs `seamlit render`.
@@ -22,7 +22,7 @@ pub(crate) fn run(args: &RenderArgs) -> Result<(), Failure> {
     let moment = crate::animate::moment(flags, &loaded, &asset, input)?;
     let own = crate::animate::own_moments(flags, &loaded, &asset, input)?;
     let poses = crate::animate::poses(&asset, moment, &own);
-    let bounds = bounds_of(&asset);
+    let bounds = drawn_bounds(&asset, poses.as_deref());
     let size = args.scene.view.size;
     let aspect = size.0 as f32 / size.1 as f32;
     let cameras = loaded.cameras(bounds, aspect);

@@ -24,7 +24,7 @@ use super::panel::{self, Actions, Controller, Readout, Settings};
 use crate::draw::Look;
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
-use crate::prepare::{FixOverride, Loaded, bounds_of};
+use crate::prepare::{FixOverride, Loaded, drawn_bounds};
 
 /// How the viewer was started.
 pub struct Options {
@@ -265,7 +265,12 @@ impl Viewer {
         let started = Instant::now();
         let asset = loaded.build(&fix_override(&options.fix, &settings))?;
         let fix_ms = started.elapsed().as_secs_f32() * 1e3;
-        let bounds = bounds_of(&asset);
+        let moment = crate::animate::moment(&options.animation, &loaded, &asset, &options.input)?;
+        let own_moments =
+            crate::animate::own_moments(&options.animation, &loaded, &asset, &options.input)?;
+        // Framed as first drawn: at the moment asked for (or at rest).
+        let poses = crate::animate::poses(&asset, moment, &own_moments);
+        let bounds = drawn_bounds(&asset, poses.as_deref());
         let aspect = options.size.0 as f32 / options.size.1 as f32;
         let cameras = loaded.cameras(bounds, aspect);
         let chosen = crate::prepare::pick_camera(&cameras, camera, &options.input)?;
@@ -273,7 +278,6 @@ impl Viewer {
         let camera_names = cameras.iter().map(|c| c.name.clone()).collect();
         let mut settings = settings;
         settings.camera = index;
-        let moment = crate::animate::moment(&options.animation, &loaded, &asset, &options.input)?;
         // An animation asked for plays from its start, unless a time was asked for too.
         let timed = options.animation.time.is_some() || loaded.scene.render.time.is_some();
         settings.playback = panel::Playback {
@@ -283,8 +287,6 @@ impl Viewer {
         };
         let animations = crate::animate::list(&asset);
         let variants = loaded.variant_names();
-        let own_moments =
-            crate::animate::own_moments(&options.animation, &loaded, &asset, &options.input)?;
         let speed = (bounds.1 - bounds.0).length() * 0.3;
         Ok(Self {
             orbit: OrbitController::looking_at(chosen.position, chosen.target),
