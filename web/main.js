@@ -89,8 +89,10 @@ async function takeFiles(files) {
   document.body.dataset.state = "loading";
   try {
     const bytes = new Uint8Array(await model.arrayBuffer());
+    offer(null);
     const summary = viewer.loadFile(model.name, bytes);
     status(summary);
+    offer(viewer);
     redraw();
     document.body.dataset.state = "ready";
   } catch (e) {
@@ -98,6 +100,24 @@ async function takeFiles(files) {
     document.body.dataset.state = "ready";
   }
   document.body.dataset.loads = String(Number(document.body.dataset.loads ?? 0) + 1);
+}
+// The fixed file as a download and what the fix did, for the model just loaded (or nothing).
+let downloadUrl = null;
+function offer(loaded) {
+  const link = $("download");
+  if (downloadUrl) URL.revokeObjectURL(downloadUrl);
+  downloadUrl = null;
+  link.hidden = true;
+  $("report").textContent = "";
+  if (!loaded) return;
+  const report = JSON.parse(loaded.report);
+  downloadUrl = URL.createObjectURL(new Blob([loaded.outputBytes], { type: "model/gltf-binary" }));
+  link.href = downloadUrl;
+  link.download = loaded.outputName;
+  link.textContent = `download the fixed file (${loaded.outputName})`;
+  link.hidden = false;
+  const warnings = report.warnings.map((w) => `warning: ${w}`);
+  $("report").textContent = [report.summary, ...warnings].join("\n");
 }
 $("file").addEventListener("change", (e) => takeFiles([...e.target.files]));
 const drop = $("drop");

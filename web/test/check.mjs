@@ -2,11 +2,13 @@
 // SwiftShader. Usage: node check.mjs SITE_DIR OUT_DIR
 // - the page starts, draws seamlit demo's teapot and writes the canvas to OUT/canvas-demo.png
 //   (run.sh compares it with `seamlit demo`'s picture by FLIP);
-// - files through #file: Fox.glb shows, a corrupted GLB gets one line naming it, and the next
+// - files through #file: Fox.glb shows, its download is the file `seamlit fix` writes (OUT/cli,
+//   written by run.sh) and its report the lines it prints, a corrupted GLB gets one line naming it, and the next
 //   model loads;
 // - a browser without WebGPU gets one line in #error and nothing else breaks.
 // Prints one JSON line of measurements; exits 1 on the first failed check.
 import { writeFile, readFile, mkdir } from "node:fs/promises";
+import { createHash } from "node:crypto";
 import { serve, launch, openPage } from "./browser.mjs";
 
 const [dir, out] = process.argv.slice(2);
@@ -40,6 +42,29 @@ try {
     const models = new URL("../../assets/models/", import.meta.url).pathname;
     const fox = await load(`${models}fox/Fox.glb`);
     if (fox.error || !/^Fox\.glb: 1 objects, 576 triangles/.test(fox.status)) fail(`Fox.glb: ${JSON.stringify(fox)}`);
+    // The download is the file `seamlit fix` writes (run.sh wrote it to OUT/cli/Fox.glb, and
+    // what it printed to OUT/cli/Fox.txt), and the report says what the command line says.
+    const offered = await page.evaluate(async () => {
+      const link = document.getElementById("download");
+      const bytes = await (await fetch(link.href)).arrayBuffer();
+      const digest = new Uint8Array(await crypto.subtle.digest("SHA-256", bytes));
+      return {
+        hidden: link.hidden,
+        name: link.download,
+        bytes: bytes.byteLength,
+        sha256: [...digest].map((b) => b.toString(16).padStart(2, "0")).join(""),
+        report: document.getElementById("report").textContent,
+      };
+    });
+    const cliBytes = await readFile(`${out}/cli/Fox.glb`);
+    const cliSha = createHash("sha256").update(cliBytes).digest("hex");
+    const cliText = (await readFile(`${out}/cli/Fox.txt`, "utf8")).trim().replace(`${out}/cli/Fox.glb`, "Fox.glb");
+    result.download = { name: offered.name, bytes: offered.bytes, sameAsCli: offered.sha256 === cliSha };
+    if (offered.hidden || offered.name !== "Fox.glb") fail(`the download of Fox.glb: ${JSON.stringify(offered)}`);
+    if (offered.sha256 !== cliSha) fail(`the page's Fox.glb (${offered.bytes} bytes) is not seamlit fix's (${cliBytes.length} bytes)`);
+    if (offered.report.split("\n")[0] !== cliText.split("\n")[0] || !offered.report.startsWith(cliText)) {
+      fail(`the page's report is not seamlit fix's: ${JSON.stringify(offered.report)} vs ${JSON.stringify(cliText)}`);
+    }
     await writeFile(`${out}/canvas-fox.png`, await (await page.$("#view")).screenshot());
     const good = await readFile(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
     await writeFile(`${out}/broken.glb`, good.subarray(0, good.length >> 1));

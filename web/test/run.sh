@@ -10,8 +10,6 @@ out=target/web-test
 rm -rf "$out"
 mkdir -p "$out"
 web/build.sh --dev >/dev/null
-# (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
-node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 
 # The page draws the teapot as `seamlit demo` does (its camera, lights and Blinn-Phong; the
 # model mode's fix, 640x480, 4x MSAA); `seamlit demo` draws on lavapipe (Vulkan) into an sRGB
@@ -27,6 +25,11 @@ seamlit() { if [ -n "${SEAMLIT:-}" ]; then "$SEAMLIT" "$@"; else cargo run -q -p
 flip() {
   if [ -n "${SEAMLIT_BENCH:-}" ]; then "$SEAMLIT_BENCH" flip "$@"; else cargo run -q -p seamlit-bench -- flip "$@"; fi
 }
+# The page's download of Fox.glb is checked against the command line's file and lines.
+mkdir -p "$out/cli"
+seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox.glb" >"$out/cli/Fox.txt"
+# (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
+node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 seamlit demo --out "$out/demo" >/dev/null
 fixed=$(flip "$out/demo/model.png" "$out/canvas-demo.png" --side-by-side "$out/flip-demo.png")
 seamy=$(flip "$out/demo/object.png" "$out/canvas-demo.png")

@@ -3,10 +3,11 @@
 //! temporary file in the destination folder, renamed over the destination once complete,
 //! so a failed write never leaves a half-written file. Also the names the writers give the
 //! files they write beside their output ([`safe_name`]), and whether two paths are one
-//! file ([`same_file`]).
+//! file ([`same_file`]). A writer that can write into memory takes a [`Destination`]: the
+//! files (atomically, as above) or a list of named byte buffers (the web page's download).
 
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::IoError;
 use crate::options::LoadOptions;
@@ -50,6 +51,74 @@ pub fn write_with(
     file.as_file().sync_all().map_err(io)?;
     file.persist(path).map_err(|e| io(e.error))?;
     Ok(())
+}
+
+/// Where a writer's files go: to the file system, each written atomically ([`write_with`]),
+/// or into memory, each as a path and its bytes, in the order written (a page that offers
+/// the output as a download, where there is no file system).
+#[derive(Debug, Default)]
+pub struct Destination {
+    memory: Option<Vec<(PathBuf, Vec<u8>)>>,
+}
+
+impl Destination {
+    /// The file system.
+    #[must_use]
+    pub fn files() -> Self {
+        Self { memory: None }
+    }
+
+    /// Memory: [`Destination::into_memory`] gives the files written.
+    #[must_use]
+    pub fn memory() -> Self {
+        Self { memory: Some(Vec::new()) }
+    }
+
+    /// Writes to `path` what `contents` writes (atomically to a file, or into memory).
+    ///
+    /// # Errors
+    ///
+    /// As [`write_with`]; into memory, what `contents` returns.
+    pub fn write_with(
+        &mut self,
+        path: &Path,
+        contents: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<(), IoError> {
+        let Some(memory) = &mut self.memory else {
+            return write_with(path, contents);
+        };
+        let mut bytes = Vec::new();
+        contents(&mut bytes).map_err(|e| IoError::io(path, e))?;
+        memory.push((path.to_path_buf(), bytes));
+        Ok(())
+    }
+
+    /// Writes `bytes` to `path`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Destination::write_with`].
+    pub fn write(&mut self, path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+        self.write_with(path, |out| out.write_all(bytes))
+    }
+
+    /// Makes the folder `path` and its parents (nothing in memory).
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::Io`] naming `path` when a folder cannot be made.
+    pub fn create_folder(&mut self, path: &Path) -> Result<(), IoError> {
+        match self.memory {
+            Some(_) => Ok(()),
+            None => std::fs::create_dir_all(path).map_err(|e| IoError::io(path, e)),
+        }
+    }
+
+    /// The files written into memory, in order (none for the file system).
+    #[must_use]
+    pub fn into_memory(self) -> Vec<(PathBuf, Vec<u8>)> {
+        self.memory.unwrap_or_default()
+    }
 }
 
 /// A file name of ASCII letters, digits, `_`, `-` and `.` only (a URI without escapes).

@@ -8,6 +8,7 @@ use std::path::Path;
 
 use seamlit_asset::error::gltf::{Glb, GltfKind};
 use seamlit_asset::error::{InvalidAsset, IoError};
+use seamlit_asset::files::Destination;
 
 /// The JSON chunk's and, when the second chunk is one, the BIN chunk's data in GLB `bytes`,
 /// after checking the 12-byte header and the chunk headers against the declared length, so
@@ -77,7 +78,7 @@ pub(crate) fn chunks(
 const JSON_CHUNK: u32 = 0x4E4F_534A;
 const BIN_CHUNK: u32 = 0x004E_4942;
 
-/// Writes a GLB atomically: a 12-byte header, the JSON chunk (padded with spaces), and, when
+/// Writes a GLB to `to` (atomically to a file): a 12-byte header, the JSON chunk (padded with spaces), and, when
 /// `bin_len` is given, the BIN chunk of that many bytes that `write_bin` writes (padded with
 /// zeros), each chunk behind an 8-byte header of its length and type.
 ///
@@ -86,6 +87,7 @@ const BIN_CHUNK: u32 = 0x004E_4942;
 /// [`IoError::InvalidAsset`] for a file over the format's 4 GiB; [`IoError::Io`] when writing
 /// fails.
 pub(crate) fn write(
+    to: &mut Destination,
     path: &Path,
     mut json: Vec<u8>,
     bin_len: Option<usize>,
@@ -105,7 +107,7 @@ pub(crate) fn write(
     };
     let (length, json_length) = (word(length)?, word(json.len())?);
     let bin_chunk_length = bin_padded.map(word).transpose()?;
-    seamlit_asset::files::write_with(path, |out| {
+    to.write_with(path, |out| {
         out.write_all(b"glTF")?;
         out.write_all(&2u32.to_le_bytes())?;
         out.write_all(&length.to_le_bytes())?;

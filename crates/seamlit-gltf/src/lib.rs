@@ -24,6 +24,7 @@ mod write;
 
 use std::path::Path;
 
+use seamlit_asset::files::Destination;
 use seamlit_asset::{Asset, IoError, SaveOptions};
 
 pub use read::{load, parse};
@@ -48,6 +49,21 @@ pub use source::GltfSource;
 /// indices are inconsistent; [`IoError::Gltf`] for a source accessor the pass-through cannot
 /// copy; [`IoError::Io`] when writing fails.
 pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<String>, IoError> {
+    save_to(asset, path, options, &mut Destination::files())
+}
+
+/// [`save`] to `to`: files, or memory (the web page writes its download there). The files a
+/// `.gltf` names beside it come along; those the input named by file are read from it.
+///
+/// # Errors
+///
+/// As [`save`].
+pub fn save_to(
+    asset: &Asset,
+    path: &Path,
+    options: &SaveOptions,
+    to: &mut Destination,
+) -> Result<Vec<String>, IoError> {
     let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     let keep = options.keep_compression;
     let source = asset.document::<GltfSource>();
@@ -59,13 +75,13 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<Str
         source
             .check_model(&asset.model)
             .map_err(|reason| IoError::VrmOutput { path: path.to_path_buf(), reason })?;
-        return passthrough::save(asset, source, path, true, keep);
+        return passthrough::save(asset, source, path, true, keep, to);
     }
     let binary = extension.as_deref() == Some("glb");
     let mut warnings = Vec::new();
     if let Some(source) = source {
         match source.check_model(&asset.model) {
-            Ok(()) => return passthrough::save(asset, source, path, binary, keep),
+            Ok(()) => return passthrough::save(asset, source, path, binary, keep, to),
             Err(reason) => warnings.push(format!(
                 "{}: written by the generic glTF writer (materials, skins, animations{} and extensions of the source are not kept): {reason}",
                 path.display(),
@@ -73,6 +89,6 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<Str
             )),
         }
     }
-    write::save(asset, path, binary)?;
+    write::save(asset, path, binary, to)?;
     Ok(warnings)
 }

@@ -50,6 +50,7 @@ use seamlit_asset::Asset;
 use seamlit_asset::check::{check_object, unit_normal, unit_tangent};
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::gltf::{BadAccessor, GltfKind};
+use seamlit_asset::files::Destination;
 
 /// Writes `asset` (whose model passes [`GltfSource::check_model`] for `source`) as `.glb`
 /// (`binary`) or `.gltf`, keeping meshopt compression when `keep_compression` is set
@@ -60,6 +61,7 @@ pub(crate) fn save(
     path: &Path,
     binary: bool,
     keep_compression: bool,
+    to: &mut Destination,
 ) -> Result<Vec<String>, IoError> {
     for object in &asset.model.objects {
         check_object(object, path)?;
@@ -80,7 +82,7 @@ pub(crate) fn save(
     out.prune();
     out.finish_compression();
     out.embed_or_copy_files()?;
-    out.write()?;
+    out.write(to)?;
     Ok(out.warnings)
 }
 

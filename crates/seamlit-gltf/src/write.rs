@@ -23,6 +23,7 @@ use json::validation::{Checked, USize64};
 use seamlit_asset::Asset;
 use seamlit_asset::check::check_object;
 use seamlit_asset::error::{InvalidAsset, IoError};
+use seamlit_asset::files::Destination;
 use seamlit_asset::files::safe_name;
 
 mod animation;
@@ -41,7 +42,12 @@ use nodes::hierarchy_matches;
 /// The binary buffer is never assembled in memory: the JSON is built first with every buffer
 /// view's offset computed from the lengths, then the vertex and index data are streamed from
 /// the objects to the file (after the JSON chunk in a GLB, into `NAME.bin` beside a `.gltf`).
-pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoError> {
+pub(crate) fn save(
+    asset: &Asset,
+    path: &Path,
+    binary: bool,
+    to: &mut Destination,
+) -> Result<(), IoError> {
     for object in &asset.model.objects {
         check_object(object, path)?;
     }
@@ -75,7 +81,7 @@ pub(crate) fn save(asset: &Asset, path: &Path, binary: bool) -> Result<(), IoErr
         writer.skins(asset, &written);
         writer.animations(asset, &written, &deform);
     }
-    writer.finish()
+    writer.finish(to)
 }
 
 struct Writer<'a> {
@@ -110,7 +116,7 @@ impl<'a> Writer<'a> {
 
     /// Writes the document: its buffer (when anything was put in it), the side files and
     /// `NAME.bin` beside a `.gltf`, then the `.gltf` or the GLB.
-    fn finish(mut self) -> Result<(), IoError> {
+    fn finish(mut self, to: &mut Destination) -> Result<(), IoError> {
         let (path, binary) = (self.path, self.binary);
         let bin_uri = (!binary && self.bin_len > 0).then(|| format!("{}.bin", self.stem));
         if self.bin_len > 0 {
@@ -131,16 +137,16 @@ impl<'a> Writer<'a> {
             })?;
         let folder = path.parent().unwrap_or(Path::new(""));
         for (name, bytes) in &self.side_files {
-            seamlit_asset::files::write(&folder.join(name), bytes)?;
+            to.write(&folder.join(name), bytes)?;
         }
         if let Some(uri) = bin_uri {
-            seamlit_asset::files::write_with(&folder.join(uri), |out| self.write_bin(out))?;
+            to.write_with(&folder.join(uri), |out| self.write_bin(out))?;
         }
         if !binary {
-            return seamlit_asset::files::write(path, &json_bytes);
+            return to.write(path, &json_bytes);
         }
         let bin = (self.bin_len > 0).then_some(self.bin_len);
-        crate::glb::write(path, json_bytes, bin, |out| self.write_bin(out))
+        crate::glb::write(to, path, json_bytes, bin, |out| self.write_bin(out))
     }
 
     /// Appends a piece to the binary buffer (4-byte aligned) as a buffer view.

@@ -66,6 +66,7 @@
 #![deny(missing_docs)]
 
 pub mod folder;
+pub mod job;
 pub mod newell;
 
 use std::path::Path;
@@ -78,7 +79,7 @@ pub use seamlit_asset::{
     PunctualLight, Sampler, SaveOptions, Sheen, Skin, SkinsChanged, SourceDocument, Specular,
     Syntax, Texture, TextureFilter, TextureRef, TextureSampling, TextureSource, Transmission,
     TriangleMaterials, Trs, UnknownVariant, UsdKind, UsdOutput, UvTransform, VariantObject,
-    Variants, Volume, Wrap, match_skin_seams, motion, pose, roughness_to_shininess,
+    Variants, Volume, Wrap, files, match_skin_seams, motion, pose, roughness_to_shininess,
     shininess_to_roughness,
 };
 #[cfg(feature = "fbx")]

@@ -5,8 +5,8 @@
 //! functions here. Each runs the same steps as the command line and releases the GIL while
 //! the geometry work runs:
 //!
-//! - [`fix_file`]: load, choose the options for the asset ([`Asset::fix_options`]), fix in
-//!   place, measure the seams, save: `seamlit fix INPUT -o OUTPUT`;
+//! - [`fix_file`]: load, fix as the command line does ([`seamlit_io::job::fix_asset`]),
+//!   save: `seamlit fix INPUT -o OUTPUT`;
 //! - [`inspect`]: load, measure the seams as loaded and after a fix: `seamlit inspect`;
 //! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory.
 //!
@@ -23,6 +23,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
+use seamlit_io::job::{FixJob, SkinSeams, fix_asset};
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
 
@@ -61,9 +62,17 @@ struct Settings {
     /// `--asset-root` ([`LoadOptions::asset_roots`]).
     #[serde(default)]
     asset_roots: Vec<PathBuf>,
-    /// `--skin-seams match` (the default) or `keep`, for [`fix_file_measured`].
+    /// `--skin-seams match` (the default) or `keep`, for [`fix_file`].
     #[serde(default = "default_match_skin_seams")]
     match_skin_seams: bool,
+    /// `--samples`: times of each animation the seams in motion are measured at.
+    #[serde(default = "default_samples")]
+    samples: u32,
+}
+
+/// `--samples`' default.
+fn default_samples() -> u32 {
+    FixJob::DEFAULT.samples
 }
 
 /// `--skin-seams`' default: `match`.
@@ -83,6 +92,17 @@ impl Settings {
             tessellation: self.tessellation,
             asset_roots: self.asset_roots.clone(),
             ..base
+        }
+    }
+
+    /// The command line's job for these settings, the seams as loaded measured too.
+    fn job(&self) -> FixJob {
+        FixJob {
+            options: self.fix,
+            tangents_asked: self.tangents_asked,
+            skin_seams: if self.match_skin_seams { SkinSeams::Match } else { SkinSeams::Keep },
+            samples: self.samples,
+            report_as_loaded: true,
         }
     }
 
@@ -113,8 +133,11 @@ fn json(value: &serde_json::Value) -> PyResult<String> {
     serde_json::to_string(value).map_err(error)
 }
 
-/// Loads `input`, fixes it, writes `output`; returns the JSON of `{"input", "output",
-/// "options", "report", "changes", "warnings"}`.
+/// `seamlit fix INPUT -o OUTPUT`: loads `input`, fixes it as the command line does
+/// ([`seamlit_io::job::fix_asset`]: the same steps, so the same bytes), writes `output`;
+/// returns the JSON of the job's report ([`seamlit_io::job::Fixed::json`]: `options`,
+/// `as_loaded`, `fixed`, `changes`, `skin_seams_matched`, `motion`, `morph_seams`) with
+/// `input`, `output`, `summary` (the lines the command line prints) and `warnings`.
 #[pyfunction]
 fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
@@ -123,70 +146,63 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         overwrite_input: settings.overwrite_input,
         keep_compression: settings.keep_compression,
     };
+    let job = settings.job();
     let run = || -> PyResult<serde_json::Value> {
         let mut asset = load(&input, &load_options)?;
-        let options = asset.fix_options(settings.fix, settings.tangents_asked);
-        let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", input.display()));
-        let changes = seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(|e| at(&e))?;
-        let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(&options))
-            .map_err(|e| at(&e))?;
+        let fixed =
+            fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
         let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
         let warnings: Vec<&String> = asset.warnings.iter().chain(&saved.warnings).collect();
-        Ok(serde_json::json!({
-            "input": input.display().to_string(),
-            "output": output.display().to_string(),
-            "options": options,
-            "report": report,
-            "changes": changes,
-            "warnings": warnings,
-        }))
+        let mut json = fixed.json();
+        json["input"] = input.display().to_string().into();
+        json["output"] = output.display().to_string().into();
+        json["summary"] = fixed.summary(&output).into();
+        json["warnings"] = serde_json::json!(warnings);
+        Ok(json)
     };
     json(&py.detach(run)?)
 }
 
-/// `seamlit fix INPUT -o OUTPUT` with the command line's steps, so the same bytes: load,
-/// options for the asset, the copies of shared positions, the seam report as loaded, fix in
-/// place, skin weights matched at the copies (unless `match_skin_seams` is off: `--skin-seams
-/// keep`), the report after, save. One load for what `seamlit.ray` needs of a file: returns
-/// the JSON of `{"input", "output", "options", "as_loaded", "fixed", "changes", "warnings"}`.
+/// [`fix_file`] for a GLB or VRM held in memory, all in memory: parsed from `data`, fixed,
+/// written by the glTF writer into memory ([`seamlit_io::files::Destination::memory`]) as
+/// `output` (a name: `NAME.glb`, or `NAME.vrm`); returns the output's bytes and the JSON of
+/// [`fix_file`]. `name` names the input in errors.
 #[pyfunction]
-fn fix_file_measured(
-    py: Python<'_>,
-    input: PathBuf,
-    output: PathBuf,
+fn fix_glb_bytes<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    name: &str,
+    output: &str,
     settings: &str,
-) -> PyResult<String> {
+) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
     let load_options = settings.load_options(LoadOptions::DEFAULT);
-    let save = SaveOptions {
-        overwrite_input: settings.overwrite_input,
-        keep_compression: settings.keep_compression,
-    };
-    let run = || -> PyResult<serde_json::Value> {
-        let mut asset = load(&input, &load_options)?;
-        let options = asset.fix_options(settings.fix, settings.tangents_asked);
-        let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", input.display()));
-        let copies = seamlit_io::motion::Copies::of(&asset, &options).map_err(|e| at(&e))?;
-        let report_options = ReportOptions::from(&options);
-        let as_loaded = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
-        let changes = seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(|e| at(&e))?;
-        if settings.match_skin_seams {
-            seamlit_io::match_skin_seams(&mut asset, &copies.copies);
+    let save =
+        SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
+    let job = settings.job();
+    let (input, output) = (Path::new(name), Path::new(output));
+    let run = || -> PyResult<(Vec<u8>, serde_json::Value)> {
+        let mut asset = seamlit_io::gltf::parse(data, input, &load_options).map_err(error)?;
+        if asset.model.triangle_count() == 0 {
+            return Err(error(format!("{name}: the file holds no triangles")));
         }
-        let fixed = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
-        let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
-        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved.warnings).collect();
-        Ok(serde_json::json!({
-            "input": input.display().to_string(),
-            "output": output.display().to_string(),
-            "options": options,
-            "as_loaded": as_loaded,
-            "fixed": fixed,
-            "changes": changes,
-            "warnings": warnings,
-        }))
+        let fixed = fix_asset(&mut asset, &job).map_err(|e| error(format!("{name}: {e}")))?;
+        let mut memory = seamlit_io::files::Destination::memory();
+        let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
+        let mut files = memory.into_memory();
+        if files.len() != 1 {
+            return Err(error(format!("{name}: the fixed model needs files beside it")));
+        }
+        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved).collect();
+        let mut json = fixed.json();
+        json["input"] = name.into();
+        json["output"] = output.display().to_string().into();
+        json["summary"] = fixed.summary(output).into();
+        json["warnings"] = serde_json::json!(warnings);
+        Ok((files.remove(0).1, json))
     };
-    json(&py.detach(run)?)
+    let (bytes, report) = py.detach(run)?;
+    Ok((pyo3::types::PyBytes::new(py, &bytes), json(&report)?))
 }
 
 /// Loads `path` and measures its seams as loaded and after a fix, without writing
@@ -366,7 +382,7 @@ fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SeamlitError", m.py().get_type::<SeamlitError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
-    m.add_function(wrap_pyfunction!(fix_file_measured, m)?)?;
+    m.add_function(wrap_pyfunction!(fix_glb_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

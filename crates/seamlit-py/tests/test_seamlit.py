@@ -208,6 +208,28 @@ def test_fix_file_writes_what_the_command_line_writes(tmp_path):
         assert result["report"]["objects"] == len(result["changes"]["objects"])
 
 
+def test_fix_file_matches_skin_seams_and_says_what_the_command_line_says(tmp_path):
+    # A neck whose two objects' skin weights differ: the command line gives the copies one set
+    # of weights (--skin-seams match, its default), and so does fix_file: the same library call.
+    source = MODELS / "usd" / "skinned_neck.usda"
+    ours, theirs, kept = (tmp_path / d / "fixed.usda" for d in ("py", "cli", "keep"))
+    for path in (ours, theirs, kept):
+        path.parent.mkdir()
+    result = seamlit.fix_file(source, ours)
+    run = cli("fix", source, "-o", theirs)
+    assert run.returncode == 0, run.stderr
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert result["skin_seams_matched"] > 0, result["skin_seams_matched"]
+    assert result["as_loaded"]["skin_seams"]["positions"] > 0
+    assert result["fixed"]["skin_seams"]["positions"] == 0
+    assert result["summary"].replace(str(ours), "OUT") == run.stdout.strip().replace(str(theirs), "OUT")
+    # Left as authored on request, the weights are not written anew: other bytes.
+    seamlit.fix_file(source, kept, skin_seams="keep")
+    assert kept.read_bytes() != theirs.read_bytes()
+    with pytest.raises(seamlit.SeamlitError, match="skin_seams"):
+        seamlit.fix_file(source, tmp_path / "x.usda", skin_seams="weld")
+
+
 def test_a_usd_stage_gets_a_layer_of_fixed_normals_as_from_the_command_line(tmp_path):
     source = MODELS / "usd" / "head_body.usda"
     # Outputs at the same depth: the layer names its input by the same relative path.
@@ -297,3 +319,20 @@ def test_fix_scene_fixes_a_trimesh_scene_in_place():
     np.testing.assert_allclose(after[0][1], after[1][0], atol=1e-5)
     np.testing.assert_allclose(after[0][2], after[1][3], atol=1e-5)
     np.testing.assert_allclose(after[0][0], before[0][0], atol=1e-6)
+
+
+def test_fix_bytes_of_a_glb_stays_in_memory_and_writes_what_the_command_line_writes(tmp_path, monkeypatch):
+    # No temporary folder for a GLB or VRM: read, fixed and written in memory.
+    def no_folder(*args, **kwargs):
+        raise AssertionError("fix_bytes of a GLB made a temporary folder")
+
+    monkeypatch.setattr(seamlit.tempfile, "mkdtemp", no_folder)
+    source = MODELS / "fox" / "Fox.glb"
+    out, result = seamlit.fix_bytes(source.read_bytes(), "Fox.glb")
+    run = cli("fix", source, "-o", tmp_path / "Fox.glb")
+    assert run.returncode == 0, run.stderr
+    assert out == (tmp_path / "Fox.glb").read_bytes()
+    assert result["output"] == "Fox.glb" and result["input"] == "Fox.glb"
+    assert result["summary"].splitlines()[0] == run.stdout.splitlines()[0].replace(str(tmp_path / "Fox.glb"), "Fox.glb")
+    with pytest.raises(seamlit.SeamlitError, match="^bad.glb"):
+        seamlit.fix_bytes(b"glTF\x02\x00\x00\x00garbage", "bad.glb")

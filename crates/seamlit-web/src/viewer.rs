@@ -1,13 +1,15 @@
 //! The page's viewer: WebGPU on a canvas, seamlit's renderer, an orbit camera.
 
 use glam::Vec2;
-use seamlit_io::{Asset, Material};
+use seamlit_io::files::Destination;
+use seamlit_io::job::{FixJob, Fixed, fix_asset};
+use seamlit_io::{Asset, Material, SaveOptions};
 use seamlit_mesh::{FixOptions, Mode, fix};
 use seamlit_render::{
     DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, LightingModel, RenderError,
     Renderer, ToneMapping,
 };
-use seamlit_scene::{Camera, OrbitController};
+use seamlit_scene::{Camera, Facing, OrbitController};
 use wasm_bindgen::prelude::*;
 use web_sys::HtmlCanvasElement;
 
@@ -35,6 +37,15 @@ pub struct Viewer {
     orbit: OrbitController,
     settings: FrameSettings,
     marked: usize,
+    /// The last dropped model's fixed file (its name and bytes) and its report (JSON).
+    output: Option<Output>,
+}
+
+/// What the page offers for the model it shows: the fixed file and what the fix did.
+struct Output {
+    name: String,
+    bytes: Vec<u8>,
+    report: String,
 }
 
 fn js_error(context: &str, error: impl std::fmt::Display) -> JsError {
@@ -97,6 +108,7 @@ impl Viewer {
             orbit,
             settings,
             marked: 0,
+            output: None,
         })
     }
 
@@ -116,7 +128,13 @@ impl Viewer {
     pub fn show_demo(&mut self, tessellation: u32) -> Result<(), JsError> {
         let asset = seamlit_scene::demo::teapot_asset(tessellation)
             .map_err(|e| js_error("the demo teapot", e))?;
-        self.show(&asset, &FixOptions::default())?;
+        let options = FixOptions::default();
+        let fixed = Asset {
+            model: fix(&asset.model, &options).map_err(|e| js_error("fixing", e))?,
+            ..asset.clone()
+        };
+        self.show(&asset, &fixed, &options, Facing::PlusZ)?;
+        self.output = None;
         self.camera = seamlit_scene::demo::camera();
         self.orbit = OrbitController::looking_at(self.camera.position, self.camera.target);
         // `seamlit demo`'s look: its lights, Blinn-Phong, the paper's ambient 0.05, no
@@ -131,10 +149,13 @@ impl Viewer {
         Ok(())
     }
 
-    /// Shows the model file `name` whose bytes are `bytes`, as loaded and as fixed with
-    /// seamlit's default options; returns a one-line summary. Reads GLB and VRM, and glTF
-    /// whose buffers and images are embedded (data URIs); other formats get one line that
-    /// says so.
+    /// Shows the model file `name` whose bytes are `bytes`, as loaded and as fixed as
+    /// `seamlit fix` fixes it with its defaults ([`seamlit_io::job::fix_asset`]: MikkTSpace
+    /// tangents for a normal-mapped model without them, skin weights matched at seams), and
+    /// writes the fixed file (GLB; a VRM stays a VRM: [`Viewer::output_name`],
+    /// [`Viewer::output_bytes`]) and its report ([`Viewer::report`]). Returns a one-line
+    /// summary. Reads GLB and VRM, and glTF whose buffers and images are embedded (data
+    /// URIs); other formats get one line that says so.
     ///
     /// # Errors
     ///
@@ -162,8 +183,16 @@ impl Viewer {
         if asset.model.triangle_count() == 0 {
             return Err(refuse("the file holds no triangles"));
         }
-        self.show(&asset, &FixOptions::DEFAULT)?;
+        self.output = None;
+        let mut fixed = asset.clone();
+        let job = FixJob { report_as_loaded: true, ..FixJob::DEFAULT };
+        let done = fix_asset(&mut fixed, &job).map_err(|e| refuse(&e.to_string()))?;
+        // A VRM 0.x avatar faces -Z: seen from the front, as three-vrm shows it.
+        let vrm0 = asset.document::<seamlit_io::GltfSource>().is_some_and(|s| s.is_vrm0());
+        let facing = if vrm0 { Facing::MinusZ } else { Facing::PlusZ };
+        self.show(&asset, &fixed, &done.options, facing)?;
         self.settings = FrameSettings { debug_view: self.settings.debug_view, ..look(&asset) };
+        self.output = Some(output(name, &fixed, &done)?);
         Ok(format!(
             "{name}: {} objects, {} triangles; {} shared positions whose normals differ are \
              marked on it as loaded",
@@ -171,6 +200,30 @@ impl Viewer {
             asset.model.triangle_count(),
             self.marked
         ))
+    }
+
+    /// The fixed file's name (`NAME.glb`, or `NAME.vrm` for a VRM avatar), empty before a
+    /// model was dropped.
+    #[wasm_bindgen(getter, js_name = outputName)]
+    #[must_use]
+    pub fn output_name(&self) -> String {
+        self.output.as_ref().map_or_else(String::new, |o| o.name.clone())
+    }
+
+    /// The fixed file's bytes: what `seamlit fix DIR -o DIR` writes for the dropped file.
+    #[wasm_bindgen(getter, js_name = outputBytes)]
+    #[must_use]
+    pub fn output_bytes(&self) -> Vec<u8> {
+        self.output.as_ref().map_or_else(Vec::new, |o| o.bytes.clone())
+    }
+
+    /// What the fix did, as JSON: `seamlit fix`'s summary lines (`summary`), the seam reports
+    /// as loaded and fixed, what changed per object, the options, the skins and the seams in
+    /// motion ([`seamlit_io::job::Fixed::json`]), and the writer's warnings.
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn report(&self) -> String {
+        self.output.as_ref().map_or_else(String::new, |o| o.report.clone())
     }
 
     /// Fixes the demo teapot at `tessellation` (1M triangles at 125) with `tangents`
@@ -263,10 +316,16 @@ impl Viewer {
 }
 
 impl Viewer {
-    /// Fixes `asset` with `options` and puts both versions on the GPU, framed by the default
-    /// camera of `seamlit render`.
-    fn show(&mut self, asset: &Asset, options: &FixOptions) -> Result<(), JsError> {
-        let fixed_model = fix(&asset.model, options).map_err(|e| js_error("fixing", e))?;
+    /// Puts `asset` as loaded and `fixed` on the GPU, framed by the default camera of
+    /// `seamlit render`; marks the shared positions whose normals differ as loaded (welded
+    /// with `options`' tolerance). The camera looks at the model's front (`facing`).
+    fn show(
+        &mut self,
+        asset: &Asset,
+        fixed: &Asset,
+        options: &FixOptions,
+        facing: Facing,
+    ) -> Result<(), JsError> {
         let upload =
             |asset: &Asset| -> Result<GpuScene, RenderError> { GpuScene::upload(&self.ctx, asset) };
         // "As loaded" draws the file's own normals; a file without them is drawn as a viewer
@@ -293,15 +352,44 @@ impl Viewer {
             loaded.model.objects.push(marks);
         }
         let loaded = upload(&loaded).map_err(|e| js_error("uploading the model", e))?;
-        let fixed = upload(&Asset { model: fixed_model, ..asset.clone() })
-            .map_err(|e| js_error("uploading the fixed model", e))?;
+        let fixed = upload(fixed).map_err(|e| js_error("uploading the fixed model", e))?;
         let bounds = fixed.bounds().unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0)));
         let aspect = self.config.width as f32 / self.config.height as f32;
-        self.camera = Camera::framing(bounds, aspect);
+        self.camera = Camera::framing_facing(bounds, aspect, facing);
         self.orbit = OrbitController::looking_at(self.camera.position, self.camera.target);
         self.shown = Some(Shown { loaded, fixed, bounds });
         Ok(())
     }
+}
+
+/// The fixed file for the model dropped as `name`: written into memory as `seamlit fix DIR -o
+/// DIR` writes it (GLB, a VRM avatar as `.vrm`), with its report.
+fn output(name: &str, fixed: &Asset, done: &Fixed) -> Result<Output, JsError> {
+    let path = std::path::Path::new(name);
+    let stem = path.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy());
+    let extension = seamlit_io::folder::output_extension(path, "glb");
+    let out = std::path::PathBuf::from(format!("{stem}.{extension}"));
+    let mut memory = Destination::memory();
+    let warnings = seamlit_io::gltf::save_to(fixed, &out, &SaveOptions::default(), &mut memory)
+        .map_err(|e| JsError::new(&e.to_string()))?;
+    let mut files = memory.into_memory();
+    if files.len() != 1 {
+        let names: Vec<String> = files.iter().map(|(p, _)| p.display().to_string()).collect();
+        return Err(JsError::new(&format!(
+            "{name}: the fixed model came out as {} files ({}); the page offers one",
+            files.len(),
+            names.join(", ")
+        )));
+    }
+    let (_, bytes) = files.remove(0);
+    let mut report = done.json();
+    report["input"] = name.into();
+    report["output"] = out.display().to_string().into();
+    report["summary"] = done.summary(&out).into();
+    let warnings: Vec<&String> = fixed.warnings.iter().chain(&warnings).collect();
+    report["warnings"] = serde_json::json!(warnings);
+    let report = serde_json::to_string_pretty(&report).map_err(|e| js_error("the report", e))?;
+    Ok(Output { name: out.display().to_string(), bytes, report })
 }
 
 /// Clears `view` to `colour` (linear RGBA).

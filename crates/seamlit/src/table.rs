@@ -2,14 +2,9 @@
 
 use std::fmt::Write as _;
 
-use seamlit_mesh::{Changes, FixOptions, NormalPolicy, SeamReport, SharedNormals, TangentMethod};
+use seamlit_mesh::{Changes, SeamReport};
 
-/// `n` and the noun, singular for one: `count(1, "object")` is "1 object", `count(2,
-/// "object")` "2 objects".
-#[must_use]
-pub(crate) fn count(n: usize, noun: &str) -> String {
-    if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
-}
+pub(crate) use seamlit_io::job::{changes_line, count};
 
 /// Formats reports side by side; `columns` are `(heading, report)`.
 #[must_use]
@@ -67,63 +62,6 @@ pub(crate) fn report_table(columns: &[(&str, &SeamReport)]) -> String {
         out.push('\n');
     }
     out
-}
-
-/// One line saying what a fix changed: whose normals were kept, how many changed, how many
-/// vertices were split, and the tangent generator.
-#[must_use]
-pub(crate) fn changes_line(changes: &Changes, options: &FixOptions) -> String {
-    let total = changes.objects.len();
-    let kept: Vec<&str> =
-        changes.objects.iter().filter(|o| o.kept_normals).map(|o| o.name.as_str()).collect();
-    let policy = match options.normals {
-        NormalPolicy::Auto => "auto",
-        NormalPolicy::SmoothShared => "smooth-shared",
-        NormalPolicy::Keep => "keep",
-        NormalPolicy::Recompute => "recompute",
-    };
-    let kept = match kept.len() {
-        0 => "computed in every object".to_owned(),
-        n if n == total => "kept in every object".to_owned(),
-        n => {
-            const SHOWN: usize = 6;
-            let more = if n > SHOWN { format!(", {} more", n - SHOWN) } else { String::new() };
-            let names = kept[..n.min(SHOWN)].iter().map(|s| format!("{s:?}")).collect::<Vec<_>>();
-            format!(
-                "kept in {n} of {total} objects ({}{more}), computed in the others",
-                names.join(", ")
-            )
-        }
-    };
-    let tangents = match options.tangents {
-        TangentMethod::None => "none",
-        TangentMethod::Seamlit => "seamlit",
-        TangentMethod::Mikktspace => "mikktspace",
-    };
-    format!(
-        "normals ({policy}): {kept}; changed at {} of {} vertices; {} vertices split; tangents: {tangents}{}",
-        changes.normals_changed(),
-        changes.vertices(),
-        changes.vertices_split(),
-        shared_clause(&changes.shared)
-    )
-}
-
-/// What the seam-only repair decided, as a clause for [`changes_line`]: `; of 120 shared
-/// positions with kept normals: 80 seams repaired, 30 hard edges kept, 0 custom kept, 10
-/// already equal` (empty where the repair did not run).
-fn shared_clause(shared: &SharedNormals) -> String {
-    if shared.positions() == 0 {
-        return String::new();
-    }
-    format!(
-        "; of {}: {} repaired, {} kept as authored hard edges, {} kept as custom, {} already equal",
-        count(shared.positions(), "shared position"),
-        count(shared.repaired, "seam"),
-        shared.hard_edges,
-        shared.custom,
-        shared.agreeing
-    )
 }
 
 /// What a fix changed, one row per object.

@@ -11,6 +11,7 @@ use super::OutputDocument;
 use super::encode::Layout;
 use crate::json::usize_member;
 use seamlit_asset::error::{InvalidAsset, IoError};
+use seamlit_asset::files::Destination;
 
 impl OutputDocument<'_> {
     /// Buffer 0 holds the input's bytes and the appended ones: the GLB `BIN` chunk, or a new
@@ -139,12 +140,12 @@ impl OutputDocument<'_> {
     }
 
     /// Writes the side files, then the document.
-    pub(super) fn write(&self) -> Result<(), IoError> {
-        for (from, to) in &self.copies {
-            if let Some(parent) = to.parent() {
-                std::fs::create_dir_all(parent).map_err(|e| IoError::io(parent, e))?;
+    pub(super) fn write(&self, to: &mut Destination) -> Result<(), IoError> {
+        for (from, destination) in &self.copies {
+            if let Some(parent) = destination.parent() {
+                to.create_folder(parent)?;
             }
-            seamlit_asset::files::write_with(to, |out| {
+            to.write_with(destination, |out| {
                 std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ())
             })?;
         }
@@ -163,15 +164,13 @@ impl OutputDocument<'_> {
         };
         if !self.binary {
             if let Some(uri) = self.json["buffers"][0]["uri"].as_str() {
-                seamlit_asset::files::write_with(&folder.join(uri), |out| {
-                    self.write_host(out, host_length)
-                })?;
+                to.write_with(&folder.join(uri), |out| self.write_host(out, host_length))?;
             }
-            return seamlit_asset::files::write(self.path, &serialise(&self.json, true)?);
+            return to.write(self.path, &serialise(&self.json, true)?);
         }
         let json = serialise(&self.json, false)?;
         let bin = has_host.then_some(host_length);
-        crate::glb::write(self.path, json, bin, |out| self.write_host(out, host_length))
+        crate::glb::write(to, self.path, json, bin, |out| self.write_host(out, host_length))
     }
 
     /// Writes buffer 0: the input's bytes (those pruning kept), then the appended pieces,

@@ -32,6 +32,7 @@ import json
 import os
 import shutil
 import tempfile
+from inspect import signature as _signature
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -101,21 +102,33 @@ def fix_file(
     overwrite_input: bool = False,
     keep_compression: bool = False,
     asset_roots: Sequence[PathLike] = (),
+    skin_seams: str = "match",
+    samples: int = 30,
 ) -> Dict[str, Any]:
-    """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does.
+    """Fix a model file and write the result, as ``seamlit fix INPUT -o OUTPUT`` does: the
+    same steps in the same library call, so the same bytes for the same options.
 
-    The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``, ``.vrm``). A
-    glTF or GLB input written as glTF or GLB is the input document with only normals,
-    tangents, split vertices and indices changed. Meshopt-compressed geometry is written
-    uncompressed unless ``keep_compression`` is set (``--keep-compression``); a Draco input
-    or an OBJ output with ``keep_compression`` raises ``SeamlitError``. ``asset_roots``
-    (``--asset-root``): folders besides the input's own that a USD stage's layers and
-    textures may come from.
+    The output format follows ``output``'s extension (``.glb``, ``.gltf``, ``.obj``, ``.vrm``,
+    ``.usda``, ``.usdz``). A glTF or GLB input written as glTF or GLB is the input document
+    with only normals, tangents, split vertices, indices (and matched skin weights) changed.
+    Meshopt-compressed geometry is written uncompressed unless ``keep_compression`` is set
+    (``--keep-compression``); a Draco input or an OBJ output with ``keep_compression`` raises
+    ``SeamlitError``. ``asset_roots`` (``--asset-root``): folders besides the input's own that
+    a USD stage's layers and textures may come from. ``skin_seams`` (``--skin-seams``):
+    ``"match"`` gives the copies of a shared position one set of skin weights, so the seam
+    stays closed when posed; ``"keep"`` leaves the weights as authored. ``samples``
+    (``--samples``): times of each animation the seams in motion are measured at.
 
-    Returns a dict: ``input``, ``output``, ``options`` (as used), ``report`` (the seam
-    report after the fix), ``changes`` (per object: normals kept or computed, vertices
-    changed and split) and ``warnings``.
+    Returns a dict: ``input``, ``output``, ``options`` (as used), ``as_loaded`` and ``fixed``
+    (the seam reports before and after; ``report`` is ``fixed`` under its earlier name),
+    ``changes`` (per object: normals kept or computed, vertices changed and split),
+    ``skin_seams_matched``, ``motion`` (per animation, before and after), ``morph_seams``,
+    ``summary`` (the lines ``seamlit fix`` prints) and ``warnings``.
     """
+    if skin_seams not in ("match", "keep"):
+        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
+    if not 2 <= int(samples) <= 100_000:
+        raise SeamlitError(f"samples={samples!r}: expected 2 to 100000")
     settings = _settings(
         mode,
         crease,
@@ -127,33 +140,23 @@ def fix_file(
         overwrite_input=bool(overwrite_input),
         keep_compression=bool(keep_compression),
         asset_roots=[os.fspath(r) for r in asset_roots],
+        match_skin_seams=skin_seams == "match",
+        samples=int(samples),
     )
-    text = _seamlit.fix_file(os.fspath(input), os.fspath(output), settings)
-    return json.loads(text)
+    result = json.loads(_seamlit.fix_file(os.fspath(input), os.fspath(output), settings))
+    result["report"] = result["fixed"]
+    return result
 
 
-def _fix_measured(input: PathLike, output: PathLike, *, skin_seams: str = "match", **options: Any) -> Dict[str, Any]:
-    """``seamlit fix INPUT -o OUTPUT`` with the command line's steps (so its bytes, skin
-    weights matched at seams unless ``skin_seams="keep"``), and the seam report both as loaded
-    and after, from one load: for :mod:`seamlit.ray` and :func:`fix_bytes`. Returns
-    ``input``, ``output``, ``options``, ``as_loaded``, ``fixed``, ``changes``, ``warnings``."""
-    if skin_seams not in ("match", "keep"):
-        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
-    options.pop("samples", None)  # motion is measured, never changed: no effect on the file
-    mode = options.pop("mode", "model")
-    names = ("crease", "weld_tolerance", "weighting", "tangents", "normals")
-    fixed = {k: options.pop(k, None) for k in names}
-    more = {
-        "tessellation": int(options.pop("tessellation", 16)),
-        "overwrite_input": bool(options.pop("overwrite_input", False)),
-        "keep_compression": bool(options.pop("keep_compression", False)),
-        "asset_roots": [os.fspath(r) for r in options.pop("asset_roots", ())],
-        "match_skin_seams": skin_seams == "match",
-    }
-    if options:
-        raise SeamlitError(f"{', '.join(sorted(options))}: not an option of seamlit fix")
-    settings = _settings(mode, **fixed, **more)
-    return json.loads(_seamlit.fix_file_measured(os.fspath(input), os.fspath(output), settings))
+def _fix_measured(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
+    """:func:`fix_file` with the options as :mod:`seamlit.ray` and :func:`fix_bytes` hold
+    them (a dict of ``seamlit fix``'s options); an option it does not know raises
+    ``SeamlitError``."""
+    known = set(_signature(fix_file).parameters) - {"input", "output"}
+    unknown = sorted(set(options) - known)
+    if unknown:
+        raise SeamlitError(f"{', '.join(unknown)}: not an option of seamlit fix")
+    return fix_file(input, output, **options)
 
 
 #: Extensions of the models :func:`fix_bytes` takes: one file each, nothing beside it.
@@ -184,9 +187,9 @@ def fix_bytes(
     refuses, or for a format that needs files beside it (glTF, OBJ, USD layers: use
     :func:`fix_file` on a folder).
 
-    The file goes through a private temporary folder (memory-backed where the system has
-    ``/dev/shm``) until the native module reads and writes memory itself (see
-    docs/fleet.md, Limits).
+    A GLB or VRM is read, fixed and written in memory; a USDZ or FBX goes through a private
+    temporary folder (memory-backed where the system has ``/dev/shm``): their readers open
+    files by path.
     """
     ext = name.rsplit(".", 1)[-1].lower() if "." in name else ""
     if ext not in SELF_CONTAINED:
@@ -197,6 +200,18 @@ def fix_bytes(
     base = os.path.basename(name.replace("\\", "/")) or f"model.{ext}"
     stem = base.rsplit(".", 1)[0] or "model"
     out_name = f"{stem}.{'vrm' if ext == 'vrm' else 'glb'}"
+    options = dict(
+        mode=mode,
+        crease=crease,
+        weld_tolerance=weld_tolerance,
+        weighting=weighting,
+        tangents=tangents,
+        normals=normals,
+        keep_compression=keep_compression,
+        skin_seams=skin_seams,
+    )
+    if ext in ("glb", "vrm"):
+        return _fix_glb_bytes(data, name, out_name, **options)
     where = "/dev/shm" if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK) else None
     folder = tempfile.mkdtemp(prefix="seamlit-bytes-", dir=where)
     try:
@@ -207,18 +222,7 @@ def fix_bytes(
         with open(source, "wb") as f:
             f.write(data)
         try:
-            result = _fix_measured(
-                source,
-                target,
-                mode=mode,
-                crease=crease,
-                weld_tolerance=weld_tolerance,
-                weighting=weighting,
-                tangents=tangents,
-                normals=normals,
-                keep_compression=keep_compression,
-                skin_seams=skin_seams,
-            )
+            result = _fix_measured(source, target, **options)
         except (SeamlitError, FileNotFoundError) as e:
             raise SeamlitError(str(e).replace(source, name)) from None
         with open(target, "rb") as f:
@@ -228,6 +232,25 @@ def fix_bytes(
         return output, result
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+
+
+def _fix_glb_bytes(data: bytes, name: str, out_name: str, *, skin_seams: str, **options: Any) -> Tuple[bytes, Dict[str, Any]]:
+    """:func:`fix_bytes` of a GLB or VRM, in memory."""
+    if skin_seams not in ("match", "keep"):
+        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
+    mode = options.pop("mode")
+    names = ("crease", "weld_tolerance", "weighting", "tangents", "normals")
+    fixed = {k: options.pop(k) for k in names}
+    settings = _settings(
+        mode,
+        **fixed,
+        keep_compression=bool(options.pop("keep_compression")),
+        match_skin_seams=skin_seams == "match",
+    )
+    output, text = _seamlit.fix_glb_bytes(bytes(data), name, out_name, settings)
+    result = json.loads(text)
+    result["report"] = result["fixed"]
+    return output, result
 
 
 def inspect(

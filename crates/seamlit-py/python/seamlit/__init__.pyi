@@ -34,6 +34,8 @@ def fix_file(
     overwrite_input: bool = False,
     keep_compression: bool = False,
     asset_roots: Sequence[PathLike] = (),
+    skin_seams: Literal["match", "keep"] = "match",
+    samples: int = 30,
 ) -> Dict[str, Any]: ...
 SELF_CONTAINED: Tuple[str, ...]
 

@@ -19,13 +19,12 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use seamlit_io::job::{FixError, FixJob, SkinSeams, fix_asset};
 use seamlit_io::{InvalidAsset, IoError, LoadOptions, SaveOptions};
-use seamlit_mesh::{FixOptions, ReportOptions};
+use seamlit_mesh::FixOptions;
 
 use crate::cli::{FixArgs, SkinSeamsArg};
 use crate::failure::{Classify, Failure};
-use crate::prepare::default_tangents;
-use crate::table::{changes_line, count};
 
 /// Runs `seamlit fix`.
 ///
@@ -47,11 +46,8 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     let extension = args.output.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     check_keep_compression(args.keep_compression, &args.output, &extension.unwrap_or_default())?;
     let _quiet = QuietPanics::install();
-    let asked = args.fix.tangents.is_some();
-    let skins = Skins { policy: args.skin_seams, samples: args.samples };
-    let line = guarded(&args.input, || {
-        fix_file(&args.input, &args.output, &options, asked, &load, &save, skins)
-    })?;
+    let job = job(args, &options);
+    let line = guarded(&args.input, || fix_file(&args.input, &args.output, &job, &load, &save))?;
     println!("{line}");
     Ok(())
 }
@@ -165,25 +161,28 @@ impl Drop for QuietPanics {
     }
 }
 
-/// What `fix` does about skins: the `--skin-seams` policy, and how many times of each
-/// animation it samples to measure the seams in motion.
-#[derive(Clone, Copy, Debug)]
-struct Skins {
-    policy: SkinSeamsArg,
-    samples: u32,
+/// The [`FixJob`] of the command line's flags.
+fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
+    FixJob {
+        options: *options,
+        tangents_asked: args.fix.tangents.is_some(),
+        skin_seams: match args.skin_seams {
+            SkinSeamsArg::Match => SkinSeams::Match,
+            SkinSeamsArg::Keep => SkinSeams::Keep,
+        },
+        samples: args.samples,
+        report_as_loaded: false,
+    }
 }
 
-/// Loads, fixes and writes one model; returns a summary: what was written, then what the fix
-/// changed. `tangents_asked`: whether the command line named a tangent generator (otherwise
-/// a model with a normal map and no tangents gets MikkTSpace).
+/// Loads, fixes ([`seamlit_io::job::fix_asset`]) and writes one model; returns its summary:
+/// what was written, then what the fix changed.
 fn fix_file(
     input: &Path,
     output: &Path,
-    options: &FixOptions,
-    tangents_asked: bool,
+    job: &FixJob,
     load: &LoadOptions,
     save: &SaveOptions,
-    skins: Skins,
 ) -> Result<String, Failure> {
     if !input.exists() {
         return Err(Failure::input(format!("{}: no such file", input.display())));
@@ -192,71 +191,16 @@ fn fix_file(
     for warning in &asset.warnings {
         eprintln!("warning: {warning}");
     }
-    let options = &default_tangents(&asset, *options, tangents_asked);
-    let animations: Vec<usize> = (0..asset.animations.len()).collect();
-    // The input vertices keep their indices through the fix (split copies are appended), so
-    // one weld serves the measures before and after and the match.
-    let copies = crate::motion::copies(&asset, options, input)?;
-    let motion_before =
-        crate::motion::measure(&asset, &animations, skins.samples, options, &copies);
-    // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
-    let changes = seamlit_mesh::fix_in_place(&mut asset.model, options)
-        .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
-    let matched = match skins.policy {
-        SkinSeamsArg::Match => Some(seamlit_io::match_skin_seams(&mut asset, &copies.copies)),
-        SkinSeamsArg::Keep => None,
-    };
-    let report = seamlit_mesh::report(&asset.model, &ReportOptions::from(options))
-        .map_err(|e| Failure::processing(format!("{}: {e}", input.display())))?;
-    let motion_after = crate::motion::measure(&asset, &animations, skins.samples, options, &copies);
-    let morphs = crate::motion::morph_line(&asset, &copies.copies);
+    let fixed = fix_asset(&mut asset, job).map_err(|e| match e {
+        FixError::Geometry(_) => Failure::input(format!("{}: {e}", input.display())),
+        FixError::Report(_) => Failure::processing(format!("{}: {e}", input.display())),
+    })?;
     crate::output::prepare_folder_of(output)?;
     let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
     for warning in &saved.warnings {
         eprintln!("warning: {warning}");
     }
-    // The report measures every smooth edge between objects; where `auto` kept authored
-    // hard edges or custom normals there, the figure includes them: say so.
-    let kept = changes.shared.hard_edges + changes.shared.custom > 0;
-    let seams = report.cross_object.max_normal_angle_deg.map_or_else(String::new, |a| {
-        if kept {
-            format!(", normals across edges between objects within {a:.2}° (kept ones included)")
-        } else {
-            format!(", normals across seams within {a:.2}°")
-        }
-    });
-    let skin_seams = skin_seams_line(&report.skin_seams);
-    let matched = matched.filter(|m| m.positions > 0).map_or_else(String::new, |m| {
-        format!(
-            "\n  skins: gave the copies at {} the same joints and weights ({} vertices)",
-            count(m.positions, "shared position"),
-            m.vertices
-        )
-    });
-    let motion = crate::motion::lines(&motion_before, &motion_after);
-    Ok(format!(
-        "wrote {}: {}, {}, {} shared by 2+ objects{seams}{skin_seams}\n  {}{matched}{motion}{morphs}",
-        output.display(),
-        count(report.objects, "object"),
-        count(report.triangles, "triangle"),
-        count(report.shared_positions, "position"),
-        changes_line(&changes, options)
-    ))
-}
-
-/// A line on the welded positions whose objects' skin influences differ, empty where none
-/// do: those open into a gap when the model is posed.
-fn skin_seams_line(seams: &seamlit_mesh::SkinSeams) -> String {
-    let Some(example) = &seams.example else {
-        return String::new();
-    };
-    let [x, y, z] = example.position;
-    format!(
-        "\n  skins: {} where objects' skin weights differ (a gap when posed), e.g. ({x}, {y}, {z}) between {} and {}",
-        count(seams.positions, "shared position"),
-        example.objects[0],
-        example.objects[1]
-    )
+    Ok(fixed.summary(output))
 }
 
 /// Writing fails through bad input (an output that is the input, an unknown extension, a
@@ -308,14 +252,13 @@ fn run_folder(
     let mut names = seamlit_io::folder::OutputNames::new();
     let (mut failed, mut bad_input) = (0usize, false);
     let quiet = QuietPanics::install();
+    let job = job(args, options);
     for input in &inputs {
         let relative = input.strip_prefix(&args.input).unwrap_or(input);
         bar.set_message(relative.display().to_string());
         let extension = seamlit_io::folder::output_extension(input, args.format.extension());
         let output = names.name(relative, &args.output, extension);
-        let asked = args.fix.tangents.is_some();
-        let skins = Skins { policy: args.skin_seams, samples: args.samples };
-        match guarded(input, || fix_file(input, &output, options, asked, load, save, skins)) {
+        match guarded(input, || fix_file(input, &output, &job, load, save)) {
             Ok(line) => bar.suspend(|| println!("{line}")),
             Err(f) => {
                 failed += 1;

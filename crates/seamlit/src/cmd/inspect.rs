@@ -202,8 +202,8 @@ impl Motion {
     fn json(&self) -> serde_json::Value {
         serde_json::json!({
             "matched_positions": self.matched,
-            "as_loaded": self.as_loaded.iter().map(crate::motion::json).collect::<Vec<_>>(),
-            "fixed": self.fixed.iter().map(crate::motion::json).collect::<Vec<_>>(),
+            "as_loaded": self.as_loaded.iter().map(seamlit_io::job::motion_json).collect::<Vec<_>>(),
+            "fixed": self.fixed.iter().map(seamlit_io::job::motion_json).collect::<Vec<_>>(),
         })
     }
 }

@@ -149,12 +149,6 @@ def _measure(row: Row, report: Dict[str, Any]) -> None:
     row["_changed"] = any(o.get("normals_changed") or o.get("vertices_split") for o in objects)
 
 
-def _package_options(options: Dict[str, Any]) -> Dict[str, Any]:
-    """The options ``seamlit.fix_file`` takes (it has no skin-seam policy or motion samples
-    yet: it leaves skin weights as authored)."""
-    return {k: v for k, v in options.items() if k not in ("skin_seams", "samples")}
-
-
 def _inspect_options(options: Dict[str, Any]) -> Dict[str, Any]:
     keep = ("mode", "crease", "weld_tolerance", "weighting", "tangents", "normals", "tessellation", "asset_roots")
     return {k: v for k, v in options.items() if k in keep}
@@ -275,7 +269,7 @@ def process(job: Job) -> Row:
                     return row
             else:
                 try:
-                    seamlit.fix_file(local_input, local_output, **_package_options(options))
+                    seamlit.fix_file(local_input, local_output, **options)
                 except (seamlit.SeamlitError, FileNotFoundError) as e:
                     row.update(status="refused", error=_relative_message(str(e), local_input, job.relative))
                     return row
@@ -305,12 +299,10 @@ def _reserved_memory() -> Optional[int]:
 
 
 def _native(engine: str) -> bool:
-    """Whether the task fixes in its own process with the extension module's
-    ``fix_file_measured`` (the command line's steps, one load): ``auto`` and ``package`` when
-    the module has it."""
-    from seamlit import _seamlit
-
-    return engine in ("auto", "package") and hasattr(_seamlit, "fix_file_measured")
+    """Whether the task fixes in its own process with the extension module's ``fix_file``
+    (the command line's steps in the same library call, one load): ``auto`` and
+    ``package``."""
+    return engine in ("auto", "package")
 
 
 def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], scratch: str) -> Row:

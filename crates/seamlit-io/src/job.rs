@@ -1,0 +1,207 @@
+//! One model through `seamlit fix`, as a library call: the steps between loading a file and
+//! saving it, so that the command line, the Python package (and its Ray fleet) and the web
+//! page fix a model the same way and say the same about it.
+//!
+//! [`fix_asset`] reads as its steps: the options for this asset (MikkTSpace where a normal
+//! map has no tangents, unless a generator was asked for), the copies of the positions the
+//! objects share (once, before the fix: split copies are appended, so the input vertices keep
+//! their indices), the seams in motion before, the fix in place, the skin influences matched
+//! at the copies, the seam report and the seams in motion after. [`Fixed`] holds what each
+//! step found; [`Fixed::summary`] is the text `seamlit fix` prints for a file and
+//! [`Fixed::json`] the document the Python package and the page report.
+//!
+//! ```
+//! use seamlit_io::job::{FixJob, fix_asset};
+//! use seamlit_io::{LoadOptions, newell};
+//!
+//! // Two flat patches side by side: one surface delivered as two objects.
+//! let mut text = String::from("2\n");
+//! text.push_str("1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16\n");
+//! text.push_str("13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28\n28\n");
+//! for j in 0..7 {
+//!     for i in 0..4 {
+//!         text.push_str(&format!("{i},{j},{}\n", 0.1 * (j as f32 - 3.0).powi(2)));
+//!     }
+//! }
+//! let mut asset = newell::parse(&text, "two", 4)?;
+//! let fixed = fix_asset(&mut asset, &FixJob::DEFAULT)?;
+//! assert_eq!(fixed.report.cross_object.max_normal_angle_deg, Some(0.0));
+//! assert!(fixed.summary(std::path::Path::new("two.glb")).starts_with("wrote two.glb: 2 objects"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod summary;
+
+use std::path::Path;
+
+use seamlit_asset::Asset;
+use seamlit_asset::motion::{Copies, SeamMotion, morph_seams};
+use seamlit_mesh::{Changes, FixOptions, MeshError, ReportOptions, SeamReport, SkinMatch};
+
+pub use summary::{changes_line, count};
+
+/// What to do with a model: the fix options and the command line's other choices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FixJob {
+    /// The fix options (`seamlit fix`'s flags).
+    pub options: FixOptions,
+    /// Whether a tangent generator was named (`--tangents`). When not, a model with a normal
+    /// map and objects without tangents gets MikkTSpace ([`Asset::fix_options`]).
+    pub tangents_asked: bool,
+    /// What is done about skin influences that differ across a seam (`--skin-seams`).
+    pub skin_seams: SkinSeams,
+    /// How many times of each animation the seams in motion are measured at (`--samples`).
+    pub samples: u32,
+    /// Whether the seam report of the model as loaded is measured too ([`Fixed::as_loaded`]):
+    /// one more pass over the model, which `seamlit fix` does not print.
+    pub report_as_loaded: bool,
+}
+
+impl FixJob {
+    /// `seamlit fix`'s defaults.
+    pub const DEFAULT: Self = Self {
+        options: FixOptions::DEFAULT,
+        tangents_asked: false,
+        skin_seams: SkinSeams::Match,
+        samples: 30,
+        report_as_loaded: false,
+    };
+}
+
+impl Default for FixJob {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// What is done about the copies of a shared position whose skin influences differ (they
+/// open into a gap when the model is posed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SkinSeams {
+    /// Every copy gets one set of joints and weights ([`seamlit_asset::match_skin_seams`]):
+    /// `--skin-seams match`, the default.
+    #[default]
+    Match,
+    /// The influences stay as authored and the summary says where they differ.
+    Keep,
+}
+
+/// What [`fix_asset`] found and did.
+#[derive(Clone, Debug)]
+pub struct Fixed {
+    /// The options the model was fixed with (the job's, with the tangent generator this asset
+    /// needs).
+    pub options: FixOptions,
+    /// The seam report as loaded, where [`FixJob::report_as_loaded`] asked for it.
+    pub as_loaded: Option<SeamReport>,
+    /// What the fix changed.
+    pub changes: Changes,
+    /// The seam report after the fix (and the skin match).
+    pub report: SeamReport,
+    /// What matching the skin influences changed (`None` under [`SkinSeams::Keep`]).
+    pub matched: Option<SkinMatch>,
+    /// The seams in motion per animation, before and after.
+    pub motion: Vec<(SeamMotion, SeamMotion)>,
+    /// The morph targets whose deltas differ across a seam, with how many shared positions.
+    pub morph_seams: Vec<(String, usize)>,
+}
+
+/// Why [`fix_asset`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum FixError {
+    /// The model's geometry is bad (a non-finite position, an index out of range): bad input.
+    #[error("{0}")]
+    Geometry(MeshError),
+    /// The report after a successful fix failed: a bug, not the input's fault.
+    #[error("measuring the fixed model: {0}")]
+    Report(MeshError),
+}
+
+/// Fixes `asset` in place as `seamlit fix` does (the module's docs list the steps) and says
+/// what was found and done.
+///
+/// # Errors
+/// [`FixError::Geometry`] for bad geometry; [`FixError::Report`] when measuring the fixed
+/// model fails.
+pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
+    let options = asset.fix_options(job.options, job.tangents_asked);
+    let animations: Vec<usize> = (0..asset.animations.len()).collect();
+    let copies = Copies::of(asset, &options).map_err(FixError::Geometry)?;
+    let before = copies.measure(asset, &animations, job.samples, &options);
+    let report_options = ReportOptions::from(&options);
+    let as_loaded = match job.report_as_loaded {
+        true => {
+            Some(seamlit_mesh::report(&asset.model, &report_options).map_err(FixError::Geometry)?)
+        }
+        false => None,
+    };
+    // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
+    let changes =
+        seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(FixError::Geometry)?;
+    let matched = match job.skin_seams {
+        SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
+        SkinSeams::Keep => None,
+    };
+    let report = seamlit_mesh::report(&asset.model, &report_options).map_err(FixError::Report)?;
+    let after = copies.measure(asset, &animations, job.samples, &options);
+    Ok(Fixed {
+        options,
+        as_loaded,
+        changes,
+        report,
+        matched,
+        motion: before.into_iter().zip(after).collect(),
+        morph_seams: morph_seams(asset, &copies.copies),
+    })
+}
+
+impl Fixed {
+    /// What `seamlit fix` prints for a model written to `output`: what was written, then what
+    /// the fix changed, then the skins, the seams in motion and the morph targets where there
+    /// are any.
+    #[must_use]
+    pub fn summary(&self, output: &Path) -> String {
+        summary::text(self, output)
+    }
+
+    /// The JSON of what was done: `{"options", "as_loaded" (where measured), "fixed",
+    /// "changes", "skin_seams_matched", "motion", "morph_seams"}`.
+    #[must_use]
+    pub fn json(&self) -> serde_json::Value {
+        let motion: Vec<serde_json::Value> = self
+            .motion
+            .iter()
+            .map(|(b, a)| serde_json::json!({ "as_loaded": motion_json(b), "fixed": motion_json(a) }))
+            .collect();
+        let morphs: Vec<serde_json::Value> = self
+            .morph_seams
+            .iter()
+            .map(|(name, n)| serde_json::json!({ "name": name, "shared_positions": n }))
+            .collect();
+        serde_json::json!({
+            "options": self.options,
+            "as_loaded": self.as_loaded,
+            "fixed": self.report,
+            "changes": self.changes,
+            "skin_seams_matched": self.matched.as_ref().map(|m| m.positions),
+            "motion": motion,
+            "morph_seams": morphs,
+        })
+    }
+}
+
+/// The JSON of one animation's seams in motion (`inspect --json`'s `motion` members).
+#[must_use]
+pub fn motion_json(m: &SeamMotion) -> serde_json::Value {
+    serde_json::json!({
+        "animation": m.animation,
+        "name": m.name,
+        "duration": m.duration,
+        "samples": m.samples,
+        "max_gap": m.max_gap,
+        "max_gap_fraction": m.max_gap_fraction,
+        "max_gap_time": m.max_gap_time,
+        "max_normal_angle_deg": m.max_normal_angle_deg,
+        "max_normal_angle_time": m.max_normal_angle_time,
+    })
+}

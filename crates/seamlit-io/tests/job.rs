@@ -1,0 +1,121 @@
+//! One model through `seamlit fix` as a library call (`seamlit_io::job`), and the glTF
+//! writer's memory destination (what the web page offers as a download): the same bytes as
+//! the files it writes, on models by others.
+
+use std::path::{Path, PathBuf};
+
+use seamlit_io::files::Destination;
+use seamlit_io::job::{FixJob, SkinSeams, fix_asset};
+use seamlit_io::{LoadOptions, SaveOptions};
+
+fn model(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models").join(relative)
+}
+
+/// `relative` loaded and fixed with the command line's defaults.
+fn fixed(relative: &str) -> seamlit_io::Asset {
+    let mut asset = seamlit_io::load(&model(relative), &LoadOptions::DEFAULT).unwrap();
+    fix_asset(&mut asset, &FixJob::DEFAULT).unwrap();
+    asset
+}
+
+/// The files `seamlit_io::save` writes for `asset` at `name` in a fresh folder, by name.
+fn on_disk(asset: &seamlit_io::Asset, name: &str) -> Vec<(String, Vec<u8>)> {
+    let dir = tempfile::tempdir().unwrap();
+    seamlit_io::save(asset, &dir.path().join(name), &SaveOptions::default()).unwrap();
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| {
+            let path = e.unwrap().path();
+            (
+                path.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&path).unwrap(),
+            )
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// The files `seamlit_gltf::save_to` puts in memory for `asset` at `name`, by name.
+fn in_memory(asset: &seamlit_io::Asset, name: &str) -> Vec<(String, Vec<u8>)> {
+    let mut memory = Destination::memory();
+    seamlit_io::gltf::save_to(asset, Path::new(name), &SaveOptions::default(), &mut memory)
+        .unwrap();
+    let mut files: Vec<(String, Vec<u8>)> = memory
+        .into_memory()
+        .into_iter()
+        .map(|(path, bytes)| (path.to_string_lossy().into_owned(), bytes))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn memory_holds_the_bytes_the_files_get() {
+    // The pass-through of a skinned, animated GLB; the generic writer (an OBJ as GLB); a
+    // .gltf with its .bin beside it; a VRM avatar.
+    for (input, output, count) in [
+        ("fox/Fox.glb", "Fox.glb", 1),
+        ("groups.obj", "groups.glb", 1),
+        ("NormalTangentTest.glb", "NormalTangentTest.gltf", 2),
+        ("groups.obj", "groups.gltf", 2),
+    ] {
+        let asset = fixed(input);
+        let disk = on_disk(&asset, output);
+        let memory = in_memory(&asset, output);
+        assert_eq!(disk.len(), count, "{input} as {output}: {:?}", names(&disk));
+        assert_eq!(names(&memory), names(&disk), "{input} as {output}");
+        for ((name, a), (_, b)) in disk.iter().zip(&memory) {
+            assert!(
+                a == b,
+                "{input} as {output}: {name} differs in memory ({} vs {} bytes)",
+                b.len(),
+                a.len()
+            );
+        }
+    }
+}
+
+fn names(files: &[(String, Vec<u8>)]) -> Vec<&str> {
+    files.iter().map(|(n, _)| n.as_str()).collect()
+}
+
+#[test]
+fn the_job_matches_skin_seams_unless_asked_to_keep_them() {
+    // A neck whose two objects' skin weights differ (assets/models/usd/make.py).
+    let path = model("usd/skinned_neck.usda");
+    let loaded = seamlit_io::load(&path, &LoadOptions::DEFAULT).unwrap();
+    let job = FixJob { report_as_loaded: true, ..FixJob::DEFAULT };
+    let mut asset = loaded.clone();
+    let matched = fix_asset(&mut asset, &job).unwrap();
+    let differed = matched.as_loaded.as_ref().unwrap().skin_seams.positions;
+    assert!(differed > 0, "the neck's weights differ as loaded");
+    assert_eq!(matched.matched.as_ref().unwrap().positions, differed);
+    assert_eq!(matched.report.skin_seams.positions, 0, "and agree after");
+    assert!(matched.summary(Path::new("out.usda")).contains("skins: gave the copies at"));
+
+    let mut asset = loaded;
+    let kept = fix_asset(&mut asset, &FixJob { skin_seams: SkinSeams::Keep, ..job }).unwrap();
+    assert!(kept.matched.is_none());
+    assert_eq!(kept.report.skin_seams.positions, differed, "kept as authored");
+    assert!(kept.summary(Path::new("out.usda")).contains("where objects' skin weights differ"));
+}
+
+#[test]
+fn a_normal_mapped_model_without_tangents_gets_mikktspace_unless_one_was_asked_for() {
+    // NormalTangentTest has a normal map; its tangents dropped, the job picks MikkTSpace as
+    // the command line does, and keeps the generator a caller named.
+    let path = model("NormalTangentTest.glb");
+    let mut asset = seamlit_io::load(&path, &LoadOptions::DEFAULT).unwrap();
+    for object in &mut asset.model.objects {
+        object.tangents = None;
+    }
+    let mut a = asset.clone();
+    let chosen = fix_asset(&mut a, &FixJob::DEFAULT).unwrap();
+    assert_eq!(chosen.options.tangents, seamlit_mesh::TangentMethod::Mikktspace);
+    let asked = FixJob { tangents_asked: true, ..FixJob::DEFAULT };
+    let kept = fix_asset(&mut asset, &asked).unwrap();
+    assert_eq!(kept.options.tangents, FixJob::DEFAULT.options.tangents);
+    assert!(kept.json()["options"]["tangents"].is_string(), "{}", kept.json()["options"]);
+}
