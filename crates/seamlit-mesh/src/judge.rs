@@ -6,7 +6,11 @@
 //! judged from its own object's faces at that position alone, never from the other objects':
 //!
 //! - **flat**: its normal is the normal of each of its own faces (flat shading): the copy is
-//!   one side of an authored hard edge;
+//!   one side of an authored hard edge. Also flat, whatever the geometry says: a copy whose
+//!   own faces each carry one normal at all three corners, the copy's, when those faces are
+//!   not planar (flat shading of a polygon that is not planar: Blender gives each corner the
+//!   polygon's normal, off each triangle's plane by a few degrees; read from the normals and
+//!   the index buffer, since the geometry cannot tell it from smoothing);
 //! - **smooth**: its normal is its object's smooth normal there, the weighted average of the
 //!   object's faces around the position under one of the weightings tools use (corner angle,
 //!   area, angle times area, uniform), over the faces of this vertex or of every vertex of the
@@ -78,6 +82,9 @@ pub(crate) struct Corner {
     pub k: usize,
     /// The face's vertices, in the copy's object.
     pub triangle: [u32; 3],
+    /// Whether the face's three vertices carry one normal (within [`NOISE_DEG`]): flat
+    /// shading's faces do, smooth shading's do not where the surface bends.
+    pub uniform: bool,
 }
 
 /// One copy at a position: its object and its unit normal in model space.
@@ -99,7 +106,7 @@ pub(crate) fn judge(copies: &[Copy], corners: &[Corner]) -> Vec<Kind> {
             let unit = copies[a].unit;
             // One pass: the farthest own face, and each weighting's sums over the copy's own
             // faces and over those of the copies with the same normal.
-            let (mut flat, mut faces) = (0.0_f32, 0);
+            let (mut flat, mut faces, mut uniform) = (0.0_f32, 0, true);
             let (mut own, mut split) = ([Vec3::ZERO; 4], [Vec3::ZERO; 4]);
             for c in corners.iter().filter(|c| same(a, c.copy)) {
                 let weighted = WEIGHTINGS.map(|w| c.face.normal * weight(w, &c.face, c.k));
@@ -113,11 +120,17 @@ pub(crate) fn judge(copies: &[Copy], corners: &[Corner]) -> Vec<Kind> {
                     if !c.face.is(DEGENERATE) {
                         flat = flat.max(angle(unit, c.face.normal));
                         faces += 1;
+                        uniform &= c.uniform;
                     }
                 }
             }
             if faces == 0 {
                 return Kind::Custom;
+            }
+            // One normal at every corner of faces that are not planar: flat shading of
+            // polygons that are not planar, which the angles below would take for smoothing.
+            if uniform && flat > FLAT_DEG.to_radians() {
+                return Kind::Flat;
             }
             let smooth = own
                 .iter()
@@ -128,6 +141,13 @@ pub(crate) fn judge(copies: &[Copy], corners: &[Corner]) -> Vec<Kind> {
             kind(flat, smooth)
         })
         .collect()
+}
+
+/// Whether the vertices of `triangle` carry one normal in `normals` (within [`NOISE_DEG`]).
+pub(crate) fn uniform(normals: &[Vec3], triangle: [u32; 3]) -> bool {
+    let [a, b, c] = triangle.map(|v| normals[v as usize].normalize_or_zero());
+    let cos = noise_cos();
+    a != Vec3::ZERO && a.dot(b) >= cos && a.dot(c) >= cos
 }
 
 /// The kind from the angles (radians) between a copy's normal and its farthest face

@@ -296,7 +296,9 @@ fn gather(
         });
         let positions = flat.corners(model, o, local).positions;
         let (face, k) = (face(positions, None, model.v_axis), c % 3);
-        corners.push(Corner { copy, face, k, triangle: object.triangles[local] });
+        let triangle = object.triangles[local];
+        let uniform = object.normals.as_deref().is_some_and(|ns| judge::uniform(ns, triangle));
+        corners.push(Corner { copy, face, k, triangle, uniform });
     }
     (vertices, corners)
 }

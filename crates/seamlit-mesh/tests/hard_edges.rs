@@ -240,3 +240,63 @@ fn a_smooth_side_against_a_flat_side_is_kept() {
     fix_in_place(&mut kept, &KEEP).expect("valid");
     assert_eq!(kept, fixed);
 }
+
+/// A heightfield of quads that are not planar (each corner raised or lowered a little, as a
+/// low-poly sculpt leaves them), split into two objects along a column of edges, and
+/// flat-shaded per quad as Blender exports a flat-shaded mesh: every corner of a quad carries
+/// the quad's normal (Newell's: the cross product of its diagonals), which lies off each of
+/// its two triangles' planes by a few degrees. `quantise`: the normals stored as int8, as
+/// KHR_mesh_quantization writes them.
+fn non_planar_facets(quantise: bool) -> Model {
+    let height = |i: u32, j: u32| {
+        let h = (i * 7 + j * 13) % 5;
+        0.12 * h as f32 + 0.05 * (i % 2) as f32
+    };
+    let corner = |i: u32, j: u32| Vec3::new(i as f32, height(i, j), -(j as f32));
+    let object = |name: &str, columns: std::ops::Range<u32>| {
+        let (mut positions, mut normals, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+        for i in columns {
+            for j in 0..3 {
+                let p = [corner(i, j), corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)];
+                let mut n = (p[2] - p[0]).cross(p[3] - p[1]).normalize();
+                if quantise {
+                    n = (n * 127.0).round() / 127.0;
+                }
+                let base = u32::try_from(positions.len()).expect("small");
+                positions.extend(p);
+                normals.extend([n; 4]);
+                triangles.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]]);
+            }
+        }
+        let mut o = Object::new(name, positions, triangles);
+        o.normals = Some(normals);
+        o
+    };
+    Model::new(vec![object("left", 0..2), object("right", 2..4)])
+}
+
+#[test]
+fn flat_shaded_quads_that_are_not_planar_keep_their_facets() {
+    for quantise in [false, true] {
+        let input = non_planar_facets(quantise);
+        // The fixture's facets are not planar: corners lie off their triangles' planes.
+        let off = input.objects[0]
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|i| input.objects[0].positions[i as usize]);
+                let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+                let n = input.objects[0].normals.as_ref().expect("normals")[t[0] as usize];
+                face.angle_between(n.normalize()).to_degrees()
+            })
+            .fold(0.0_f32, f32::max);
+        assert!(off > 3.0, "the quads are not planar: {off} degrees");
+        let mut fixed = input.clone();
+        let changes = fix_in_place(&mut fixed, &AUTO).expect("valid");
+        for (out, inp) in fixed.objects.iter().zip(&input.objects) {
+            assert_eq!(bits(out), bits(inp), "{}: every facet as authored ({quantise})", out.name);
+        }
+        assert_eq!(changes.normals_changed(), 0, "{changes:?}");
+        assert_eq!(changes.shared.repaired, 0, "{:?}", changes.shared);
+    }
+}
