@@ -1126,3 +1126,30 @@ fn unusable_subsets_are_one_warning() {
     assert_eq!(per_triangle.iter().filter(|m| **m == blue).count(), 10);
     assert_eq!(per_triangle[16..18], [red, red]);
 }
+
+/// A layer in a format openusd has no reader for (MaterialX's `.mtlx`, which Pixar's USD
+/// reads only through its MaterialX plugin) is one warning, as in Pixar's USD without the
+/// plugin, and the rest of the stage composes: the same model as without the reference.
+#[test]
+fn a_materialx_layer_is_one_warning_and_the_rest_composes() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(stage("head_body.usda")).unwrap();
+    let looks = "def \"Looks\"\n    {";
+    let library = "\n        def \"Library\" (\n            references = @./looks.mtlx@</MaterialX>\n        )\n        {\n        }\n";
+    let with = text.replacen(looks, &format!("{looks}{library}"), 1);
+    assert_ne!(with, text, "head_body.usda has its Looks");
+    let path = dir.path().join("head_body.usda");
+    std::fs::write(&path, with).unwrap();
+    std::fs::write(
+        dir.path().join("looks.mtlx"),
+        "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n  <surfacematerial name=\"M\" type=\"material\" />\n</materialx>\n",
+    )
+    .unwrap();
+    let asset = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap();
+    let plain = seamlit_io::load(&stage("head_body.usda"), &LoadOptions::GEOMETRY).unwrap();
+    assert_eq!(asset.model.objects.len(), plain.model.objects.len());
+    assert_eq!(asset.model.triangle_count(), plain.model.triangle_count());
+    let lines: Vec<&String> = asset.warnings.iter().filter(|w| w.contains("looks.mtlx")).collect();
+    assert_eq!(lines.len(), 1, "{:?}", asset.warnings);
+    assert!(lines[0].contains("openusd reads no .mtlx layers") && !lines[0].contains('\n'));
+}

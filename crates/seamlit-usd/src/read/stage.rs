@@ -139,10 +139,25 @@ pub(super) fn composition(
             pcp::Error::UnresolvedLayer { arc: pcp::ArcType::Payload, .. }
                 | pcp::Error::MalformedLayer { arc: pcp::ArcType::Payload, .. }
         );
+        // A layer in a format openusd has no reader for (MaterialX's `.mtlx`, which Pixar's
+        // USD reads through a plugin): Pixar's USD without that plugin warns and composes the
+        // rest, and so does seamlit.
+        let unread = match &error {
+            pcp::Error::MalformedLayer { asset_path, .. } => unread_format(asset_path),
+            _ => None,
+        };
         let message = error.to_string();
         // A layer refused for where it lies is an error, a payload too.
         opened.check_refused(path)?;
-        if payload {
+        if let Some(extension) = unread {
+            let line = format!(
+                "{}: {message}: openusd reads no .{extension} layers; the stage composes without it",
+                path.display()
+            );
+            if !warnings.contains(&line) {
+                warnings.push(line);
+            }
+        } else if payload {
             let line = format!("{}: {message}: the stage composes without it", path.display());
             if !warnings.contains(&line) {
                 warnings.push(line);
@@ -153,6 +168,15 @@ pub(super) fn composition(
         }
     }
     opened.check_refused(path)
+}
+
+/// The extension of `asset_path` (lower case) where it names a layer format openusd has no
+/// reader for; `None` for its own formats (`.usda`, `.usdc`, `.usd`, `.usdz`, and a path inside
+/// a package) and for a path without an extension.
+fn unread_format(asset_path: &str) -> Option<String> {
+    let file = asset_path.split('[').next().unwrap_or(asset_path);
+    let extension = Path::new(file).extension()?.to_string_lossy().to_ascii_lowercase();
+    (!matches!(extension.as_str(), "usda" | "usdc" | "usd" | "usdz")).then_some(extension)
 }
 
 /// The stage's `upAxis` as the rotation that turns it into +Y up: a quarter turn about X for
