@@ -24,8 +24,8 @@ const times = {};
 async function start() {
   await init();
   times.wasmMs = performance.now();
-  // For measurements from the console or puppeteer (web/test/bench.mjs).
-  window.seamlit = { Viewer };
+  // For measurements from the console or puppeteer (web/test/bench.mjs, check.mjs).
+  window.seamlit = { Viewer, report: () => (viewer ? viewer.report : "") };
   try {
     viewer = await Viewer.create($("view"));
     times.webgpuMs = performance.now();
@@ -101,6 +101,29 @@ async function takeFiles(files) {
   }
   document.body.dataset.loads = String(Number(document.body.dataset.loads ?? 0) + 1);
 }
+// The fix options: the command line's flags --crease, --normals and --tangents. A change fixes
+// the model shown again, and its download and report follow.
+function fixOptions() {
+  const fix = { crease_angle_deg: Number($("crease").value), normals: $("normals").value };
+  const tangents = $("tangents").value;
+  if (tangents) fix.tangents = tangents;
+  return JSON.stringify({ fix, tangents_asked: tangents !== "" });
+}
+for (const id of ["crease", "normals", "tangents"]) {
+  $(id).addEventListener("change", () => {
+    if (!viewer) return;
+    error("");
+    try {
+      viewer.setOptions(fixOptions());
+      offer(viewer.outputName ? viewer : null);
+      redraw();
+    } catch (e) {
+      error(String(e.message ?? e).split("\n")[0]);
+    }
+    document.body.dataset.fixes = String(Number(document.body.dataset.fixes ?? 0) + 1);
+  });
+}
+
 // The fixed file as a download and what the fix did, for the model just loaded (or nothing).
 let downloadUrl = null;
 function offer(loaded) {

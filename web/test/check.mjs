@@ -3,7 +3,8 @@
 // - the page starts, draws seamlit demo's teapot and writes the canvas to OUT/canvas-demo.png
 //   (run.sh compares it with `seamlit demo`'s picture by FLIP);
 // - files through #file: Fox.glb shows, its download is the file `seamlit fix` writes (OUT/cli,
-//   written by run.sh) and its report the lines it prints, a corrupted GLB gets one line naming it, and the next
+//   written by run.sh) and its report the lines it prints, and with the page's options set
+//   (normals recompute, crease 30) the file `seamlit fix` writes with those flags; a corrupted GLB gets one line naming it, and the next
 //   model loads;
 // - a browser without WebGPU gets one line in #error and nothing else breaks.
 // Prints one JSON line of measurements; exits 1 on the first failed check.
@@ -65,6 +66,33 @@ try {
     if (offered.report.split("\n")[0] !== cliText.split("\n")[0] || !offered.report.startsWith(cliText)) {
       fail(`the page's report is not seamlit fix's: ${JSON.stringify(offered.report)} vs ${JSON.stringify(cliText)}`);
     }
+    // The page's options are the command line's flags: recompute the normals with a crease
+    // of 30 degrees, and the download is `seamlit fix --normals recompute --crease 30`'s file.
+    await page.select("#normals", "recompute");
+    await page.waitForFunction(() => Number(document.body.dataset.fixes ?? 0) >= 1, { timeout: 120000 });
+    await page.$eval("#crease", (e) => { e.value = "30"; e.dispatchEvent(new Event("change")); });
+    await page.waitForFunction(() => Number(document.body.dataset.fixes ?? 0) >= 2, { timeout: 120000 });
+    const refixed = await page.evaluate(async () => {
+      const link = document.getElementById("download");
+      const bytes = await (await fetch(link.href)).arrayBuffer();
+      const digest = new Uint8Array(await crypto.subtle.digest("SHA-256", bytes));
+      return {
+        error: document.getElementById("error").textContent,
+        sha256: [...digest].map((b) => b.toString(16).padStart(2, "0")).join(""),
+        options: JSON.parse(window.seamlit.report()).options,
+      };
+    });
+    const recomputed = createHash("sha256").update(await readFile(`${out}/cli/Fox-recompute.glb`)).digest("hex");
+    result.options = { ...refixed.options, sameAsCli: refixed.sha256 === recomputed };
+    if (refixed.error || refixed.options.crease_angle_deg !== 30 || refixed.options.normals !== "recompute") {
+      fail(`the page's options: ${JSON.stringify(refixed)}`);
+    }
+    if (refixed.sha256 !== recomputed || refixed.sha256 === cliSha) {
+      fail(`the page's Fox.glb with --normals recompute --crease 30 is not seamlit fix's`);
+    }
+    // Back to the defaults for the checks below.
+    await page.select("#normals", "auto");
+    await page.$eval("#crease", (e) => { e.value = "60"; e.dispatchEvent(new Event("change")); });
     await writeFile(`${out}/canvas-fox.png`, await (await page.$("#view")).screenshot());
     const good = await readFile(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
     await writeFile(`${out}/broken.glb`, good.subarray(0, good.length >> 1));

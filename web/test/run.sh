@@ -28,6 +28,7 @@ flip() {
 # The page's download of Fox.glb is checked against the command line's file and lines.
 mkdir -p "$out/cli"
 seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox.glb" >"$out/cli/Fox.txt"
+seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox-recompute.glb" --normals recompute --crease 30 >/dev/null
 # (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
 node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 seamlit demo --out "$out/demo" >/dev/null

@@ -39,6 +39,11 @@ pub struct Viewer {
     marked: usize,
     /// The last dropped model's fixed file (its name and bytes) and its report (JSON).
     output: Option<Output>,
+    /// How dropped models are fixed: the command line's defaults until the page's controls
+    /// change them ([`Viewer::set_options`]).
+    job: FixJob,
+    /// The last dropped model, as loaded, to fix again when the options change.
+    dropped: Option<(String, Asset)>,
 }
 
 /// What the page offers for the model it shows: the fixed file and what the fix did.
@@ -109,6 +114,8 @@ impl Viewer {
             settings,
             marked: 0,
             output: None,
+            job: FixJob { report_as_loaded: true, ..FixJob::DEFAULT },
+            dropped: None,
         })
     }
 
@@ -184,15 +191,10 @@ impl Viewer {
             return Err(refuse("the file holds no triangles"));
         }
         self.output = None;
-        let mut fixed = asset.clone();
-        let job = FixJob { report_as_loaded: true, ..FixJob::DEFAULT };
-        let done = fix_asset(&mut fixed, &job).map_err(|e| refuse(&e.to_string()))?;
-        // A VRM 0.x avatar faces -Z: seen from the front, as three-vrm shows it.
-        let vrm0 = asset.document::<seamlit_io::GltfSource>().is_some_and(|s| s.is_vrm0());
-        let facing = if vrm0 { Facing::MinusZ } else { Facing::PlusZ };
-        self.show(&asset, &fixed, &done.options, facing)?;
-        self.settings = FrameSettings { debug_view: self.settings.debug_view, ..look(&asset) };
-        self.output = Some(output(name, &fixed, &done)?);
+        self.dropped = None;
+        self.present(name, &asset)?;
+        self.dropped = Some((name.to_owned(), asset));
+        let asset = &self.dropped.as_ref().expect("just set").1;
         Ok(format!(
             "{name}: {} objects, {} triangles; {} shared positions whose normals differ are \
              marked on it as loaded",
@@ -200,6 +202,39 @@ impl Viewer {
             asset.model.triangle_count(),
             self.marked
         ))
+    }
+
+    /// Sets how dropped models are fixed and fixes the one shown again (its file and report
+    /// follow). `json` holds `seamlit fix`'s options as the Python package sends them:
+    /// `{"fix": {"crease_angle_deg": 30, "normals": "recompute", "tangents": "mikktspace"},
+    /// "tangents_asked": true}` (members left out keep the command line's defaults).
+    ///
+    /// # Errors
+    ///
+    /// One line for options that do not parse; as [`Viewer::load_file`] for the refix.
+    #[wasm_bindgen(js_name = setOptions)]
+    pub fn set_options(&mut self, json: &str) -> Result<(), JsError> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Options {
+            #[serde(default)]
+            fix: FixOptions,
+            #[serde(default)]
+            tangents_asked: bool,
+        }
+        let options: Options =
+            serde_json::from_str(json).map_err(|e| js_error("the fix options", e))?;
+        self.job =
+            FixJob { options: options.fix, tangents_asked: options.tangents_asked, ..self.job };
+        if let Some((name, asset)) = self.dropped.take() {
+            // The same model again: the view stays where the user turned it.
+            let (camera, orbit) = (self.camera.clone(), self.orbit);
+            let presented = self.present(&name, &asset);
+            self.dropped = Some((name, asset));
+            presented?;
+            (self.camera, self.orbit) = (camera, orbit);
+        }
+        Ok(())
     }
 
     /// The fixed file's name (`NAME.glb`, or `NAME.vrm` for a VRM avatar), empty before a
@@ -316,6 +351,22 @@ impl Viewer {
 }
 
 impl Viewer {
+    /// Fixes the model dropped as `name` ([`Viewer::job`]), shows it as loaded and fixed, and
+    /// writes its fixed file and report.
+    fn present(&mut self, name: &str, asset: &Asset) -> Result<(), JsError> {
+        self.output = None;
+        let refuse = |why: &str| JsError::new(&format!("{name}: {why}"));
+        let mut fixed = asset.clone();
+        let done = fix_asset(&mut fixed, &self.job).map_err(|e| refuse(&e.to_string()))?;
+        // A VRM 0.x avatar faces -Z: seen from the front, as three-vrm shows it.
+        let vrm0 = asset.document::<seamlit_io::GltfSource>().is_some_and(|s| s.is_vrm0());
+        let facing = if vrm0 { Facing::MinusZ } else { Facing::PlusZ };
+        self.show(asset, &fixed, &done.options, facing)?;
+        self.settings = FrameSettings { debug_view: self.settings.debug_view, ..look(asset) };
+        self.output = Some(output(name, &fixed, &done)?);
+        Ok(())
+    }
+
     /// Puts `asset` as loaded and `fixed` on the GPU, framed by the default camera of
     /// `seamlit render`; marks the shared positions whose normals differ as loaded (welded
     /// with `options`' tolerance). The camera looks at the model's front (`facing`).
