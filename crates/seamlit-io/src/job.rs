@@ -129,12 +129,10 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
     let copies = Copies::of(asset, &options).map_err(FixError::Geometry)?;
     let before = copies.measure(asset, &animations, job.samples, &options);
     let report_options = ReportOptions::from(&options);
-    let as_loaded = match job.report_as_loaded {
-        true => {
-            Some(seamlit_mesh::report(&asset.model, &report_options).map_err(FixError::Geometry)?)
-        }
-        false => None,
-    };
+    let as_loaded = (job.report_as_loaded)
+        .then(|| seamlit_mesh::report(&asset.model, &report_options))
+        .transpose()
+        .map_err(FixError::Geometry)?;
     // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
     let changes =
         seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(FixError::Geometry)?;
