@@ -30,10 +30,12 @@ pub struct LoadOptions {
     /// When set, a missing material library or texture is an error
     /// ([`crate::IoError::MissingFile`]) instead of a warning.
     pub strict: bool,
-    /// Folders, besides the model file's own, that the files a model names may come from:
-    /// a USD stage's layers (sublayers, references, payloads) and textures. A USD layer
-    /// elsewhere is refused ([`crate::UsdKind::Outside`]); a texture elsewhere is not used
-    /// (a warning).
+    /// Empty (the default): the files a USD stage names (sublayers, references, payloads,
+    /// textures) are read wherever they resolve, as USD reads them (only regular files).
+    /// Otherwise the strict mode: those files may come only from the model file's own folder
+    /// and these; a USD layer elsewhere is refused ([`crate::UsdKind::Outside`]), a texture
+    /// elsewhere is not used (a warning). A `.usdz` output packs only files from the stage's
+    /// folder and these, either way.
     pub asset_roots: Vec<std::path::PathBuf>,
     /// Whether to read the materials that OpenUSD `materialBind` GeomSubsets bind to parts
     /// of meshes, into [`crate::Asset::triangle_materials`] (and their materials and

@@ -559,14 +559,17 @@ fn a_drawn_prototype_source_is_written_and_its_instances_named() {
     assert_eq!(diff["differences"], serde_json::json!([]), "{diff:#}");
 }
 
-/// The teapot layout without `--asset-root` refuses its teapot, a layer outside the stage's
-/// folder that 494 arcs reference: the error names the same arc on every run (openusd lists
-/// its composition errors in an order that changes from run to run; before, so did the line).
+/// The teapot layout confined to its own folder (`--asset-root` naming it) refuses its teapot,
+/// a layer outside that folder that 494 arcs reference: the error names the same arc on every
+/// run (openusd lists its composition errors in an order that changes from run to run;
+/// before, so did the line).
 #[test]
 fn a_layer_outside_the_folder_is_named_by_the_same_arc_every_time() {
     let input = stage("others/intent-vfx/scenes/teapotScene_layout.usd");
+    let scenes = input.parent().unwrap().to_path_buf();
+    let strict = LoadOptions { asset_roots: vec![scenes], ..LoadOptions::GEOMETRY };
     let messages: BTreeSet<String> = (0..4)
-        .map(|_| match seamlit_io::load(&input, &LoadOptions::GEOMETRY) {
+        .map(|_| match seamlit_io::load(&input, &strict) {
             Err(e) => e.to_string(),
             Ok(_) => panic!("the teapot lies outside the stage's folder"),
         })
@@ -781,12 +784,14 @@ fn stages_that_do_not_compose_fail_in_one_line() {
     assert!(asset.warnings.iter().any(|w| w.contains("gone_payload.usda")), "{:?}", asset.warnings);
 }
 
-/// A layer a stage names outside its folder (`../`, an absolute path) is not opened: one line
-/// naming the arc's layer and prim, exit status 2 at the command line; `asset_roots` allows
-/// the folder. Every layer, not only the root one, is held to the size limit and the text
+/// A layer a stage names outside its folder (`../`, an absolute path) is read as USD resolves
+/// it, as asset libraries lay their layers out. With `asset_roots` (`--asset-root`, the
+/// strict mode) a layer outside the stage's folder and those folders is not opened: one line
+/// naming the arc's layer and prim, exit status 2 at the command line. A device is never
+/// opened. Every layer, not only the root one, is held to the size limit and the text
 /// nesting limit.
 #[test]
-fn layers_outside_the_stages_folder_or_limits_are_refused() {
+fn layers_outside_the_stages_folder_are_read_unless_confined_and_limits_hold() {
     let dir = tempfile::tempdir().unwrap();
     let (inner, outer) = (dir.path().join("shot"), dir.path().join("elsewhere"));
     std::fs::create_dir_all(&inner).unwrap();
@@ -804,9 +809,12 @@ fn layers_outside_the_stages_folder_or_limits_are_refused() {
         path
     };
     let absolute = outer.join("prop.usda").display().to_string();
+    // Strict: only the stage's own folder (and so nothing outside it).
+    let strict = LoadOptions { asset_roots: vec![inner.clone()], ..LoadOptions::GEOMETRY };
     for (name, asset) in [("up.usda", "../elsewhere/prop.usda"), ("absolute.usda", &absolute)] {
         let path = referencing(name, asset);
-        let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+        assert_eq!(load(&path).model.objects.len(), 1, "{name}: read as USD resolves it");
+        let err = seamlit_io::load(&path, &strict).unwrap_err();
         assert!(matches!(err, IoError::Usd { kind: UsdKind::Outside { .. }, .. }), "{err:?}");
         let line = err.to_string();
         assert!(!line.contains('\n'), "{line}");
@@ -819,8 +827,25 @@ fn layers_outside_the_stages_folder_or_limits_are_refused() {
     // A sublayer outside: the stage would compose without it; refused all the same.
     let path = inner.join("sub.usda");
     std::fs::write(&path, "#usda 1.0\n(\n    subLayers = [@../elsewhere/prop.usda@]\n)\n").unwrap();
-    let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err();
+    assert_eq!(load(&path).model.objects.len(), 1);
+    let err = seamlit_io::load(&path, &strict).unwrap_err();
     assert!(matches!(err, IoError::Usd { kind: UsdKind::Outside { .. }, .. }), "{err:?}");
+    // A device or a pipe is no layer, even named like one (reading it would never end): one
+    // line naming it, nothing read from it.
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", outer.join("zero.usda")).unwrap();
+        let path = referencing("device.usda", "../elsewhere/zero.usda");
+        let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err().to_string();
+        assert!(err.contains("/dev/zero") && !err.contains('\n'), "{err}");
+        let fifo = outer.join("pipe.usda");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        let path = referencing("pipe.usda", "../elsewhere/pipe.usda");
+        let err = seamlit_io::load(&path, &LoadOptions::GEOMETRY).unwrap_err().to_string();
+        assert!(err.contains("pipe.usda") && err.contains("not a regular file"), "{err}");
+        assert!(!err.contains('\n'), "{err}");
+    }
 
     // Inside the folder, each layer a stage references is checked as the root one is.
     let path = referencing("inside.usda", "./prop.usda");

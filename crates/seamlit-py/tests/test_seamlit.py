@@ -242,10 +242,11 @@ def test_a_usd_stage_gets_a_layer_of_fixed_normals_as_from_the_command_line(tmp_
     assert ours.read_bytes() == theirs.read_bytes()
     assert b"subLayers" in ours.read_bytes()
     before = seamlit.inspect(source)["as_loaded"]["cross_object"]["max_normal_angle_deg"]
-    # The layer sublayers the input, outside the layer's folder: refused unless allowed.
+    # The layer sublayers the input, outside the layer's folder: read as USD resolves it,
+    # refused where reading is confined to the layer's folder (asset_roots, the strict mode).
     with pytest.raises(seamlit.SeamlitError, match="--asset-root"):
-        seamlit.inspect(ours)
-    reread = seamlit.inspect(ours, asset_roots=[source.parent])
+        seamlit.inspect(ours, asset_roots=[ours.parent])
+    reread = seamlit.inspect(ours)
     after = reread["as_loaded"]["cross_object"]["max_normal_angle_deg"]
     assert before > 20.0 and after < 0.01, (before, after)
 

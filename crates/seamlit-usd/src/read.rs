@@ -14,7 +14,7 @@ mod stage;
 mod xform;
 
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use openusd::{sdf, usd};
@@ -66,9 +66,31 @@ pub(crate) fn read(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSo
     seamlit_asset::files::check_size(path, options)?;
     let (mut asset, sources) = guarded(path, || read_stage(path, options))?;
     let mut warnings = std::mem::take(&mut asset.warnings);
-    warnings.extend(seamlit_asset::texture::decode_all(&mut asset.textures, path, options)?);
+    let decoding = textures_admitted(&asset, options);
+    warnings.extend(seamlit_asset::texture::decode_all(&mut asset.textures, path, &decoding)?);
     asset.warnings = warnings;
     Ok((asset, sources))
+}
+
+/// `options` for decoding the stage's textures: the texture decoder reads files only inside
+/// the model's folder and the asset roots, and without asset roots a stage's textures are
+/// read where USD resolves them (the materials admitted only regular files, `material.rs`):
+/// their folders are allowed as well.
+fn textures_admitted(asset: &Asset, options: &LoadOptions) -> LoadOptions {
+    if !options.asset_roots.is_empty() {
+        return options.clone();
+    }
+    let mut folders: Vec<PathBuf> = asset
+        .textures
+        .iter()
+        .filter_map(|t| match &t.source {
+            seamlit_asset::TextureSource::File(file) => file.parent().map(Path::to_path_buf),
+            _ => None,
+        })
+        .collect();
+    folders.sort();
+    folders.dedup();
+    LoadOptions { asset_roots: folders, ..options.clone() }
 }
 
 fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource), IoError> {

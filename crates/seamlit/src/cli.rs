@@ -275,9 +275,11 @@ pub struct LoadFlags {
     /// Quads per patch side for Newell patch files.
     #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub tessellation: u32,
-    /// A folder, besides the model's own, that the files a USD stage names (layers it
-    /// references, sublayers, payloads, textures) may come from; repeat for more. A layer
-    /// outside these folders is refused.
+    /// Confines the files a USD stage names (layers it references, sublayers, payloads,
+    /// textures) to the model's own folder and this one; repeat for more. Without it they are
+    /// read wherever they resolve, as USD reads them; with it a layer outside is refused (the
+    /// strict mode, for services). A .usdz output packs only files from the stage's folder
+    /// and these, either way.
     #[arg(long = "asset-root", value_name = "DIR")]
     pub asset_roots: Vec<PathBuf>,
 }

@@ -66,12 +66,13 @@ fn usd_is_read_by_every_command_and_fixed_as_a_layer() {
     assert!(stdout(&o).starts_with("wrote "), "{}", stdout(&o));
     let text = std::fs::read_to_string(&layer).unwrap();
     assert!(text.contains("subLayers") && text.contains("head_body.usdz@"), "{text}");
-    // The layer is itself a stage seamlit reads, with the input's folder allowed (the layer
-    // sublayers the input, outside the layer's own folder).
+    // The layer is itself a stage seamlit reads: it sublayers the input, outside the layer's
+    // own folder, which USD resolves; confined to the layer's folder (--asset-root), it is not.
     let o = seamlit(&["inspect", &layer, "--json"]);
-    assert_bad_input(&o, &["fixed.usda", "head_body.usdz", "--asset-root"]);
-    let o = seamlit(&["inspect", &layer, "--json", "--asset-root", &usd("")]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let own = dir.path().display().to_string();
+    let o = seamlit(&["inspect", &layer, "--json", "--asset-root", &own]);
+    assert_bad_input(&o, &["fixed.usda", "head_body.usdz", "--asset-root"]);
     // A package: the layer first, the input inside; seamlit reads it back.
     let package = out("fixed.usdz");
     let o = seamlit(&["fix", &usd("head_body.usdz"), "-o", &package]);
@@ -151,27 +152,32 @@ fn the_folder_mode_fixes_usd_stages() {
     assert_eq!(names, ["faceted.glb", "head_body.glb"]);
 }
 
-/// A stage whose layers lie outside its folder (the car kit's entry layer references its
-/// siblings' folders) is bad input in one line that names the way out, `--asset-root`; with
-/// the kit's folder allowed, every command reads it and `fix` writes the layer.
+/// A stage whose layers lie in its siblings' folders, as asset libraries lay them out (the
+/// car kit's entry layer references `../../../wheels/...`): every command reads it with no
+/// flag and `fix` writes the layer. Confined by `--asset-root` to the entry layer's folder
+/// (the strict mode), it is bad input in one line naming the layer; the kit's folder allowed,
+/// it reads again.
 #[test]
-fn asset_root_allows_layers_outside_the_stages_folder() {
+fn layers_in_sibling_folders_are_read_and_asset_root_confines() {
     let dir = tempfile::tempdir().unwrap();
     let kit = usd("others/USD_Mini_Car_Kit");
     let car = usd("others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda");
     let o = seamlit(&["inspect", &car]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout(&o).contains("wheelRed"), "{}", stdout(&o));
+    let own = Path::new(&car).parent().unwrap().display().to_string();
+    let o = seamlit(&["inspect", &car, "--asset-root", &own]);
     assert_bad_input(&o, &["formulaFullAsset.usda", "outside the stage's folder", "--asset-root"]);
     let o = seamlit(&["inspect", &car, "--asset-root", &kit]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(stdout(&o).contains("wheelRed"), "{}", stdout(&o));
     // The output layer beside the input: it sublayers the input by a relative path.
     let out = Path::new(&car).with_file_name("__asset_root_test.usda");
-    let o = seamlit(&["fix", &car, "-o", &out.display().to_string(), "--asset-root", &kit]);
+    let o = seamlit(&["fix", &car, "-o", &out.display().to_string()]);
     let written = out.exists();
     let _ = std::fs::remove_file(&out);
     assert!(o.status.success() && written, "{}", String::from_utf8_lossy(&o.stderr));
     let png = dir.path().join("car.png").display().to_string();
-    let o = seamlit(&["render", &car, "-o", &png, "--size", "64x48", "--asset-root", &kit]);
+    let o = seamlit(&["render", &car, "-o", &png, "--size", "64x48"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 

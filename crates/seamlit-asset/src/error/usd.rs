@@ -21,8 +21,9 @@ pub enum UsdKind {
         /// openusd's description.
         message: String,
     },
-    /// A layer (sublayer, reference, payload) that resolves outside the stage's folder and
-    /// the folders allowed by [`crate::LoadOptions::asset_roots`]: seamlit does not open it.
+    /// In the strict mode ([`crate::LoadOptions::asset_roots`] given), a layer (sublayer,
+    /// reference, payload) that resolves outside the stage's folder and those folders:
+    /// seamlit does not open it.
     #[error(
         "{layer}: it lies outside the stage's folder {folder}; seamlit reads layers only from there and from folders given with --asset-root DIR"
     )]

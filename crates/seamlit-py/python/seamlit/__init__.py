@@ -113,8 +113,9 @@ def fix_file(
     with only normals, tangents, split vertices, indices (and matched skin weights) changed.
     Meshopt-compressed geometry is written uncompressed unless ``keep_compression`` is set
     (``--keep-compression``); a Draco input or an OBJ output with ``keep_compression`` raises
-    ``SeamlitError``. ``asset_roots`` (``--asset-root``): folders besides the input's own that
-    a USD stage's layers and textures may come from. ``skin_seams`` (``--skin-seams``):
+    ``SeamlitError``. ``asset_roots`` (``--asset-root``): confines a USD stage's layers and
+    textures to the input's folder and these (the strict mode; by default they are read
+    wherever USD resolves them). ``skin_seams`` (``--skin-seams``):
     ``"match"`` gives the copies of a shared position one set of skin weights, so the seam
     stays closed when posed; ``"keep"`` leaves the weights as authored. ``samples``
     (``--samples``): times of each animation the seams in motion are measured at.

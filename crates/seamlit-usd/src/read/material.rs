@@ -6,6 +6,7 @@
 //! stage's folder or an asset root ([`seamlit_asset::LoadOptions::asset_roots`]), or from inside the
 //! `.usdz` package that holds it.
 
+use super::resolver::Reach;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -20,8 +21,8 @@ use seamlit_asset::{AlphaMode, Material, Texture, TextureRef, TextureSource};
 pub(super) struct Materials<'s> {
     stage: &'s usd::Stage,
     file: &'s Path,
-    /// The canonical folders textures may come from: the stage's and the asset roots.
-    folders: Vec<PathBuf>,
+    /// Where textures may come from (the stage's reach).
+    reach: Reach,
     pub list: Vec<Material>,
     pub textures: Vec<Texture>,
     by_path: HashMap<String, usize>,
@@ -30,11 +31,10 @@ pub(super) struct Materials<'s> {
 
 impl<'s> Materials<'s> {
     pub(super) fn new(stage: &'s usd::Stage, file: &'s Path, asset_roots: &[PathBuf]) -> Self {
-        let folders = super::resolver::allowed_folders(file, asset_roots);
         Self {
             stage,
             file,
-            folders,
+            reach: Reach::of(file, asset_roots),
             list: Vec::new(),
             textures: Vec::new(),
             by_path: HashMap::new(),
@@ -273,11 +273,11 @@ impl<'s> Materials<'s> {
                     }
                 }
             }
-            Some(resolved) => match inside(&self.folders, Path::new(resolved)) {
-                Some(file) => Some(TextureSource::File(file)),
-                None => {
+            Some(resolved) => match inside(&self.reach, Path::new(resolved)) {
+                Ok(file) => Some(TextureSource::File(file)),
+                Err(why) => {
                     warnings.push(format!(
-                        "{}: texture @{written}@ is not used: it lies outside the stage's folder (--asset-root DIR allows another folder)",
+                        "{}: texture @{written}@ is not used: {why}",
                         self.file.display()
                     ));
                     None
@@ -293,14 +293,20 @@ impl<'s> Materials<'s> {
     }
 }
 
-/// `file` when it lies inside one of `folders` (canonical; by canonical paths), or when it is
-/// missing (the texture decoder then warns that it is).
-fn inside(folders: &[PathBuf], file: &Path) -> Option<PathBuf> {
+/// `file` when it is a regular file within `reach` (by its canonical path), or when it is
+/// missing (the texture decoder then warns that it is); otherwise why it is not used.
+fn inside(reach: &Reach, file: &Path) -> Result<PathBuf, &'static str> {
     if !file.exists() {
-        return Some(file.to_path_buf());
+        return Ok(file.to_path_buf());
     }
-    let real = file.canonicalize().ok()?;
-    folders.iter().any(|f| real.starts_with(f)).then_some(real)
+    let real = file.canonicalize().map_err(|_| "its path cannot be followed")?;
+    if !reach.admits(&real) {
+        return Err("it lies outside the stage's folder and the --asset-root folders");
+    }
+    if !real.is_file() {
+        return Err("it is not a regular file");
+    }
+    Ok(real)
 }
 
 /// A `color3f` value, `default` where there is none.

@@ -1,12 +1,15 @@
-//! The asset resolver seamlit opens stages with: openusd's default resolver, confined to the
-//! stage's folders and checking each layer before openusd parses it.
+//! The asset resolver seamlit opens stages with: openusd's default resolver, checking each
+//! layer before openusd parses it, and confined to folders where the user asks for it.
 //!
 //! A stage's layers (sublayers, references, payloads) may name any file by an absolute or
-//! `../` path. A layer that resolves outside the root layer's folder and the folders the user
-//! allows ([`seamlit_asset::LoadOptions::asset_roots`], `--asset-root`) is not opened: the stage fails
-//! to compose with one line naming it (as issue 33 asks: a model file cannot make seamlit read
-//! files elsewhere on the machine). Every layer opened, not only the root one, is held to the
-//! file size limit and, in text form, to the nesting depth openusd's parser survives.
+//! `../` path, and asset libraries do (a kit's entry layer referencing `../geo/` and
+//! `../../materials/`): they are read as USD resolves them ([`Reach::Anywhere`]). With
+//! [`seamlit_asset::LoadOptions::asset_roots`] (`--asset-root`, the strict mode for services)
+//! a layer outside the root layer's folder and those folders is not opened
+//! ([`Reach::Within`]): the stage fails to compose with one line naming it. Either way only
+//! regular files are opened (never a device or a folder), every layer, not only the root
+//! one, is held to the file size limit and, in text form, to the nesting depth openusd's
+//! parser survives; and what a `.usdz` output packs is confined all the same (package.rs).
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -27,6 +30,34 @@ pub(crate) fn allowed_folders(root_layer: &Path, roots: &[PathBuf]) -> Vec<PathB
         .collect()
 }
 
+/// Where a stage's files may come from.
+#[derive(Clone, Debug)]
+pub(crate) enum Reach {
+    /// Wherever its asset paths resolve (no `--asset-root` given).
+    Anywhere,
+    /// Only these folders, canonical: the root layer's and the asset roots.
+    Within(Vec<PathBuf>),
+}
+
+impl Reach {
+    /// The reach of a stage whose root layer is `root_layer`, read with `asset_roots`.
+    pub(crate) fn of(root_layer: &Path, asset_roots: &[PathBuf]) -> Self {
+        if asset_roots.is_empty() {
+            Self::Anywhere
+        } else {
+            Self::Within(allowed_folders(root_layer, asset_roots))
+        }
+    }
+
+    /// Whether `real` (a canonical path) may be read.
+    pub(crate) fn admits(&self, real: &Path) -> bool {
+        match self {
+            Self::Anywhere => true,
+            Self::Within(folders) => folders.iter().any(|f| real.starts_with(f)),
+        }
+    }
+}
+
 /// A layer the resolver would not open: its asset path and where it resolved.
 #[derive(Clone, Debug)]
 pub(super) struct Outside {
@@ -34,38 +65,31 @@ pub(super) struct Outside {
     pub resolved: PathBuf,
 }
 
-/// The folders layers may come from, and what was refused.
+/// Where layers may come from, and what was refused.
 pub(super) struct Confined {
     inner: ar::DefaultResolver,
-    /// Canonical folders.
-    roots: Vec<PathBuf>,
+    reach: Reach,
     max_file_bytes: u64,
     refused: Arc<Mutex<Vec<Outside>>>,
 }
 
 impl Confined {
-    /// A resolver for the stage whose root layer is `root_layer`: its folder and `roots`
-    /// allowed (folders that do not exist are left out). Layers it refuses are added to
-    /// `refused`.
+    /// A resolver for the stage whose root layer is `root_layer`, read with `roots` (see
+    /// [`Reach::of`]). Layers it refuses are added to `refused`.
     pub(super) fn new(
         root_layer: &Path,
         roots: &[PathBuf],
         max_file_bytes: u64,
         refused: Arc<Mutex<Vec<Outside>>>,
     ) -> Self {
-        let roots = allowed_folders(root_layer, roots);
-        Self { inner: ar::DefaultResolver::new(), roots, max_file_bytes, refused }
+        let reach = Reach::of(root_layer, roots);
+        Self { inner: ar::DefaultResolver::new(), reach, max_file_bytes, refused }
     }
 
-    /// Whether the file `resolved` names (the package of a path inside a `.usdz`) lies in
-    /// one of the allowed folders.
+    /// Whether the file `resolved` names (the package of a path inside a `.usdz`) lies
+    /// within the reach.
     fn allowed(&self, resolved: &Path) -> bool {
-        let text = resolved.to_string_lossy();
-        let file = match ar::split_package_relative_path_outer(&text) {
-            Some((package, _)) if ar::is_package_relative_path(&text) => PathBuf::from(package),
-            _ => resolved.to_path_buf(),
-        };
-        file.canonicalize().is_ok_and(|real| self.roots.iter().any(|r| real.starts_with(r)))
+        file_of(resolved).canonicalize().is_ok_and(|real| self.reach.admits(&real))
     }
 }
 
@@ -91,6 +115,10 @@ impl Resolver for Confined {
     }
 
     fn open_asset(&self, resolved: &ar::ResolvedPath) -> io::Result<Box<dyn ar::Asset>> {
+        // A device (/dev/zero never ends) or a folder is not a layer.
+        if !std::fs::metadata(file_of(resolved)).is_ok_and(|m| m.is_file()) {
+            return Err(io::Error::other("not a regular file; seamlit opens no other"));
+        }
         let mut asset = self.inner.open_asset(resolved)?;
         let size = asset.size()?;
         if size > self.max_file_bytes {
@@ -132,7 +160,15 @@ impl Resolver for Confined {
     }
 
     fn identity(&self) -> String {
-        let roots: String = self.roots.iter().map(|p| format!("{p:?}")).collect();
-        format!("seamlit-confined{roots}")
+        format!("seamlit-confined{:?}", self.reach)
+    }
+}
+
+/// The file a resolved path names: the package of a path inside a `.usdz`, else the path.
+fn file_of(resolved: &Path) -> PathBuf {
+    let text = resolved.to_string_lossy();
+    match ar::split_package_relative_path_outer(&text) {
+        Some((package, _)) if ar::is_package_relative_path(&text) => PathBuf::from(package),
+        _ => resolved.to_path_buf(),
     }
 }
