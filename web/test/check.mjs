@@ -93,6 +93,20 @@ try {
     // Back to the defaults for the checks below.
     await page.select("#normals", "auto");
     await page.$eval("#crease", (e) => { e.value = "60"; e.dispatchEvent(new Event("change")); });
+    // An OBJ, read from memory: the download is the GLB `seamlit fix groups.obj` writes.
+    const obj = await load(`${models}groups.obj`);
+    if (obj.error) throw new Error(`groups.obj: ${obj.error}`);
+    const objOffered = await page.evaluate(async () => {
+      const link = document.getElementById("download");
+      const bytes = await (await fetch(link.href)).arrayBuffer();
+      const digest = new Uint8Array(await crypto.subtle.digest("SHA-256", bytes));
+      return { name: link.download, sha256: [...digest].map((b) => b.toString(16).padStart(2, "0")).join("") };
+    });
+    const objCli = createHash("sha256").update(await readFile(`${out}/cli/groups.glb`)).digest("hex");
+    result.obj = { status: obj.status, name: objOffered.name, sameAsCli: objOffered.sha256 === objCli };
+    if (obj.error || !/^groups\.obj: \d+ objects/.test(obj.status) || objOffered.name !== "groups.glb" || objOffered.sha256 !== objCli) {
+      fail(`groups.obj: ${JSON.stringify({ obj, objOffered })}`);
+    }
     await writeFile(`${out}/canvas-fox.png`, await (await page.$("#view")).screenshot());
     const good = await readFile(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
     await writeFile(`${out}/broken.glb`, good.subarray(0, good.length >> 1));

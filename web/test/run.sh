@@ -29,6 +29,7 @@ flip() {
 mkdir -p "$out/cli"
 seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox.glb" >"$out/cli/Fox.txt"
 seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox-recompute.glb" --normals recompute --crease 30 >/dev/null
+seamlit fix assets/models/groups.obj -o "$out/cli/groups.glb" >/dev/null
 # (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
 node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 seamlit demo --out "$out/demo" >/dev/null

@@ -150,3 +150,67 @@ fn an_object_named_after_a_usemtl_split_keeps_its_name() {
         [("unnamed_object", &[[0, 1, 2]][..]), ("leg", &[[0, 1, 2], [1, 3, 2], [0, 3, 2]][..])]
     );
 }
+
+/// `seamlit_obj::parse` (a file held in memory: the web page's) reads what `load` reads from
+/// the file: the same model, materials, warnings and source text, for every committed OBJ
+/// (UTF-16 files and those with material libraries and textures among them), and writes the
+/// same bytes back.
+#[test]
+fn an_obj_in_memory_reads_as_the_file_does() {
+    let mut files = Vec::new();
+    let mut stack = vec![model("")];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() >= 4, "{files:?}");
+    // And one of several megabytes, cut into several blocks (parse.rs reads a megabyte a block).
+    let big = tempfile::tempdir().unwrap();
+    let mut text = String::new();
+    let n = 400;
+    for j in 0..=n {
+        for i in 0..=n {
+            text.push_str(&format!("v {i}.25 {}.5 {j}.125\n", (i * j) % 7));
+        }
+    }
+    for j in 0..n {
+        text.push_str(&format!("o strip{j}\n"));
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            text.push_str(&format!("f {a} {} {} {}\n", a + 1, a + n + 2, a + n + 1));
+        }
+    }
+    assert!(text.len() > 3 << 20, "{} bytes", text.len());
+    std::fs::write(big.path().join("big.obj"), &text).unwrap();
+    files.push(big.path().join("big.obj"));
+    for path in files {
+        let loaded = seamlit_io::obj::load(&path, &LoadOptions::DEFAULT);
+        let bytes = std::fs::read(&path).unwrap();
+        let parsed = seamlit_io::obj::parse(&bytes, &path, &LoadOptions::DEFAULT);
+        let (loaded, parsed) = match (loaded, parsed) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(a), Err(b)) => {
+                assert_eq!(a.to_string(), b.to_string(), "{}", path.display());
+                continue;
+            }
+            (a, b) => panic!("{}: {:?} against {:?}", path.display(), a.err(), b.err()),
+        };
+        assert!(loaded.model == parsed.model, "{}: the model", path.display());
+        assert_eq!(loaded.materials.len(), parsed.materials.len(), "{}", path.display());
+        assert_eq!(loaded.warnings, parsed.warnings, "{}", path.display());
+        let dir = tempfile::tempdir().unwrap();
+        let save = |asset: &seamlit_io::Asset, name: &str| {
+            let out = dir.path().join(name).join("out.obj");
+            std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+            seamlit_io::save(asset, &out, &seamlit_io::SaveOptions::default()).unwrap();
+            std::fs::read(&out).unwrap()
+        };
+        assert!(save(&loaded, "a") == save(&parsed, "b"), "{}: the bytes written", path.display());
+    }
+}

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use seamlit_asset::{Asset, IoError, KeepCompression, SaveOptions};
 
-pub use read::load;
+pub use read::{load, parse};
 pub use source::ObjSource;
 
 /// Writes `asset` as an `.obj` at `path`, with a `.mtl` and the textures beside it; returns

@@ -36,7 +36,7 @@ use std::sync::mpsc;
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use blocks::{READ_AHEAD, read_blocks};
+use blocks::{BLOCK, READ_AHEAD, read_blocks};
 use corners::{Corner, INVALID, MISSING};
 use dedup::{dense_dedup, hashed_dedup};
 use seamlit_asset::{IoError, NotText, Syntax};
@@ -183,7 +183,29 @@ pub(crate) fn read(file: impl Read + Send, path: &Path) -> Result<Parsed, IoErro
         reader.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)).map(|()| parsed)
     })
     .map_err(|e| IoError::io(path, e))?;
-    let mut parsed = parsed;
+    from_chunks(parsed, path)
+}
+
+/// [`read`] of OBJ text already in memory, without the reading thread (a browser has none):
+/// the blocks are cut first, then parsed by rayon.
+///
+/// # Errors
+///
+/// As [`read`].
+pub(crate) fn read_slice(bytes: &[u8], path: &Path) -> Result<Parsed, IoError> {
+    // Every block but the last takes a whole block's bytes from the text: this many fit.
+    let (blocks, received) = mpsc::sync_channel::<(usize, Vec<u8>)>(bytes.len() / BLOCK + 2);
+    let (_unused, free) = mpsc::channel::<Vec<u8>>();
+    read_blocks(bytes, &blocks, &free).map_err(|e| IoError::io(path, e))?;
+    drop(blocks);
+    let blocks: Vec<(usize, Vec<u8>)> = received.into_iter().collect();
+    let parsed =
+        blocks.into_par_iter().map(|(index, block)| (index, parse_chunk(&block))).collect();
+    from_chunks(parsed, path)
+}
+
+/// The parsed blocks (by their index) as one [`Parsed`].
+fn from_chunks(mut parsed: Vec<(usize, ChunkResult)>, path: &Path) -> Result<Parsed, IoError> {
     parsed.sort_unstable_by_key(|&(index, _)| index);
 
     let mut line_base = 0;

@@ -51,6 +51,47 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         Some(text) => crate::parse::read(text.as_bytes(), path),
         None => crate::parse::read(file, path),
     }?;
+    // The text as parsed, for the pass-through writer (`passthrough.rs`).
+    let text = match decoded {
+        Some(text) => text.into_bytes(),
+        None => seamlit_asset::files::read_bytes(path, options)?,
+    };
+    finish(path, parsed, text, options)
+}
+
+/// Parses OBJ `bytes` (a file held in memory: the web page's); `path` names the file in
+/// errors and its folder resolves the material libraries it names, which are read from there
+/// where there is one (in a browser there is none: each is a warning, as a missing library
+/// is).
+///
+/// # Errors
+///
+/// As [`load`], but for reading the file itself.
+pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    if bytes.len() as u64 > options.max_file_bytes {
+        return Err(IoError::TooLarge {
+            path: path.to_path_buf(),
+            limit: options.max_file_bytes,
+            actual: bytes.len() as u64,
+        });
+    }
+    let text = match bytes.get(..2) {
+        Some([0xFF, 0xFE]) => decode_utf16(bytes, u16::from_le_bytes, path)?.into_bytes(),
+        Some([0xFE, 0xFF]) => decode_utf16(bytes, u16::from_be_bytes, path)?.into_bytes(),
+        _ => bytes.to_vec(),
+    };
+    let parsed = crate::parse::read_slice(&text, path)?;
+    finish(path, parsed, text, options)
+}
+
+/// The asset of a parsed file whose `text` (UTF-8) is kept for the pass-through writer: its
+/// material libraries read, its objects built, its materials converted, its textures decoded.
+fn finish(
+    path: &Path,
+    parsed: crate::parse::Parsed,
+    text: Vec<u8>,
+    options: &LoadOptions,
+) -> Result<Asset, IoError> {
     let mut warnings = Vec::new();
     if let Some(line) = parsed.legacy_names {
         warnings.push(crate::parse::names::legacy_warning(path, line));
@@ -65,11 +106,6 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     warnings.extend(objects_warnings(path, &sources));
     convert_materials(path, &libraries.materials, &mut asset)?;
     asset.source = Some(path.to_path_buf());
-    // The text as parsed, for the pass-through writer (`passthrough.rs`).
-    let text = match decoded {
-        Some(text) => text.into_bytes(),
-        None => seamlit_asset::files::read_bytes(path, options)?,
-    };
     let sources = sources.into_iter().map(|origin| origin.source).collect();
     let source = ObjSource::new(text, path, library_lines, sources);
     asset.document = Some(seamlit_asset::SourceDocument::new(source));

@@ -161,8 +161,9 @@ impl Viewer {
     /// tangents for a normal-mapped model without them, skin weights matched at seams), and
     /// writes the fixed file (GLB; a VRM stays a VRM: [`Viewer::output_name`],
     /// [`Viewer::output_bytes`]) and its report ([`Viewer::report`]). Returns a one-line
-    /// summary. Reads GLB and VRM, and glTF whose buffers and images are embedded (data
-    /// URIs); other formats get one line that says so.
+    /// summary. Reads GLB and VRM, glTF whose buffers and images are embedded (data URIs), and
+    /// OBJ (its material libraries, files beside it, are a warning); other formats get one
+    /// line that says so.
     ///
     /// # Errors
     ///
@@ -174,19 +175,20 @@ impl Viewer {
         let extension =
             path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
         let refuse = |why: &str| JsError::new(&format!("{name}: {why}"));
-        match extension.as_str() {
-            "glb" | "vrm" | "gltf" => {}
+        let options = seamlit_io::LoadOptions::default();
+        let parsed = match extension.as_str() {
+            "glb" | "vrm" | "gltf" => seamlit_io::gltf::parse(bytes, path, &options),
+            // Its material libraries are files beside it the page does not have: a warning.
+            "obj" => seamlit_io::obj::parse(bytes, path, &options),
             "fbx" => return Err(refuse("FBX needs the command line (`seamlit fix`)")),
-            "obj" | "usdz" | "usda" | "usdc" | "usd" => {
+            "usdz" | "usda" | "usdc" | "usd" => {
                 return Err(refuse(
-                    "the page reads GLB, VRM and self-contained glTF so far; use the command line",
+                    "the page reads GLB, VRM, self-contained glTF and OBJ so far; use the command line",
                 ));
             }
             _ => return Err(refuse("not a model file seamlit reads")),
-        }
-        let options = seamlit_io::LoadOptions::default();
-        let asset = seamlit_io::gltf::parse(bytes, path, &options)
-            .map_err(|e| JsError::new(&e.to_string()))?;
+        };
+        let asset = parsed.map_err(|e| JsError::new(&e.to_string()))?;
         if asset.model.triangle_count() == 0 {
             return Err(refuse("the file holds no triangles"));
         }

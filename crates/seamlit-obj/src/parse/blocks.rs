@@ -18,7 +18,7 @@ use seamlit_asset::NotText;
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// The size of the blocks the file is read and parsed in (each is cut at its last line end).
-const BLOCK: usize = 1 << 20;
+pub(super) const BLOCK: usize = 1 << 20;
 
 /// How many blocks the reader may read ahead of the parsers.
 pub(super) const READ_AHEAD: usize = 4;
