@@ -188,6 +188,26 @@ impl Fixed {
     }
 }
 
+impl Fixed {
+    /// The report of one file: [`Fixed::json`] with `input` (as named), `output`, `summary`
+    /// ([`Fixed::summary`]) and the loader's and writer's `warnings`, as the Python package
+    /// and the web page hand it on.
+    #[must_use]
+    pub fn file_json<'a>(
+        &self,
+        input: &str,
+        output: &Path,
+        warnings: impl IntoIterator<Item = &'a String>,
+    ) -> serde_json::Value {
+        let mut json = self.json();
+        json["input"] = input.into();
+        json["output"] = output.display().to_string().into();
+        json["summary"] = self.summary(output).into();
+        json["warnings"] = warnings.into_iter().map(String::as_str).collect::<Vec<_>>().into();
+        json
+    }
+}
+
 /// The JSON of one animation's seams in motion (`inspect --json`'s `motion` members).
 #[must_use]
 pub fn motion_json(m: &SeamMotion) -> serde_json::Value {

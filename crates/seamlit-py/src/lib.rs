@@ -152,13 +152,8 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         let fixed =
             fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
         let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
-        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved.warnings).collect();
-        let mut json = fixed.json();
-        json["input"] = input.display().to_string().into();
-        json["output"] = output.display().to_string().into();
-        json["summary"] = fixed.summary(&output).into();
-        json["warnings"] = serde_json::json!(warnings);
-        Ok(json)
+        let warnings = asset.warnings.iter().chain(&saved.warnings);
+        Ok(fixed.file_json(&input.display().to_string(), &output, warnings))
     };
     json(&py.detach(run)?)
 }
@@ -193,12 +188,7 @@ fn fix_glb_bytes<'py>(
         if files.len() != 1 {
             return Err(error(format!("{name}: the fixed model needs files beside it")));
         }
-        let warnings: Vec<&String> = asset.warnings.iter().chain(&saved).collect();
-        let mut json = fixed.json();
-        json["input"] = name.into();
-        json["output"] = output.display().to_string().into();
-        json["summary"] = fixed.summary(output).into();
-        json["warnings"] = serde_json::json!(warnings);
+        let json = fixed.file_json(name, output, asset.warnings.iter().chain(&saved));
         Ok((files.remove(0).1, json))
     };
     let (bytes, report) = py.detach(run)?;

@@ -435,12 +435,7 @@ fn output(name: &str, fixed: &Asset, done: &Fixed) -> Result<Output, JsError> {
         )));
     }
     let (_, bytes) = files.remove(0);
-    let mut report = done.json();
-    report["input"] = name.into();
-    report["output"] = out.display().to_string().into();
-    report["summary"] = done.summary(&out).into();
-    let warnings: Vec<&String> = fixed.warnings.iter().chain(&warnings).collect();
-    report["warnings"] = serde_json::json!(warnings);
+    let report = done.file_json(name, &out, fixed.warnings.iter().chain(&warnings));
     let report = serde_json::to_string_pretty(&report).map_err(|e| js_error("the report", e))?;
     Ok(Output { name: out.display().to_string(), bytes, report })
 }
