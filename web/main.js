@@ -25,7 +25,7 @@ async function start() {
   await init();
   times.wasmMs = performance.now();
   // For measurements from the console or puppeteer (web/test/bench.mjs, check.mjs).
-  window.seamlit = { Viewer, report: () => (viewer ? viewer.report : "") };
+  window.seamlit = { Viewer, report: () => (viewer ? viewer.report : ""), fixed: () => (viewer ? viewer.fixed : "") };
   try {
     viewer = await Viewer.create($("view"));
     times.webgpuMs = performance.now();
@@ -80,17 +80,18 @@ for (const radio of document.querySelectorAll("input[name=state]")) {
   radio.addEventListener("change", () => { viewer?.setFixed(radio.value === "fixed"); redraw(); });
 }
 
-// Files: the picker and drag and drop.
+// Files: the picker and drag and drop. Each file is named by its path below what was
+// dropped (a folder keeps its tree), so that a glTF finds its buffers and images and an OBJ
+// its material libraries and textures; the wasm side picks the model among them.
 async function takeFiles(files) {
   error("");
   if (!files.length || !viewer) return;
-  // The model among the files (a glTF's buffers and images would come with it).
-  const model = files.find((f) => /\.(glb|vrm|gltf|obj|fbx|usdz|usda|usdc|usd)$/i.test(f.name)) ?? files[0];
   document.body.dataset.state = "loading";
   try {
-    const bytes = new Uint8Array(await model.arrayBuffer());
+    const names = files.map((f) => f.path ?? (f.webkitRelativePath || f.name));
+    const contents = await Promise.all(files.map(async (f) => new Uint8Array(await f.arrayBuffer())));
     offer(null);
-    const summary = viewer.loadFile(model.name, bytes);
+    const summary = viewer.loadFiles(names, contents);
     status(summary);
     offer(viewer);
     redraw();
@@ -100,6 +101,29 @@ async function takeFiles(files) {
     document.body.dataset.state = "ready";
   }
   document.body.dataset.loads = String(Number(document.body.dataset.loads ?? 0) + 1);
+}
+
+// The files of a drop, folders walked (FileSystemEntry): each with `path`, its path below
+// what was dropped.
+async function droppedFiles(items) {
+  const entries = [...items].map((i) => i.webkitGetAsEntry?.()).filter(Boolean);
+  const files = [];
+  const walk = async (entry, prefix) => {
+    if (entry.isFile) {
+      const file = await new Promise((ok, fail) => entry.file(ok, fail));
+      file.path = prefix + file.name;
+      files.push(file);
+    } else if (entry.isDirectory) {
+      const reader = entry.createReader();
+      for (;;) {
+        const batch = await new Promise((ok, fail) => reader.readEntries(ok, fail));
+        if (!batch.length) break;
+        for (const child of batch) await walk(child, `${prefix}${entry.name}/`);
+      }
+    }
+  };
+  for (const entry of entries) await walk(entry, "");
+  return files;
 }
 // The fix options: the command line's flags --crease, --normals and --tangents. A change fixes
 // the model shown again, and its download and report follow.
@@ -124,7 +148,8 @@ for (const id of ["crease", "normals", "tangents"]) {
   });
 }
 
-// The fixed file as a download and what the fix did, for the model just loaded (or nothing).
+// The fixed file as a download, the seam report and what the fix did, for the model just
+// loaded (or nothing).
 let downloadUrl = null;
 function offer(loaded) {
   const link = $("download");
@@ -132,15 +157,18 @@ function offer(loaded) {
   downloadUrl = null;
   link.hidden = true;
   $("report").textContent = "";
+  $("summary").textContent = "";
   if (!loaded) return;
-  const report = JSON.parse(loaded.report);
-  downloadUrl = URL.createObjectURL(new Blob([loaded.outputBytes], { type: "model/gltf-binary" }));
+  const fixed = JSON.parse(loaded.fixed);
+  const type = loaded.outputName.endsWith(".zip") ? "application/zip" : "model/gltf-binary";
+  downloadUrl = URL.createObjectURL(new Blob([loaded.outputBytes], { type }));
   link.href = downloadUrl;
   link.download = loaded.outputName;
   link.textContent = `download the fixed file (${loaded.outputName})`;
   link.hidden = false;
-  const warnings = report.warnings.map((w) => `warning: ${w}`);
-  $("report").textContent = [report.summary, ...warnings].join("\n");
+  const warnings = fixed.warnings.map((w) => `warning: ${w}`);
+  $("summary").textContent = [fixed.summary, ...warnings].join("\n");
+  $("report").textContent = loaded.report;
 }
 $("file").addEventListener("change", (e) => takeFiles([...e.target.files]));
 const drop = $("drop");
@@ -149,7 +177,7 @@ drop.addEventListener("dragleave", () => drop.classList.remove("over"));
 drop.addEventListener("drop", (e) => {
   e.preventDefault();
   drop.classList.remove("over");
-  takeFiles([...e.dataTransfer.files]);
+  droppedFiles(e.dataTransfer.items).then((files) => takeFiles(files.length ? files : [...e.dataTransfer.files]));
 });
 
 start();

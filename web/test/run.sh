@@ -21,6 +21,8 @@ web/build.sh --dev >/dev/null
 bound=0.012
 # SEAMLIT and SEAMLIT_BENCH may name built programs; by default cargo runs them (CI has just
 # built them for the tests).
+[ -n "${SEAMLIT:-}" ] && SEAMLIT=$(realpath "$SEAMLIT")
+[ -n "${SEAMLIT_BENCH:-}" ] && SEAMLIT_BENCH=$(realpath "$SEAMLIT_BENCH")
 seamlit() { if [ -n "${SEAMLIT:-}" ]; then "$SEAMLIT" "$@"; else cargo run -q -p seamlit -- "$@"; fi; }
 flip() {
   if [ -n "${SEAMLIT_BENCH:-}" ]; then "$SEAMLIT_BENCH" flip "$@"; else cargo run -q -p seamlit-bench -- flip "$@"; fi
@@ -29,7 +31,18 @@ flip() {
 mkdir -p "$out/cli"
 seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox.glb" >"$out/cli/Fox.txt"
 seamlit fix assets/models/fox/Fox.glb -o "$out/cli/Fox-recompute.glb" --normals recompute --crease 30 >/dev/null
-seamlit fix assets/models/groups.obj -o "$out/cli/groups.glb" >/dev/null
+# #report is what `seamlit inspect --json` prints, run where the model is (the page names a
+# file by its name).
+(cd assets/models/fox && seamlit inspect --json Fox.glb) >"$out/cli/Fox.json"
+seamlit fix assets/models/clearcoat_test/ClearCoatTest.gltf -o "$out/cli/ClearCoatTest.glb" >/dev/null
+(cd assets/models/clearcoat_test && seamlit inspect --json ClearCoatTest.gltf) >"$out/cli/ClearCoatTest.json"
+# An OBJ with a material library and a texture in a subfolder: Spot, given a material.
+mkdir -p "$out/spot/textures"
+{ printf 'mtllib spot.mtl\nusemtl cow\n'; cat assets/models/spot/spot_triangulated.obj; } >"$out/spot/spot.obj"
+printf 'newmtl cow\nKd 1 1 1\nmap_Kd textures/spot_texture.png\n' >"$out/spot/spot.mtl"
+cp assets/models/spot/spot_texture.png "$out/spot/textures/"
+seamlit fix "$out/spot/spot.obj" -o "$out/cli/spot/spot.obj" >/dev/null
+(cd "$out/spot" && seamlit inspect --json spot.obj) >"$out/cli/spot.json"
 # (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
 node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 seamlit demo --out "$out/demo" >/dev/null

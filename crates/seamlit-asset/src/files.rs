@@ -5,9 +5,14 @@
 //! files they write beside their output ([`safe_name`]), and whether two paths are one
 //! file ([`same_file`]). A writer that can write into memory takes a [`Destination`]: the
 //! files (atomically, as above) or a list of named byte buffers (the web page's download).
+//! Files are read from [`Files`]: the file system, or a set of files in memory (the web
+//! page's dropped files), named in [`LoadOptions::files`] and kept by the readers' sources
+//! for their writers.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+
+pub use crate::origin::{Files, MemoryFiles, normalize};
 
 use crate::error::IoError;
 use crate::options::LoadOptions;
@@ -140,9 +145,10 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Refuses a file over `options.max_file_bytes` (and one that cannot be looked at).
+/// Refuses a file over `options.max_file_bytes` (and one that cannot be looked at), read
+/// from [`LoadOptions::files`].
 pub fn check_size(path: &Path, options: &LoadOptions) -> Result<(), IoError> {
-    let size = std::fs::metadata(path).map_err(|e| IoError::io(path, e))?.len();
+    let size = options.files.size(path).map_err(|e| IoError::io(path, e))?;
     if size > options.max_file_bytes {
         return Err(IoError::TooLarge {
             path: path.to_path_buf(),
@@ -153,10 +159,11 @@ pub fn check_size(path: &Path, options: &LoadOptions) -> Result<(), IoError> {
     Ok(())
 }
 
-/// Reads a file whole, refusing files over `options.max_file_bytes`.
+/// Reads a file whole from [`LoadOptions::files`], refusing files over
+/// `options.max_file_bytes`.
 pub fn read_bytes(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, IoError> {
     check_size(path, options)?;
-    std::fs::read(path).map_err(|e| IoError::io(path, e))
+    options.files.read(path).map_err(|e| IoError::io(path, e))
 }
 
 /// Reads a text file whole (invalid UTF-8 replaced), refusing files over the size limit.

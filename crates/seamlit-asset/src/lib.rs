@@ -34,6 +34,7 @@ pub mod error;
 pub mod files;
 pub mod motion;
 mod options;
+mod origin;
 pub mod paths;
 pub mod polygon;
 pub mod pose;

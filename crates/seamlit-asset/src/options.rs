@@ -42,6 +42,11 @@ pub struct LoadOptions {
     /// textures into the asset's lists), for drawing. Off by default and for `fix`: a mesh
     /// is then one object with its own material, and what is written from it does not change.
     pub subset_materials: bool,
+    /// Where the model file's side files (buffers, images, material libraries, layers) are
+    /// read from: the file system (the default), or files in memory
+    /// ([`crate::files::Files::Memory`], the web page's dropped files). The model file itself
+    /// comes from the caller of a reader's `parse`; its path names it in that set.
+    pub files: crate::origin::Files,
 }
 
 impl LoadOptions {
@@ -59,6 +64,7 @@ impl LoadOptions {
         strict: false,
         asset_roots: Vec::new(),
         subset_materials: false,
+        files: crate::origin::Files::Disk,
     };
 
     /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).

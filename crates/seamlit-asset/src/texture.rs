@@ -21,7 +21,8 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::paths::{NotInside, real_inside};
+use crate::files::Files;
+use crate::paths::NotInside;
 use crate::{IoError, LoadOptions, Texture, TextureSource};
 
 /// Bytes of one decoded texel (RGBA8).
@@ -174,8 +175,8 @@ fn locate(
             _ if texture.image.is_some() => None,
             TextureSource::Generated => None,
             TextureSource::Embedded { bytes, .. } => Some(Ok(Encoded::Bytes(Arc::clone(bytes)))),
-            TextureSource::File(file) => match real_inside(folder, file) {
-                Ok(real) => Some(Ok(Encoded::File(real))),
+            TextureSource::File(file) => match options.files.real_inside(folder, file) {
+                Ok(real) => Some(encoded_file(real, options)),
                 // A folder the caller allows (a USD stage's textures beside its other layers).
                 Err(NotInside::Outside(target)) if in_asset_root(&target, options) => {
                     Some(Ok(Encoded::File(target)))
@@ -210,6 +211,18 @@ fn locate(
         sources.push(source);
     }
     Ok(sources)
+}
+
+/// Where to read the texture file at `real`: the file system, or its bytes in memory
+/// ([`LoadOptions::files`]).
+fn encoded_file(real: PathBuf, options: &LoadOptions) -> Result<Encoded, String> {
+    match &options.files {
+        Files::Disk => Ok(Encoded::File(real)),
+        Files::Memory(files) => files
+            .get(&real)
+            .map(|bytes| Encoded::Bytes(Arc::clone(bytes)))
+            .ok_or_else(|| format!("texture {}: not among the files given", real.display())),
+    }
 }
 
 /// Whether `real` (a canonical path) lies in one of [`LoadOptions::asset_roots`].

@@ -148,7 +148,8 @@ fn read(
         document_nodes[a] = d;
     }
     asset.variants = variants(&json, &instances, asset.materials.len(), path, &mut warnings);
-    let source = GltfSource::new(json, buffers, path, instances, document_nodes);
+    let source =
+        GltfSource::new(json, buffers, path, instances, document_nodes, options.files.clone());
     asset.document = Some(seamlit_asset::SourceDocument::new(source));
     warnings.extend(seamlit_asset::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;

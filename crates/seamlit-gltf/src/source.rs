@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use seamlit_asset::files::Files;
 use seamlit_mesh::Model;
 use serde_json::Value;
 
@@ -31,6 +32,8 @@ pub(crate) struct Source {
     pub(crate) instances: Vec<Instance>,
     /// Per node of [`seamlit_asset::Asset::nodes`]: its index in the document's `nodes`.
     pub(crate) nodes: Vec<usize>,
+    /// Where the files its URIs name were read from (the pass-through copies them from there).
+    pub(crate) files: Files,
 }
 
 /// Where an object came from: a primitive of a mesh, instanced by a node.
@@ -62,8 +65,10 @@ impl GltfSource {
         path: &Path,
         instances: Vec<Instance>,
         nodes: Vec<usize>,
+        files: Files,
     ) -> Self {
-        Self(Arc::new(Source { json, buffers, path: path.to_path_buf(), instances, nodes }))
+        let path = path.to_path_buf();
+        Self(Arc::new(Source { json, buffers, path, instances, nodes, files }))
     }
 
     /// Whether the document is a VRM avatar: VRM 0.x's `VRM` or VRM 1.0's `VRMC_vrm`

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::gltf::BadUri;
+use seamlit_asset::files::Files;
 
 /// For the pass-through writer: the file that a URI of the model at `path` names, checked
 /// as the loader checks it (inside the model's folder, links included): the file as named
@@ -20,11 +21,12 @@ pub(crate) fn resolve_file(
     path: &Path,
     uri: &str,
     what: &str,
+    files: &Files,
 ) -> Result<Option<(PathBuf, Option<PathBuf>)>, IoError> {
     if uri.starts_with("data:") {
         return Ok(None);
     }
-    match resolve(path, uri, what)? {
+    match resolve(path, uri, what, files)? {
         Resolved::File { file, real } => Ok(Some((file, real))),
         Resolved::Data(..) => Ok(None),
     }
@@ -51,13 +53,18 @@ fn bad_uri(path: &Path, what: &str, uri: &str, kind: BadUri) -> IoError {
 
 /// Resolves a URI of the model at `path`: `data:` URIs are decoded (base64 or
 /// percent-encoded), relative paths are percent-decoded and joined to the model's folder;
-/// anything that would leave the folder is refused.
+/// anything that would leave the folder is refused. Files are looked for in `files`.
 ///
 /// # Errors
 ///
 /// [`IoError::BadUri`] for a URI refused by its form, [`IoError::LinkEscapes`] for a file
 /// whose symbolic links lead out of the folder.
-pub(crate) fn resolve(path: &Path, uri: &str, what: &str) -> Result<Resolved, IoError> {
+pub(crate) fn resolve(
+    path: &Path,
+    uri: &str,
+    what: &str,
+    files: &Files,
+) -> Result<Resolved, IoError> {
     let folder = path.parent().unwrap_or(Path::new(""));
     if let Some(data) = uri.strip_prefix("data:") {
         let Some((header, payload)) = data.split_once(',') else {
@@ -98,7 +105,7 @@ pub(crate) fn resolve(path: &Path, uri: &str, what: &str) -> Result<Resolved, Io
     }
     let file = parts.iter().fold(folder.to_path_buf(), |p, part| p.join(part));
     // Inside by name; a symbolic link on the way must not lead out either.
-    let real = match seamlit_asset::paths::real_inside(folder, &file) {
+    let real = match files.real_inside(folder, &file) {
         Ok(real) => Some(real),
         // Missing or unreadable: the read names the problem.
         Err(seamlit_asset::paths::NotInside::Io(_)) => None,

@@ -8,7 +8,8 @@
 //! their indices), the seams in motion before, the fix in place, the skin influences matched
 //! at the copies, the seam report and the seams in motion after. [`Fixed`] holds what each
 //! step found; [`Fixed::summary`] is the text `seamlit fix` prints for a file and
-//! [`Fixed::json`] the document the Python package and the page report.
+//! [`Fixed::json`] the document the Python package and the page report. [`Inspection`] is
+//! `seamlit inspect`: the seam report as loaded and after each mode.
 //!
 //! ```
 //! use seamlit_io::job::{FixJob, fix_asset};
@@ -30,6 +31,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod inspect;
 mod summary;
 
 use std::path::Path;
@@ -38,6 +40,7 @@ use seamlit_asset::Asset;
 use seamlit_asset::motion::{Copies, SeamMotion, morph_seams};
 use seamlit_mesh::{Changes, FixOptions, MeshError, ReportOptions, SeamReport, SkinMatch};
 
+pub use inspect::Inspection;
 pub use summary::{changes_line, count};
 
 /// What to do with a model: the fix options and the command line's other choices.

@@ -19,6 +19,7 @@ mod write;
 
 use std::path::Path;
 
+use seamlit_asset::files::Destination;
 use seamlit_asset::{Asset, IoError, KeepCompression, SaveOptions};
 
 pub use read::{load, parse};
@@ -41,6 +42,22 @@ pub use source::ObjSource;
 /// inconsistent; [`IoError::LinkEscapes`] for a material library or texture reached through a
 /// link that leaves the model's folder; [`IoError::Io`] when writing fails.
 pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<String>, IoError> {
+    save_to(asset, path, options, &mut Destination::files())
+}
+
+/// [`save`] to `to`: files, or memory (the web page offers the OBJ, its material libraries
+/// and textures as one download). The side files the input named are read from where it was
+/// read ([`seamlit_asset::LoadOptions::files`]).
+///
+/// # Errors
+///
+/// As [`save`].
+pub fn save_to(
+    asset: &Asset,
+    path: &Path,
+    options: &SaveOptions,
+    to: &mut Destination,
+) -> Result<Vec<String>, IoError> {
     if options.keep_compression {
         return Err(IoError::CannotKeepCompression {
             path: path.to_path_buf(),
@@ -52,7 +69,7 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<Str
     if let Some(source) = asset.document::<ObjSource>() {
         match source.check_model(&asset.model) {
             Ok(()) => {
-                warnings.extend(passthrough::save(asset, source, path)?);
+                warnings.extend(passthrough::save(asset, source, path, to)?);
                 return Ok(warnings);
             }
             Err(reason) => warnings.push(format!(
@@ -61,6 +78,6 @@ pub fn save(asset: &Asset, path: &Path, options: &SaveOptions) -> Result<Vec<Str
             )),
         }
     }
-    write::save(asset, path)?;
+    write::save(asset, path, to)?;
     Ok(warnings)
 }

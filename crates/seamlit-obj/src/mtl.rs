@@ -99,7 +99,7 @@ fn read_library(
 ) -> Result<Option<Vec<u8>>, IoError> {
     // A symbolic link on the way must not lead out of the model's folder; the real path
     // is what is read. A missing file is left to the read below, which reports it.
-    let real = match seamlit_asset::paths::real_inside(folder, resolved) {
+    let real = match options.files.real_inside(folder, resolved) {
         Ok(real) => real,
         Err(seamlit_asset::paths::NotInside::Outside(target)) => {
             return Err(IoError::LinkEscapes {
@@ -111,7 +111,7 @@ fn read_library(
         }
         Err(seamlit_asset::paths::NotInside::Io(_)) => resolved.to_path_buf(),
     };
-    match std::fs::read(&real) {
+    match options.files.read(&real) {
         Ok(bytes) => Ok(Some(bytes)),
         Err(err) if err.kind() == std::io::ErrorKind::NotFound => match options.strict {
             true => Err(IoError::MissingFile {

@@ -29,6 +29,7 @@ use crate::parse::names;
 use crate::source::{ObjSource, Source, SourceObject};
 use seamlit_asset::Asset;
 use seamlit_asset::error::{InvalidAsset, IoError};
+use seamlit_asset::files::{Destination, Files};
 use seamlit_asset::paths::NotInside;
 
 /// The UTF-8 byte-order mark, copied through (the parser skips it).
@@ -57,7 +58,12 @@ pub(crate) fn tangents_not_written(model: &Model, path: &Path) -> Option<String>
 /// the kept text does not give the loaded faces; [`IoError::LinkEscapes`] for a material
 /// library or texture reached through a link that leaves the model's folder; [`IoError::Io`]
 /// when reading a side file or writing fails.
-pub(crate) fn save(asset: &Asset, source: &ObjSource, path: &Path) -> Result<Vec<String>, IoError> {
+pub(crate) fn save(
+    asset: &Asset,
+    source: &ObjSource,
+    path: &Path,
+    to: &mut Destination,
+) -> Result<Vec<String>, IoError> {
     for object in &asset.model.objects {
         seamlit_asset::check::check_object(object, path)?;
     }
@@ -66,12 +72,12 @@ pub(crate) fn save(asset: &Asset, source: &ObjSource, path: &Path) -> Result<Vec
         object: String::new(),
         kind,
     })?;
-    let mut side = SideFiles::new(&source.0.path, path);
+    let mut side = SideFiles::new(&source.0.path, path, &source.0.files);
     for (name, line) in &source.0.libraries {
         side.library(name, *line)?;
     }
-    side.copy()?;
-    seamlit_asset::files::write(path, &text)?;
+    side.copy(to)?;
+    to.write(path, &text)?;
     Ok(side.warnings)
 }
 
@@ -321,14 +327,16 @@ struct SideFiles<'a> {
     input: &'a Path,
     /// The output OBJ: copies go to the same relative paths beside it.
     output: &'a Path,
+    /// Where the input's files are read from.
+    files: &'a Files,
     /// (real source file, destination), each destination once.
     copies: Vec<(PathBuf, PathBuf)>,
     warnings: Vec<String>,
 }
 
 impl<'a> SideFiles<'a> {
-    fn new(input: &'a Path, output: &'a Path) -> Self {
-        Self { input, output, copies: Vec::new(), warnings: Vec::new() }
+    fn new(input: &'a Path, output: &'a Path, files: &'a Files) -> Self {
+        Self { input, output, files, copies: Vec::new(), warnings: Vec::new() }
     }
 
     /// Plans the copy of the material library `name` (an `mtllib` on `line`) and of the
@@ -343,7 +351,7 @@ impl<'a> SideFiles<'a> {
             return Ok(());
         };
         let Some(real) = self.plan(&parts, &what)? else { return Ok(()) };
-        let bytes = std::fs::read(&real).map_err(|e| IoError::io(&real, e))?;
+        let bytes = self.files.read(&real).map_err(|e| IoError::io(&real, e))?;
         let sub = &parts[..parts.len() - 1];
         // Names read as the reader read them (`parse/names.rs`); the file is copied as it is.
         let (text, _) = names::decode_lines(&bytes);
@@ -369,7 +377,7 @@ impl<'a> SideFiles<'a> {
         let folder = self.input.parent().unwrap_or(Path::new(""));
         // A name decoded from Windows-1252 may be on disk under its bytes as written.
         let file = names::on_disk(folder, parts);
-        let real = match seamlit_asset::paths::real_inside(folder, &file) {
+        let real = match self.files.real_inside(folder, &file) {
             Ok(real) => real,
             Err(NotInside::Outside(target)) => {
                 return Err(IoError::LinkEscapes {
@@ -392,7 +400,7 @@ impl<'a> SideFiles<'a> {
             Ok(below) => out_folder.join(below),
             Err(_) => parts.iter().fold(out_folder.to_path_buf(), |p, s| p.join(s)),
         };
-        if !seamlit_asset::files::same_file(&real, &destination)
+        if !self.files.same_file(&real, &destination)
             && !self.copies.iter().any(|(_, to)| to == &destination)
         {
             self.copies.push((real.clone(), destination));
@@ -400,14 +408,16 @@ impl<'a> SideFiles<'a> {
         Ok(Some(real))
     }
 
-    /// Copies the planned files, each to a temporary name renamed into place.
-    fn copy(&self) -> Result<(), IoError> {
-        for (from, to) in &self.copies {
-            if let Some(parent) = to.parent().filter(|p| !p.as_os_str().is_empty()) {
-                std::fs::create_dir_all(parent).map_err(|e| IoError::io(parent, e))?;
+    /// Copies the planned files to `to` (files: each to a temporary name renamed into place).
+    fn copy(&self, to: &mut Destination) -> Result<(), IoError> {
+        for (from, destination) in &self.copies {
+            if let Some(parent) = destination.parent().filter(|p| !p.as_os_str().is_empty()) {
+                to.create_folder(parent)?;
             }
-            seamlit_asset::files::write_with(to, |out| {
-                std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ())
+            let files = self.files;
+            to.write_with(destination, |out| match files {
+                Files::Disk => std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ()),
+                Files::Memory(_) => out.write_all(&files.read(from)?),
             })?;
         }
         Ok(())

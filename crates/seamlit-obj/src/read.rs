@@ -107,7 +107,7 @@ fn finish(
     convert_materials(path, &libraries.materials, &mut asset)?;
     asset.source = Some(path.to_path_buf());
     let sources = sources.into_iter().map(|origin| origin.source).collect();
-    let source = ObjSource::new(text, path, library_lines, sources);
+    let source = ObjSource::new(text, path, library_lines, sources, options.files.clone());
     asset.document = Some(seamlit_asset::SourceDocument::new(source));
     warnings.extend(seamlit_asset::texture::decode_all(&mut asset.textures, path, options)?);
     asset.warnings = warnings;

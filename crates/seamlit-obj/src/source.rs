@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Mat4;
+use seamlit_asset::files::Files;
 use seamlit_mesh::{Model, Object};
 
 /// The OBJ file an [`seamlit_asset::Asset`] was loaded from: its text as read, its `mtllib`
@@ -27,6 +28,9 @@ pub(crate) struct Source {
     pub(crate) libraries: Vec<(String, usize)>,
     /// Per object of the loaded model.
     pub(crate) objects: Vec<SourceObject>,
+    /// Where its material libraries and textures were read from (the pass-through copies
+    /// them from there).
+    pub(crate) files: Files,
 }
 
 /// Where a loaded object's triangles came from.
@@ -68,8 +72,10 @@ impl ObjSource {
         path: &Path,
         libraries: Vec<(String, usize)>,
         objects: Vec<SourceObject>,
+        files: Files,
     ) -> Self {
-        Self(Arc::new(Source { text, path: path.to_path_buf(), libraries, objects }))
+        let path = path.to_path_buf();
+        Self(Arc::new(Source { text, path, libraries, objects, files }))
     }
 
     /// Whether `model` is still the model of this source: the same objects, each without a

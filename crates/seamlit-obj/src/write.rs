@@ -21,6 +21,7 @@ use std::path::Path;
 use glam::{Mat3, Mat4};
 use seamlit_mesh::VAxis;
 
+use seamlit_asset::files::Destination;
 use seamlit_asset::{Asset, IoError, Material, TextureRef};
 
 /// The `s` statement in force while faces are written, and the group of objects without
@@ -58,8 +59,8 @@ impl SmoothingState {
     }
 }
 
-/// Writes `asset` as OBJ at `path`, with `STEM.mtl` and the textures beside it.
-pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
+/// Writes `asset` as OBJ at `path`, with `STEM.mtl` and the textures beside it, to `to`.
+pub(crate) fn save(asset: &Asset, path: &Path, to: &mut Destination) -> Result<(), IoError> {
     for object in &asset.model.objects {
         seamlit_asset::check::check_object(object, path)?;
     }
@@ -85,12 +86,12 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<(), IoError> {
     let obj = write_obj(asset, (!mtl.mtl.is_empty()).then_some(&names), &stem);
     let folder = path.parent().unwrap_or(Path::new(""));
     for (name, bytes) in &mtl.side_files {
-        seamlit_asset::files::write(&folder.join(name), bytes)?;
+        to.write(&folder.join(name), bytes)?;
     }
     if !mtl.mtl.is_empty() {
-        seamlit_asset::files::write(&folder.join(format!("{stem}.mtl")), mtl.mtl.as_bytes())?;
+        to.write(&folder.join(format!("{stem}.mtl")), mtl.mtl.as_bytes())?;
     }
-    seamlit_asset::files::write(path, obj.as_bytes())
+    to.write(path, obj.as_bytes())
 }
 
 /// A name on one line: line ends become spaces, the ends are trimmed.

@@ -1,9 +1,8 @@
 //! The page's viewer: WebGPU on a canvas, seamlit's renderer, an orbit camera.
 
 use glam::Vec2;
-use seamlit_io::files::Destination;
-use seamlit_io::job::{FixJob, Fixed, fix_asset};
-use seamlit_io::{Asset, Material, SaveOptions};
+use seamlit_io::job::{FixJob, Fixed, Inspection, fix_asset};
+use seamlit_io::{Asset, Material};
 use seamlit_mesh::{FixOptions, Mode, fix};
 use seamlit_render::{
     DebugView, FrameDescriptor, FrameSettings, GpuContext, GpuScene, LightingModel, RenderError,
@@ -46,11 +45,12 @@ pub struct Viewer {
     dropped: Option<(String, Asset)>,
 }
 
-/// What the page offers for the model it shows: the fixed file and what the fix did.
+/// What the page offers for the model it shows: the fixed file, the seam report (`seamlit
+/// inspect --json`) and what the fix did.
 struct Output {
-    name: String,
-    bytes: Vec<u8>,
+    download: crate::files::Download,
     report: String,
+    fixed: String,
 }
 
 fn js_error(context: &str, error: impl std::fmt::Display) -> JsError {
@@ -156,46 +156,32 @@ impl Viewer {
         Ok(())
     }
 
-    /// Shows the model file `name` whose bytes are `bytes`, as loaded and as fixed as
-    /// `seamlit fix` fixes it with its defaults ([`seamlit_io::job::fix_asset`]: MikkTSpace
-    /// tangents for a normal-mapped model without them, skin weights matched at seams), and
-    /// writes the fixed file (GLB; a VRM stays a VRM: [`Viewer::output_name`],
-    /// [`Viewer::output_bytes`]) and its report ([`Viewer::report`]). Returns a one-line
-    /// summary. Reads GLB and VRM, glTF whose buffers and images are embedded (data URIs), and
-    /// OBJ (its material libraries, files beside it, are a warning); other formats get one
-    /// line that says so.
+    /// Shows the model among the files dropped together (`names`, paths relative to what was
+    /// dropped, and `contents`, their bytes; [`crate::files::pick_model`] picks the model, the
+    /// rest are its side files: a glTF's buffers and images, an OBJ's material libraries and
+    /// textures), as loaded and as fixed as `seamlit fix` fixes it ([`fix_asset`], the page's
+    /// options), and writes the fixed file ([`Viewer::output_name`], [`Viewer::output_bytes`])
+    /// and the reports ([`Viewer::report`], [`Viewer::summary`]). Returns a one-line summary.
     ///
     /// # Errors
     ///
-    /// One line naming the file and the reason: a format the page does not read yet, a file
-    /// the reader refuses, a model without triangles.
-    #[wasm_bindgen(js_name = loadFile)]
-    pub fn load_file(&mut self, name: &str, bytes: &[u8]) -> Result<String, JsError> {
-        let path = std::path::Path::new(name);
-        let extension =
-            path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-        let refuse = |why: &str| JsError::new(&format!("{name}: {why}"));
-        let options = seamlit_io::LoadOptions::default();
-        let parsed = match extension.as_str() {
-            "glb" | "vrm" | "gltf" => seamlit_io::gltf::parse(bytes, path, &options),
-            // Its material libraries are files beside it the page does not have: a warning.
-            "obj" => seamlit_io::obj::parse(bytes, path, &options),
-            "fbx" => return Err(refuse("FBX needs the command line (`seamlit fix`)")),
-            "usdz" | "usda" | "usdc" | "usd" => {
-                return Err(refuse(
-                    "the page reads GLB, VRM, self-contained glTF and OBJ so far; use the command line",
-                ));
-            }
-            _ => return Err(refuse("not a model file seamlit reads")),
-        };
-        let asset = parsed.map_err(|e| JsError::new(&e.to_string()))?;
-        if asset.model.triangle_count() == 0 {
-            return Err(refuse("the file holds no triangles"));
-        }
+    /// One line naming the file and the reason: a format the page does not read, a file the
+    /// reader refuses, a missing side file, a model without triangles.
+    #[wasm_bindgen(js_name = loadFiles)]
+    pub fn load_files(
+        &mut self,
+        names: Vec<String>,
+        contents: Vec<js_sys::Uint8Array>,
+    ) -> Result<String, JsError> {
+        let name = crate::files::pick_model(&names)
+            .ok_or_else(|| JsError::new("no file was given"))?
+            .to_owned();
+        let files = names.into_iter().zip(contents.iter().map(js_sys::Uint8Array::to_vec));
+        let asset = crate::files::read(&name, files.collect()).map_err(|e| JsError::new(&e))?;
         self.output = None;
         self.dropped = None;
-        self.present(name, &asset)?;
-        self.dropped = Some((name.to_owned(), asset));
+        self.present(&name, &asset)?;
+        self.dropped = Some((name.clone(), asset));
         let asset = &self.dropped.as_ref().expect("just set").1;
         Ok(format!(
             "{name}: {} objects, {} triangles; {} shared positions whose normals differ are \
@@ -239,28 +225,37 @@ impl Viewer {
         Ok(())
     }
 
-    /// The fixed file's name (`NAME.glb`, or `NAME.vrm` for a VRM avatar), empty before a
-    /// model was dropped.
+    /// The fixed file's name (`NAME.glb`, `NAME.vrm` for a VRM avatar, `NAME.zip` for an OBJ
+    /// with its material libraries and textures), empty before a model was dropped.
     #[wasm_bindgen(getter, js_name = outputName)]
     #[must_use]
     pub fn output_name(&self) -> String {
-        self.output.as_ref().map_or_else(String::new, |o| o.name.clone())
+        self.output.as_ref().map_or_else(String::new, |o| o.download.name.clone())
     }
 
-    /// The fixed file's bytes: what `seamlit fix DIR -o DIR` writes for the dropped file.
+    /// The fixed file's bytes: what `seamlit fix MODEL -o OUT` writes for the dropped model
+    /// (several files as one zip).
     #[wasm_bindgen(getter, js_name = outputBytes)]
     #[must_use]
     pub fn output_bytes(&self) -> Vec<u8> {
-        self.output.as_ref().map_or_else(Vec::new, |o| o.bytes.clone())
+        self.output.as_ref().map_or_else(Vec::new, |o| o.download.bytes.clone())
     }
 
-    /// What the fix did, as JSON: `seamlit fix`'s summary lines (`summary`), the seam reports
-    /// as loaded and fixed, what changed per object, the options, the skins and the seams in
-    /// motion ([`seamlit_io::job::Fixed::json`]), and the writer's warnings.
+    /// The seam report of the dropped model with the page's options: exactly the JSON
+    /// `seamlit inspect --json MODEL` prints with the same flags.
     #[wasm_bindgen(getter)]
     #[must_use]
     pub fn report(&self) -> String {
         self.output.as_ref().map_or_else(String::new, |o| o.report.clone())
+    }
+
+    /// What the fix did, as JSON: `seamlit fix`'s summary lines (`summary`), the seam reports
+    /// as loaded and fixed, what changed per object, the options, the skins and the seams in
+    /// motion ([`seamlit_io::job::Fixed::file_json`]), and the reader's and writer's warnings.
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn fixed(&self) -> String {
+        self.output.as_ref().map_or_else(String::new, |o| o.fixed.clone())
     }
 
     /// Fixes the demo teapot at `tessellation` (1M triangles at 125) with `tangents`
@@ -365,7 +360,7 @@ impl Viewer {
         let facing = if vrm0 { Facing::MinusZ } else { Facing::PlusZ };
         self.show(asset, &fixed, &done.options, facing)?;
         self.settings = FrameSettings { debug_view: self.settings.debug_view, ..look(asset) };
-        self.output = Some(output(name, &fixed, &done)?);
+        self.output = Some(output(name, asset, &fixed, &done)?);
         Ok(())
     }
 
@@ -415,29 +410,19 @@ impl Viewer {
     }
 }
 
-/// The fixed file for the model dropped as `name`: written into memory as `seamlit fix DIR -o
-/// DIR` writes it (GLB, a VRM avatar as `.vrm`), with its report.
-fn output(name: &str, fixed: &Asset, done: &Fixed) -> Result<Output, JsError> {
-    let path = std::path::Path::new(name);
-    let stem = path.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy());
-    let extension = seamlit_io::folder::output_extension(path, "glb");
-    let out = std::path::PathBuf::from(format!("{stem}.{extension}"));
-    let mut memory = Destination::memory();
-    let warnings = seamlit_io::gltf::save_to(fixed, &out, &SaveOptions::default(), &mut memory)
-        .map_err(|e| JsError::new(&e.to_string()))?;
-    let mut files = memory.into_memory();
-    if files.len() != 1 {
-        let names: Vec<String> = files.iter().map(|(p, _)| p.display().to_string()).collect();
-        return Err(JsError::new(&format!(
-            "{name}: the fixed model came out as {} files ({}); the page offers one",
-            files.len(),
-            names.join(", ")
-        )));
-    }
-    let (_, bytes) = files.remove(0);
-    let report = done.file_json(name, &out, fixed.warnings.iter().chain(&warnings));
-    let report = serde_json::to_string_pretty(&report).map_err(|e| js_error("the report", e))?;
-    Ok(Output { name: out.display().to_string(), bytes, report })
+/// The fixed file for the model dropped as `name`, as `seamlit fix` writes it
+/// ([`crate::files::write`]), its seam report as `seamlit inspect --json` prints it, and what
+/// the fix did.
+fn output(name: &str, asset: &Asset, fixed: &Asset, done: &Fixed) -> Result<Output, JsError> {
+    let (download, warnings) = crate::files::write(name, fixed).map_err(|e| JsError::new(&e))?;
+    let inspection = Inspection::measure(&asset.model, &done.options)
+        .map_err(|e| JsError::new(&format!("{name}: {e}")))?;
+    let report = serde_json::to_string_pretty(&inspection.json(name, &done.options))
+        .map_err(|e| js_error("the report", e))?;
+    let fixed = done.file_json(name, &download.output, fixed.warnings.iter().chain(&warnings));
+    let fixed = serde_json::to_string_pretty(&fixed).map_err(|e| js_error("the report", e))?;
+    // `seamlit inspect --json` prints the document and a line end.
+    Ok(Output { download, report: report + "\n", fixed })
 }
 
 /// Clears `view` to `colour` (linear RGBA).

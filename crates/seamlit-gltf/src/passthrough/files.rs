@@ -11,7 +11,7 @@ use super::OutputDocument;
 use super::encode::Layout;
 use crate::json::usize_member;
 use seamlit_asset::error::{InvalidAsset, IoError};
-use seamlit_asset::files::Destination;
+use seamlit_asset::files::{Destination, Files};
 
 impl OutputDocument<'_> {
     /// Buffer 0 holds the input's bytes and the appended ones: the GLB `BIN` chunk, or a new
@@ -82,7 +82,9 @@ impl OutputDocument<'_> {
     /// Plans the copy of the file `uri` names to the same place beside the output. A
     /// missing file is a warning.
     fn copy(&mut self, uri: &str, what: &str) -> Result<(), IoError> {
-        let Some((file, real)) = crate::uri::resolve_file(&self.source.path, uri, what)? else {
+        let Some((file, real)) =
+            crate::uri::resolve_file(&self.source.path, uri, what, &self.source.files)?
+        else {
             return Ok(());
         };
         let Some(real) = real else {
@@ -96,7 +98,7 @@ impl OutputDocument<'_> {
         let folder = self.source.path.parent().unwrap_or(Path::new(""));
         let relative = file.strip_prefix(folder).unwrap_or(&file);
         let destination = self.path.parent().unwrap_or(Path::new("")).join(relative);
-        if !seamlit_asset::files::same_file(&real, &destination) {
+        if !self.source.files.same_file(&real, &destination) {
             self.copies.push((real, destination));
         }
         Ok(())
@@ -107,10 +109,12 @@ impl OutputDocument<'_> {
     /// other than PNG and JPEG that a texture names as its core `source`: embedded, its
     /// `mimeType` would make that texture invalid, as it is not when named by file).
     fn embed(&mut self, i: usize, uri: &str, what: &str) -> Result<bool, IoError> {
-        let Some((_, Some(real))) = crate::uri::resolve_file(&self.source.path, uri, what)? else {
+        let Some((_, Some(real))) =
+            crate::uri::resolve_file(&self.source.path, uri, what, &self.source.files)?
+        else {
             return Ok(false);
         };
-        let bytes = std::fs::read(&real).map_err(|e| IoError::io(&real, e))?;
+        let bytes = self.source.files.read(&real).map_err(|e| IoError::io(&real, e))?;
         let declared = self.json["images"][i]["mimeType"].as_str().map(str::to_owned);
         let Some(mime) = declared.or_else(|| sniff(&bytes).map(str::to_owned)) else {
             return Ok(false);
@@ -145,8 +149,10 @@ impl OutputDocument<'_> {
             if let Some(parent) = destination.parent() {
                 to.create_folder(parent)?;
             }
-            to.write_with(destination, |out| {
-                std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ())
+            let files = &self.source.files;
+            to.write_with(destination, |out| match files {
+                Files::Disk => std::io::copy(&mut std::fs::File::open(from)?, out).map(|_| ()),
+                Files::Memory(_) => out.write_all(&files.read(from)?),
             })?;
         }
         let has_host = self.json["buffers"].get(0).is_some() && !self.host_without_data();

@@ -38,27 +38,29 @@ impl Reader<'_> {
                         continue;
                     }
                 },
-                gltf::buffer::Source::Uri(uri) => match resolve(self.path, uri, &what)? {
-                    Resolved::Data(bytes, _) => bytes,
-                    Resolved::File { file, real } => {
-                        match seamlit_asset::files::read_bytes(
-                            real.as_deref().unwrap_or(&file),
-                            self.options,
-                        ) {
-                            Err(IoError::Io { source, .. })
-                                if source.kind() == std::io::ErrorKind::NotFound =>
-                            {
-                                return Err(IoError::MissingFile {
-                                    path: self.path.to_path_buf(),
-                                    what,
-                                    missing: file,
-                                    line: None,
-                                });
+                gltf::buffer::Source::Uri(uri) => {
+                    match resolve(self.path, uri, &what, &self.options.files)? {
+                        Resolved::Data(bytes, _) => bytes,
+                        Resolved::File { file, real } => {
+                            match seamlit_asset::files::read_bytes(
+                                real.as_deref().unwrap_or(&file),
+                                self.options,
+                            ) {
+                                Err(IoError::Io { source, .. })
+                                    if source.kind() == std::io::ErrorKind::NotFound =>
+                                {
+                                    return Err(IoError::MissingFile {
+                                        path: self.path.to_path_buf(),
+                                        what,
+                                        missing: file,
+                                        line: None,
+                                    });
+                                }
+                                other => other?,
                             }
-                            other => other?,
                         }
                     }
-                },
+                }
             };
             if (data.len() as u64) < buffer.length() as u64 {
                 return Err(IoError::gltf_data(
@@ -129,7 +131,7 @@ impl Reader<'_> {
                         (fallback(), source)
                     }
                     gltf::image::Source::Uri { uri, mime_type } => {
-                        match resolve(self.path, uri, &what)? {
+                        match resolve(self.path, uri, &what, &self.options.files)? {
                             Resolved::Data(bytes, declared) => {
                                 let mime_type = mime_type.map_or(declared, str::to_owned);
                                 (

@@ -12,7 +12,7 @@ use seamlit_scene::{Scene, SceneModel, demo};
 
 use crate::cli::{DemoArgs, FixFlags, LightingArg, TangentsArg, ViewArg, ViewFlags};
 use crate::cmd::compare::{MODES, grid, render_modes};
-use crate::cmd::inspect::Reports;
+use crate::cmd::inspect;
 use crate::failure::{Classify, Failure};
 use crate::picture::save_png;
 use crate::prepare::Loaded;
@@ -46,12 +46,12 @@ fn print_seam_report(asset: &Asset) -> Result<(), Failure> {
         asset.model.objects.len(),
         asset.model.triangle_count()
     );
-    let reports = Reports::measure(&asset.model, &FixOptions::DEFAULT, Path::new(TEAPOT_NAME))?;
+    let reports = inspect::measure(&asset.model, &FixOptions::DEFAULT, Path::new(TEAPOT_NAME))?;
     println!(
         "Seam report (`seamlit inspect`): before = `object` mode, normals per object as most tools compute them;"
     );
     println!("after = `model` mode, seamlit's default.\n");
-    print!("{}", reports.table());
+    print!("{}", inspect::table(&reports));
     let [_, (_, object, _), (_, model, _)] = &reports.modes;
     let fmt = |a: Option<f32>| a.map_or_else(|| "-".into(), |a| format!("{a:.2}°"));
     println!(

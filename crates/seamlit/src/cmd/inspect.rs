@@ -2,79 +2,39 @@
 
 use std::path::Path;
 
+use seamlit_io::job::Inspection;
 use seamlit_io::motion::SeamMotion;
 use seamlit_io::{Asset, LoadOptions};
-use seamlit_mesh::{Changes, FixOptions, Mode, Model, ReportOptions, SeamReport};
+use seamlit_mesh::{FixOptions, Mode, Model};
 
 use crate::cli::InspectArgs;
 use crate::failure::{Classify, Failure};
 use crate::prepare::default_tangents;
 use crate::table::{changes_line, changes_table, report_table};
 
-/// The model's reports: as loaded, then after `fix` in each mode.
-pub struct Reports {
-    /// The model as the file gave it.
-    pub as_loaded: SeamReport,
-    /// After each mode, in the order flat, object, model, with what the fix changed.
-    pub modes: [(Mode, SeamReport, Changes); 3],
+/// [`Inspection::measure`] of the model from `file`.
+///
+/// # Errors
+/// [`Failure::BadInput`] naming `file` when the geometry is bad.
+pub(crate) fn measure(
+    model: &Model,
+    options: &FixOptions,
+    file: &Path,
+) -> Result<Inspection, Failure> {
+    Inspection::measure(model, options)
+        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))
 }
 
-impl Reports {
-    /// Measures `model` with `options` (its mode is replaced by each mode in turn), each
-    /// fixed model with its skin seams matched, as `fix` does by default.
-    ///
-    /// # Errors
-    /// [`Failure::BadInput`] naming `file` when the geometry is bad.
-    pub(crate) fn measure(
-        model: &Model,
-        options: &FixOptions,
-        file: &Path,
-    ) -> Result<Self, Failure> {
-        let report_options = ReportOptions::from(options);
-        let bad = |e: seamlit_mesh::MeshError| Failure::input(format!("{}: {e}", file.display()));
-        let as_loaded = seamlit_mesh::report(model, &report_options).map_err(bad)?;
-        let one = |mode: Mode| -> Result<(Mode, SeamReport, Changes), Failure> {
-            let mut fixed = model.clone();
-            let changes =
-                seamlit_mesh::fix_in_place(&mut fixed, &options.with_mode(mode)).map_err(bad)?;
-            // As `fix` does by default (--skin-seams match).
-            if model.objects.iter().any(|o| !o.skin.is_empty()) {
-                let copies =
-                    seamlit_mesh::shared_copies(model, options.weld_tolerance).map_err(bad)?;
-                seamlit_mesh::match_skin_seams(&mut fixed, &copies);
-            }
-            Ok((mode, seamlit_mesh::report(&fixed, &report_options).map_err(bad)?, changes))
-        };
-        Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
-    }
-
-    /// The readable table.
-    #[must_use]
-    pub(crate) fn table(&self) -> String {
-        let [(_, flat, _), (_, object, _), (_, model, _)] = &self.modes;
-        report_table(&[
-            ("as loaded", &self.as_loaded),
-            ("flat", flat),
-            ("object", object),
-            ("model", model),
-        ])
-    }
-
-    /// The JSON document `inspect --json` prints: the reports, and under `changes` what the
-    /// fix changed in each mode.
-    #[must_use]
-    pub(crate) fn json(&self, file: &Path, options: &FixOptions) -> serde_json::Value {
-        let [(_, flat, cf), (_, object, co), (_, model, cm)] = &self.modes;
-        serde_json::json!({
-            "file": file.display().to_string(),
-            "options": options,
-            "as_loaded": self.as_loaded,
-            "flat": flat,
-            "object": object,
-            "model": model,
-            "changes": { "flat": cf, "object": co, "model": cm },
-        })
-    }
+/// The readable table of `inspection`.
+#[must_use]
+pub(crate) fn table(inspection: &Inspection) -> String {
+    let [(_, flat, _), (_, object, _), (_, model, _)] = &inspection.modes;
+    report_table(&[
+        ("as loaded", &inspection.as_loaded),
+        ("flat", flat),
+        ("object", object),
+        ("model", model),
+    ])
 }
 
 /// Runs `seamlit inspect`.
@@ -94,13 +54,13 @@ pub(crate) fn run(args: &InspectArgs) -> Result<(), Failure> {
     }
     let options =
         default_tangents(&asset, args.fix.apply(FixOptions::DEFAULT), args.fix.tangents.is_some());
-    let reports = Reports::measure(&asset.model, &options, &args.input)?;
+    let reports = measure(&asset.model, &options, &args.input)?;
     let motion = match &args.animation {
         Some(spec) => Some(Motion::measure(&asset, spec, args.samples, &options, &args.input)?),
         None => None,
     };
     if args.json {
-        let mut json = reports.json(&args.input, &options);
+        let mut json = reports.json(&args.input.display().to_string(), &options);
         if let Some(motion) = &motion {
             json["motion"] = motion.json();
         }
@@ -114,7 +74,7 @@ pub(crate) fn run(args: &InspectArgs) -> Result<(), Failure> {
             crate::cli::tolerance_flag(options.weld_tolerance),
             crate::cli::weighting_flag(options.weighting),
         );
-        print!("{}", reports.table());
+        print!("{}", table(&reports));
         let (_, _, changes) = &reports.modes[2];
         println!("\nWhat `fix` changes (model mode): {}\n", changes_line(changes, &options));
         print!("{}", changes_table(changes));
