@@ -6,8 +6,8 @@
 //   written by run.sh), #summary the lines it prints and #report exactly what `seamlit inspect
 //   --json` prints, and with the page's options set (normals recompute, crease 30) the file
 //   `seamlit fix` writes with those flags; a glTF picked with its .bin and images, and an OBJ
-//   with its MTL and texture, come out as `seamlit fix` writes them (the OBJ's files as one
-//   zip); a corrupted GLB gets one line naming it, and the next model loads;
+//   with its MTL and texture, a VRM 0.x avatar and a USDZ come out as `seamlit fix` writes
+//   them (the OBJ's files as one zip); a corrupted GLB gets one line naming it, and the next model loads;
 // - a browser without WebGPU gets one line in #error and nothing else breaks.
 // Prints one JSON line of measurements; exits 1 on the first failed check.
 import { writeFile, readFile, mkdir, readdir } from "node:fs/promises";
@@ -137,6 +137,19 @@ try {
       fail(`spot.obj with its MTL and texture: ${JSON.stringify({ ...result.obj, objZip, objCli })} ${obj.error}`);
     }
     result.obj.reportAsInspect = await sameReport(page, `${out}/cli/spot.json`, "spot.obj");
+    // A VRM 0.x avatar and a USDZ: the download is the .vrm and the package `seamlit fix`
+    // writes, #report its inspect.
+    for (const [path, name, json] of [[`${out}/fox.vrm`, "fox.vrm", "fox.json"], [`${models}usd/head_body.usdz`, "head_body.usdz", "head_body.json"]]) {
+      const loaded = await load(path);
+      const offered = await download(page);
+      const cli = await readFile(`${out}/cli/${name}`);
+      const checked = { status: loaded.status, name: offered.name, sameAsCli: offered.bytes.equals(cli) };
+      if (loaded.error || offered.name !== name || !checked.sameAsCli) fail(`${name}: ${JSON.stringify(checked)} ${loaded.error}`);
+      checked.reportAsInspect = await sameReport(page, `${out}/cli/${json}`, name);
+      result[name] = checked;
+      await new Promise((r) => setTimeout(r, 500));
+      await writeFile(`${out}/canvas-${name}.png`, await (await page.$("#view")).screenshot());
+    }
     // A glTF without its buffer: one line naming the file it needs.
     const nobin = await load(`${coat}ClearCoatTest.gltf`);
     result.missing = nobin.error;

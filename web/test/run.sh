@@ -43,6 +43,12 @@ printf 'newmtl cow\nKd 1 1 1\nmap_Kd textures/spot_texture.png\n' >"$out/spot/sp
 cp assets/models/spot/spot_texture.png "$out/spot/textures/"
 seamlit fix "$out/spot/spot.obj" -o "$out/cli/spot/spot.obj" >/dev/null
 (cd "$out/spot" && seamlit inspect --json spot.obj) >"$out/cli/spot.json"
+# A VRM 0.x avatar (Fox with VRM's root extension) and a USDZ (a head and body, two meshes).
+python3 web/test/vrm.py assets/models/fox/Fox.glb "$out/fox.vrm"
+seamlit fix "$out/fox.vrm" -o "$out/cli/fox.vrm" >/dev/null
+(cd "$out" && seamlit inspect --json fox.vrm) >"$out/cli/fox.json"
+seamlit fix assets/models/usd/head_body.usdz -o "$out/cli/head_body.usdz" >/dev/null
+(cd assets/models/usd && seamlit inspect --json head_body.usdz) >"$out/cli/head_body.json"
 # (web/build.sh builds in CARGO_TARGET_DIR, default target/; the page goes to target/web.)
 node web/test/check.mjs target/web "$out" | tee "$out/result.json"
 seamlit demo --out "$out/demo" >/dev/null

@@ -225,8 +225,13 @@ fn encoded_file(real: PathBuf, options: &LoadOptions) -> Result<Encoded, String>
     }
 }
 
-/// Whether `real` (a canonical path) lies in one of [`LoadOptions::asset_roots`].
+/// Whether `real` (a canonical path; in memory, a normalised one) lies in one of
+/// [`LoadOptions::asset_roots`].
 fn in_asset_root(real: &Path, options: &LoadOptions) -> bool {
+    if let Files::Memory(_) = options.files {
+        let roots = options.asset_roots.iter().map(|r| crate::files::normalize(r));
+        return roots.into_iter().any(|r| real.starts_with(r));
+    }
     options.asset_roots.iter().filter_map(|r| r.canonicalize().ok()).any(|r| real.starts_with(r))
 }
 

@@ -24,6 +24,7 @@ mod write;
 
 use std::path::Path;
 
+use seamlit_asset::files::Destination;
 use seamlit_asset::{Asset, IoError};
 
 pub use read::load;
@@ -45,7 +46,27 @@ pub fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     match extension.as_deref() {
         Some("usda" | "usd") => write::save(asset, path),
         Some("usdc") => write::save_usdc(asset, path),
-        Some("usdz") => package::save(asset, path),
+        Some("usdz") => package::save(asset, path, &mut Destination::files()),
         _ => Err(IoError::UnknownFormat { path: path.to_path_buf() }),
     }
+}
+
+/// Writes `asset` as a `.usdz` package at `path` into `to` (files, or memory: the web page's
+/// download), as [`save`] does for a `.usdz` path. The input's files are read from where the
+/// stage was read ([`seamlit_asset::LoadOptions::files`]); a stage read from memory is
+/// packed only from a `.usdz` input.
+///
+/// # Errors
+///
+/// As [`save`]; [`IoError::UnknownFormat`] for a path that is not a `.usdz`.
+pub fn save_package_to(
+    asset: &Asset,
+    path: &Path,
+    to: &mut Destination,
+) -> Result<Vec<String>, IoError> {
+    let usdz = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("usdz"));
+    if !usdz {
+        return Err(IoError::UnknownFormat { path: path.to_path_buf() });
+    }
+    package::save(asset, path, to)
 }

@@ -27,6 +27,7 @@ use crate::source::UsdSource;
 use seamlit_asset::Asset;
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::usd::UsdOutput;
+use seamlit_asset::files::{Destination, Files};
 
 /// The input's files to put in the package, in order: `(name in the package, bytes)`; the
 /// first is the input's root layer.
@@ -44,7 +45,11 @@ const MAX_PACKAGE_BYTES: u64 = 4 << 30;
 ///
 /// Those of [`super::write::save`]; [`IoError::UsdOutput`] with [`UsdOutput::Package`] when
 /// a file of the input cannot be read or put in a package.
-pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
+pub(crate) fn save(
+    asset: &Asset,
+    path: &Path,
+    to: &mut Destination,
+) -> Result<Vec<String>, IoError> {
     let layer = super::write::prepare(asset, path)?;
     let mut warnings = layer.warnings.clone();
     let refuse = |reason: String| IoError::UsdOutput {
@@ -54,13 +59,25 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     let input = &layer.input;
     let is_package =
         input.extension().is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("usdz"));
-    let entries = super::read::guarded(input, || {
-        if is_package {
-            package_entries(input).map_err(refuse)
-        } else {
-            let roots = asset.document::<UsdSource>().map_or(&[][..], |s| &s.asset_roots[..]);
+    let source = asset.document::<UsdSource>();
+    let files = source.map_or(&Files::Disk, |s| &s.files);
+    let entries = super::read::guarded(input, || match files {
+        Files::Disk if is_package => {
+            let file = std::fs::File::open(input).map_err(|e| refuse(e.to_string()))?;
+            package_entries(file).map_err(refuse)
+        }
+        Files::Disk => {
+            let roots = source.map_or(&[][..], |s| &s.asset_roots[..]);
             dependencies(input, roots, &mut warnings).map_err(refuse)
         }
+        Files::Memory(_) if is_package => {
+            let bytes = files.read(input).map_err(|e| refuse(e.to_string()))?;
+            package_entries(Cursor::new(bytes)).map_err(refuse)
+        }
+        Files::Memory(_) => Err(refuse(
+            "a stage read from memory is packed only from a .usdz (its layers are not walked)"
+                .to_owned(),
+        )),
     })?;
     let root = &entries.first().ok_or_else(|| refuse("the input is empty".to_owned()))?.0;
     let name = layer_name(path, &entries);
@@ -71,7 +88,7 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
         archive.add_layer(entry, bytes).map_err(|e| refuse(format!("{e:#}")))?;
     }
     let bytes = archive.finish().map_err(|e| refuse(format!("{e:#}")))?.into_inner();
-    seamlit_asset::files::write(path, &bytes)?;
+    to.write(path, &bytes)?;
     Ok(warnings)
 }
 
@@ -87,10 +104,9 @@ fn layer_name(output: &Path, entries: &Entries) -> String {
         .unwrap_or_default()
 }
 
-/// Every file of the package at `input`, in its order (its root layer first).
-fn package_entries(input: &Path) -> Result<Entries, String> {
-    let file = std::fs::File::open(input).map_err(|e| e.to_string())?;
-    let mut zip = zip::ZipArchive::new(file).map_err(|e| format!("not a package: {e}"))?;
+/// Every file of the package `input` (a file or bytes), in its order (its root layer first).
+fn package_entries(input: impl Read + std::io::Seek) -> Result<Entries, String> {
+    let mut zip = zip::ZipArchive::new(input).map_err(|e| format!("not a package: {e}"))?;
     let mut entries = Vec::new();
     let mut total = 0u64;
     for i in 0..zip.len() {

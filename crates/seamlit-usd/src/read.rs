@@ -6,6 +6,7 @@
 
 mod instance;
 mod material;
+mod memory;
 mod mesh;
 mod nesting;
 mod resolver;
@@ -55,8 +56,11 @@ use seamlit_asset::{Asset, SourceDocument, TriangleMaterials};
 /// [`seamlit_asset::LoadOptions::strict`].
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let (mut asset, stage) = read(path, options)?;
-    let source =
-        UsdSource { asset_roots: options.asset_roots.clone(), stage: Some(Arc::new(stage)) };
+    let source = UsdSource {
+        asset_roots: options.asset_roots.clone(),
+        stage: Some(Arc::new(stage)),
+        files: options.files.clone(),
+    };
     asset.document = Some(SourceDocument::new(source));
     Ok(asset)
 }
@@ -106,7 +110,7 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     stage::composition(&opened, path, &mut warnings)?;
     let up = stage::up_axis(stage).map_err(at_root)?;
     let mut xforms = xform::Xforms::new(stage);
-    let mut materials = material::Materials::new(stage, path, &options.asset_roots);
+    let mut materials = material::Materials::new(stage, path, &options.asset_roots, &options.files);
     let mut skels = skel::Skels::new(stage);
     let mut instances = instance::Instances::new(stage);
     let mut objects = Vec::new();

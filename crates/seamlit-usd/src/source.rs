@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::Vec3;
+use seamlit_asset::files::Files;
 
 /// How an OpenUSD stage was read, kept in [`seamlit_asset::Asset::document`]: the folders
 /// besides the root layer's that its layers and textures were allowed to come from
@@ -17,6 +18,9 @@ use glam::Vec3;
 pub struct UsdSource {
     pub(crate) asset_roots: Vec<PathBuf>,
     pub(crate) stage: Option<Arc<StageSource>>,
+    /// Where the stage's files were read from (a `.usdz` output packs the input's files from
+    /// there).
+    pub(crate) files: Files,
 }
 
 /// What the `.usda` writer needs of the stage: its meshes' sources, in the order of the

@@ -1,8 +1,9 @@
 //! The page's files: a model and its side files as the user dropped them (a `.gltf` with its
 //! `.bin` and images, an OBJ with its MTL and textures), read from memory; and the fixed
 //! model as the one file the page offers to download: what `seamlit fix MODEL -o OUT` writes
-//! (GLB for glTF and GLB, VRM for VRM, the OBJ with its material libraries and textures),
-//! several files as one zip of them under the names the command line gives them.
+//! (GLB for glTF and GLB, VRM for VRM, the OBJ with its material libraries and textures, a
+//! USDZ package for a USDZ), several files as one zip of them under the names the command line
+//! gives them.
 //!
 //! Plain Rust, tested on the host against the command line's library calls.
 
@@ -14,18 +15,22 @@ use seamlit_io::{Asset, LoadOptions, SaveOptions};
 
 /// The extensions of model files the page reads, in the order it picks the model among
 /// files dropped together.
-pub const MODEL_EXTENSIONS: [&str; 4] = ["glb", "vrm", "gltf", "obj"];
+pub const MODEL_EXTENSIONS: [&str; 5] = ["glb", "vrm", "gltf", "obj", "usdz"];
+
+/// A stage of loose layers: the page packs USD only from a package.
+const LOOSE_STAGE: &str = "the page reads USD stages packed as .usdz; a stage of loose layers \
+                           needs the command line (`seamlit fix`)";
 
 /// Extensions of models the page names but does not read, with why.
-const NOT_READ: [(&str, &str); 5] = [
+const NOT_READ: [(&str, &str); 4] = [
     (
         "fbx",
-        "FBX needs the command line (`seamlit fix`): its reader is a C library the page does not build",
+        "FBX needs the command line (`seamlit fix`): its reader is a C library the page does \
+         not build",
     ),
-    ("usdz", "USD needs the command line (`seamlit fix`) for now"),
-    ("usda", "USD needs the command line (`seamlit fix`) for now"),
-    ("usdc", "USD needs the command line (`seamlit fix`) for now"),
-    ("usd", "USD needs the command line (`seamlit fix`) for now"),
+    ("usda", LOOSE_STAGE),
+    ("usdc", LOOSE_STAGE),
+    ("usd", LOOSE_STAGE),
 ];
 
 /// The lower-case extension of `name`.
@@ -66,7 +71,7 @@ pub fn read(model: &str, files: Vec<(String, Vec<u8>)>) -> Result<Asset, String>
         return Err(refuse(why));
     }
     if !MODEL_EXTENSIONS.contains(&format.as_str()) {
-        return Err(refuse("not a model file seamlit reads (GLB, VRM, glTF, OBJ)"));
+        return Err(refuse("not a model file seamlit reads (GLB, VRM, glTF, OBJ, USDZ)"));
     }
     let files = MemoryFiles::new(files.into_iter().map(|(n, b)| (PathBuf::from(n), b)));
     let path = Path::new(model);
@@ -74,6 +79,8 @@ pub fn read(model: &str, files: Vec<(String, Vec<u8>)>) -> Result<Asset, String>
     let options = LoadOptions { files: Files::Memory(files), ..LoadOptions::default() };
     let asset = match format.as_str() {
         "obj" => seamlit_io::obj::parse(&bytes, path, &options),
+        // Read from the set, as the command line reads it from disk.
+        "usdz" => seamlit_io::usd::load(path, &options),
         _ => seamlit_io::gltf::parse(&bytes, path, &options),
     }
     .map_err(|e| e.to_string())?;
@@ -86,18 +93,18 @@ pub fn read(model: &str, files: Vec<(String, Vec<u8>)>) -> Result<Asset, String>
 /// The fixed model as the page offers it: one file, its name and bytes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Download {
-    /// `STEM.glb`, `STEM.vrm`, or `STEM.zip` for several files.
+    /// `STEM.glb`, `STEM.vrm`, `STEM.usdz`, or `STEM.zip` for several files.
     pub name: String,
     /// The file's bytes.
     pub bytes: Vec<u8>,
-    /// Where the command line writes the file (`STEM.glb`, `STEM.vrm`, `STEM.obj`): the
+    /// Where the command line writes the file (`STEM.glb`, `STEM.vrm`, `STEM.obj`, `STEM.usdz`): the
     /// report names it.
     pub output: PathBuf,
 }
 
 /// Writes `fixed`, the model read from `model`, into memory as `seamlit fix MODEL -o
-/// STEM.EXT` writes it (EXT: `glb` for glTF and GLB, `vrm` for VRM, `obj` for OBJ), the
-/// files as one [`Download`]; returns the writer's warnings too.
+/// STEM.EXT` writes it (EXT: `glb` for glTF and GLB, `vrm` for VRM, `obj` for OBJ, `usdz`
+/// for USDZ), the files as one [`Download`]; returns the writer's warnings too.
 ///
 /// # Errors
 ///
@@ -107,7 +114,7 @@ pub fn write(model: &str, fixed: &Asset) -> Result<(Download, Vec<String>), Stri
     let stem = path.file_stem().map_or_else(|| "model".into(), |s| s.to_string_lossy());
     let format = extension(model);
     let out_extension = match format.as_str() {
-        "obj" => "obj",
+        "obj" | "usdz" => format.as_str(),
         _ => seamlit_io::folder::output_extension(path, "glb"),
     };
     let output = PathBuf::from(format!("{stem}.{out_extension}"));
@@ -115,6 +122,7 @@ pub fn write(model: &str, fixed: &Asset) -> Result<(Download, Vec<String>), Stri
     let options = SaveOptions::default();
     let warnings = match out_extension {
         "obj" => seamlit_io::obj::save_to(fixed, &output, &options, &mut memory),
+        "usdz" => seamlit_io::usd::save_package_to(fixed, &output, &mut memory),
         _ => seamlit_io::gltf::save_to(fixed, &output, &options, &mut memory),
     }
     .map_err(|e| e.to_string())?;
@@ -161,6 +169,7 @@ mod tests {
         assert_eq!(pick_model(&names(&["sub/b.glb", "a.glb"])), Some("a.glb"));
         assert_eq!(pick_model(&names(&["x.gltf", "y.glb"])), Some("y.glb"));
         assert_eq!(pick_model(&names(&["m.fbx", "t.png"])), Some("m.fbx"));
+        assert_eq!(pick_model(&names(&["a.usda", "b.usdz"])), Some("b.usdz"));
         assert_eq!(pick_model(&names(&["notes.txt"])), Some("notes.txt"));
         assert_eq!(pick_model(&[]), None);
     }

@@ -148,3 +148,23 @@ fn models_the_page_does_not_read_get_one_line() {
     let broken = page(vec![("a.glb".to_owned(), b"glTF\x02\0\0\0".to_vec())]).unwrap_err();
     assert!(broken.starts_with("a.glb") && !broken.contains('\n'), "{broken}");
 }
+
+#[test]
+fn a_usdz_comes_out_as_the_command_lines_package() {
+    for model in
+        ["assets/models/usd/head_body.usdz", "assets/models/usd/others/Rigged/RiggedFigure.usdz"]
+    {
+        let input = repo().join(model);
+        let name = input.file_name().unwrap().to_string_lossy().into_owned();
+        let expected = command_line(&input, &name);
+        assert_eq!(expected.len(), 1);
+        let download = page(vec![(name.clone(), std::fs::read(&input).unwrap())]).unwrap();
+        assert_eq!(download.name, name);
+        assert!(
+            download.bytes == expected[0].1,
+            "{model}: the page's package is not the command line's"
+        );
+    }
+    let stage = page(vec![("a.usda".to_owned(), b"#usda 1.0\n".to_vec())]).unwrap_err();
+    assert!(stage.starts_with("a.usda: the page reads USD stages packed as .usdz"), "{stage}");
+}

@@ -15,6 +15,7 @@ use openusd::ar::Resolver as _;
 use openusd::{ar, sdf, usd};
 
 use super::{f32_of, value};
+use seamlit_asset::files::Files;
 use seamlit_asset::{AlphaMode, Material, Texture, TextureRef, TextureSource};
 
 /// The materials and textures read so far, by prim path and resolved file.
@@ -23,6 +24,8 @@ pub(super) struct Materials<'s> {
     file: &'s Path,
     /// Where textures may come from (the stage's reach).
     reach: Reach,
+    /// Where the stage's files are read from.
+    files: &'s Files,
     pub list: Vec<Material>,
     pub textures: Vec<Texture>,
     by_path: HashMap<String, usize>,
@@ -30,11 +33,17 @@ pub(super) struct Materials<'s> {
 }
 
 impl<'s> Materials<'s> {
-    pub(super) fn new(stage: &'s usd::Stage, file: &'s Path, asset_roots: &[PathBuf]) -> Self {
+    pub(super) fn new(
+        stage: &'s usd::Stage,
+        file: &'s Path,
+        asset_roots: &[PathBuf],
+        files: &'s Files,
+    ) -> Self {
         Self {
             stage,
             file,
             reach: Reach::of(file, asset_roots),
+            files,
             list: Vec::new(),
             textures: Vec::new(),
             by_path: HashMap::new(),
@@ -251,9 +260,12 @@ impl<'s> Materials<'s> {
                 None
             }
             Some(resolved) if ar::is_package_relative_path(resolved) => {
-                let bytes = ar::DefaultResolver::new()
-                    .open_asset(&ar::ResolvedPath::new(resolved.as_str()))
-                    .and_then(|mut asset| asset.read_all());
+                let bytes = match self.files {
+                    Files::Disk => ar::DefaultResolver::new()
+                        .open_asset(&ar::ResolvedPath::new(resolved.as_str()))
+                        .and_then(|mut asset| asset.read_all()),
+                    Files::Memory(_) => super::memory::read_resolved(self.files, resolved),
+                };
                 match bytes {
                     Ok(bytes) => {
                         let mime = if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
@@ -272,6 +284,10 @@ impl<'s> Materials<'s> {
                         None
                     }
                 }
+            }
+            // In memory the resolver found it in the set: there are no links to follow.
+            Some(resolved) if matches!(self.files, Files::Memory(_)) => {
+                Some(TextureSource::File(PathBuf::from(resolved)))
             }
             Some(resolved) => match inside(&self.reach, Path::new(resolved)) {
                 Ok(file) => Some(TextureSource::File(file)),

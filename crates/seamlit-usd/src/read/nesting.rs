@@ -1,5 +1,10 @@
-//! How deeply a text layer nests its brackets, measured before openusd parses it: the
-//! resolver checks every text layer it opens, the stage the root layer.
+//! How deeply a text layer nests its brackets, measured before openusd parses it, and the
+//! checks every layer passes before openusd reads it ([`checked`]: its size, its nesting):
+//! the resolvers check every layer they open (on disk and in memory), the stage the root layer.
+
+use std::io;
+
+use openusd::ar;
 
 /// The deepest nesting of `{`, `(` and `[` a text layer may have. openusd's text parser
 /// recurses once a level: 20,000 nested prims or dictionaries overflowed the stack (an abort,
@@ -36,6 +41,34 @@ pub(super) fn text_nesting(text: &[u8]) -> usize {
         i += 1;
     }
     deepest
+}
+
+/// `asset` where it holds at most `max_file_bytes` and, in text form, is nested no deeper
+/// than openusd's parser survives; otherwise why not.
+pub(super) fn checked(
+    mut asset: Box<dyn ar::Asset>,
+    max_file_bytes: u64,
+) -> io::Result<Box<dyn ar::Asset>> {
+    let size = asset.size()?;
+    if size > max_file_bytes {
+        return Err(io::Error::other(format!(
+            "{size} bytes, more than the limit of {max_file_bytes} bytes"
+        )));
+    }
+    let mut head = [0u8; 5];
+    let read = io::Read::read(&mut asset, &mut head)?;
+    io::Seek::seek(&mut asset, io::SeekFrom::Start(0))?;
+    if head[..read] == *b"#usda" {
+        let bytes = asset.read_all()?;
+        let depth = text_nesting(&bytes);
+        if depth > MAX_TEXT_NESTING {
+            return Err(io::Error::other(format!(
+                "brackets nested {depth} levels deep, more than the {MAX_TEXT_NESTING} seamlit reads"
+            )));
+        }
+        return Ok(Box::new(io::Cursor::new(bytes)));
+    }
+    Ok(asset)
 }
 
 #[cfg(test)]

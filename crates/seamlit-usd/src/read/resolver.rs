@@ -17,7 +17,7 @@ use std::sync::{Arc, Mutex};
 
 use openusd::ar::{self, Resolver};
 
-use super::nesting::{MAX_TEXT_NESTING, text_nesting};
+use super::nesting::checked;
 
 /// The folders a stage's files may come from, canonical: the root layer's and `roots`
 /// (folders that do not exist are left out).
@@ -119,28 +119,7 @@ impl Resolver for Confined {
         if !std::fs::metadata(file_of(resolved)).is_ok_and(|m| m.is_file()) {
             return Err(io::Error::other("not a regular file; seamlit opens no other"));
         }
-        let mut asset = self.inner.open_asset(resolved)?;
-        let size = asset.size()?;
-        if size > self.max_file_bytes {
-            return Err(io::Error::other(format!(
-                "{size} bytes, more than the limit of {} bytes",
-                self.max_file_bytes
-            )));
-        }
-        let mut head = [0u8; 5];
-        let read = io::Read::read(&mut asset, &mut head)?;
-        io::Seek::seek(&mut asset, io::SeekFrom::Start(0))?;
-        if head[..read] == *b"#usda" {
-            let bytes = asset.read_all()?;
-            let depth = text_nesting(&bytes);
-            if depth > MAX_TEXT_NESTING {
-                return Err(io::Error::other(format!(
-                    "brackets nested {depth} levels deep, more than the {MAX_TEXT_NESTING} seamlit reads"
-                )));
-            }
-            return Ok(Box::new(io::Cursor::new(bytes)));
-        }
-        Ok(asset)
+        checked(self.inner.open_asset(resolved)?, self.max_file_bytes)
     }
 
     fn get_extension<'a>(&self, asset_path: &'a str) -> &'a str {

@@ -10,11 +10,13 @@ use std::sync::{Arc, Mutex};
 use glam::DMat4;
 use openusd::{pcp, sdf, usd};
 
+use super::memory::InMemory;
 use super::nesting::{MAX_TEXT_NESTING, text_nesting};
 use super::resolver::{Confined, Outside};
 use seamlit_asset::LoadOptions;
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::usd::UsdKind;
+use seamlit_asset::files::Files;
 
 /// A stage opened, with the layers its resolver refused (outside the stage's folders).
 pub(super) struct Opened {
@@ -23,7 +25,8 @@ pub(super) struct Opened {
 }
 
 /// Opens `path` as the root layer of a stage, through [`Confined`]: layers come only from the
-/// root layer's folder and `options.asset_roots`, each within the size and nesting limits.
+/// root layer's folder and `options.asset_roots`, each within the size and nesting limits; or,
+/// for files in memory ([`LoadOptions::files`]), through [`InMemory`] within the same limits.
 /// openusd reads the root layer and its sublayers now and the targets of references and
 /// payloads as prims are composed.
 ///
@@ -37,9 +40,17 @@ pub(super) fn open(path: &Path, options: &LoadOptions) -> Result<Opened, IoError
     };
     // The root layer too is opened through the resolver, which checks its nesting.
     let refused = Arc::new(Mutex::new(Vec::new()));
-    let resolver =
-        Confined::new(path, &options.asset_roots, options.max_file_bytes, Arc::clone(&refused));
-    let opened = usd::Stage::builder().resolver(resolver).open(root);
+    let opened = match &options.files {
+        Files::Disk => {
+            let roots = &options.asset_roots;
+            let resolver = Confined::new(path, roots, options.max_file_bytes, Arc::clone(&refused));
+            usd::Stage::builder().resolver(resolver).open(root)
+        }
+        Files::Memory(files) => {
+            let resolver = InMemory::new(files.clone(), options.max_file_bytes);
+            usd::Stage::builder().resolver(resolver).open(root)
+        }
+    };
     let opened =
         Opened { stage: opened.map_err(|e| layer_error(path, format!("{e:#}")))?, refused };
     // A sublayer refused is not an error openusd reports: the stage would compose without it.
