@@ -75,6 +75,12 @@ try {
     const models = new URL("../../assets/models/", import.meta.url).pathname;
     const fox = await load(`${models}fox/Fox.glb`);
     if (fox.error || !/^Fox\.glb: 1 objects, 576 triangles/.test(fox.status)) fail(`Fox.glb: ${JSON.stringify(fox)}`);
+    // The canvas, for run.sh to compare with `seamlit render` of the same look (FLIP).
+    const shoot = async (name) => {
+      await new Promise((r) => setTimeout(r, 500));
+      await writeFile(`${out}/canvas-${name}.png`, await (await page.$("#view")).screenshot());
+    };
+    await shoot("Fox.glb");
     // The download is the file `seamlit fix` writes (run.sh wrote it to OUT/cli/Fox.glb, and
     // what it printed to OUT/cli/Fox.txt), #summary says what the command line says, and
     // #report is what `seamlit inspect --json Fox.glb` prints.
@@ -117,6 +123,7 @@ try {
     const coat = `${models}clearcoat_test/`;
     const coatFiles = (await readdir(coat)).map((f) => coat + f);
     const gltf = await load(...coatFiles);
+    await shoot("ClearCoatTest.gltf");
     const gltfOffered = await download(page);
     const gltfCli = await readFile(`${out}/cli/ClearCoatTest.glb`);
     result.gltf = { status: gltf.status, files: coatFiles.length, name: gltfOffered.name, sameAsCli: gltfOffered.bytes.equals(gltfCli) };
@@ -147,14 +154,12 @@ try {
       if (loaded.error || offered.name !== name || !checked.sameAsCli) fail(`${name}: ${JSON.stringify(checked)} ${loaded.error}`);
       checked.reportAsInspect = await sameReport(page, `${out}/cli/${json}`, name);
       result[name] = checked;
-      await new Promise((r) => setTimeout(r, 500));
-      await writeFile(`${out}/canvas-${name}.png`, await (await page.$("#view")).screenshot());
+      await shoot(name);
     }
     // A glTF without its buffer: one line naming the file it needs.
     const nobin = await load(`${coat}ClearCoatTest.gltf`);
     result.missing = nobin.error;
     if (!/^ClearCoatTest\.gltf.*ClearCoatTest\.bin/.test(nobin.error) || nobin.error.includes("\n")) fail(`a glTF without its .bin: ${JSON.stringify(nobin)}`);
-    await writeFile(`${out}/canvas-fox.png`, await (await page.$("#view")).screenshot());
     const good = await readFile(`${models}lowpoly/kenney-platformer-blockLevel.glb`);
     await writeFile(`${out}/broken.glb`, good.subarray(0, good.length >> 1));
     const broken = await load(`${out}/broken.glb`);

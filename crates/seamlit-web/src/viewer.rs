@@ -447,13 +447,23 @@ fn clear(ctx: &GpuContext, view: &wgpu::TextureView, colour: [f32; 4]) {
     ctx.queue().submit([encoder.finish()]);
 }
 
-/// The frame settings `seamlit render` starts from for a glTF model: PBR with its default tone
-/// mapping and a uniform ambient light standing in for the environment (the page has no
-/// environment map yet).
+/// The frame settings of `seamlit render MODEL --environment none --shadows off`: the model's
+/// own lights (KHR_lights_punctual) or else the command line's three-point rig, PBR with its
+/// default tone mapping and a uniform ambient light standing in for the environment (the page
+/// has no environment map yet) for a glTF model, Blinn-Phong and the paper's ambient for the
+/// others (OBJ, USD), as `seamlit render` chooses.
 fn look(asset: &Asset) -> FrameSettings {
-    let lighting =
-        if asset.materials.is_empty() { LightingModel::BlinnPhong } else { LightingModel::Pbr };
+    let gltf = asset.document::<seamlit_io::GltfSource>().is_some();
+    let lighting = if gltf { LightingModel::Pbr } else { LightingModel::BlinnPhong };
+    let from_file: Vec<_> = asset
+        .lights
+        .iter()
+        .map(|l| seamlit_scene::lights::from_gltf(l, glam::Mat4::IDENTITY))
+        .collect();
+    let lights =
+        if from_file.is_empty() { seamlit_scene::lights::three_point_rig() } else { from_file };
     FrameSettings {
+        lights,
         lighting_model: lighting,
         tone_mapping: ToneMapping::default_for(lighting),
         ambient: glam::Vec3::splat(if lighting == LightingModel::Pbr { 0.3 } else { 0.05 }),
