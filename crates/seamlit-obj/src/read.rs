@@ -34,8 +34,9 @@ use seamlit_asset::Asset;
 use seamlit_asset::LoadOptions;
 use seamlit_asset::error::IoError;
 
-/// Reads an OBJ file and the material libraries and textures it refers to. A file without
-/// a face loads as an empty model here; `seamlit_io::load` refuses it.
+/// Reads an OBJ file and the material libraries and textures it refers to, from
+/// [`LoadOptions::files`] (a file in memory is parsed as [`parse`] does). A file without a face
+/// loads as an empty model here; `seamlit_io::load` refuses it.
 ///
 /// # Errors
 ///
@@ -46,6 +47,11 @@ use seamlit_asset::error::IoError;
 /// `options.strict` is set (a warning otherwise); [`IoError::TooManyElements`] past
 /// `options.max_elements`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    if let seamlit_asset::files::Files::Memory(_) = options.files {
+        // Held in memory: the whole file is there already.
+        let bytes = seamlit_asset::files::read_bytes(path, options)?;
+        return parse(&bytes, path, options);
+    }
     let (file, decoded) = open(path, options)?;
     let parsed = match &decoded {
         Some(text) => crate::parse::read(text.as_bytes(), path),

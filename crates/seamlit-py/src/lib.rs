@@ -23,6 +23,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
+use seamlit_io::files::{Files, MemoryFiles};
 use seamlit_io::job::{FixJob, SkinSeams, fix_asset};
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
@@ -158,12 +159,14 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
     json(&py.detach(run)?)
 }
 
-/// [`fix_file`] for a GLB or VRM held in memory, all in memory: parsed from `data`, fixed,
-/// written by the glTF writer into memory ([`seamlit_io::files::Destination::memory`]) as
-/// `output` (a name: `NAME.glb`, or `NAME.vrm`); returns the output's bytes and the JSON of
-/// [`fix_file`]. `name` names the input in errors.
+/// [`fix_file`] for a model in one file held in memory (GLB, VRM, USDZ, FBX), all in memory:
+/// read from `data` as the set of one file named `name`
+/// ([`seamlit_io::files::Files::Memory`]: the readers read it, and anything it names, from
+/// there), fixed, written by the glTF writer into memory
+/// ([`seamlit_io::files::Destination::memory`]) as `output` (a name: `NAME.glb`, or `NAME.vrm`);
+/// returns the output's bytes and the JSON of [`fix_file`]. `name` names the input in errors.
 #[pyfunction]
-fn fix_glb_bytes<'py>(
+fn fix_model_bytes<'py>(
     py: Python<'py>,
     data: &[u8],
     name: &str,
@@ -171,16 +174,15 @@ fn fix_glb_bytes<'py>(
     settings: &str,
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
-    let load_options = settings.load_options(LoadOptions::DEFAULT);
+    let files = MemoryFiles::new([(PathBuf::from(name), data.to_vec())]);
+    let load_options =
+        LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::DEFAULT) };
     let save =
         SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
     let job = settings.job();
     let (input, output) = (Path::new(name), Path::new(output));
     let run = || -> PyResult<(Vec<u8>, serde_json::Value)> {
-        let mut asset = seamlit_io::gltf::parse(data, input, &load_options).map_err(error)?;
-        if asset.model.triangle_count() == 0 {
-            return Err(error(format!("{name}: the file holds no triangles")));
-        }
+        let mut asset = seamlit_io::load(input, &load_options).map_err(error)?;
         let fixed = fix_asset(&mut asset, &job).map_err(|e| error(format!("{name}: {e}")))?;
         let mut memory = seamlit_io::files::Destination::memory();
         let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
@@ -372,7 +374,7 @@ fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SeamlitError", m.py().get_type::<SeamlitError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
-    m.add_function(wrap_pyfunction!(fix_glb_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(fix_model_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

@@ -435,3 +435,34 @@ def test_fix_bytes_gives_the_bytes_the_command_line_writes(tmp_path):
         seamlit.fix_bytes(b"{}", "scene.gltf")
     with pytest.raises(seamlit.SeamlitError, match="bad.glb"):
         seamlit.fix_bytes(b"glTF\x02\x00\x00\x00garbage", "bad.glb")
+
+
+def test_a_model_in_one_file_is_fixed_in_memory_on_the_worker(tmp_path, monkeypatch):
+    # A worker's task for a GLB, USDZ or FBX neither stages the model nor its output on disk:
+    # fix_bytes' library call, the output written to DST once, complete.
+    from seamlit.ray import _task
+
+    def no_folder(*args, **kwargs):
+        raise AssertionError("the task made a scratch folder")
+
+    monkeypatch.setattr(_task.tempfile, "mkdtemp", no_folder)
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    for name in ("fox/Fox.glb", "usd/head_body.usdz", "ufbx/blender_293_half_skinned_7400_binary.fbx"):
+        source = MODELS / name
+        (src / Path(name).parent).mkdir(parents=True, exist_ok=True)
+        shutil.copy(source, src / name)
+        output = str(Path(name).with_suffix(".glb"))
+        job = _task.Job(relative=name, src=str(src), dst=str(dst), output=output,
+                        options={"mode": "model", "tessellation": 16, "skin_seams": "match", "samples": 30},
+                        flags=(), options_key="")
+        row = _task.process(job)
+        assert row["status"] in ("fixed", "unchanged"), row
+        assert cli("fix", source, "-o", tmp_path / "cli.glb").returncode == 0
+        assert (dst / output).read_bytes() == (tmp_path / "cli.glb").read_bytes(), name
+        assert row["output_sha256"] == _task.sha256((dst / output).read_bytes())
+    broken = src / "broken.usdz"
+    broken.write_bytes(b"PK\x03\x04 not a package")
+    row = _task.process(_task.Job(relative="broken.usdz", src=str(src), dst=str(dst), output="broken.glb",
+                                  options={"mode": "model"}, flags=(), options_key=""))
+    assert row["status"] == "refused" and row["error"].startswith("broken.usdz"), row
+    assert not (dst / "broken.glb").exists()

@@ -5,6 +5,7 @@ freshly built extension on PYTHONPATH and names the command line binary in SEAML
 """
 
 import json
+import tempfile
 import os
 import subprocess
 from pathlib import Path
@@ -322,18 +323,25 @@ def test_fix_scene_fixes_a_trimesh_scene_in_place():
     np.testing.assert_allclose(after[0][0], before[0][0], atol=1e-6)
 
 
-def test_fix_bytes_of_a_glb_stays_in_memory_and_writes_what_the_command_line_writes(tmp_path, monkeypatch):
-    # No temporary folder for a GLB or VRM: read, fixed and written in memory.
+def test_fix_bytes_stays_in_memory_and_writes_what_the_command_line_writes(tmp_path, monkeypatch):
+    # No temporary folder for any self-contained model: read, fixed and written in memory.
     def no_folder(*args, **kwargs):
-        raise AssertionError("fix_bytes of a GLB made a temporary folder")
+        raise AssertionError("fix_bytes made a temporary folder")
 
-    monkeypatch.setattr(seamlit.tempfile, "mkdtemp", no_folder)
-    source = MODELS / "fox" / "Fox.glb"
-    out, result = seamlit.fix_bytes(source.read_bytes(), "Fox.glb")
-    run = cli("fix", source, "-o", tmp_path / "Fox.glb")
-    assert run.returncode == 0, run.stderr
-    assert out == (tmp_path / "Fox.glb").read_bytes()
-    assert result["output"] == "Fox.glb" and result["input"] == "Fox.glb"
-    assert result["summary"].splitlines()[0] == run.stdout.splitlines()[0].replace(str(tmp_path / "Fox.glb"), "Fox.glb")
+    monkeypatch.setattr(tempfile, "mkdtemp", no_folder)
+    monkeypatch.setattr(tempfile, "TemporaryDirectory", no_folder)
+    for name in ("fox/Fox.glb", "usd/head_body.usdz", "usd/others/Rigged/RiggedFigure.usdz",
+                 "ufbx/blender_293_half_skinned_7400_binary.fbx"):
+        source = MODELS / name
+        out, result = seamlit.fix_bytes(source.read_bytes(), source.name)
+        expected = tmp_path / (source.stem + ".glb")
+        run = cli("fix", source, "-o", expected)
+        assert run.returncode == 0, run.stderr
+        assert out == expected.read_bytes(), name
+        assert result["output"] == expected.name and result["input"] == source.name
+        first = run.stdout.splitlines()[0].replace(str(expected), expected.name)
+        assert result["summary"].splitlines()[0] == first, name
     with pytest.raises(seamlit.SeamlitError, match="^bad.glb"):
         seamlit.fix_bytes(b"glTF\x02\x00\x00\x00garbage", "bad.glb")
+    with pytest.raises(seamlit.SeamlitError, match="^bad.usdz"):
+        seamlit.fix_bytes(b"PK\x03\x04garbage", "bad.usdz")

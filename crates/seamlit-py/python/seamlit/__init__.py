@@ -30,8 +30,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
-import tempfile
 from inspect import signature as _signature
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -126,27 +124,63 @@ def fix_file(
     ``skin_seams_matched``, ``motion`` (per animation, before and after), ``morph_seams``,
     ``summary`` (the lines ``seamlit fix`` prints) and ``warnings``.
     """
-    if skin_seams not in ("match", "keep"):
-        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
-    if not 2 <= int(samples) <= 100_000:
-        raise SeamlitError(f"samples={samples!r}: expected 2 to 100000")
-    settings = _settings(
-        mode,
-        crease,
-        weld_tolerance,
-        weighting,
-        tangents,
-        normals,
-        tessellation=int(tessellation),
-        overwrite_input=bool(overwrite_input),
-        keep_compression=bool(keep_compression),
-        asset_roots=[os.fspath(r) for r in asset_roots],
-        match_skin_seams=skin_seams == "match",
-        samples=int(samples),
+    settings = _file_settings(
+        mode=mode,
+        crease=crease,
+        weld_tolerance=weld_tolerance,
+        weighting=weighting,
+        tangents=tangents,
+        normals=normals,
+        tessellation=tessellation,
+        overwrite_input=overwrite_input,
+        keep_compression=keep_compression,
+        asset_roots=asset_roots,
+        skin_seams=skin_seams,
+        samples=samples,
     )
     result = json.loads(_seamlit.fix_file(os.fspath(input), os.fspath(output), settings))
     result["report"] = result["fixed"]
     return result
+
+
+def _file_settings(**options: Any) -> str:
+    """The settings of :func:`fix_file`'s options (its defaults for those not given), checked;
+    an option it does not know raises ``SeamlitError``."""
+    try:
+        bound = _signature(fix_file).bind("", "", **options)
+    except TypeError:
+        known = set(_signature(fix_file).parameters) - {"input", "output"}
+        unknown = sorted(set(options) - known)
+        raise SeamlitError(f"{', '.join(unknown)}: not an option of seamlit fix") from None
+    bound.apply_defaults()
+    o = bound.arguments
+    if o["skin_seams"] not in ("match", "keep"):
+        raise SeamlitError(f"skin_seams={o['skin_seams']!r}: expected match or keep")
+    if not 2 <= int(o["samples"]) <= 100_000:
+        raise SeamlitError(f"samples={o['samples']!r}: expected 2 to 100000")
+    return _settings(
+        o["mode"],
+        o["crease"],
+        o["weld_tolerance"],
+        o["weighting"],
+        o["tangents"],
+        o["normals"],
+        tessellation=int(o["tessellation"]),
+        overwrite_input=bool(o["overwrite_input"]),
+        keep_compression=bool(o["keep_compression"]),
+        asset_roots=[os.fspath(r) for r in o["asset_roots"]],
+        match_skin_seams=o["skin_seams"] == "match",
+        samples=int(o["samples"]),
+    )
+
+
+def _fix_bytes_measured(data: bytes, name: str, out_name: str, **options: Any) -> Tuple[bytes, Dict[str, Any]]:
+    """:func:`fix_bytes` of a model in one file with the options as :mod:`seamlit.ray` holds
+    them (any of :func:`fix_file`'s), written as ``out_name`` (``.glb`` or ``.vrm``)."""
+    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, _file_settings(**options))
+    result = json.loads(text)
+    result["report"] = result["fixed"]
+    return output, result
 
 
 def _fix_measured(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
@@ -188,9 +222,9 @@ def fix_bytes(
     refuses, or for a format that needs files beside it (glTF, OBJ, USD layers: use
     :func:`fix_file` on a folder).
 
-    A GLB or VRM is read, fixed and written in memory; a USDZ or FBX goes through a private
-    temporary folder (memory-backed where the system has ``/dev/shm``): their readers open
-    files by path.
+    The file is read, fixed and written in memory, as the one file of a set in memory (the
+    readers look for anything it names there: a USDZ's layers and textures are inside it; an
+    FBX's external textures are not, and are warned of as missing).
     """
     ext = name.rsplit(".", 1)[-1].lower() if "." in name else ""
     if ext not in SELF_CONTAINED:
@@ -201,7 +235,7 @@ def fix_bytes(
     base = os.path.basename(name.replace("\\", "/")) or f"model.{ext}"
     stem = base.rsplit(".", 1)[0] or "model"
     out_name = f"{stem}.{'vrm' if ext == 'vrm' else 'glb'}"
-    options = dict(
+    settings = _file_settings(
         mode=mode,
         crease=crease,
         weld_tolerance=weld_tolerance,
@@ -211,44 +245,7 @@ def fix_bytes(
         keep_compression=keep_compression,
         skin_seams=skin_seams,
     )
-    if ext in ("glb", "vrm"):
-        return _fix_glb_bytes(data, name, out_name, **options)
-    where = "/dev/shm" if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK) else None
-    folder = tempfile.mkdtemp(prefix="seamlit-bytes-", dir=where)
-    try:
-        source = os.path.join(folder, "in", base)
-        target = os.path.join(folder, "out", out_name)
-        os.makedirs(os.path.dirname(source))
-        os.makedirs(os.path.dirname(target))
-        with open(source, "wb") as f:
-            f.write(data)
-        try:
-            result = _fix_measured(source, target, **options)
-        except (SeamlitError, FileNotFoundError) as e:
-            raise SeamlitError(str(e).replace(source, name)) from None
-        with open(target, "rb") as f:
-            output = f.read()
-        result["input"] = name
-        result["output"] = out_name
-        return output, result
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
-
-
-def _fix_glb_bytes(data: bytes, name: str, out_name: str, *, skin_seams: str, **options: Any) -> Tuple[bytes, Dict[str, Any]]:
-    """:func:`fix_bytes` of a GLB or VRM, in memory."""
-    if skin_seams not in ("match", "keep"):
-        raise SeamlitError(f"skin_seams={skin_seams!r}: expected match or keep")
-    mode = options.pop("mode")
-    names = ("crease", "weld_tolerance", "weighting", "tangents", "normals")
-    fixed = {k: options.pop(k) for k in names}
-    settings = _settings(
-        mode,
-        **fixed,
-        keep_compression=bool(options.pop("keep_compression")),
-        match_skin_seams=skin_seams == "match",
-    )
-    output, text = _seamlit.fix_glb_bytes(bytes(data), name, out_name, settings)
+    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, settings)
     result = json.loads(text)
     result["report"] = result["fixed"]
     return output, result

@@ -212,7 +212,9 @@ def process(job: Job) -> Row:
     row["memory_bytes"] = _reserved_memory()
     src_fs, src_root = _files.resolve(job.src)
     local_src = isinstance(src_fs, pafs.LocalFileSystem)
-    scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
+    # Made where a model is staged or an output written on the worker (not for a model in
+    # one file, fixed in memory).
+    scratch: Optional[str] = None
     try:
         try:
             data = _read(src_fs, src_root + "/" + job.relative)
@@ -227,6 +229,10 @@ def process(job: Job) -> Row:
             row["skipped"] = True
             return row
 
+        if job.dst is not None and job.output is not None and _in_memory(job, ext):
+            return _fix_in_memory(job, row, data)
+
+        scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
         # The model as a local file: SRC's own when SRC is local, else a staged copy with
         # its companions at the same relative places (a memory-backed folder when there
         # is one).
@@ -284,7 +290,8 @@ def process(job: Job) -> Row:
         return row
     finally:
         row["seconds"] = time.perf_counter() - started
-        shutil.rmtree(scratch, ignore_errors=True)
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _reserved_memory() -> Optional[int]:
@@ -325,6 +332,53 @@ def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], s
     _publish(dst_fs, dst_root, staged, job.output)
     row["status"] = "fixed" if changed else "unchanged"
     return row
+
+
+def _in_memory(job: Job, ext: str) -> bool:
+    """Whether the job is fixed in memory (:func:`seamlit.fix_bytes`'s library call): a model
+    in one file (GLB, VRM, USDZ, FBX) fixed by the extension module into the GLB (a VRM:
+    the VRM) that ``fix_bytes`` writes, with no file read or written on the worker."""
+    import seamlit
+
+    assert job.output is not None
+    wanted = "vrm" if ext == "vrm" else "glb"
+    return ext in seamlit.SELF_CONTAINED and _native(job.engine) and job.output.lower().endswith("." + wanted)
+
+
+def _fix_in_memory(job: Job, row: Row, data: bytes) -> Row:
+    """Fixes a model in one file in memory and writes its output to DST (complete or not at
+    all: a rename on a local filesystem, one upload on an object store)."""
+    import seamlit
+
+    assert job.dst is not None and job.output is not None
+    try:
+        # Named by its path in SRC: errors and warnings name it so.
+        output, result = seamlit._fix_bytes_measured(data, job.relative, posixpath.basename(job.output), **job.options)
+    except seamlit.SeamlitError as e:
+        row.update(status="refused", error=_relative_message(str(e), job.relative, job.relative))
+        return row
+    _measure(row, result)
+    changed = row.pop("_changed")
+    row["output_sha256"] = sha256(output)
+    dst_fs, dst_root = _files.resolve(job.dst)
+    _write(dst_fs, dst_root + "/" + job.output, output)
+    row["status"] = "fixed" if changed else "unchanged"
+    return row
+
+
+def _write(filesystem: pafs.FileSystem, target: str, data: bytes) -> None:
+    """Writes ``data`` to ``target`` so that it appears under its name only complete."""
+    if isinstance(filesystem, pafs.LocalFileSystem):
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        partial = f"{target}.{uuid.uuid4().hex[:8]}.partial"
+        with open(partial, "wb") as out:
+            out.write(data)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(partial, target)
+    else:
+        with filesystem.open_output_stream(target) as out:
+            out.write(data)
 
 
 def _still_there(job: Job) -> bool:
