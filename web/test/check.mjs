@@ -8,6 +8,7 @@
 //   `seamlit fix` writes with those flags; a glTF picked with its .bin and images, and an OBJ
 //   with its MTL and texture, a VRM 0.x avatar and a USDZ come out as `seamlit fix` writes
 //   them (the OBJ's files as one zip); a corrupted GLB gets one line naming it, and the next model loads;
+// - all of it offline (the network cut once the page is loaded) and without one request;
 // - a browser without WebGPU gets one line in #error and nothing else breaks.
 // Prints one JSON line of measurements; exits 1 on the first failed check.
 import { writeFile, readFile, mkdir, readdir } from "node:fs/promises";
@@ -59,6 +60,12 @@ try {
     result.times = JSON.parse(await page.evaluate(() => document.body.dataset.times ?? "{}"));
     if (state !== "ready" || error) fail(`the page did not draw the demo: state ${state}, error ${JSON.stringify(error)}`);
     await writeFile(`${out}/canvas-demo.png`, await (await page.$("#view")).screenshot());
+
+    // Nothing leaves the page once it is loaded: every request from here on is counted
+    // (the downloads' blob: URLs are the page's own memory), and the network is cut.
+    const requests = [];
+    page.on("request", (r) => { if (!r.url().startsWith("blob:") && !r.url().startsWith("data:")) requests.push(r.url()); });
+    await page.setOfflineMode(true);
 
     // Files through #file: a model, a corrupted one (one line naming it), then the next.
     const input = await page.$("#file");
@@ -170,6 +177,9 @@ try {
       fail(`after the corrupted file: ${JSON.stringify(next)}`);
     }
     result.loaded = [fox.status, next.status];
+    // Offline all along, and no request made: every model was read, fixed and offered here.
+    result.requestsAfterLoad = requests.length;
+    if (requests.length) fail(`the page made requests after it loaded: ${requests.slice(0, 3).join(", ")}`);
     await writeFile(`${out}/canvas-blocklevel.png`, await (await page.$("#view")).screenshot());
   } finally {
     await browser.close();
