@@ -9,6 +9,13 @@ pub struct LoadOptions {
     /// Whether to read and decode textures (in parallel). When `false` textures are listed
     /// with `image: None` and no warning.
     pub load_textures: bool,
+    /// With [`LoadOptions::load_textures`]: whether the textures' pixels are decoded. When
+    /// `false` each texture is found and its header read, so that a missing file, an image
+    /// that cannot be read and one past the size limits are warned of as when decoding, but
+    /// `image` stays `None`: what `seamlit fix` needs ([`LoadOptions::FIX`]), whose writers
+    /// copy the textures as they are (a generic writer decodes one that is neither PNG nor
+    /// JPEG when it must re-encode it).
+    pub decode_textures: bool,
     /// Files larger than this are refused with [`crate::IoError::TooLarge`] before being
     /// read (the model file itself and each external buffer).
     pub max_file_bytes: u64,
@@ -50,12 +57,13 @@ pub struct LoadOptions {
 }
 
 impl LoadOptions {
-    /// The defaults: tessellation 16, textures loaded, 4 GiB files, 2^28 elements per
+    /// The defaults: tessellation 16, textures loaded and decoded, 4 GiB files, 2^28 elements per
     /// object, 2^26 triangles per model, textures up to 16384 x 16384 and 1 GiB decoded
     /// textures per model, missing side files are warnings.
     pub const DEFAULT: Self = Self {
         tessellation: 16,
         load_textures: true,
+        decode_textures: true,
         max_file_bytes: 4 << 30,
         max_elements: 1 << 28,
         max_model_triangles: 1 << 26,
@@ -67,8 +75,19 @@ impl LoadOptions {
         files: crate::origin::Files::Disk,
     };
 
-    /// Geometry only: no textures decoded (faster; for `inspect` and `fix`).
+    /// Geometry only: no textures read (faster; for `inspect`).
     pub const GEOMETRY: Self = Self::DEFAULT.without_textures();
+
+    /// What `seamlit fix` reads: textures found and their headers read (missing, unreadable
+    /// and oversized ones warned of), their pixels not decoded
+    /// ([`LoadOptions::decode_textures`]).
+    pub const FIX: Self = Self::DEFAULT.without_pixels();
+
+    /// These options with textures found and measured, not decoded.
+    const fn without_pixels(mut self) -> Self {
+        self.decode_textures = false;
+        self
+    }
 
     /// These options with textures not loaded.
     const fn without_textures(mut self) -> Self {

@@ -130,8 +130,9 @@ impl<T: BufRead + Seek> BufReadSeek for T {}
 /// `options`.
 ///
 /// The check runs even when `options.load_textures` is off, since writers copy texture files.
-/// Returns one warning per texture that could not be read or decoded or was refused by a
-/// limit. With `options.strict`, a missing texture file is an error instead.
+/// With `options.decode_textures` off, the headers are read and the budget handed out (with
+/// their warnings), and nothing is decoded. Returns one warning per texture that could not be
+/// read or decoded or was refused by a limit. With `options.strict`, a missing texture file is an error instead.
 ///
 /// # Errors
 ///
@@ -149,7 +150,9 @@ pub fn decode_all(
     let probed = probe(sources, textures, model);
     let mut warnings = Vec::new();
     let admitted = hand_out_budget(probed, textures, model, options, &mut warnings);
-    warnings.extend(decode_admitted(textures, admitted, model, options.max_texture_size));
+    if options.decode_textures {
+        warnings.extend(decode_admitted(textures, admitted, model, options.max_texture_size));
+    }
     Ok(warnings)
 }
 
@@ -350,7 +353,10 @@ fn decode<R: BufRead + Seek>(
 }
 
 /// A texture's encoded bytes and MIME type (PNG or JPEG): the original bytes where they are
-/// PNG or JPEG, else the decoded image encoded as PNG; `None` when neither is available.
+/// PNG or JPEG, else the image encoded as PNG: the decoded one, or, where the model was loaded
+/// without decoding textures (`seamlit fix` decodes none: [`LoadOptions::load_textures`]), the
+/// original decoded now (KTX2, WebP, ..., within [`LoadOptions::DEFAULT`]'s largest size);
+/// `None` when neither is available.
 pub fn encoded(texture: &Texture, path: &Path) -> Result<Option<(Vec<u8>, &'static str)>, IoError> {
     let sniff = |bytes: &[u8]| -> Option<&'static str> {
         if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
@@ -366,12 +372,25 @@ pub fn encoded(texture: &Texture, path: &Path) -> Result<Option<(Vec<u8>, &'stat
         TextureSource::Embedded { bytes, .. } => Some(bytes.to_vec()),
         TextureSource::Generated => None,
     };
-    if let Some(bytes) = original
-        && let Some(mime) = sniff(&bytes)
-    {
-        return Ok(Some((bytes, mime)));
-    }
-    let Some(image) = &texture.image else { return Ok(None) };
+    let original = match original.as_deref().and_then(sniff) {
+        Some(mime) => return Ok(original.map(|bytes| (bytes, mime))),
+        None => original,
+    };
+    let decoded;
+    let image = match (&texture.image, original) {
+        (Some(image), _) => &**image,
+        (None, Some(bytes)) => {
+            let max_size = LoadOptions::DEFAULT.max_texture_size;
+            match Encoded::Bytes(Arc::from(bytes)).decode(max_size) {
+                Ok(image) => {
+                    decoded = image;
+                    &decoded
+                }
+                Err(_) => return Ok(None),
+            }
+        }
+        (None, None) => return Ok(None),
+    };
     let mut png = Vec::new();
     image.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png).map_err(|source| {
         IoError::Image { path: path.to_path_buf(), texture: texture.name.clone(), source }

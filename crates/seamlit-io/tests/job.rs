@@ -14,7 +14,7 @@ fn model(relative: &str) -> PathBuf {
 
 /// `relative` loaded and fixed with the command line's defaults.
 fn fixed(relative: &str) -> seamlit_io::Asset {
-    let mut asset = seamlit_io::load(&model(relative), &LoadOptions::DEFAULT).unwrap();
+    let mut asset = seamlit_io::load(&model(relative), &LoadOptions::FIX).unwrap();
     fix_asset(&mut asset, &FixJob::DEFAULT).unwrap();
     asset
 }
@@ -118,4 +118,37 @@ fn a_normal_mapped_model_without_tangents_gets_mikktspace_unless_one_was_asked_f
     let kept = fix_asset(&mut asset, &asked).unwrap();
     assert_eq!(kept.options.tangents, FixJob::DEFAULT.options.tangents);
     assert!(kept.json()["options"]["tangents"].is_string(), "{}", kept.json()["options"]);
+}
+
+#[test]
+fn fix_reads_no_pixels_and_writes_what_decoding_them_wrote() {
+    // `seamlit fix` reads textures without decoding them (LoadOptions::FIX): a KTX2 normal
+    // map a generic writer re-encodes as PNG is decoded then, giving the same files as a
+    // model loaded with its textures decoded.
+    let lamp = "anisotropy_barn_lamp/AnisotropyBarnLamp.gltf";
+    let undecoded = fixed(lamp);
+    assert!(!undecoded.textures.is_empty());
+    assert!(undecoded.textures.iter().all(|t| t.image.is_none()), "fix decoded a texture");
+    let mut decoded = seamlit_io::load(&model(lamp), &LoadOptions::DEFAULT).unwrap();
+    assert!(decoded.textures.iter().any(|t| t.image.is_some()));
+    fix_asset(&mut decoded, &FixJob::DEFAULT).unwrap();
+    let written = on_disk(&undecoded, "lamp.obj");
+    assert!(
+        written.iter().any(|(n, _)| n.ends_with("normalbump.png")),
+        "{:?}",
+        written.iter().map(|(n, _)| n).collect::<Vec<_>>()
+    );
+    assert!(written == on_disk(&decoded, "lamp.obj"), "the OBJ's files differ");
+
+    // A missing texture is still a warning, as when decoding.
+    let cornell =
+        seamlit_io::load(&model("cornell_box/cornell_box.obj"), &LoadOptions::FIX).unwrap();
+    let default =
+        seamlit_io::load(&model("cornell_box/cornell_box.obj"), &LoadOptions::DEFAULT).unwrap();
+    assert!(
+        cornell.warnings.iter().any(|w| w.contains("has spaces.jpg")),
+        "{:?}",
+        cornell.warnings
+    );
+    assert_eq!(cornell.warnings, default.warnings);
 }

@@ -142,7 +142,7 @@ fn json(value: &serde_json::Value) -> PyResult<String> {
 #[pyfunction]
 fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
-    let load_options = settings.load_options(LoadOptions::DEFAULT);
+    let load_options = settings.load_options(LoadOptions::FIX);
     let save = SaveOptions {
         overwrite_input: settings.overwrite_input,
         keep_compression: settings.keep_compression,
@@ -176,7 +176,7 @@ fn fix_model_bytes<'py>(
     let settings = Settings::parse(settings)?;
     let files = MemoryFiles::new([(PathBuf::from(name), data.to_vec())]);
     let load_options =
-        LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::DEFAULT) };
+        LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::FIX) };
     let save =
         SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
     let job = settings.job();

@@ -33,7 +33,7 @@ use crate::failure::{Classify, Failure};
 /// (bad input if any file was bad input).
 pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
-    let load = args.load.options(LoadOptions::DEFAULT);
+    let load = args.load.options(LoadOptions::FIX);
     let save = SaveOptions {
         overwrite_input: args.overwrite_input,
         keep_compression: args.keep_compression,
