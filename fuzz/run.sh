@@ -14,7 +14,7 @@ mkdir -p "corpus/$target" "artifacts/$target"
 # seamlit-scene (and with it wgpu) is built for the `scene` target only.
 features=()
 if [ "$target" = scene ]; then features=(--features scene); fi
-exec cargo +nightly fuzz run --sanitizer none --debug-assertions "${features[@]}" "$target" \
+exec cargo +${FUZZ_TOOLCHAIN:-nightly} fuzz run --sanitizer none --debug-assertions "${features[@]}" "$target" \
   "corpus/$target" "seeds/$target" -- \
   -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=10 -max_len=16384 \
   -print_final_stats=1 "$@"

@@ -12,7 +12,7 @@
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-pub use crate::origin::{Files, MemoryFiles, normalize};
+pub use crate::origin::{Files, MemoryFiles, normalize, same_file};
 
 use crate::error::IoError;
 use crate::options::LoadOptions;
@@ -135,14 +135,6 @@ pub fn safe_name(name: &str) -> String {
         )
         .collect();
     if s.is_empty() || s.starts_with('.') { format!("model{s}") } else { s }
-}
-
-/// Whether two paths name the same file (by canonical path when both exist).
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    }
 }
 
 /// Refuses a file over `options.max_file_bytes` (and one that cannot be looked at), read

@@ -155,12 +155,18 @@ impl Files {
     #[must_use]
     pub fn same_file(&self, input: &Path, output: &Path) -> bool {
         match self {
-            Self::Disk => match (input.canonicalize(), output.canonicalize()) {
-                (Ok(a), Ok(b)) => a == b,
-                _ => input == output,
-            },
+            Self::Disk => same_file(input, output),
             Self::Memory(_) => false,
         }
+    }
+}
+
+/// Whether two paths name the same file (by canonical path when both exist).
+#[must_use]
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
     }
 }
 

@@ -124,7 +124,9 @@ def fix_file(
     ``skin_seams_matched``, ``motion`` (per animation, before and after), ``morph_seams``,
     ``summary`` (the lines ``seamlit fix`` prints) and ``warnings``.
     """
-    settings = _file_settings(
+    return _fix_measured(
+        input,
+        output,
         mode=mode,
         crease=crease,
         weld_tolerance=weld_tolerance,
@@ -138,18 +140,19 @@ def fix_file(
         skin_seams=skin_seams,
         samples=samples,
     )
-    result = json.loads(_seamlit.fix_file(os.fspath(input), os.fspath(output), settings))
-    result["report"] = result["fixed"]
-    return result
+
+
+#: :func:`fix_file`'s parameters, read once (the fleet checks every file's options with them).
+_FIX_FILE = _signature(fix_file)
 
 
 def _file_settings(**options: Any) -> str:
     """The settings of :func:`fix_file`'s options (its defaults for those not given), checked;
     an option it does not know raises ``SeamlitError``."""
     try:
-        bound = _signature(fix_file).bind("", "", **options)
+        bound = _FIX_FILE.bind("", "", **options)
     except TypeError:
-        known = set(_signature(fix_file).parameters) - {"input", "output"}
+        known = set(_FIX_FILE.parameters) - {"input", "output"}
         unknown = sorted(set(options) - known)
         raise SeamlitError(f"{', '.join(unknown)}: not an option of seamlit fix") from None
     bound.apply_defaults()
@@ -184,14 +187,12 @@ def _fix_bytes_measured(data: bytes, name: str, out_name: str, **options: Any) -
 
 
 def _fix_measured(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
-    """:func:`fix_file` with the options as :mod:`seamlit.ray` and :func:`fix_bytes` hold
-    them (a dict of ``seamlit fix``'s options); an option it does not know raises
-    ``SeamlitError``."""
-    known = set(_signature(fix_file).parameters) - {"input", "output"}
-    unknown = sorted(set(options) - known)
-    if unknown:
-        raise SeamlitError(f"{', '.join(unknown)}: not an option of seamlit fix")
-    return fix_file(input, output, **options)
+    """:func:`fix_file` with the options as :mod:`seamlit.ray` holds them (a dict of
+    ``seamlit fix``'s options); an option it does not know raises ``SeamlitError``."""
+    settings = _file_settings(**options)
+    result = json.loads(_seamlit.fix_file(os.fspath(input), os.fspath(output), settings))
+    result["report"] = result["fixed"]
+    return result
 
 
 #: Extensions of the models :func:`fix_bytes` takes: one file each, nothing beside it.
@@ -235,7 +236,10 @@ def fix_bytes(
     base = os.path.basename(name.replace("\\", "/")) or f"model.{ext}"
     stem = base.rsplit(".", 1)[0] or "model"
     out_name = f"{stem}.{'vrm' if ext == 'vrm' else 'glb'}"
-    settings = _file_settings(
+    return _fix_bytes_measured(
+        data,
+        name,
+        out_name,
         mode=mode,
         crease=crease,
         weld_tolerance=weld_tolerance,
@@ -245,10 +249,6 @@ def fix_bytes(
         keep_compression=keep_compression,
         skin_seams=skin_seams,
     )
-    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, settings)
-    result = json.loads(text)
-    result["report"] = result["fixed"]
-    return output, result
 
 
 def inspect(
