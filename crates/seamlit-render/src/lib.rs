@@ -96,6 +96,7 @@ mod settings;
 mod shaders;
 mod shadow;
 mod sheen;
+mod sheen_table;
 mod texture;
 mod transmission;
 
