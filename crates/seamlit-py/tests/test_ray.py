@@ -375,6 +375,57 @@ def test_a_worker_killed_while_it_fixes_a_file_is_retried_once_then_the_file_is_
     assert summary.failed == 1
 
 
+def test_small_files_go_several_to_a_task_and_large_ones_alone():
+    sizes = {f"s{i}": 1000 for i in range(10)}
+    sizes["big"] = seamlit.ray._BATCH_BYTES
+    inputs = ["s0", "s1", "big", *[f"s{i}" for i in range(2, 10)]]
+    # Ten small files on 1 CPU: at least 4 tasks of them, so 3 files a task; the large one alone.
+    assert seamlit.ray._batches(inputs, sizes, cpus=1) == [
+        ["big"],
+        ["s0", "s1", "s2"],
+        ["s3", "s4", "s5"],
+        ["s6", "s7", "s8"],
+        ["s9"],
+    ]
+    # Many CPUs: one file a task.
+    assert seamlit.ray._batches(inputs, sizes, cpus=8) == [["s0"], ["big"], *[[f"s{i}"] for i in range(1, 10)]]
+    # A task holds at most _BATCH_BYTES of small files.
+    half = {f"s{i}": seamlit.ray._BATCH_BYTES // 2 for i in range(10)}
+    assert max(map(len, seamlit.ray._batches([f"s{i}" for i in range(10)], half, cpus=1))) == 2
+
+
+def test_a_worker_killed_in_a_task_of_several_files_loses_none_of_them(cluster, tmp_path, monkeypatch):
+    src = tmp_path / "src"
+    slow_model(src / "slow" / "big.obj")
+    for i in range(5):
+        shutil.copy(MODELS / "fox" / "Fox.glb", src / f"fox{i}.glb")
+    # All six files in one task (the slow model is large: it would run alone).
+    monkeypatch.setattr(seamlit.ray, "_BATCH_BYTES", 1 << 30)
+    monkeypatch.setattr(seamlit.ray, "_TASKS_PER_CPU", 0.01)
+    expected = tmp_path / "expected"
+    assert cli("fix", src, "-o", expected).returncode == 0
+
+    # The task's worker killed once: each of its files run again alone, and done.
+    thread, result = run_in_thread(src=str(src), dst=str(tmp_path / "once"))
+    batch = worker_of("seamlit fix fox0.glb (+5 files)")
+    time.sleep(1.0)  # into the slow model, the five foxes done and lost with the worker
+    os.kill(batch, signal.SIGKILL)
+    thread.join(timeout=600)
+    assert "error" not in result, result.get("error")
+    assert result["summary"].fixed == 6, [r for r in result["summary"].rows if r["status"] != "fixed"]
+    assert_same_tree(tmp_path / "once", expected)
+
+    # Killed in the task and again alone: that file failed, the rest done.
+    thread, result = run_in_thread(src=str(src), dst=str(tmp_path / "twice"))
+    os.kill(worker_of("seamlit fix fox0.glb (+5 files)"), signal.SIGKILL)
+    os.kill(worker_of("seamlit fix slow/big.obj"), signal.SIGKILL)
+    thread.join(timeout=600)
+    rows = {r["path"]: r for r in result["summary"].rows}
+    assert rows["slow/big.obj"]["status"] == "failed" and "died" in rows["slow/big.obj"]["error"], rows["slow/big.obj"]
+    assert all(rows[f"fox{i}.glb"]["status"] == "fixed" for i in range(5)), rows
+    assert not (tmp_path / "twice" / "slow" / "big.glb").exists()
+
+
 def test_a_node_lost_mid_run_loses_no_file(cluster, tmp_path):
     src = tmp_path / "src"
     for i in range(3):

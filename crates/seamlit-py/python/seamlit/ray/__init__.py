@@ -21,13 +21,14 @@ Needs Ray (``pip install 'seamlit[ray]'``).
 from __future__ import annotations
 
 import json
+import math
 import sys
 import time
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Tuple
 
 from . import _files, _report
-from ._task import Crashed, Job, Row, empty_row, process
+from ._task import Crashed, Job, Row, empty_row, process, process_batch
 
 __all__ = ["Summary", "fix", "inspect"]
 
@@ -161,60 +162,21 @@ def _run(
     if not ray.is_initialized():
         ray.init(address=address, log_to_driver=False, logging_level="WARNING")
     largest = _largest_node_memory()
-    remote = ray.remote(process)
+    cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
     started = time.perf_counter()
-    pending: Dict[Any, Job] = {}
-    for relative in inputs:
-        earlier = previous.get(relative)
-        key, earlier_output = None, None
-        if earlier is not None and earlier.get("options") == options_key and earlier["status"] in (
-            "fixed",
-            "unchanged",
-            "refused",
-        ):
-            key = (earlier.get("input_sha256"), earlier.get("companions_sha256"))
-            earlier_output = earlier.get("output_path") if earlier["status"] != "refused" else None
-        job = Job(
-            relative=relative,
-            src=src,
-            dst=dst,
-            output=names.get(relative),
-            options=options,
-            flags=flags,
-            options_key=options_key,
-            previous=key,
-            previous_output=earlier_output,
-            engine=engine,
-        )
-        memory = _memory(sizes.get(relative) or 0)
-        if largest:
-            memory = min(memory, int(largest))
-        ref = remote.options(
-            name=f"seamlit {kind} {relative}",
-            memory=memory,
-            num_cpus=1,
-            max_retries=1,
-            retry_exceptions=[Crashed],
-        ).remote(job)
-        pending[ref] = job
-
+    jobs = _jobs(inputs, previous, src, dst, names, options, flags, options_key, engine)
+    tasks = _Tasks(kind, sizes, largest)
+    for batch in _batches(inputs, sizes, cpus):
+        tasks.submit([jobs[r] for r in batch], again=False)
     rows: Dict[str, Row] = {}
-    bar = _Progress(len(pending), kind, progress)
-    while pending:
-        done, _ = ray.wait(list(pending), num_returns=1, timeout=1.0)
-        for ref in done:
-            job = pending.pop(ref)
-            try:
-                row = ray.get(ref)
-            except Exception as e:  # the worker died twice, or the task itself broke
-                row = empty_row(job)
-                row.update(status="failed", error=f"{job.relative}: {_death(e)}")
-            if row.get("skipped"):
-                kept = dict(previous[job.relative])
-                kept["skipped"] = True
-                row = kept
-            rows[job.relative] = row
-            bar.advance(row)
+    bar = _Progress(len(inputs), kind, progress)
+    for job, row in tasks.rows():
+        if row.get("skipped"):
+            kept = dict(previous[job.relative])
+            kept["skipped"] = True
+            row = kept
+        rows[job.relative] = row
+        bar.advance(row)
     bar.close()
     seconds = time.perf_counter() - started
     ordered = [rows[r] for r in inputs]
@@ -232,6 +194,136 @@ def _run(
         report=report_uri,
         rows=tuple(ordered),
     )
+
+
+def _jobs(
+    inputs: List[str],
+    previous: Dict[str, Row],
+    src: str,
+    dst: Optional[str],
+    names: Dict[str, str],
+    options: Dict[str, Any],
+    flags: Tuple[str, ...],
+    options_key: str,
+    engine: str,
+) -> Dict[str, Job]:
+    """Each input's job; with the previous run's hashes where its row may be carried over
+    (the same options, and a status that is the file's own: not ``failed``)."""
+    jobs: Dict[str, Job] = {}
+    for relative in inputs:
+        earlier = previous.get(relative)
+        key, earlier_output = None, None
+        if earlier is not None and earlier.get("options") == options_key and earlier["status"] in (
+            "fixed",
+            "unchanged",
+            "refused",
+        ):
+            key = (earlier.get("input_sha256"), earlier.get("companions_sha256"))
+            earlier_output = earlier.get("output_path") if earlier["status"] != "refused" else None
+        jobs[relative] = Job(
+            relative=relative,
+            src=src,
+            dst=dst,
+            output=names.get(relative),
+            options=options,
+            flags=flags,
+            options_key=options_key,
+            previous=key,
+            previous_output=earlier_output,
+            engine=engine,
+        )
+
+    return jobs
+
+
+#: Files smaller than this go several to a task, and at most this many bytes of them a task.
+_BATCH_BYTES = 4 * 2**20
+#: At most this many files a task.
+_BATCH_FILES = 32
+#: Batches are made small enough for at least this many tasks per CPU of the cluster, so
+#: that the last tasks do not leave CPUs idle.
+_TASKS_PER_CPU = 4
+
+
+def _batches(inputs: List[str], sizes: Dict[str, int], cpus: int) -> List[List[str]]:
+    """The files of each task, in the order of ``inputs``: a file of ``_BATCH_BYTES`` or
+    more alone, the smaller ones together (a task of small files costs Ray several
+    milliseconds, more than fixing one of them)."""
+    small = sum(1 for r in inputs if (sizes.get(r) or 0) < _BATCH_BYTES)
+    per_task = max(1, min(_BATCH_FILES, math.ceil(small / (_TASKS_PER_CPU * cpus))))
+    batches: List[List[str]] = []
+    current: List[str] = []
+    current_bytes = 0
+    for relative in inputs:
+        size = sizes.get(relative) or 0
+        if size >= _BATCH_BYTES:
+            batches.append([relative])
+            continue
+        if current and (len(current) >= per_task or current_bytes + size > _BATCH_BYTES):
+            batches.append(current)
+            current, current_bytes = [], 0
+        current.append(relative)
+        current_bytes += size
+    if current:
+        batches.append(current)
+    return batches
+
+
+class _Tasks:
+    """The Ray tasks of a run and what comes back from them, file by file.
+
+    A task of one file is retried once by Ray when its worker dies. A task of several files
+    is not: when its worker dies, each of its files is run again alone, once, and so is a
+    file whose ``seamlit`` process died inside it (its row's ``_crashed``). Either way a file
+    is tried twice, then reported ``failed``."""
+
+    def __init__(self, kind: str, sizes: Dict[str, int], largest: Optional[float]) -> None:
+        import ray
+
+        self.kind, self.sizes, self.largest = kind, sizes, largest
+        self.one, self.many = ray.remote(process), ray.remote(process_batch)
+        self.pending: Dict[Any, Tuple[List[Job], bool]] = {}
+
+    def submit(self, jobs: List[Job], again: bool) -> None:
+        """Starts a task for ``jobs``; ``again``: a second try, not retried."""
+        # One file after another in the task: the largest one's memory.
+        memory = max(_memory(self.sizes.get(j.relative) or 0) for j in jobs)
+        if self.largest:
+            memory = min(memory, int(self.largest))
+        first = jobs[0].relative
+        name = f"seamlit {self.kind} {first}" + (f" (+{len(jobs) - 1} files)" if len(jobs) > 1 else "")
+        settings: Dict[str, Any] = dict(name=name, memory=memory, num_cpus=1)
+        if len(jobs) == 1:
+            retries = 0 if again else 1
+            ref = self.one.options(**settings, max_retries=retries, retry_exceptions=[Crashed]).remote(jobs[0])
+        else:
+            ref = self.many.options(**settings, max_retries=0).remote(jobs)
+        self.pending[ref] = (jobs, again)
+
+    def rows(self):
+        """Yields (job, row) for every file as its task ends, running again what needs it."""
+        import ray
+
+        while self.pending:
+            done, _ = ray.wait(list(self.pending), num_returns=1, timeout=1.0)
+            for ref in done:
+                jobs, again = self.pending.pop(ref)
+                try:
+                    result = ray.get(ref)
+                except Exception as e:  # the worker died (twice for a single), or the task broke
+                    if len(jobs) > 1:
+                        for job in jobs:
+                            self.submit([job], again=True)
+                        continue
+                    row = empty_row(jobs[0])
+                    row.update(status="failed", error=f"{jobs[0].relative}: {_death(e)}")
+                    yield jobs[0], row
+                    continue
+                for job, row in zip(jobs, result if len(jobs) > 1 else [result]):
+                    if "_crashed" in row:
+                        self.submit([job], again=True)
+                    else:
+                        yield job, row
 
 
 def _death(error: BaseException) -> str:

@@ -5,6 +5,10 @@ complete, and return the file's row of the report.
 Every failure that is the file's (a model seamlit refuses, a file missing beside it) is a
 ``refused`` row; only a dead worker process (a native crash, the out-of-memory killer, a lost
 node) escapes from here, and the driver retries that once (Ray's ``max_retries``).
+
+Small files go several to a task (:func:`process_batch`): Ray's cost per task, several
+milliseconds, is more than fixing a small model takes. A batch is not retried as a whole:
+when its worker dies, the driver runs each of its files again alone, once.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import tempfile
 import time
 import uuid
 from dataclasses import dataclass
-from typing import Any, Dict, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from pyarrow import fs as pafs
 
@@ -292,6 +296,23 @@ def process(job: Job) -> Row:
         row["seconds"] = time.perf_counter() - started
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
+
+
+def process_batch(jobs: Sequence[Job]) -> List[Row]:
+    """Processes several files one after another in one task and returns their rows in the
+    same order. A file whose ``seamlit`` process dies (:class:`Crashed`) is not retried
+    here: its row carries ``_crashed`` (the reason) and the driver runs it again alone; the
+    files after it are still done. A crash of the worker itself ends the whole task, and the
+    driver runs each of its files again alone."""
+    rows: List[Row] = []
+    for job in jobs:
+        try:
+            rows.append(process(job))
+        except Crashed as e:
+            row = empty_row(job)
+            row["_crashed"] = str(e)
+            rows.append(row)
+    return rows
 
 
 def _reserved_memory() -> Optional[int]:
