@@ -156,7 +156,7 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         let warnings = asset.warnings.iter().chain(&saved.warnings);
         Ok(fixed.file_json(&input.display().to_string(), &output, warnings))
     };
-    json(&py.detach(run)?)
+    json(&detached(py, run)?)
 }
 
 /// [`fix_file`] for a model in one file held in memory (GLB, VRM, USDZ, FBX), all in memory:
@@ -193,8 +193,17 @@ fn fix_model_bytes<'py>(
         let json = fixed.file_json(name, output, asset.warnings.iter().chain(&saved));
         Ok((files.remove(0).1, json))
     };
-    let (bytes, report) = py.detach(run)?;
+    let (bytes, report) = detached(py, run)?;
     Ok((pyo3::types::PyBytes::new(py, &bytes), json(&report)?))
+}
+
+/// Runs `work` without the interpreter's lock, on a thread of rayon's pool: its parallel
+/// loops then run there and in the pool's other threads, rather than each being handed from
+/// the caller's thread to the pool and waited for. On a pool of one thread (a Ray task's
+/// `RAYON_NUM_THREADS=1`) the many small loops of fixing a small model ran 1.5 times slower
+/// handed off so, the worker thread woken on the other core for each (BENCHMARKS.md).
+fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> T {
+    py.detach(|| rayon::scope(|_| work()))
 }
 
 /// Loads `path` and measures its seams as loaded and after a fix, without writing
@@ -221,7 +230,7 @@ fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
             "warnings": asset.warnings,
         }))
     };
-    json(&py.detach(run)?)
+    json(&detached(py, run)?)
 }
 
 /// One object as the Python side passes it: positions (n x 3), triangles (m x 3), optional
@@ -320,7 +329,7 @@ fn fix<'py>(
     let objects =
         objects.iter().enumerate().map(|(i, arrays)| object(i, arrays)).collect::<PyResult<_>>()?;
     let mut model = Model::new(objects);
-    py.detach(|| seamlit_mesh::fix_in_place(&mut model, &options)).map_err(error)?;
+    detached(py, || seamlit_mesh::fix_in_place(&mut model, &options)).map_err(error)?;
     model
         .objects
         .into_iter()
