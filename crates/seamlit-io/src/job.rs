@@ -120,6 +120,23 @@ pub enum FixError {
     Report(MeshError),
 }
 
+/// Runs `work` on a thread of rayon's global pool and returns what it returns: the parallel
+/// loops of a fix (dozens for a small model) then run inline on that thread, their parts
+/// stolen by the pool's other threads, instead of each being handed from the caller's thread
+/// to the pool and waited for, which cost a small model's fix half its time again when the
+/// pool's thread sat on another core (BENCHMARKS.md). The command line and the Python package
+/// run each file so. The pool is built on first use as rayon builds it by default (its
+/// threads from `RAYON_NUM_THREADS`, else one per CPU) but with the 8 MiB stacks of a main
+/// thread, as a model's whole load now runs on them; a pool built before is used as it is.
+pub fn in_pool<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    static POOL: std::sync::Once = std::sync::Once::new();
+    POOL.call_once(|| {
+        // Fails only when the global pool exists already: then that one is used.
+        let _ = rayon::ThreadPoolBuilder::new().stack_size(8 << 20).build_global();
+    });
+    rayon::scope(|_| work())
+}
+
 /// Fixes `asset` in place as `seamlit fix` does (the module's docs list the steps) and says
 /// what was found and done.
 ///

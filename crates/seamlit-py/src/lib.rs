@@ -197,13 +197,13 @@ fn fix_model_bytes<'py>(
     Ok((pyo3::types::PyBytes::new(py, &bytes), json(&report)?))
 }
 
-/// Runs `work` without the interpreter's lock, on a thread of rayon's pool: its parallel
-/// loops then run there and in the pool's other threads, rather than each being handed from
-/// the caller's thread to the pool and waited for. On a pool of one thread (a Ray task's
+/// Runs `work` without the interpreter's lock, on a thread of rayon's pool
+/// ([`seamlit_io::job::in_pool`]). On a pool of one thread (a Ray task's
 /// `RAYON_NUM_THREADS=1`) the many small loops of fixing a small model ran 1.5 times slower
-/// handed off so, the worker thread woken on the other core for each (BENCHMARKS.md).
+/// handed off from the interpreter's thread, the pool's thread woken on the other core for
+/// each.
 fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> T {
-    py.detach(|| rayon::scope(|_| work()))
+    py.detach(|| seamlit_io::job::in_pool(work))
 }
 
 /// Loads `path` and measures its seams as loaded and after a fix, without writing

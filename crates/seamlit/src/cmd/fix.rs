@@ -1,5 +1,7 @@
 //! `seamlit fix`: load, fix, write. A folder in gives a folder out, with a progress bar; a
-//! file that fails is reported and the others go on.
+//! file that fails is reported and the others go on. A folder's small files are fixed several
+//! at a time, one per thread, its large ones one at a time with every thread on each; what
+//! each file says (warnings, its line or error) is printed in the folder's order.
 //!
 //! A panic while a file is processed (a bug, never expected) is caught and reported as that
 //! file's failure, "internal error" on one line with the panic's message and place, exit
@@ -19,6 +21,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use rayon::iter::{IntoParallelIterator, ParallelIterator};
 use seamlit_io::job::{FixError, FixJob, SkinSeams, fix_asset};
 use seamlit_io::{InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::FixOptions;
@@ -32,6 +35,10 @@ use crate::failure::{Classify, Failure};
 /// The first failure for a file; for a folder, a summary failure when any file failed
 /// (bad input if any file was bad input).
 pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
+    seamlit_io::job::in_pool(|| run_in_pool(args))
+}
+
+fn run_in_pool(args: &FixArgs) -> Result<(), Failure> {
     let options = args.fix.apply(FixOptions::DEFAULT).with_mode(args.mode.into());
     let load = args.load.options(LoadOptions::FIX);
     let save = SaveOptions {
@@ -47,8 +54,14 @@ pub(crate) fn run(args: &FixArgs) -> Result<(), Failure> {
     check_keep_compression(args.keep_compression, &args.output, &extension.unwrap_or_default())?;
     let _quiet = QuietPanics::install();
     let job = job(args, &options);
-    let line = guarded(&args.input, || fix_file(&args.input, &args.output, &job, &load, &save))?;
-    println!("{line}");
+    let mut warnings = Vec::new();
+    let result = guarded(&args.input, || {
+        fix_file(&args.input, &args.output, &job, (&load, &save), &mut warnings)
+    });
+    for warning in &warnings {
+        eprintln!("warning: {warning}");
+    }
+    println!("{}", result?);
     Ok(())
 }
 
@@ -177,29 +190,27 @@ fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
 
 /// Loads, fixes ([`seamlit_io::job::fix_asset`]) and writes one model; returns its summary:
 /// what was written, then what the fix changed.
+/// Fixes one file; its warnings go to `warnings` as they arise (printed with its line, or
+/// before its error).
 fn fix_file(
     input: &Path,
     output: &Path,
     job: &FixJob,
-    load: &LoadOptions,
-    save: &SaveOptions,
+    (load, save): (&LoadOptions, &SaveOptions),
+    warnings: &mut Vec<String>,
 ) -> Result<String, Failure> {
     if !input.exists() {
         return Err(Failure::input(format!("{}: no such file", input.display())));
     }
     let mut asset = seamlit_io::load(input, load).bad_input()?;
-    for warning in &asset.warnings {
-        eprintln!("warning: {warning}");
-    }
+    warnings.extend(asset.warnings.iter().map(ToString::to_string));
     let fixed = fix_asset(&mut asset, job).map_err(|e| match e {
         FixError::Geometry(_) => Failure::input(format!("{}: {e}", input.display())),
         FixError::Report(_) => Failure::processing(format!("{}: {e}", input.display())),
     })?;
     crate::output::prepare_folder_of(output)?;
     let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
-    for warning in &saved.warnings {
-        eprintln!("warning: {warning}");
-    }
+    warnings.extend(saved.warnings.iter().map(ToString::to_string));
     Ok(fixed.summary(output))
 }
 
@@ -249,33 +260,103 @@ fn run_folder(
     if let Ok(style) = ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {wide_msg}") {
         bar.set_style(style);
     }
+    // The output names first, in the inputs' order: folder mode's rule for names that clash.
     let mut names = seamlit_io::folder::OutputNames::new();
-    let (mut failed, mut bad_input) = (0usize, false);
+    let outputs: Vec<PathBuf> = inputs
+        .iter()
+        .map(|input| {
+            let relative = input.strip_prefix(&args.input).unwrap_or(input);
+            let extension = seamlit_io::folder::output_extension(input, args.format.extension());
+            names.name(relative, &args.output, extension)
+        })
+        .collect();
     let quiet = QuietPanics::install();
     let job = job(args, options);
-    for input in &inputs {
-        let relative = input.strip_prefix(&args.input).unwrap_or(input);
-        bar.set_message(relative.display().to_string());
-        let extension = seamlit_io::folder::output_extension(input, args.format.extension());
-        let output = names.name(relative, &args.output, extension);
-        match guarded(input, || fix_file(input, &output, &job, load, save)) {
-            Ok(line) => bar.suspend(|| println!("{line}")),
-            Err(f) => {
-                failed += 1;
-                bad_input |= f.is_bad_input();
-                bar.suspend(|| eprintln!("error: {f}"));
+    let lines = Mutex::new(InOrder::default());
+    for group in groups(&inputs) {
+        group.into_par_iter().for_each(|i| {
+            let input = &inputs[i];
+            let relative = input.strip_prefix(&args.input).unwrap_or(input);
+            bar.set_message(relative.display().to_string());
+            let mut warnings = Vec::new();
+            let result =
+                guarded(input, || fix_file(input, &outputs[i], &job, (load, save), &mut warnings));
+            if let Ok(mut lines) = lines.lock() {
+                lines.done(i, (warnings, result), &bar);
             }
-        }
-        bar.inc(1);
+            bar.inc(1);
+        });
     }
     drop(quiet);
     bar.finish_and_clear();
+    let InOrder { failed, bad_input, .. } = lines.into_inner().unwrap_or_default();
     let total = inputs.len();
     println!("fixed {} of {total} models into {}", total - failed, args.output.display());
     match (failed, bad_input) {
         (0, _) => Ok(()),
         (n, true) => Err(Failure::input(format!("{n} of {total} models failed"))),
         (n, false) => Err(Failure::processing(format!("{n} of {total} models failed"))),
+    }
+}
+
+/// Files below this size are fixed several at a time, one per thread of the pool (each
+/// file's own loops then run on its thread); a file of this size or more is fixed alone, its
+/// loops spread over the pool, so that no more than one large model's working set (tens of
+/// times its file's size) is held at once.
+const FIX_TOGETHER_BELOW: u64 = 8 << 20;
+
+/// The inputs' indices in groups run one after another: each run of consecutive small files
+/// together, each large file alone.
+fn groups(inputs: &[PathBuf]) -> Vec<Vec<usize>> {
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut small = Vec::new();
+    for (i, input) in inputs.iter().enumerate() {
+        let size = std::fs::metadata(input).map_or(0, |m| m.len());
+        if size < FIX_TOGETHER_BELOW {
+            small.push(i);
+        } else {
+            if !small.is_empty() {
+                groups.push(std::mem::take(&mut small));
+            }
+            groups.push(vec![i]);
+        }
+    }
+    if !small.is_empty() {
+        groups.push(small);
+    }
+    groups
+}
+
+/// One file's warnings and its line or failure.
+type Outcome = (Vec<String>, Result<String, Failure>);
+
+/// Each file's warnings and line (or error) printed in the inputs' order as files finish in
+/// any order, and the failures counted.
+#[derive(Default)]
+struct InOrder {
+    next: usize,
+    waiting: std::collections::BTreeMap<usize, Outcome>,
+    failed: usize,
+    bad_input: bool,
+}
+
+impl InOrder {
+    fn done(&mut self, i: usize, outcome: Outcome, bar: &ProgressBar) {
+        self.waiting.insert(i, outcome);
+        while let Some((warnings, result)) = self.waiting.remove(&self.next) {
+            for warning in warnings {
+                bar.suspend(|| eprintln!("warning: {warning}"));
+            }
+            match result {
+                Ok(line) => bar.suspend(|| println!("{line}")),
+                Err(f) => {
+                    self.failed += 1;
+                    self.bad_input |= f.is_bad_input();
+                    bar.suspend(|| eprintln!("error: {f}"));
+                }
+            }
+            self.next += 1;
+        }
     }
 }
 

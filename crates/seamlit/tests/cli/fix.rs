@@ -290,3 +290,68 @@ fn fix_a_folder_tree_mirrors_it_with_textures_beside_each_model() {
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(tree(top.path()), ["a.glb"]);
 }
+
+/// Two grids of n x n quads that meet along one edge, as OBJ: a model that takes a while.
+fn two_grids(n: usize) -> String {
+    let mut text = String::new();
+    for part in 0..2 {
+        text.push_str(&format!("o part{part}\n"));
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+                text.push_str(&format!("v {} {y} {}\n", x + part as f32, (x * 3.0).sin() * 0.1));
+            }
+        }
+        let base = part * (n + 1) * (n + 1) + 1;
+        for j in 0..n {
+            for i in 0..n {
+                let a = base + j * (n + 1) + i;
+                text.push_str(&format!("f {a} {} {} {}\n", a + 1, a + n + 2, a + n + 1));
+            }
+        }
+    }
+    text
+}
+
+/// Folder mode fixes small files several at a time: on four threads it writes the bytes one
+/// thread writes and prints each file's warnings and line in the folder's order, though the
+/// first file (the slow one) finishes last.
+#[test]
+fn fix_a_folder_on_several_threads_writes_and_says_what_one_thread_does_in_order() {
+    let input = tempfile::tempdir().unwrap();
+    write(input.path(), "a.obj", &two_grids(150));
+    for name in ["b", "c", "d", "e", "f", "g", "h"] {
+        // A missing material library: one warning each.
+        let text = format!("mtllib {name}.mtl\no {name}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        write(input.path(), &format!("{name}.obj"), &text);
+    }
+    let output = tempfile::tempdir().unwrap();
+    let run = |threads: &str| {
+        let out = output.path().join(format!("threads{threads}"));
+        let o = Command::new(env!("CARGO_BIN_EXE_seamlit"))
+            .args(["fix", &input.path().display().to_string(), "-o", &out.display().to_string()])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .expect("the binary runs");
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        let said = stdout(&o).replace(&out.display().to_string(), "OUT");
+        (out, said, String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (one, said_one, warned_one) = run("1");
+    let (four, said_four, warned_four) = run("4");
+    // "wrote OUT/a.glb: ..." for a to h, in that order.
+    let order: Vec<&str> =
+        said_four.lines().filter_map(|l| l.strip_prefix("wrote OUT/")?.split('.').next()).collect();
+    assert_eq!(order, ["a", "b", "c", "d", "e", "f", "g", "h"], "{said_four}");
+    assert_eq!(said_four, said_one);
+    assert_eq!(warned_four, warned_one);
+    assert_eq!(warned_four.matches("warning:").count(), 7, "{warned_four}");
+    assert_eq!(listing(&four), listing(&one));
+    for name in listing(&one) {
+        assert_eq!(
+            std::fs::read(four.join(&name)).unwrap(),
+            std::fs::read(one.join(&name)).unwrap(),
+            "{name}"
+        );
+    }
+}
