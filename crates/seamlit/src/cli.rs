@@ -29,7 +29,9 @@ pub enum Command {
     /// before and after. Needs no files.
     Demo(DemoArgs),
     /// Compute seam-free normals and tangents and write the model out (glTF, GLB or OBJ).
-    /// A folder in gives a folder out.
+    /// A folder in gives a folder out: its small models (under 8 MiB) are fixed several at a
+    /// time, one per thread (RAYON_NUM_THREADS, default one per CPU), larger ones one at a
+    /// time; what each says is printed in the folder's order.
     Fix(FixArgs),
     /// Print the seam report of a model as loaded and after each mode: how well normals and
     /// tangents agree where objects meet.
