@@ -1178,3 +1178,36 @@ fn a_materialx_layer_is_one_warning_and_the_rest_composes() {
     assert_eq!(lines.len(), 1, "{:?}", asset.warnings);
     assert!(lines[0].contains("openusd reads no .mtlx layers") && !lines[0].contains('\n'));
 }
+
+/// The seam check by pxr joins corners at one position as seamlit's weld does (within 1e-6
+/// of the model's diagonal), not by rounding to a grid: two meshes that share two vertices
+/// (normals equal) and have, 32 micrometres apart, two distinct vertices whose normals face
+/// opposite ways have no seam. Rounded to 1e-4 those two vertices were one position and a
+/// 180-degree "seam", as BrainStem.usdz's five were (BENCHMARKS.md).
+#[test]
+fn the_pxr_seam_check_joins_positions_as_the_weld_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = |name: &str, side: f32, indices: &str, near: &str| {
+        format!(
+            "def Mesh \"{name}\" {{\n    int[] faceVertexCounts = [3, 3]\n    \
+             int[] faceVertexIndices = [{indices}]\n    \
+             point3f[] points = [(0, 0, 0), (0, 1, 0), ({side}, 0.5, 0), ({near}, 0.5, 0)]\n    \
+             normal3f[] primvars:normals = [(0, 0, 1), ({side}, 0, 0)] (interpolation = \"vertex\")\n    \
+             int[] primvars:normals:indices = [0, 0, 0, 1]\n}}\n"
+        )
+    };
+    let text = format!(
+        "#usda 1.0\n(\n    upAxis = \"Y\"\n)\n{}{}",
+        mesh("A", -1.0, "0, 3, 2, 3, 1, 2", "-0.000016"),
+        mesh("B", 1.0, "0, 2, 3, 3, 2, 1", "0.000016")
+    );
+    let path = dir.path().join("near.usda");
+    std::fs::write(&path, text).unwrap();
+    let seam = pxr("seam", &[&path]);
+    // Corners of A and B at (0, 0, 0) and at (0, 1, 0): one pair each, normals equal.
+    assert_eq!(seam["pairs"], 2, "{seam}");
+    assert!(seam["largest_degrees"].as_f64().unwrap() < 1e-3, "{seam}");
+    // seamlit's weld sees the same two shared positions.
+    let report = seamlit_mesh::report(&load(&path).model, &ReportOptions::default()).unwrap();
+    assert_eq!(report.shared_positions, 2, "{report:?}");
+}
