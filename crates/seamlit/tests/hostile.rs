@@ -185,6 +185,36 @@ fn a_failed_replacement_keeps_the_old_output_and_a_write_failure_is_status_1() {
     assert_eq!(std::fs::read_to_string(&existing).unwrap(), "old contents");
 }
 
+/// Folder mode fixes small files on several threads at once: each file that panics is
+/// reported with its own panic's message and place, whichever thread caught which.
+#[test]
+fn panics_in_files_fixed_at_once_are_each_their_own_file_s() {
+    let input = tempfile::tempdir().unwrap();
+    let names: Vec<String> =
+        (0..12).map(|i| format!("{}{i:02}.obj", ["ok", "boom"][i % 2])).collect();
+    for name in &names {
+        write(input.path(), name, GOOD);
+    }
+    let out = tempfile::tempdir().unwrap();
+    let fixed = out.path().join("fixed");
+    let env = [("SEAMLIT_DEBUG_PANIC_ON", "boom"), ("RAYON_NUM_THREADS", "4")];
+    let o =
+        seamlit_with(&["fix", input.path().to_str().unwrap(), "-o", fixed.to_str().unwrap()], &env);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let errors = error_lines(&o);
+    let booms: Vec<&String> = names.iter().filter(|n| n.starts_with("boom")).collect();
+    assert_eq!(errors.len(), booms.len() + 1, "{errors:?}");
+    // In the folder's order, each with its own message and place.
+    for (line, name) in errors.iter().zip(&booms) {
+        assert!(
+            line.contains(&format!("{name}: internal error"))
+                && line.contains(&format!("SEAMLIT_DEBUG_PANIC_ON matched \"{name}\" at "))
+                && line.contains("fix.rs:"),
+            "{name}: {line}"
+        );
+    }
+}
+
 #[test]
 fn a_panic_in_one_file_of_a_folder_is_its_internal_error_and_the_others_go_on() {
     let input = tempfile::tempdir().unwrap();

@@ -105,7 +105,8 @@ fn guarded(
         work()
     }));
     result.unwrap_or_else(|payload| {
-        let message = QuietPanics::take().unwrap_or_else(|| panic_message(&*payload));
+        let message = panic_message(&*payload);
+        let message = QuietPanics::take(&message).unwrap_or(message);
         Err(Failure::processing(format!(
             "{}: internal error (a bug in seamlit, please report it): {message}",
             input.display()
@@ -134,13 +135,15 @@ fn debug_panic(input: &Path) {
 }
 
 /// While alive, panics are recorded (message and place) for [`QuietPanics::take`] instead of
-/// being printed; the previous hook is restored on drop.
+/// being printed; the previous hook is restored on drop. Files are fixed on several threads
+/// at once, and a panic may arise on another thread than the one that catches it (a part of
+/// a parallel loop): each is found again by its message.
 struct QuietPanics {
     previous: Arc<dyn Fn(&PanicHookInfo<'_>) + Send + Sync>,
 }
 
-/// The last panic recorded by the quiet hook.
-static LAST_PANIC: Mutex<Option<String>> = Mutex::new(None);
+/// The panics recorded by the quiet hook and not yet taken: (message, " at file:line").
+static PANICS: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
 
 impl QuietPanics {
     fn install() -> Self {
@@ -151,8 +154,8 @@ impl QuietPanics {
         std::panic::set_hook(Box::new(move |info| {
             let message = panic_message(info.payload());
             let place = info.location().map(|l| format!(" at {}:{}", l.file(), l.line()));
-            if let Ok(mut last) = LAST_PANIC.lock() {
-                *last = Some(format!("{message}{}", place.unwrap_or_default()));
+            if let Ok(mut panics) = PANICS.lock() {
+                panics.push((message, place.unwrap_or_default()));
             }
             if backtrace {
                 chained(info);
@@ -161,9 +164,12 @@ impl QuietPanics {
         Self { previous }
     }
 
-    /// The last recorded panic, cleared.
-    fn take() -> Option<String> {
-        LAST_PANIC.lock().ok().and_then(|mut last| last.take())
+    /// The recorded panic with this message, with its place, taken out of the record.
+    fn take(message: &str) -> Option<String> {
+        let mut panics = PANICS.lock().ok()?;
+        let i = panics.iter().rposition(|(m, _)| m == message)?;
+        let (message, place) = panics.swap_remove(i);
+        Some(format!("{message}{place}"))
     }
 }
 
