@@ -18,7 +18,7 @@
 
 use std::panic::{AssertUnwindSafe, PanicHookInfo};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::iter::{IntoParallelIterator, ParallelIterator};
@@ -195,9 +195,8 @@ fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
 }
 
 /// Loads, fixes ([`seamlit_io::job::fix_asset`]) and writes one model; returns its summary:
-/// what was written, then what the fix changed.
-/// Fixes one file; its warnings go to `warnings` as they arise (printed with its line, or
-/// before its error).
+/// what was written, then what the fix changed. Its warnings go to `warnings` as they arise
+/// (the caller prints them before the summary or the error).
 fn fix_file(
     input: &Path,
     output: &Path,
@@ -287,15 +286,17 @@ fn run_folder(
             let mut warnings = Vec::new();
             let result =
                 guarded(input, || fix_file(input, &outputs[i], &job, (load, save), &mut warnings));
-            if let Ok(mut lines) = lines.lock() {
-                lines.done(i, (warnings, result), &bar);
-            }
+            // A poisoned lock (a panic while printing) still holds every count.
+            let mut lines = lines.lock().unwrap_or_else(PoisonError::into_inner);
+            lines.done(i, (warnings, result), &bar);
+            drop(lines);
             bar.inc(1);
         });
     }
     drop(quiet);
     bar.finish_and_clear();
-    let InOrder { failed, bad_input, .. } = lines.into_inner().unwrap_or_default();
+    let InOrder { failed, bad_input, .. } =
+        lines.into_inner().unwrap_or_else(PoisonError::into_inner);
     let total = inputs.len();
     println!("fixed {} of {total} models into {}", total - failed, args.output.display());
     match (failed, bad_input) {
