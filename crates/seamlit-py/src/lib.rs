@@ -165,16 +165,21 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
 /// there), fixed, written by the glTF writer into memory
 /// ([`seamlit_io::files::Destination::memory`]) as `output` (a name: `NAME.glb`, or `NAME.vrm`);
 /// returns the output's bytes and the JSON of [`fix_file`]. `name` names the input in errors.
+/// `companions`: the files a model of several names (a `.gltf`'s buffers and images, an OBJ's
+/// MTL and textures, a USD layer's layers), each by its path beside `name`'s, in the same set.
 #[pyfunction]
+#[pyo3(signature = (data, name, output, settings, companions = Vec::new()))]
 fn fix_model_bytes<'py>(
     py: Python<'py>,
     data: &[u8],
     name: &str,
     output: &str,
     settings: &str,
+    companions: Vec<(PathBuf, Vec<u8>)>,
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
-    let files = MemoryFiles::new([(PathBuf::from(name), data.to_vec())]);
+    let files =
+        MemoryFiles::new(std::iter::once((PathBuf::from(name), data.to_vec())).chain(companions));
     let load_options =
         LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::FIX) };
     let save =

@@ -248,6 +248,40 @@ def test_an_object_store_is_fixed_byte_for_byte_as_folder_mode(cluster, tree, s3
     assert (out / "_seamlit" / "summary.html").read_text().count('<img src="data:image/png;base64,') == 2
 
 
+def test_models_of_several_files_from_an_object_store_are_fixed_in_memory(tree, s3, tmp_path, monkeypatch):
+    # A .gltf, an OBJ and USD layers from s3:// are read with the files beside them into
+    # memory and fixed there (no scratch folder on the worker), into folder mode's bytes.
+    from seamlit.ray import _files, _task
+
+    def no_folder(*args, **kwargs):
+        raise AssertionError("the task made a scratch folder")
+
+    s3.create_bucket(Bucket="several")
+    src = tree / "src"
+    for name in listing(src):
+        s3.upload_file(str(src / name), "several", f"models/{name}")
+    monkeypatch.setattr(_task.tempfile, "mkdtemp", no_folder)
+    inputs = [n for n in listing(src) if _files.extension(n) in ("gltf", "obj", "usda") and not n.startswith("broken")]
+    names = _files.output_names(sorted(set(_files.model_files(*_files.resolve(str(src)), recurse=True, skip=None))), "glb")
+    dst = tmp_path / "dst"
+    fixed = 0
+    for name in inputs:
+        if name not in names:
+            continue  # a layer folder mode does not take as a model
+        job = _task.Job(relative=name, src="s3://several/models", dst=str(dst), output=names[name],
+                        options={"mode": "model", "tessellation": 16, "skin_seams": "match", "samples": 30},
+                        flags=(), options_key="")
+        row = _task.process(job)
+        expected = tree / "expected" / names[name]
+        if not expected.exists():
+            assert row["status"] == "refused", row  # refused by folder mode too
+            continue
+        assert row["status"] in ("fixed", "unchanged"), row
+        assert (dst / names[name]).read_bytes() == expected.read_bytes(), name
+        fixed += 1
+    assert fixed >= 5, fixed
+
+
 def test_a_second_run_skips_what_it_fixed_and_fixes_what_changed(cluster, tree, tmp_path):
     src = tmp_path / "src"
     shutil.copytree(tree / "src", src)

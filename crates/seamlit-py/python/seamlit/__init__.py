@@ -177,10 +177,14 @@ def _file_settings(**options: Any) -> str:
     )
 
 
-def _fix_bytes_measured(data: bytes, name: str, out_name: str, **options: Any) -> Tuple[bytes, Dict[str, Any]]:
-    """:func:`fix_bytes` of a model in one file with the options as :mod:`seamlit.ray` holds
-    them (any of :func:`fix_file`'s), written as ``out_name`` (``.glb`` or ``.vrm``)."""
-    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, _file_settings(**options))
+def _fix_bytes_measured(
+    data: bytes, name: str, out_name: str, companions: Optional[Dict[str, bytes]] = None, **options: Any
+) -> Tuple[bytes, Dict[str, Any]]:
+    """:func:`fix_bytes` with the options as :mod:`seamlit.ray` holds them (any of
+    :func:`fix_file`'s), written as ``out_name`` (``.glb`` or ``.vrm``); ``companions``: the
+    files of a model of several (path beside ``name``'s -> bytes), read from memory too."""
+    files = list((companions or {}).items())
+    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, _file_settings(**options), files)
     result = json.loads(text)
     result["report"] = result["fixed"]
     return output, result

@@ -234,7 +234,10 @@ def process(job: Job) -> Row:
             return row
 
         if job.dst is not None and job.output is not None and _in_memory(job, ext):
-            return _fix_in_memory(job, row, data)
+            return _fix_in_memory(job, row, data, {})
+        if job.dst is not None and job.output is not None and not local_src and _with_companions_in_memory(job, ext):
+            # What staging would write to a scratch folder, read from memory instead.
+            return _fix_in_memory(job, row, data, companions)
 
         scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
         # The model as a local file: SRC's own when SRC is local, else a staged copy with
@@ -366,15 +369,31 @@ def _in_memory(job: Job, ext: str) -> bool:
     return ext in seamlit.SELF_CONTAINED and _native(job.engine) and job.output.lower().endswith("." + wanted)
 
 
-def _fix_in_memory(job: Job, row: Row, data: bytes) -> Row:
-    """Fixes a model in one file in memory and writes its output to DST (complete or not at
-    all: a rename on a local filesystem, one upload on an object store)."""
+def _with_companions_in_memory(job: Job, ext: str) -> bool:
+    """Whether a model of several files from an object store is fixed in memory with the files
+    gathered beside it (the set a scratch folder would hold): into a GLB, by the extension
+    module, without asset roots (folders of SRC that staging maps to local ones)."""
+    assert job.output is not None
+    return (
+        ext in ("gltf", "obj", "usda", "usdc", "usd")
+        and _native(job.engine)
+        and job.output.lower().endswith(".glb")
+        and not job.options.get("asset_roots")
+    )
+
+
+def _fix_in_memory(job: Job, row: Row, data: bytes, companions: Dict[str, bytes]) -> Row:
+    """Fixes a model in memory (with ``companions``, SRC-relative paths -> bytes, for one of
+    several files) and writes its output to DST (complete or not at all: a rename on a local
+    filesystem, one upload on an object store)."""
     import seamlit
 
     assert job.dst is not None and job.output is not None
     try:
         # Named by its path in SRC: errors and warnings name it so.
-        output, result = seamlit._fix_bytes_measured(data, job.relative, posixpath.basename(job.output), **job.options)
+        output, result = seamlit._fix_bytes_measured(
+            data, job.relative, posixpath.basename(job.output), companions, **job.options
+        )
     except seamlit.SeamlitError as e:
         row.update(status="refused", error=_relative_message(str(e), job.relative, job.relative))
         return row
