@@ -216,8 +216,8 @@ def process(job: Job) -> Row:
     row["memory_bytes"] = _reserved_memory()
     src_fs, src_root = _files.resolve(job.src)
     local_src = isinstance(src_fs, pafs.LocalFileSystem)
-    # Made where a model is staged or an output written on the worker (not for a model in
-    # one file, fixed in memory).
+    # Made where a model is staged or an output written on the worker (not for a model fixed
+    # in memory: one in one file, or one from an object store with its files, into a GLB).
     scratch: Optional[str] = None
     try:
         try:
