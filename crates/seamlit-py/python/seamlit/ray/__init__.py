@@ -132,13 +132,7 @@ def _run(
             f"{dst}: --keep-compression needs glTF or GLB output (an OBJ file holds no compressed geometry)"
         )
     flags = _flags(options)
-    # The options as the key of a run, defaults filled in (the command line passes them, the
-    # Python call may not: both are one run for the skip).
-    defaults: Dict[str, Any] = {"mode": "model", "tessellation": 16}
-    if kind == "fix":
-        defaults.update(skin_seams="match", samples=30, keep_compression=False, overwrite_input=False)
-    keyed = {**defaults, **{k: v for k, v in options.items() if v is not None}}
-    options_key = json.dumps({"kind": kind, "format": output_format, **keyed}, sort_keys=True, default=str)
+    options_key = _options_key(kind, output_format, options)
 
     src_fs, src_root = _files.resolve(src)
     skip = None
@@ -183,6 +177,21 @@ def _run(
     _report.write(report_uri, ordered)
     if dst is not None and kind == "fix":
         _report.summary_html(src, dst, ordered, pictures=pictures, seconds=seconds)
+    return _summary(ordered, seconds, report_uri)
+
+
+def _options_key(kind: str, output_format: str, options: Dict[str, Any]) -> str:
+    """The options as the key of a run, defaults filled in (the command line passes them, the
+    Python call may not: both are one run for the skip)."""
+    defaults: Dict[str, Any] = {"mode": "model", "tessellation": 16}
+    if kind == "fix":
+        defaults.update(skin_seams="match", samples=30, keep_compression=False, overwrite_input=False)
+    keyed = {**defaults, **{k: v for k, v in options.items() if v is not None}}
+    return json.dumps({"kind": kind, "format": output_format, **keyed}, sort_keys=True, default=str)
+
+
+def _summary(ordered: List[Row], seconds: float, report_uri: str) -> Summary:
+    """The run's counts by status (skipped rows apart) over its rows in input order."""
     count = lambda status: sum(1 for r in ordered if r["status"] == status and not r.get("skipped"))
     return Summary(
         fixed=count("fixed"),

@@ -233,29 +233,14 @@ def process(job: Job) -> Row:
             row["skipped"] = True
             return row
 
-        if job.dst is not None and job.output is not None and _in_memory(job, ext):
-            return _fix_in_memory(job, row, data, {})
-        if job.dst is not None and job.output is not None and not local_src and _with_companions_in_memory(job, ext):
-            # What staging would write to a scratch folder, read from memory instead.
+        if _in_memory(job, ext, local_src):
             return _fix_in_memory(job, row, data, companions)
 
         scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
-        # The model as a local file: SRC's own when SRC is local, else a staged copy with
-        # its companions at the same relative places (a memory-backed folder when there
-        # is one).
-        if local_src:
-            local_input = src_root + "/" + job.relative
-        else:
-            stage = os.path.join(scratch, "in")
-            for name, body in [(job.relative, data), *companions.items()]:
-                path = os.path.join(stage, *name.split("/"))
-                os.makedirs(os.path.dirname(path), exist_ok=True)
-                with open(path, "wb") as f:
-                    f.write(body)
-            local_input = os.path.join(stage, *job.relative.split("/"))
+        # The model as a local file: SRC's own when SRC is local, else a staged copy.
+        local_input = src_root + "/" + job.relative if local_src else _stage(scratch, job.relative, data, companions)
         options = dict(job.options)
-        if not local_src and options.get("asset_roots"):
-            # Asset roots are SRC-relative folders for a remote SRC: their staged copies.
+        if not local_src and options.get("asset_roots"):  # SRC-relative: their staged copies
             options["asset_roots"] = [os.path.join(scratch, "in", r) for r in options["asset_roots"]]
 
         if job.dst is not None and job.output is not None and _native(job.engine):
@@ -358,28 +343,33 @@ def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], s
     return row
 
 
-def _in_memory(job: Job, ext: str) -> bool:
-    """Whether the job is fixed in memory (:func:`seamlit.fix_bytes`'s library call): a model
-    in one file (GLB, VRM, USDZ, FBX) fixed by the extension module into the GLB (a VRM:
-    the VRM) that ``fix_bytes`` writes, with no file read or written on the worker."""
+def _in_memory(job: Job, ext: str, local_src: bool) -> bool:
+    """Whether the job is fixed in memory by the extension module (:func:`seamlit.fix_bytes`'s
+    library call), into the one file it writes (a GLB; a VRM's VRM), with no file read or
+    written on the worker: a model in one file (GLB, VRM, USDZ, FBX), and one of several
+    from an object store with the files gathered beside it (the set staging would write),
+    unless asset roots map SRC's folders to staged ones. A model of several from a folder is
+    read by path (the loader finds what the gathering may miss)."""
     import seamlit
 
-    assert job.output is not None
-    wanted = "vrm" if ext == "vrm" else "glb"
-    return ext in seamlit.SELF_CONTAINED and _native(job.engine) and job.output.lower().endswith("." + wanted)
+    if job.dst is None or job.output is None or not _native(job.engine):
+        return False
+    if ext in seamlit.SELF_CONTAINED:
+        return job.output.lower().endswith(".vrm" if ext == "vrm" else ".glb")
+    several = ext in ("gltf", "obj", "usda", "usdc", "usd") and not job.options.get("asset_roots")
+    return several and not local_src and job.output.lower().endswith(".glb")
 
 
-def _with_companions_in_memory(job: Job, ext: str) -> bool:
-    """Whether a model of several files from an object store is fixed in memory with the files
-    gathered beside it (the set a scratch folder would hold): into a GLB, by the extension
-    module, without asset roots (folders of SRC that staging maps to local ones)."""
-    assert job.output is not None
-    return (
-        ext in ("gltf", "obj", "usda", "usdc", "usd")
-        and _native(job.engine)
-        and job.output.lower().endswith(".glb")
-        and not job.options.get("asset_roots")
-    )
+def _stage(scratch: str, relative: str, data: bytes, companions: Dict[str, bytes]) -> str:
+    """Writes the model and its companions at their relative places under ``scratch/in`` (a
+    memory-backed folder where there is one) and returns the model's path there."""
+    stage = os.path.join(scratch, "in")
+    for name, body in [(relative, data), *companions.items()]:
+        path = os.path.join(stage, *name.split("/"))
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "wb") as f:
+            f.write(body)
+    return os.path.join(stage, *relative.split("/"))
 
 
 def _fix_in_memory(job: Job, row: Row, data: bytes, companions: Dict[str, bytes]) -> Row:
