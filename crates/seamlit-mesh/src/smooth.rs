@@ -7,8 +7,11 @@
 //! normal, tangent and bitangent to its three vertices (in triangle order, one object per
 //! task, so no two tasks touch one vertex); then the sums of the vertices welded into one
 //! position are added into the position's *root* (its smallest vertex index) in vertex order.
-//! No per-face record and no corner list is kept: memory is a 36-byte slot, a 32-byte cone
-//! (freed once the positions are settled) and a flag byte per vertex.
+//! No per-face record and no corner list is kept: memory per vertex is a 12-byte normal sum,
+//! a 16-byte normal cone (freed once the positions are settled) and a flag byte, and where the
+//! faces' UV frames are used (`--tangents seamlit`) a 24-byte tangent and bitangent sum and a
+//! 16-byte tangent cone: the default path (MikkTSpace) does not carry the 40 bytes it never
+//! reads.
 //!
 //! A position takes this shortcut only when the grouping would make one group of it anyway:
 //! - where the model has smoothing groups, all its faces are in one nonzero group;
@@ -38,7 +41,7 @@
 //! Everything is deterministic: sums run in triangle order within an object and in vertex
 //! order across a position; each position is settled by one task.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::Model;
@@ -65,30 +68,58 @@ const COMPLEX: u8 = 64;
 /// The vertex's cone has a tangent axis (per vertex; merged as described in [`merge`]).
 const TANGENT_AXIS: u8 = 128;
 
-/// Per vertex: the sums of its corners' weighted face frames. At the root of a position that
-/// is not complex, after [`finish_positions`], the position's frame instead: `n` the normal,
-/// `t` the tangent, `b.x` the handedness.
+/// Per vertex where the faces' UV frames are used: the sums of its corners' weighted face
+/// tangents and bitangents. At the root of a position that is not complex, after
+/// [`finish_positions`], the position's tangent instead, its handedness in `b.x`. (The normal
+/// sums are kept apart, in [`Sums::normals`]: without tangents they are all there is.)
 #[derive(Clone, Copy, Default)]
-struct Slot {
-    n: Vec3,
+struct TangentSlot {
     t: Vec3,
     b: Vec3,
 }
 
-/// Per vertex: the cones that hold its faces' normals and usable tangents. The axes are unit
-/// vectors (the first face's); `cos_n` is the cosine of the normal cone's half-angle.
+/// Per vertex: a cone that holds its faces' normals (or usable tangents). The axis is a unit
+/// vector (the first face's); `cos` is the cosine of the cone's half-angle.
 #[derive(Clone, Copy)]
 struct Cone {
-    n: Vec3,
-    t: Vec3,
-    cos_n: f32,
-    cos_t: f32,
+    axis: Vec3,
+    cos: f32,
 }
 
 impl Default for Cone {
     fn default() -> Self {
-        Self { n: Vec3::ZERO, t: Vec3::ZERO, cos_n: 1.0, cos_t: 1.0 }
+        Self { axis: Vec3::ZERO, cos: 1.0 }
     }
+}
+
+/// The per-vertex sums and cones of [`accumulate`], [`merge`] and [`finish_positions`]. The
+/// tangent arrays are empty where the faces' UV frames are not used ([`Rules::tangents`]).
+struct Sums {
+    normals: Vec<Vec3>,
+    tangents: Vec<TangentSlot>,
+    normal_cones: Vec<Cone>,
+    tangent_cones: Vec<Cone>,
+    flags: Vec<u8>,
+}
+
+impl Sums {
+    /// Zeroed sums for `n` vertices, filled in parallel: the first touch of fresh memory (a
+    /// page fault per 4 KiB) is a good part of the cost at this size.
+    fn new(n: usize, tangents: bool) -> Self {
+        let t = if tangents { n } else { 0 };
+        Self {
+            normals: filled(n),
+            tangents: filled(t),
+            normal_cones: filled(n),
+            tangent_cones: filled(t),
+            flags: vec![0; n],
+        }
+    }
+}
+
+/// `len` default values, written in parallel.
+fn filled<T: Default + Send>(len: usize) -> Vec<T> {
+    (0..len).into_par_iter().map(|_| T::default()).collect()
 }
 
 /// Widens a cone `(axis, cos)` to take in the cone `(other, other_cos)`: the new half-angle is
@@ -103,7 +134,11 @@ fn widen(axis: Vec3, cos: f32, other: Vec3, other_cos: f32) -> f32 {
 pub(crate) struct Smooth {
     /// Per vertex: its position's root.
     roots: Vec<u32>,
-    slots: Vec<Slot>,
+    /// Per vertex; at a root that is not complex, the position's normal.
+    normals: Vec<Vec3>,
+    /// Per vertex where the faces' UV frames are used (else empty); at a root that is not
+    /// complex, the position's tangent and handedness.
+    tangents: Vec<TangentSlot>,
     flags: Vec<u8>,
     /// The corners of complex positions, ascending: `corner << 32 | group`.
     pub complex: Vec<u64>,
@@ -123,8 +158,9 @@ impl Smooth {
         if self.flags[r] & COMPLEX != 0 {
             return None;
         }
-        let s = &self.slots[r];
-        Some(Frame { normal: s.n, tangent: s.t.extend(s.b.x) })
+        // Without the faces' UV frames, the tangent is nobody's to read (see the module's text).
+        let tangent = self.tangents.get(r).map_or(Vec4::ZERO, |s| s.t.extend(s.b.x));
+        Some(Frame { normal: self.normals[r], tangent })
     }
 
     /// The frame of corner `c` (`triangle * 3 + k`, at vertex `v`).
@@ -141,7 +177,7 @@ impl Smooth {
     pub fn corner_normal(&self, c: u32, v: usize) -> (Vec3, u32) {
         let r = self.roots[v] as usize;
         if self.flags[r] & COMPLEX == 0 {
-            return (self.slots[r].n, 0);
+            return (self.normals[r], 0);
         }
         self.complex_corner_normal(c)
     }
@@ -186,22 +222,18 @@ fn smooth_with(
     rules: Rules,
     all_complex: bool,
 ) -> Smooth {
-    let n = flat.positions.len();
-    // Filled in parallel: the first touch of fresh memory (a page fault per 4 KiB) is a good
-    // part of the cost at this size.
-    let mut slots: Vec<Slot> = (0..n).into_par_iter().map(|_| Slot::default()).collect();
-    let mut flags: Vec<u8> = vec![0; n];
-    let mut cones: Vec<Cone> = (0..n).into_par_iter().map(|_| Cone::default()).collect();
-    accumulate(model, flat, rules, &mut slots, &mut cones, &mut flags);
-    merge(&roots, &mut slots, &mut cones, &mut flags);
+    let mut sums = Sums::new(flat.positions.len(), rules.tangents);
+    accumulate(model, flat, rules, &mut sums);
+    merge(&roots, &mut sums);
     let grouped = group::has_smoothing_groups(model);
     if grouped {
-        mark_group_boundaries(model, flat, &roots, &mut flags);
+        mark_group_boundaries(model, flat, &roots, &mut sums.flags);
     }
-    finish_positions(&roots, &mut slots, &cones, &mut flags, rules, all_complex);
-    drop(cones);
+    finish_positions(&roots, &mut sums, rules, all_complex);
+    // The cones are done with.
+    let Sums { normals, tangents, flags, .. } = sums;
     let (complex, frames) = group_complex(model, flat, &roots, &flags, rules, grouped);
-    Smooth { roots, slots, flags, complex, frames }
+    Smooth { roots, normals, tangents, flags, complex, frames }
 }
 
 /// What a face tells its vertices.
@@ -220,29 +252,50 @@ fn face_flags(f: &Face) -> u8 {
         }
 }
 
+/// One object's share of the [`Sums`] (its vertices'), for one task of [`accumulate`].
+struct Part<'a> {
+    normals: &'a mut [Vec3],
+    tangents: &'a mut [TangentSlot],
+    normal_cones: &'a mut [Cone],
+    tangent_cones: &'a mut [Cone],
+    flags: &'a mut [u8],
+}
+
+/// `items` cut into consecutive parts of the objects' vertex counts; every part empty where
+/// `items` is.
+fn per_object<'a, T>(model: &Model, mut items: &'a mut [T]) -> std::vec::IntoIter<&'a mut [T]> {
+    let parts: Vec<&'a mut [T]> = model
+        .objects
+        .iter()
+        .map(|object| {
+            let n = if items.is_empty() { 0 } else { object.positions.len() };
+            let (part, rest) = std::mem::take(&mut items).split_at_mut(n);
+            items = rest;
+            part
+        })
+        .collect();
+    parts.into_iter()
+}
+
 /// Adds every face's weighted frame to its three vertices, and widens their cones to take in
 /// the face; one object per task.
-fn accumulate(
-    model: &Model,
-    flat: &Flat,
-    rules: Rules,
-    slots: &mut [Slot],
-    cones: &mut [Cone],
-    flags: &mut [u8],
-) {
-    let mut parts = Vec::with_capacity(model.objects.len());
-    let (mut s, mut c, mut f) = (slots, cones, flags);
-    for object in &model.objects {
-        let n = object.positions.len();
-        let (a, rest_s) = s.split_at_mut(n);
-        let (b, rest_c) = c.split_at_mut(n);
-        let (d, rest_f) = f.split_at_mut(n);
-        parts.push((a, b, d));
-        (s, c, f) = (rest_s, rest_c, rest_f);
-    }
-    parts.into_par_iter().enumerate().for_each(|(o, (slots, cones, flags))| {
+fn accumulate(model: &Model, flat: &Flat, rules: Rules, sums: &mut Sums) {
+    let mut tangents = per_object(model, &mut sums.tangents);
+    let mut normal_cones = per_object(model, &mut sums.normal_cones);
+    let mut tangent_cones = per_object(model, &mut sums.tangent_cones);
+    let mut flags = per_object(model, &mut sums.flags);
+    let parts: Vec<Part<'_>> = per_object(model, &mut sums.normals)
+        .map(|normals| Part {
+            normals,
+            tangents: tangents.next().unwrap_or_default(),
+            normal_cones: normal_cones.next().unwrap_or_default(),
+            tangent_cones: tangent_cones.next().unwrap_or_default(),
+            flags: flags.next().unwrap_or_default(),
+        })
+        .collect();
+    parts.into_par_iter().enumerate().for_each(|(o, part)| {
         let object = &model.objects[o];
-        let positions = &flat.positions[flat.vertex_start[o] as usize..][..slots.len()];
+        let positions = &flat.positions[flat.vertex_start[o] as usize..][..part.normals.len()];
         // Without tangents the faces' UV frames are never read: not computed.
         let uvs = object.uvs.as_deref().filter(|_| rules.tangents);
         for tri in &object.triangles {
@@ -251,29 +304,31 @@ fn accumulate(
             let face = face(p, uv, model.v_axis);
             let bits = face_flags(&face);
             let degenerate = face.is(DEGENERATE);
-            let tangent = !face.is(DEGENERATE | DEGENERATE_UV);
+            // Without UVs read, every face is one without usable UVs: no tangent arrays.
+            let tangent = rules.tangents && !face.is(DEGENERATE | DEGENERATE_UV);
             for (k, &i) in tri.iter().enumerate() {
                 let i = i as usize;
                 let w = weight(rules.weighting, &face, k);
-                let s = &mut slots[i];
-                s.n += face.normal * w;
-                let flag = &mut flags[i];
-                let cone = &mut cones[i];
+                part.normals[i] += face.normal * w;
+                let flag = &mut part.flags[i];
                 if !degenerate {
-                    if *flag & HAS_FACE == 0 || cone.n == Vec3::ZERO {
-                        cone.n = face.normal;
+                    let cone = &mut part.normal_cones[i];
+                    if *flag & HAS_FACE == 0 || cone.axis == Vec3::ZERO {
+                        cone.axis = face.normal;
                     } else {
-                        cone.cos_n = cone.cos_n.min(face.normal.dot(cone.n));
+                        cone.cos = cone.cos.min(face.normal.dot(cone.axis));
                     }
                 }
                 if tangent {
+                    let s = &mut part.tangents[i];
                     s.t += face.tangent * w;
                     s.b += face.bitangent * w;
+                    let cone = &mut part.tangent_cones[i];
                     if *flag & TANGENT_AXIS == 0 {
-                        cone.t = face.tangent;
+                        cone.axis = face.tangent;
                         *flag |= TANGENT_AXIS;
                     } else {
-                        cone.cos_t = cone.cos_t.min(face.tangent.dot(cone.t));
+                        cone.cos = cone.cos.min(face.tangent.dot(cone.axis));
                     }
                 }
                 *flag |= bits;
@@ -284,35 +339,41 @@ fn accumulate(
 
 /// Adds the sums of every vertex into its root, in vertex order, and widens the root's cones
 /// to take in the vertex's.
-fn merge(roots: &[u32], slots: &mut [Slot], cones: &mut [Cone], flags: &mut [u8]) {
-    for v in 0..roots.len() {
-        let r = roots[v] as usize;
+fn merge(roots: &[u32], sums: &mut Sums) {
+    let with_tangents = !sums.tangents.is_empty();
+    for (v, &r) in roots.iter().enumerate() {
+        let r = r as usize;
         if r == v {
             continue;
         }
-        let s = slots[v];
-        let root = &mut slots[r];
-        root.n += s.n;
-        root.t += s.t;
-        root.b += s.b;
-        let (bits, root_bits) = (flags[v], flags[r]);
-        let c = cones[v];
-        let rc = &mut cones[r];
-        if c.n != Vec3::ZERO {
-            if rc.n == Vec3::ZERO {
-                (rc.n, rc.cos_n) = (c.n, c.cos_n);
+        let n = sums.normals[v];
+        sums.normals[r] += n;
+        let (bits, root_bits) = (sums.flags[v], sums.flags[r]);
+        let c = sums.normal_cones[v];
+        let rc = &mut sums.normal_cones[r];
+        if c.axis != Vec3::ZERO {
+            if rc.axis == Vec3::ZERO {
+                *rc = c;
             } else {
-                rc.cos_n = widen(rc.n, rc.cos_n, c.n, c.cos_n);
+                rc.cos = widen(rc.axis, rc.cos, c.axis, c.cos);
             }
         }
-        if bits & TANGENT_AXIS != 0 {
-            if root_bits & TANGENT_AXIS == 0 {
-                (rc.t, rc.cos_t) = (c.t, c.cos_t);
-            } else {
-                rc.cos_t = widen(rc.t, rc.cos_t, c.t, c.cos_t);
+        if with_tangents {
+            let s = sums.tangents[v];
+            let root = &mut sums.tangents[r];
+            root.t += s.t;
+            root.b += s.b;
+            if bits & TANGENT_AXIS != 0 {
+                let c = sums.tangent_cones[v];
+                let rc = &mut sums.tangent_cones[r];
+                if root_bits & TANGENT_AXIS == 0 {
+                    *rc = c;
+                } else {
+                    rc.cos = widen(rc.axis, rc.cos, c.axis, c.cos);
+                }
             }
         }
-        flags[r] |= bits & !USED;
+        sums.flags[r] |= bits & !USED;
     }
 }
 
@@ -368,43 +429,36 @@ fn mark_group_boundaries(model: &Model, flat: &Flat, roots: &[u32], flags: &mut 
 }
 
 /// Turns the sums at every root into the position's frame, or flags the position complex.
-fn finish_positions(
-    roots: &[u32],
-    slots: &mut [Slot],
-    cones: &[Cone],
-    flags: &mut [u8],
-    rules: Rules,
-    all_complex: bool,
-) {
+fn finish_positions(roots: &[u32], sums: &mut Sums, rules: Rules, all_complex: bool) {
+    let Sums { normals, tangents, normal_cones, tangent_cones, flags } = sums;
     let usable = HAS_RIGHT | HAS_MIRRORED;
     let crease = rules.crease_half_cos.unwrap_or(-1.0);
     let tangent_cone = rules.tangent_half_cos.filter(|_| rules.tangents).unwrap_or(-1.0);
-    slots.par_iter_mut().zip(flags.par_iter_mut()).enumerate().for_each(|(v, (s, f))| {
+    let settle = |v: usize, n: &mut Vec3, t: Option<&mut TangentSlot>, f: &mut u8| {
         // Already complex: faces of several smoothing groups (see `mark_group_boundaries`).
         if roots[v] as usize != v || *f & (HAS_FACE | COMPLEX) != HAS_FACE {
             return;
         }
-        let cone = &cones[v];
         let uv_faces = *f & (usable | HAS_BAD_UV) != 0;
         let complex = all_complex
             || *f & HAS_DEGENERATE != 0
-            || s.n == Vec3::ZERO
-            || cone.cos_n < crease
+            || *n == Vec3::ZERO
+            || normal_cones[v].cos < crease
             || (rules.tangents
                 && uv_faces
                 && (*f & usable == 0
                     || (rules.split_mirrored && *f & usable == usable)
-                    || cone.cos_t < tangent_cone));
+                    || tangent_cones[v].cos < tangent_cone));
         if complex {
             *f |= COMPLEX;
             return;
         }
-        if !rules.tangents {
+        let Some(t) = t else {
             // Nobody reads the tangent (see the module's text): only the normal.
-            *s = Slot { n: finish_normal(s.n, Vec3::ZERO), t: Vec3::ZERO, b: Vec3::ZERO };
+            *n = finish_normal(*n, Vec3::ZERO);
             return;
-        }
-        let (normal, tangent) = finish(s.n, Vec3::ZERO, s.t, s.b);
+        };
+        let (normal, tangent) = finish(*n, Vec3::ZERO, t.t, t.b);
         // Where mirrored faces are split off, the handedness is the faces' own, not the sign
         // of the summed bitangent against the smoothed normal: across a smoothed hard edge
         // those can disagree. The paper's rules (no split) keep the paper's sign.
@@ -413,8 +467,16 @@ fn finish_positions(
             HAS_MIRRORED if rules.split_mirrored => -1.0,
             _ => tangent.w,
         };
-        *s = Slot { n: normal, t: tangent.truncate(), b: Vec3::new(w, 0.0, 0.0) };
-    });
+        *n = normal;
+        *t = TangentSlot { t: tangent.truncate(), b: Vec3::new(w, 0.0, 0.0) };
+    };
+    if tangents.is_empty() {
+        let each = normals.par_iter_mut().zip(flags.par_iter_mut()).enumerate();
+        each.for_each(|(v, (n, f))| settle(v, n, None, f));
+    } else {
+        let each = normals.par_iter_mut().zip(tangents.par_iter_mut()).zip(flags.par_iter_mut());
+        each.enumerate().for_each(|(v, ((n, t), f))| settle(v, n, Some(t), f));
+    }
 }
 
 /// Corners of complex positions handled per parallel task (about).
