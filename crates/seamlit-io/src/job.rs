@@ -154,13 +154,15 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
         .transpose()
         .map_err(FixError::Geometry)?;
     // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
-    let changes =
-        seamlit_mesh::fix_in_place(&mut asset.model, &options).map_err(FixError::Geometry)?;
+    // The fix's weld, where it can give one, spares the report welding the model again.
+    let (changes, welded) = seamlit_mesh::fix_in_place_welded(&mut asset.model, &options)
+        .map_err(FixError::Geometry)?;
     let matched = match job.skin_seams {
         SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
         SkinSeams::Keep => None,
     };
-    let report = seamlit_mesh::report(&asset.model, &report_options).map_err(FixError::Report)?;
+    let report = seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref())
+        .map_err(FixError::Report)?;
     let after = copies.measure(asset, &animations, job.samples, &options);
     Ok(Fixed {
         options,

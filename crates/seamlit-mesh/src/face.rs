@@ -99,20 +99,7 @@ pub(crate) fn face(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> Face 
         .clamp(Vec4::NEG_ONE, Vec4::ONE);
     let x = cos.abs();
 
-    // The paper's solution times the UV determinant (its sign kept), projected into the face's
-    // plane (it lies there up to rounding); normalised below, so the scale does not matter.
-    let solve = uvs.and_then(|uv| {
-        let d1 = uv[1] - uv[0];
-        let d2 = uv[2] - uv[0];
-        let det = d1.x * d2.y - d2.x * d1.y;
-        if !(det.abs() > EPS * (d1.length_squared() + d2.length_squared()) && det.is_finite()) {
-            return None;
-        }
-        let sign = if det < 0.0 { -1.0 } else { 1.0 };
-        let t = (e1 * d2.y - e2 * d1.y) * sign;
-        let b = (e2 * d1.x - e1 * d2.x) * (sign * v_axis.bitangent_sign());
-        Some((t - normal * normal.dot(t), b - normal * normal.dot(b)))
-    });
+    let solve = uvs.and_then(|uv| uv_directions(normal, e1, e2, uv, v_axis));
     let (t, b) = solve.unwrap_or((Vec3A::ZERO, Vec3A::ZERO));
     // Lanes: sqrt(1 - |cos|) for the two angles (lined up with `x`), |t| and |b|.
     let roots = Vec4::new(1.0 - x.x, 1.0 - x.y, t.length_squared(), b.length_squared()).sqrt();
@@ -121,11 +108,10 @@ pub(crate) fn face(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> Face 
     let angles = [angle.x, angle.y, (std::f32::consts::PI - angle.x - angle.y).max(0.0)];
 
     let mut flags = 0;
-    let usable = |l: f32| l > 0.0 && l.is_finite();
     let (tangent, bitangent) = if solve.is_some() && usable(roots.z) && usable(roots.w) {
         let inv = Vec4::new(roots.z, roots.w, 1.0, 1.0).recip();
         let (t, b) = (t * inv.x, b * inv.y);
-        if normal.cross(t).dot(b) < 0.0 {
+        if is_mirrored(normal, t, b) {
             flags |= MIRRORED;
         }
         (Vec3::from(t), Vec3::from(b))
@@ -134,6 +120,66 @@ pub(crate) fn face(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> Face 
         fallback_frame(normal.into())
     };
     Face { normal: normal.into(), area2, angles, tangent, bitangent, flags }
+}
+
+/// The paper's solution for the tangent and bitangent times the UV determinant (its sign
+/// kept), projected into the face's plane (they lie there up to rounding): to be normalised,
+/// so the scale does not matter. `None` where the UVs span (near) zero area.
+#[inline]
+fn uv_directions(
+    normal: Vec3A,
+    e1: Vec3A,
+    e2: Vec3A,
+    uv: [Vec2; 3],
+    v_axis: VAxis,
+) -> Option<(Vec3A, Vec3A)> {
+    let d1 = uv[1] - uv[0];
+    let d2 = uv[2] - uv[0];
+    let det = d1.x * d2.y - d2.x * d1.y;
+    if !(det.abs() > EPS * (d1.length_squared() + d2.length_squared()) && det.is_finite()) {
+        return None;
+    }
+    let sign = if det < 0.0 { -1.0 } else { 1.0 };
+    let t = (e1 * d2.y - e2 * d1.y) * sign;
+    let b = (e2 * d1.x - e1 * d2.x) * (sign * v_axis.bitangent_sign());
+    Some((t - normal * normal.dot(t), b - normal * normal.dot(b)))
+}
+
+/// Whether a tangent or bitangent length can be divided by.
+fn usable(length: f32) -> bool {
+    length > 0.0 && length.is_finite()
+}
+
+/// Whether the unit frame `(t, b)` of a face with unit `normal` is left-handed: a mirrored UV
+/// mapping.
+#[inline]
+fn is_mirrored(normal: Vec3A, t: Vec3A, b: Vec3A) -> bool {
+    normal.cross(t).dot(b) < 0.0
+}
+
+/// [`face`]'s flags alone, for counting (the report): the same tests on the same values, bit
+/// for bit, without the corner angles, the unit frame or the fallback frame.
+#[inline]
+pub(crate) fn face_flags(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> u8 {
+    let [p0, p1, p2] = p.map(Vec3A::from);
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    let cross = e1.cross(e2);
+    let (l1, l2) = (e1.length_squared(), e2.length_squared());
+    // As `face` computes them in lanes: square roots and divisions are correctly rounded either way.
+    let area2 = cross.length_squared().sqrt();
+    let no_uv = if uvs.is_none() { NO_UV } else { 0 };
+    if !(area2 > EPS * (l1 + l2) && area2.is_finite()) {
+        return DEGENERATE | DEGENERATE_UV | no_uv;
+    }
+    let normal = cross * area2.recip();
+    let Some((t, b)) = uvs.and_then(|uv| uv_directions(normal, e1, e2, uv, v_axis)) else {
+        return DEGENERATE_UV | no_uv;
+    };
+    let (lt, lb) = (t.length_squared().sqrt(), b.length_squared().sqrt());
+    if !(usable(lt) && usable(lb)) {
+        return DEGENERATE_UV;
+    }
+    if is_mirrored(normal, t * lt.recip(), b * lb.recip()) { MIRRORED } else { 0 }
 }
 
 /// The face of a triangle with (near) zero area.
@@ -200,6 +246,53 @@ mod tests {
         let g = face([Vec3::ZERO, Vec3::X, Vec3::Y], Some([Vec2::ONE; 3]), VAxis::Up);
         assert!(!g.is(DEGENERATE) && g.is(DEGENERATE_UV));
         assert!(g.tangent.dot(g.normal).abs() < 1e-6);
+    }
+}
+
+#[cfg(test)]
+mod flag_tests {
+    use super::*;
+
+    /// `face_flags` gives `face`'s flags on triangles of every kind: random ones (most
+    /// healthy, half mirrored), slivers down to degenerate, collinear and repeated UVs, huge
+    /// and tiny coordinates, and no UVs.
+    #[test]
+    fn face_flags_are_faces_flags() {
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut seen = [0usize; 16];
+        for i in 0..200_000 {
+            let scale = [1.0, 1e-3, 1e4, 1e-7][i % 4];
+            let mut p: [Vec3; 3] =
+                std::array::from_fn(|_| Vec3::new(next(), next(), next()) * scale);
+            let mut uv: [Vec2; 3] = std::array::from_fn(|_| Vec2::new(next(), next()));
+            match i % 7 {
+                // A sliver: the third corner on the first edge, nudged.
+                1 => p[2] = p[0].lerp(p[1], 0.5) + Vec3::splat(next() * 1e-7 * scale),
+                2 => p[2] = p[1],
+                // Collinear or repeated UVs.
+                3 => uv[2] = uv[0].lerp(uv[1], next()),
+                4 => uv = [uv[0]; 3],
+                5 => uv[2] = uv[0] + (uv[1] - uv[0]) * 0.5 + Vec2::splat(next() * 1e-7),
+                _ => {}
+            }
+            let uvs = (i % 11 != 0).then_some(uv);
+            for v_axis in [VAxis::Up, VAxis::Down] {
+                let f = face(p, uvs, v_axis);
+                assert_eq!(face_flags(p, uvs, v_axis), f.flags, "{p:?} {uvs:?} {v_axis:?}");
+                seen[f.flags as usize] += 1;
+            }
+        }
+        // Every kind the counts tell apart came up.
+        for flags in [0, MIRRORED, DEGENERATE_UV, DEGENERATE_UV | NO_UV, DEGENERATE | DEGENERATE_UV]
+        {
+            assert!(seen[usize::from(flags)] > 100, "{flags}: {seen:?}");
+        }
     }
 }
 

@@ -16,7 +16,7 @@ use crate::out::Out;
 use crate::repair::{self, Authored};
 use crate::smooth::{self, Smooth, face_frame};
 use crate::validate::{self, Flat};
-use crate::weld::{self, diagonal, roots_for_mode};
+use crate::weld::{self, Welded, diagonal, roots_for_mode};
 use crate::{
     Changes, FixOptions, MeshError, Mode, Model, NormalPolicy, Object, ObjectChanges,
     SharedNormals, TangentMethod,
@@ -74,7 +74,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    let (_, weld) = run(&mut out, flat, options, Some(model), &authored)?;
+    let (_, weld) = run(&mut out, flat, options, Some(model), &authored, false)?;
     morph::compute_deltas(&mut out, options, &computed(&authored), weld)?;
     Ok(out)
 }
@@ -87,11 +87,30 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 ///
 /// As [`fix`].
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
+    fix_in_place_welded(model, options).map(|(changes, _)| changes)
+}
+
+/// [`fix_in_place`], also returning the weld the fix smoothed over, renumbered for the fixed
+/// model, where [`crate::report_welded`] can measure the fixed model with it instead of
+/// welding it again: where every object's normals were computed, in [`Mode::Model`]. The same
+/// roots, bit for bit, as welding the fixed model would give (split vertices are copies of
+/// their sources, at the same positions); it costs a pass over the vertices, against a sort.
+///
+/// # Errors
+///
+/// As [`fix`].
+pub fn fix_in_place_welded(
+    model: &mut Model,
+    options: &FixOptions,
+) -> Result<(Changes, Option<Welded>), MeshError> {
     let flat = validate::flatten(model)?;
+    let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
     let authored = Authored::of(model, options);
-    let (changes, weld) = run(model, flat, options, None, &authored)?;
-    morph::compute_deltas(model, options, &computed(&authored), weld)?;
-    Ok(changes)
+    let keep = options.mode == Mode::Model;
+    let (changes, roots) = run(model, flat, options, None, &authored, keep)?;
+    let welded = roots.as_ref().filter(|_| keep).map(|r| Welded::new(r.clone(), tolerance));
+    morph::compute_deltas(model, options, &computed(&authored), roots)?;
+    Ok((changes, welded))
 }
 
 /// The objects whose normals `fix` computes (the others keep theirs, and their morph
@@ -102,23 +121,26 @@ fn computed(authored: &Authored) -> Vec<bool> {
 
 /// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
 /// (see [`compute`]). Objects marked in `authored` carry their input normals (and tangents
-/// where marked), the others none or their input ones, which are replaced.
+/// where marked), the others none or their input ones, which are replaced. Returns what
+/// changed and, where every object's normals were computed and the morph targets' deltas or
+/// `keep_weld` ask for it, the weld renumbered for the fixed model.
 fn run(
     model: &mut Model,
     flat: Flat,
     options: &FixOptions,
     input: Option<&Model>,
     authored: &Authored,
+    keep_weld: bool,
 ) -> Result<(Changes, Option<Vec<u32>>), MeshError> {
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
         let (changed, roots) = compute(model, flat, options, input, &authored.normals);
-        // The weld, for the morph targets' deltas (the fix made no other change); a model
-        // without morph targets does not need it (renumbering every vertex costs about a
-        // sixth of the fix).
+        // The weld, for the morph targets' deltas (the fix made no other change) and the
+        // report: renumbering every vertex is a pass over them, not asked for otherwise.
         let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
-        let weld =
-            roots.filter(|_| morphs).map(|r| morph::roots_after_splits(&r, &vertices, model));
+        let weld = roots
+            .filter(|_| morphs || keep_weld)
+            .map(|r| morph::roots_after_splits(&r, &vertices, model));
         return Ok((tally(model, &vertices, &changed, authored), weld));
     }
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the

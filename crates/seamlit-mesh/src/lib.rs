@@ -61,12 +61,13 @@ mod weld;
 
 pub use changes::{Changes, ObjectChanges, SharedNormals};
 pub use error::MeshError;
-pub use fix::{fix, fix_in_place};
+pub use fix::{fix, fix_in_place, fix_in_place_welded};
 pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use repair::seam_copies;
-pub use report::{CrossObject, ReportOptions, SeamReport, report};
+pub use report::{CrossObject, ReportOptions, SeamReport, report, report_welded};
 pub use skin::{SkinMatch, SkinSeamExample, SkinSeams, match_skin_seams, shared_copies};
+pub use weld::Welded;
 
 /// The largest number of vertices (and of triangle corners, and of the two together: `fix`
 /// may give an object a new vertex per corner) a model may have: indices are 32-bit.

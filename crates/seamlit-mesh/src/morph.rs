@@ -183,19 +183,26 @@ pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model)
         let o = old_start.partition_point(|&s| s <= r as usize) - 1;
         index(new_start[o] + r as usize - old_start[o])
     };
-    model
-        .objects
-        .iter()
-        .enumerate()
-        .flat_map(|(o, object)| {
-            let (old_start, renumber) = (old_start[o], &renumber);
-            (0..index(object.vertex_count())).map(move |v| {
-                // A copy of a copy points at the first input vertex: the same position.
-                let source = object.source_vertex(v) as usize;
-                renumber(roots[old_start + source])
-            })
-        })
-        .collect()
+    let mut out = vec![0; b];
+    let mut rest = &mut out[..];
+    let mut parts = Vec::with_capacity(model.objects.len());
+    for object in &model.objects {
+        let (part, tail) = std::mem::take(&mut rest).split_at_mut(object.vertex_count());
+        parts.push(part);
+        rest = tail;
+    }
+    parts.into_par_iter().enumerate().for_each(|(o, part)| {
+        let object = &model.objects[o];
+        // Most roots lie in the vertex's own object: moved by the object's shift.
+        let (start, end) = (old_start[o], old_start[o + 1]);
+        let shift = |r: u32| index(new_start[o] + r as usize - start);
+        for (v, root) in (0..).zip(part.iter_mut()) {
+            // A copy of a copy points at the first input vertex: the same position.
+            let r = roots[start + object.source_vertex(v) as usize];
+            *root = if (start..end).contains(&(r as usize)) { shift(r) } else { renumber(r) };
+        }
+    });
+    out
 }
 
 /// Every vertex's fixed normal and tangent in model space.

@@ -11,9 +11,10 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face, face_flags};
 use crate::frame::Linear;
 use crate::skin::{self, SkinSeams};
+use crate::weld::Welded;
 use crate::{MeshError, Model, validate, weld};
 
 /// Options of [`crate::report()`].
@@ -120,13 +121,36 @@ pub struct SeamReport {
 ///
 /// The input checks of [`crate::fix`] (indices, lengths, transforms, finite positions).
 pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, MeshError> {
+    report_welded(model, options, None)
+}
+
+/// [`report()`] of a model [`crate::fix_in_place_welded`] fixed, with the weld the fix gave:
+/// the same report, bit for bit, without welding the model again. A `welded` of another
+/// model (another vertex count) or tolerance is not used: the model is welded as by
+/// [`report()`]. The model's positions must be the ones the fix left.
+///
+/// # Errors
+///
+/// As [`report()`].
+pub fn report_welded(
+    model: &Model,
+    options: &ReportOptions,
+    welded: Option<&Welded>,
+) -> Result<SeamReport, MeshError> {
     let mut flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
-    let roots = weld::roots(&flat.positions, tolerance);
+    let fresh;
+    let roots = match welded.and_then(|w| w.roots_for(flat.positions.len(), tolerance)) {
+        Some(roots) => roots,
+        None => {
+            fresh = weld::roots(&flat.positions, tolerance);
+            &fresh[..]
+        }
+    };
 
-    let shared = flat.shared_positions(&roots);
-    let near_miss = weld::near_misses(&flat.positions, &roots);
-    weld::snap_to_roots(&mut flat.positions, &roots);
+    let shared = flat.shared_positions(roots);
+    let near_miss = weld::near_misses(&flat.positions, roots);
+    weld::snap_to_roots(&mut flat.positions, roots);
 
     let counts = face_counts(model, &flat);
     let mut report = SeamReport {
@@ -143,9 +167,9 @@ pub fn report(model: &Model, options: &ReportOptions) -> Result<SeamReport, Mesh
         ..SeamReport::default()
     };
     drop(near_miss);
-    report.skin_seams = skin::skin_seams(model, &flat, &roots, &shared);
+    report.skin_seams = skin::skin_seams(model, &flat, roots, &shared);
     frame_quality(model, &mut report);
-    report.cross_object = cross_object(model, &flat, &roots, &shared, options);
+    report.cross_object = cross_object(model, &flat, roots, &shared, options);
     Ok(report)
 }
 
@@ -159,10 +183,10 @@ fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
             let mut n = [0; 3];
             for t in 0..object.triangles.len() {
                 let c = flat.corners(model, o, t);
-                let f = face(c.positions, c.uvs, model.v_axis);
-                n[0] += usize::from(f.is(DEGENERATE));
-                n[1] += usize::from(f.is(DEGENERATE_UV) && !f.is(NO_UV | DEGENERATE));
-                n[2] += usize::from(f.is(MIRRORED));
+                let f = face_flags(c.positions, c.uvs, model.v_axis);
+                n[0] += usize::from(f & DEGENERATE != 0);
+                n[1] += usize::from(f & (DEGENERATE_UV | NO_UV | DEGENERATE) == DEGENERATE_UV);
+                n[2] += usize::from(f & MIRRORED != 0);
             }
             n
         })
@@ -386,26 +410,164 @@ fn model_space_frame(object: &crate::Object, i: usize, linear: Option<&Linear>) 
     }
 }
 
-/// Orthogonality, unit length and handedness of the stored frames (in each object's space).
-fn frame_quality(model: &Model, report: &mut SeamReport) {
-    let mut dot_nt: Option<f32> = None;
-    let mut n_err: Option<f32> = None;
-    let mut t_err: Option<f32> = None;
-    let mut bad = 0;
-    let max = |acc: &mut Option<f32>, x: f32| *acc = Some(acc.map_or(x, |m| m.max(x)));
-    for object in &model.objects {
-        let Some(ns) = &object.normals else { continue };
-        for (i, &n) in ns.iter().enumerate() {
-            max(&mut n_err, (n.length() - 1.0).abs());
-            if let Some(t) = object.tangents.as_ref().map(|ts| ts[i]) {
-                max(&mut dot_nt, n.dot(t.xyz()).abs());
-                max(&mut t_err, (t.xyz().length() - 1.0).abs());
-                bad += usize::from(t.w != 1.0 && t.w != -1.0);
-            }
+/// What [`frame_quality`] finds, over some vertices.
+#[derive(Clone, Copy, Default)]
+struct Quality {
+    dot_nt: Option<f32>,
+    n_err: Option<f32>,
+    t_err: Option<f32>,
+    bad: usize,
+}
+
+impl Quality {
+    /// Both parts together: maxima and a sum, the same in any order.
+    fn merge(self, o: Self) -> Self {
+        let max = |a: Option<f32>, b: Option<f32>| match (a, b) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        Self {
+            dot_nt: max(self.dot_nt, o.dot_nt),
+            n_err: max(self.n_err, o.n_err),
+            t_err: max(self.t_err, o.t_err),
+            bad: self.bad + o.bad,
         }
     }
-    report.max_abs_dot_nt = dot_nt;
-    report.max_normal_length_error = n_err;
-    report.max_tangent_length_error = t_err;
-    report.bad_handedness = bad;
+
+    /// Of the vertices with `normals` and, where the object has them, `tangents`.
+    fn of(normals: &[Vec3], tangents: Option<&[Vec4]>) -> Self {
+        let mut q = Self::default();
+        let max = |acc: &mut Option<f32>, x: f32| *acc = Some(acc.map_or(x, |m| m.max(x)));
+        for (i, &n) in normals.iter().enumerate() {
+            max(&mut q.n_err, (n.length() - 1.0).abs());
+            if let Some(t) = tangents.map(|ts| ts[i]) {
+                max(&mut q.dot_nt, n.dot(t.xyz()).abs());
+                max(&mut q.t_err, (t.xyz().length() - 1.0).abs());
+                q.bad += usize::from(t.w != 1.0 && t.w != -1.0);
+            }
+        }
+        q
+    }
+}
+
+/// Vertices measured per parallel task in [`frame_quality`].
+const QUALITY_CHUNK: usize = 1 << 14;
+
+/// Orthogonality, unit length and handedness of the stored frames (in each object's space),
+/// in parallel: maxima and a count, the same in any order.
+fn frame_quality(model: &Model, report: &mut SeamReport) {
+    let q = model
+        .objects
+        .par_iter()
+        .filter_map(|o| o.normals.as_deref().map(|ns| (ns, o.tangents.as_deref())))
+        .flat_map(|(normals, tangents)| {
+            normals.par_chunks(QUALITY_CHUNK).enumerate().map(move |(k, ns)| {
+                let start = k * QUALITY_CHUNK;
+                Quality::of(ns, tangents.map(|ts| &ts[start..start + ns.len()]))
+            })
+        })
+        .reduce(Quality::default, Quality::merge);
+    report.max_abs_dot_nt = q.dot_nt;
+    report.max_normal_length_error = q.n_err;
+    report.max_tangent_length_error = q.t_err;
+    report.bad_handedness = q.bad;
+}
+
+#[cfg(test)]
+mod welded_tests {
+    use glam::{Mat4, Quat, Vec2, Vec3};
+
+    use super::*;
+    use crate::{FixOptions, Mode, Object, TangentMethod, fix_in_place_welded};
+
+    /// A cylinder standing on a ring (a 90-degree fold between them inside the first object: a
+    /// crease), with the U of its last quarter of columns mirrored, cut into three objects by
+    /// rows; each object has its own copy of the rows it shares, and the middle one has a
+    /// transform (its positions put back through the inverse, so they round differently:
+    /// welded by the tolerance).
+    fn folded_tube() -> Model {
+        let (columns, rows) = (16u32, 12u32);
+        let point = |i: u32, j: u32| {
+            let a = i as f32 / columns as f32 * std::f32::consts::TAU;
+            let (r, y) =
+                if j <= 2 { (0.5 + j as f32 * 0.25, 0.0) } else { (1.0, (j - 2) as f32 * 0.3) };
+            let u = if i > columns * 3 / 4 {
+                1.5 - i as f32 / columns as f32
+            } else {
+                i as f32 / columns as f32
+            };
+            (Vec3::new(r * a.cos(), y, r * a.sin()), Vec2::new(u, j as f32 / rows as f32))
+        };
+        let transform =
+            Mat4::from_rotation_translation(Quat::from_rotation_y(0.7), Vec3::new(0.3, -0.2, 0.1));
+        let part = |name: &str, band: std::ops::Range<u32>, moved: bool| {
+            let (mut positions, mut uvs, mut triangles) = (vec![], vec![], vec![]);
+            for j in band.clone() {
+                for i in 0..=columns {
+                    let (p, uv) = point(i % columns, j);
+                    positions.push(if moved { transform.inverse().transform_point3(p) } else { p });
+                    uvs.push(uv);
+                }
+            }
+            let w = columns + 1;
+            for j in 0..band.end - band.start - 1 {
+                for i in 0..columns {
+                    let a = j * w + i;
+                    triangles.push([a, a + w, a + w + 1]);
+                    triangles.push([a, a + w + 1, a + 1]);
+                }
+            }
+            let object = Object::new(name, positions, triangles).with_uvs(uvs);
+            if moved { object.with_transform(transform) } else { object }
+        };
+        Model::new(vec![
+            part("ring", 0..5, false),
+            part("middle", 4..9, true),
+            part("top", 8..rows, false),
+        ])
+    }
+
+    /// The report of a fixed model with the fix's weld is the report that welds it again, in
+    /// every field; and the fix's weld is the one used (it fits the fixed model).
+    #[test]
+    fn the_fixs_weld_gives_the_same_report() {
+        let model = folded_tube();
+        for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit, TangentMethod::None] {
+            let options = FixOptions { tangents, ..FixOptions::DEFAULT };
+            let mut fixed = model.clone();
+            let (changes, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            // Vertices were split at the crease and at the mirror line: the renumbering is
+            // exercised, as is the weld across objects and transforms.
+            assert!(changes.vertices_split() > 0, "{tangents:?}: nothing split");
+            let welded = welded.expect("a weld in model mode");
+            let report_options = ReportOptions::from(&options);
+            let again = report(&fixed, &report_options).expect("valid");
+            assert!(again.shared_positions > 0 && again.near_miss_positions > 0, "{again:?}");
+            let flat = validate::flatten(&fixed).expect("valid");
+            assert!(welded.roots_for(flat.positions.len(), again.weld_tolerance).is_some());
+            let with = report_welded(&fixed, &report_options, Some(&welded)).expect("valid");
+            assert_eq!(with, again, "{tangents:?}");
+        }
+    }
+
+    /// The fix's weld is not used for another model or another tolerance, and the object
+    /// mode's (a weld within each object) is not given.
+    #[test]
+    fn a_weld_that_does_not_fit_is_not_used() {
+        let model = folded_tube();
+        let mut fixed = model.clone();
+        let (_, welded) = fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT).expect("valid");
+        let welded = welded.expect("a weld in model mode");
+        let options = ReportOptions::from(&FixOptions::DEFAULT);
+        // The input has fewer vertices than the fixed model: its own weld is made.
+        let unfixed = report_welded(&model, &options, Some(&welded)).expect("valid");
+        assert_eq!(unfixed, report(&model, &options).expect("valid"));
+        let wider =
+            ReportOptions { weld_tolerance: crate::WeldTolerance::Relative(0.1), ..options };
+        let at_wider = report_welded(&fixed, &wider, Some(&welded)).expect("valid");
+        assert_eq!(at_wider, report(&fixed, &wider).expect("valid"));
+        let object_mode = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
+        let (_, none) = fix_in_place_welded(&mut model.clone(), &object_mode).expect("valid");
+        assert!(none.is_none());
+    }
 }

@@ -51,6 +51,29 @@ struct Weld {
     pub count: usize,
 }
 
+/// The weld a fix smoothed over, for the model it fixed ([`crate::fix_in_place_welded`]):
+/// [`crate::report_welded`] measures the fixed model with it instead of welding it again.
+#[derive(Clone, Debug)]
+pub struct Welded {
+    /// Per vertex of the fixed model (numbered across its objects), its root: see [`roots`].
+    roots: Vec<u32>,
+    /// The absolute tolerance it was welded with.
+    tolerance: f32,
+}
+
+impl Welded {
+    pub(crate) fn new(roots: Vec<u32>, tolerance: f32) -> Self {
+        Self { roots, tolerance }
+    }
+
+    /// The roots, where they are the weld of a model of `vertices` vertices at `tolerance`
+    /// (bit for bit): a weld of another model, or at another tolerance, is not used.
+    pub(crate) fn roots_for(&self, vertices: usize, tolerance: f32) -> Option<&[u32]> {
+        (self.roots.len() == vertices && self.tolerance.to_bits() == tolerance.to_bits())
+            .then_some(&self.roots[..])
+    }
+}
+
 /// Moves every position onto its root's (see [`roots`]), so that geometry computed afterwards
 /// sees welded positions as one point: a sliver between two positions closer than the
 /// tolerance becomes a degenerate triangle, not a face with a random normal.

@@ -24,13 +24,15 @@ impl Inspection {
         let skinned = model.objects.iter().any(|o| !o.skin.is_empty());
         let one = |mode: Mode| -> Result<(Mode, SeamReport, Changes), MeshError> {
             let mut fixed = model.clone();
-            let changes = seamlit_mesh::fix_in_place(&mut fixed, &options.with_mode(mode))?;
+            let (changes, welded) =
+                seamlit_mesh::fix_in_place_welded(&mut fixed, &options.with_mode(mode))?;
             // As `fix` does by default (--skin-seams match).
             if skinned {
                 let copies = seamlit_mesh::shared_copies(model, options.weld_tolerance)?;
                 seamlit_mesh::match_skin_seams(&mut fixed, &copies);
             }
-            Ok((mode, seamlit_mesh::report(&fixed, &report_options)?, changes))
+            let report = seamlit_mesh::report_welded(&fixed, &report_options, welded.as_ref())?;
+            Ok((mode, report, changes))
         };
         Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
     }
