@@ -480,6 +480,14 @@ impl Corners {
         at: &At<'_>,
     ) -> Result<Self, IoError> {
         let mut vertex_of: FxHashMap<[u32; 3], u32> = FxHashMap::default();
+        // Where every key is its point's alone (no normals or UVs, or `vertex` or `constant`
+        // ones: the usual layout), a table by point stands in for the hash map: the same
+        // vertices in the same order, without hashing every corner.
+        let by_point = [normals.map(|n| n.interpolation), uvs.map(|u| u.interpolation)]
+            .into_iter()
+            .flatten()
+            .all(|i| matches!(i, Interpolation::Vertex | Interpolation::Constant));
+        let mut vertex_of_point = if by_point { vec![NONE; topology.points.len()] } else { vec![] };
         let mut this = Self {
             keys: Vec::new(),
             corner_vertex: vec![NONE; topology.indices.len()],
@@ -500,13 +508,21 @@ impl Corners {
                     normals.map_or(NONE, |n| n.index(face, c, point)),
                     uvs.map_or(NONE, |u| u.index(face, c, point)),
                 ];
-                let next = this.keys.len();
-                let v = *vertex_of.entry(key).or_insert_with(|| {
-                    this.keys.push(key);
-                    #[expect(clippy::cast_possible_truncation, reason = "below the limit")]
-                    let next = next as u32;
-                    next
-                });
+                #[expect(clippy::cast_possible_truncation, reason = "below the limit")]
+                let next = this.keys.len() as u32;
+                let v = if by_point {
+                    let v = &mut vertex_of_point[point];
+                    if *v == NONE {
+                        this.keys.push(key);
+                        *v = next;
+                    }
+                    *v
+                } else {
+                    *vertex_of.entry(key).or_insert_with(|| {
+                        this.keys.push(key);
+                        next
+                    })
+                };
                 this.corner_vertex[c] = v;
             }
             if this.triangles.len() + count - 2 > at.limit {
