@@ -104,12 +104,19 @@ pub fn fix_in_place_welded(
     options: &FixOptions,
 ) -> Result<(Changes, Option<Welded>), MeshError> {
     let flat = validate::flatten(model)?;
-    let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
     let authored = Authored::of(model, options);
     let keep = options.mode == Mode::Model;
     let (changes, roots) = run(model, flat, options, None, &authored, keep)?;
-    let welded = roots.as_ref().filter(|_| keep).map(|r| Welded::new(r.clone(), tolerance));
-    morph::compute_deltas(model, options, &computed(&authored), roots)?;
+    // Copied only where the morph targets' deltas need the roots too.
+    let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
+    let (welded, for_deltas) = match roots {
+        Some(r) if keep && morphs => {
+            (Some(Welded::new(r.clone(), options.weld_tolerance)), Some(r))
+        }
+        Some(r) if keep => (Some(Welded::new(r, options.weld_tolerance)), None),
+        roots => (None, roots),
+    };
+    morph::compute_deltas(model, options, &computed(&authored), for_deltas)?;
     Ok((changes, welded))
 }
 

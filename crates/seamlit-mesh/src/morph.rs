@@ -36,7 +36,7 @@ use crate::face::{DEGENERATE, DEGENERATE_UV, face};
 use crate::frame::{Linear, orthogonal_tangent};
 use crate::group::weight;
 use crate::index::{index, low_half};
-use crate::validate::{self, Flat};
+use crate::validate::{self, Flat, split_at_starts};
 use crate::weld::{diagonal, roots_for_mode};
 use crate::{FixOptions, Influences, MeshError, Mode, Model, MorphTarget};
 
@@ -179,19 +179,14 @@ pub(crate) fn roots_after_splits(roots: &[u32], counts: &[usize], model: &Model)
         b += object.vertex_count();
     }
     old_start.push(a);
+    new_start.push(b);
+    let starts: Vec<u32> = new_start.iter().map(|&s| index(s)).collect();
     let renumber = |r: u32| {
         let o = old_start.partition_point(|&s| s <= r as usize) - 1;
         index(new_start[o] + r as usize - old_start[o])
     };
     let mut out = vec![0; b];
-    let mut rest = &mut out[..];
-    let mut parts = Vec::with_capacity(model.objects.len());
-    for object in &model.objects {
-        let (part, tail) = std::mem::take(&mut rest).split_at_mut(object.vertex_count());
-        parts.push(part);
-        rest = tail;
-    }
-    parts.into_par_iter().enumerate().for_each(|(o, part)| {
+    split_at_starts(&mut out, &starts).into_par_iter().enumerate().for_each(|(o, part)| {
         let object = &model.objects[o];
         // Most roots lie in the vertex's own object: moved by the object's shift.
         let (start, end) = (old_start[o], old_start[o + 1]);

@@ -140,7 +140,8 @@ pub fn report_welded(
     let mut flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
     let fresh;
-    let roots = match welded.and_then(|w| w.roots_for(flat.positions.len(), tolerance)) {
+    let roots = match welded.and_then(|w| w.roots_for(flat.positions.len(), options.weld_tolerance))
+    {
         Some(roots) => roots,
         None => {
             fresh = weld::roots(&flat.positions, tolerance);
@@ -544,7 +545,7 @@ mod welded_tests {
             let again = report(&fixed, &report_options).expect("valid");
             assert!(again.shared_positions > 0 && again.near_miss_positions > 0, "{again:?}");
             let flat = validate::flatten(&fixed).expect("valid");
-            assert!(welded.roots_for(flat.positions.len(), again.weld_tolerance).is_some());
+            assert!(welded.roots_for(flat.positions.len(), options.weld_tolerance).is_some());
             let with = report_welded(&fixed, &report_options, Some(&welded)).expect("valid");
             assert_eq!(with, again, "{tangents:?}");
         }

@@ -49,7 +49,7 @@ use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
 use crate::frame::{finish, finish_normal};
 use crate::group::{self, Frame, Rules, Scratch, weight};
 use crate::index::low_half;
-use crate::validate::Flat;
+use crate::validate::{Flat, split_at_starts};
 
 /// A triangle uses this vertex (per vertex, not merged into the root).
 const USED: u8 = 1;
@@ -261,30 +261,24 @@ struct Part<'a> {
     flags: &'a mut [u8],
 }
 
-/// `items` cut into consecutive parts of the objects' vertex counts; every part empty where
-/// `items` is.
-fn per_object<'a, T>(model: &Model, mut items: &'a mut [T]) -> std::vec::IntoIter<&'a mut [T]> {
-    let parts: Vec<&'a mut [T]> = model
-        .objects
-        .iter()
-        .map(|object| {
-            let n = if items.is_empty() { 0 } else { object.positions.len() };
-            let (part, rest) = std::mem::take(&mut items).split_at_mut(n);
-            items = rest;
-            part
-        })
-        .collect();
-    parts.into_iter()
+/// `items` cut into each object's part ([`split_at_starts`] at `starts`), or, where `items` is
+/// empty (the tangent arrays without tangents), an empty part per object.
+fn per_object<'a, T>(items: &'a mut [T], starts: &[u32]) -> std::vec::IntoIter<&'a mut [T]> {
+    if items.is_empty() {
+        let empty: Vec<&'a mut [T]> = starts.windows(2).map(|_| Default::default()).collect();
+        return empty.into_iter();
+    }
+    split_at_starts(items, starts).into_iter()
 }
 
 /// Adds every face's weighted frame to its three vertices, and widens their cones to take in
 /// the face; one object per task.
 fn accumulate(model: &Model, flat: &Flat, rules: Rules, sums: &mut Sums) {
-    let mut tangents = per_object(model, &mut sums.tangents);
-    let mut normal_cones = per_object(model, &mut sums.normal_cones);
-    let mut tangent_cones = per_object(model, &mut sums.tangent_cones);
-    let mut flags = per_object(model, &mut sums.flags);
-    let parts: Vec<Part<'_>> = per_object(model, &mut sums.normals)
+    let mut tangents = per_object(&mut sums.tangents, &flat.vertex_start);
+    let mut normal_cones = per_object(&mut sums.normal_cones, &flat.vertex_start);
+    let mut tangent_cones = per_object(&mut sums.tangent_cones, &flat.vertex_start);
+    let mut flags = per_object(&mut sums.flags, &flat.vertex_start);
+    let parts: Vec<Part<'_>> = per_object(&mut sums.normals, &flat.vertex_start)
         .map(|normals| Part {
             normals,
             tangents: tangents.next().unwrap_or_default(),

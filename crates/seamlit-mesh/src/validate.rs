@@ -105,7 +105,7 @@ impl Flat {
 }
 
 /// `values` cut at `starts` (each object's first entry, one extra entry at the end).
-fn split_at_starts<'a, T>(mut values: &'a mut [T], starts: &[u32]) -> Vec<&'a mut [T]> {
+pub(crate) fn split_at_starts<'a, T>(mut values: &'a mut [T], starts: &[u32]) -> Vec<&'a mut [T]> {
     let mut parts = Vec::with_capacity(starts.len());
     for w in starts.windows(2) {
         let (part, rest) = values.split_at_mut((w[1] - w[0]) as usize);

@@ -35,9 +35,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::Mode;
 use crate::index::{index, low_half};
 use crate::validate::Flat;
+use crate::{Mode, WeldTolerance};
 
 /// The result of [`weld`]: a shared id per input position. The pipeline works with
 /// [`roots`]; this compact form is for the tests.
@@ -57,20 +57,20 @@ struct Weld {
 pub struct Welded {
     /// Per vertex of the fixed model (numbered across its objects), its root: see [`roots`].
     roots: Vec<u32>,
-    /// The absolute tolerance it was welded with.
-    tolerance: f32,
+    /// The tolerance it was welded with (absolute from the fixed model's diagonal, which the
+    /// fix does not change).
+    tolerance: WeldTolerance,
 }
 
 impl Welded {
-    pub(crate) fn new(roots: Vec<u32>, tolerance: f32) -> Self {
+    pub(crate) fn new(roots: Vec<u32>, tolerance: WeldTolerance) -> Self {
         Self { roots, tolerance }
     }
 
-    /// The roots, where they are the weld of a model of `vertices` vertices at `tolerance`
-    /// (bit for bit): a weld of another model, or at another tolerance, is not used.
-    pub(crate) fn roots_for(&self, vertices: usize, tolerance: f32) -> Option<&[u32]> {
-        (self.roots.len() == vertices && self.tolerance.to_bits() == tolerance.to_bits())
-            .then_some(&self.roots[..])
+    /// The roots, where they are the weld of a model of `vertices` vertices at `tolerance`: a
+    /// weld of another model, or at another tolerance, is not used.
+    pub(crate) fn roots_for(&self, vertices: usize, tolerance: WeldTolerance) -> Option<&[u32]> {
+        (self.roots.len() == vertices && self.tolerance == tolerance).then_some(&self.roots[..])
     }
 }
 
