@@ -248,6 +248,62 @@ def test_an_object_store_is_fixed_byte_for_byte_as_folder_mode(cluster, tree, s3
     assert (out / "_seamlit" / "summary.html").read_text().count('<img src="data:image/png;base64,') == 2
 
 
+def grid_obj(path: Path, n: int) -> None:
+    """Two n x n grids, side by side as two objects with their own copies of the shared
+    edge, on a bumpy surface (so the copies' normals differ per object)."""
+    import numpy as np
+
+    lines = []
+    for obj, x0 in (("left", -1.0), ("right", 0.0)):
+        u, v = np.meshgrid(np.linspace(x0, x0 + 1.0, n), np.linspace(0.0, 1.0, n))
+        z = 0.2 * np.sin(3.0 * u) * np.cos(2.0 * v)
+        lines.append(f"o {obj}")
+        lines += [f"v {a:.6f} {b:.6f} {c:.6f}" for a, b, c in zip(u.ravel(), v.ravel(), z.ravel())]
+        base = 1 if obj == "left" else n * n + 1
+        i = np.arange(n - 1)
+        corner = (i[:, None] * n + i[None, :]).ravel() + base
+        lines += [f"f {a} {a + 1} {a + n + 1}\nf {a} {a + n + 1} {a + n}" for a in corner]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_an_output_larger_than_one_upload_part_reaches_the_object_store_whole(cluster, s3, tmp_path):
+    # Arrow uploads an object of more than one part (10 MiB) in parts; the output of this
+    # model is about 15 MB. It must arrive whole, the bytes folder mode writes.
+    src = tmp_path / "src"
+    src.mkdir()
+    grid_obj(src / "grid.obj", 400)
+    expected = tmp_path / "expected"
+    assert cli("fix", src, "-o", expected).returncode == 0
+    size = (expected / "grid.glb").stat().st_size
+    assert size > 12 * 2**20, size
+    s3.create_bucket(Bucket="large")
+    s3.upload_file(str(src / "grid.obj"), "large", "models/grid.obj")
+    summary = seamlit.ray.fix("s3://large/models", "s3://large/fixed", pictures=0, progress=False)
+    assert (summary.fixed, summary.failed, summary.refused) == (1, 0, 0), summary.rows
+    body = s3.get_object(Bucket="large", Key="fixed/grid.glb")["Body"].read()
+    assert body == (expected / "grid.glb").read_bytes()
+    assert summary.rows[0]["output_sha256"] == seamlit.ray._task.sha256(body)
+
+
+def test_an_output_that_cannot_be_written_is_a_failed_row_naming_it(tmp_path):
+    # DST's folder for the output is taken by a file: the row says so on one line, and
+    # nothing is left under the output's name.
+    from seamlit.ray import _task
+
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    (src / "glb").mkdir(parents=True)
+    shutil.copy(MODELS / "fox" / "Fox.glb", src / "glb" / "Fox.glb")
+    dst.mkdir()
+    (dst / "glb").write_text("a file where the output's folder goes")
+    options = {"mode": "model", "tessellation": 16, "skin_seams": "match", "samples": 30}
+    row = _task.process(_task.Job(relative="glb/Fox.glb", src=str(src), dst=str(dst), output="glb/Fox.glb",
+                                  options=options, flags=(), options_key=""))
+    assert row["status"] == "failed", row
+    assert row["error"].startswith(f"glb/Fox.glb: cannot write glb/Fox.glb to {dst}: "), row["error"]
+    assert "\n" not in row["error"] and row["output_sha256"] is None
+    assert sorted(p.name for p in dst.iterdir()) == ["glb"]
+
+
 def test_models_of_several_files_from_an_object_store_are_fixed_in_memory(tree, s3, tmp_path, monkeypatch):
     # A .gltf, an OBJ and USD layers from s3:// are read with the files beside them into
     # memory and fixed there (no scratch folder on the worker), into folder mode's bytes.

@@ -158,6 +158,16 @@ def _inspect_options(options: Dict[str, Any]) -> Dict[str, Any]:
     return {k: v for k, v in options.items() if k in keep}
 
 
+class Unwritten(OSError):
+    """An output that could not be written to DST (a full disk, a refused upload): the
+    file's row is ``failed`` with this one line, never the run's end."""
+
+
+def _unwritten(output: str, dst: str, error: BaseException) -> Unwritten:
+    lines = str(error).strip().splitlines()
+    return Unwritten(f"cannot write {output} to {dst}: {lines[0] if lines else type(error).__name__}")
+
+
 class Crashed(RuntimeError):
     """The ``seamlit`` process fixing a file died from a signal (a native crash, the
     out-of-memory killer): Ray retries the task as it does for a dead worker."""
@@ -179,12 +189,21 @@ def _run_cli(binary: str, local_input: str, local_output: str, flags: Sequence[s
     return done.returncode, done.stderr + done.stdout
 
 
-def _publish(filesystem: pafs.FileSystem, root: str, staged: str, output_relative: str) -> None:
+def _publish(filesystem: pafs.FileSystem, root: str, staged: str, output_relative: str, dst: str) -> None:
     """Moves every file the fix wrote (the output, and a .gltf's or .obj's files beside it)
     from the staging folder to DST. A file appears under its name only complete: a rename
     on a local filesystem, one upload (one object) on an object store."""
     folder = posixpath.dirname(output_relative)
     local = isinstance(filesystem, pafs.LocalFileSystem)
+    try:
+        _publish_files(filesystem, root, staged, folder, local)
+    except Unwritten:
+        raise
+    except OSError as e:
+        raise _unwritten(output_relative, dst, e) from e
+
+
+def _publish_files(filesystem: pafs.FileSystem, root: str, staged: str, folder: str, local: bool) -> None:
     for dirpath, _, names in os.walk(staged):
         for name in sorted(names):
             source = os.path.join(dirpath, name)
@@ -274,11 +293,14 @@ def process(job: Job) -> Row:
             with open(local_output, "rb") as f:
                 row["output_sha256"] = sha256(f.read())
             dst_fs, dst_root = _files.resolve(job.dst)
-            _publish(dst_fs, dst_root, staged, job.output)
+            _publish(dst_fs, dst_root, staged, job.output, job.dst)
             row["status"] = "fixed" if changed else "unchanged"
         else:
             row["output_path"] = None
             row["status"] = "fixed" if changed else "unchanged"
+        return row
+    except Unwritten as e:
+        row.update(status="failed", error=f"{job.relative}: {e}", output_sha256=None)
         return row
     finally:
         row["seconds"] = time.perf_counter() - started
@@ -338,7 +360,7 @@ def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], s
     with open(local_output, "rb") as f:
         row["output_sha256"] = sha256(f.read())
     dst_fs, dst_root = _files.resolve(job.dst)
-    _publish(dst_fs, dst_root, staged, job.output)
+    _publish(dst_fs, dst_root, staged, job.output, job.dst)
     row["status"] = "fixed" if changed else "unchanged"
     return row
 
@@ -391,13 +413,21 @@ def _fix_in_memory(job: Job, row: Row, data: bytes, companions: Dict[str, bytes]
     changed = row.pop("_changed")
     row["output_sha256"] = sha256(output)
     dst_fs, dst_root = _files.resolve(job.dst)
-    _write(dst_fs, dst_root + "/" + job.output, output)
+    _write(dst_fs, dst_root, job.output, output, job.dst)
     row["status"] = "fixed" if changed else "unchanged"
     return row
 
 
-def _write(filesystem: pafs.FileSystem, target: str, data: bytes) -> None:
-    """Writes ``data`` to ``target`` so that it appears under its name only complete."""
+def _write(filesystem: pafs.FileSystem, root: str, output: str, data: bytes, dst: str) -> None:
+    """Writes ``data`` to ``output`` under ``root`` (DST's place on ``filesystem``) so that
+    it appears under its name only complete; raises :class:`Unwritten` naming ``dst``."""
+    try:
+        _write_file(filesystem, root + "/" + output, data)
+    except OSError as e:
+        raise _unwritten(output, dst, e) from e
+
+
+def _write_file(filesystem: pafs.FileSystem, target: str, data: bytes) -> None:
     if isinstance(filesystem, pafs.LocalFileSystem):
         os.makedirs(os.path.dirname(target), exist_ok=True)
         partial = f"{target}.{uuid.uuid4().hex[:8]}.partial"
