@@ -6,7 +6,7 @@ of 1 and 2 nodes of one CPU each, over a library of copies of the repository's m
 
     export CARGO_TARGET_DIR=...; cargo build -p seamlit -p seamlit-py   # or --release
     SEAMLIT_BIN=$CARGO_TARGET_DIR/debug/seamlit PYTHONPATH=<folder with the seamlit package> \\
-        python3 bench/ray_fleet.py [--files 1000] [--work /tmp/fleet]
+        python3 bench/ray_fleet.py [--files 1000] [--work /tmp/fleet] [--repeat 3]
 
 Folder mode's threads: RAYON_NUM_THREADS and taskset over that many cores. Ray's nodes have
 num_cpus=1 each (each task one thread); the driver runs beside them. Prints a Markdown table.
@@ -68,7 +68,10 @@ def folder_mode(binary: str, src: Path, dst: Path, threads: int) -> float:
     return seconds
 
 
-def ray_mode(src: Path, dst: Path, nodes: int) -> tuple:
+def ray_mode(src: Path, dst: Path, nodes: int, repeat: int) -> tuple:
+    """Runs ``seamlit.ray.fix`` ``repeat`` times on one cluster of ``nodes`` nodes, each into
+    a fresh DST; returns the runs' seconds (the first with the workers' start and imports) and
+    the cluster's start."""
     import ray
     from ray.cluster_utils import Cluster
 
@@ -81,14 +84,18 @@ def ray_mode(src: Path, dst: Path, nodes: int) -> tuple:
     cluster.wait_for_nodes()
     ray.init(address=cluster.address, log_to_driver=False)
     up = time.perf_counter() - started
+    runs = []
     try:
-        summary = seamlit.ray.fix(str(src), str(dst), pictures=0, progress=False)
+        for _ in range(repeat):
+            shutil.rmtree(dst, ignore_errors=True)
+            summary = seamlit.ray.fix(str(src), str(dst), pictures=0, progress=False)
+            if summary.failed or summary.refused:
+                sys.exit(f"ray run had failures: {summary.line()}")
+            runs.append(summary.seconds)
     finally:
         ray.shutdown()
         cluster.shutdown()
-    if summary.failed or summary.refused:
-        sys.exit(f"ray run had failures: {summary.line()}")
-    return summary.seconds, up
+    return runs, up
 
 
 def same_tree(a: Path, b: Path) -> bool:
@@ -118,6 +125,7 @@ def main() -> None:
     parser.add_argument("--files", type=int, default=1000)
     parser.add_argument("--work", type=Path, default=Path("/tmp/seamlit-fleet"))
     parser.add_argument("--runs", type=int, default=21, help="runs of the overhead measure")
+    parser.add_argument("--repeat", type=int, default=3, help="runs of each configuration (median)")
     args = parser.parse_args()
     binary = os.environ.get("SEAMLIT_BIN") or shutil.which("seamlit") or sys.exit("set SEAMLIT_BIN")
     shutil.rmtree(args.work, ignore_errors=True)
@@ -127,26 +135,35 @@ def main() -> None:
     print(f"load average before: {os.getloadavg()}")
     rows = []
     for threads in (1, 2):
-        seconds = folder_mode(binary, src, args.work / f"folder{threads}", threads)
-        rows.append((f"`seamlit fix DIR -o DIR`, {threads} thread(s)", threads, seconds, None))
+        runs = []
+        for _ in range(args.repeat):
+            shutil.rmtree(args.work / f"folder{threads}", ignore_errors=True)
+            runs.append(folder_mode(binary, src, args.work / f"folder{threads}", threads))
+        rows.append((f"`seamlit fix DIR -o DIR`, {threads} thread(s)", threads, runs, None))
         print(rows[-1], flush=True)
     for nodes in (1, 2):
         dst = args.work / f"ray{nodes}"
-        seconds, up = ray_mode(src, dst, nodes)
+        runs, up = ray_mode(src, dst, nodes, args.repeat)
         assert same_tree(dst, args.work / "folder1"), "ray output differs from folder mode"
-        rows.append((f"`seamlit.ray.fix`, {nodes} node(s) of 1 CPU", nodes, seconds, up))
+        rows.append((f"`seamlit.ray.fix`, {nodes} node(s) of 1 CPU", nodes, runs, up))
         print(rows[-1], flush=True)
     print(f"load average after: {os.getloadavg()}")
     print()
+    print(f"Seconds: the median of {args.repeat} runs (Ray: on one cluster, the first run's in brackets: its")
+    print("workers start and import the package).")
+    print()
     print("| run | CPUs | wall (s) | files/s | files/s per CPU | cluster start (s) |")
     print("|---|---:|---:|---:|---:|---:|")
-    for name, cpus, seconds, up in rows:
-        rate = files / seconds
-        print(f"| {name} | {cpus} | {seconds:.1f} | {rate:.1f} | {rate / cpus:.1f} | {'' if up is None else f'{up:.1f}'} |")
-    folder1 = files / rows[0][2]
-    ray1, ray2 = files / rows[2][2], files / rows[3][2]
-    print(f"\nRay 1 node against folder mode 1 thread, per CPU: {folder1 / ray1:.2f}x slower")
-    print(f"Ray 2 nodes against 1 node: {ray2 / ray1:.2f}x")
+    median = lambda runs: statistics.median(runs)
+    for name, cpus, runs, up in rows:
+        rate = files / median(runs)
+        wall = f"{median(runs):.2f}" + ("" if up is None else f" ({runs[0]:.2f})")
+        print(f"| {name} | {cpus} | {wall} | {rate:.1f} | {rate / cpus:.1f} | {'' if up is None else f'{up:.1f}'} |")
+    folder1 = files / median(rows[0][2])
+    ray1, ray2 = files / median(rows[2][2]), files / median(rows[3][2])
+    first1, first2 = files / rows[2][2][0], files / rows[3][2][0]
+    print(f"\nRay 1 node against folder mode 1 thread, per CPU: {folder1 / ray1:.2f}x slower (first run {folder1 / first1:.2f}x)")
+    print(f"Ray 2 nodes against 1 node: {ray2 / ray1:.2f}x (first runs {first2 / first1:.2f}x)")
     cli, native, size = overhead(binary, args.work, args.runs)
     print(f"\nper file, NormalTangentTest.glb ({size} bytes), median of {args.runs}: "
           f"command line {cli * 1000:.1f} ms (process start included), fix_bytes {native * 1000:.1f} ms")

@@ -31,9 +31,10 @@ pub enum Files {
 pub struct MemoryFiles(Arc<BTreeMap<PathBuf, Arc<[u8]>>>);
 
 impl MemoryFiles {
-    /// The files `files` (path, bytes); of two with one path, the later one.
-    pub fn new(files: impl IntoIterator<Item = (PathBuf, Vec<u8>)>) -> Self {
-        Self(Arc::new(files.into_iter().map(|(p, b)| (normalize(&p), Arc::from(b))).collect()))
+    /// The files `files` (path, bytes: a `Vec<u8>`, a `&[u8]`, an `Arc<[u8]>` shared as
+    /// is); of two with one path, the later one.
+    pub fn new<B: Into<Arc<[u8]>>>(files: impl IntoIterator<Item = (PathBuf, B)>) -> Self {
+        Self(Arc::new(files.into_iter().map(|(p, b)| (normalize(&p), b.into())).collect()))
     }
 
     /// The bytes of the file at `path`, if the set holds it (see [`MemoryFiles::find`]).

@@ -175,11 +175,12 @@ fn fix_model_bytes<'py>(
     name: &str,
     output: &str,
     settings: &str,
-    companions: Vec<(PathBuf, Vec<u8>)>,
+    companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
-    let files =
-        MemoryFiles::new(std::iter::once((PathBuf::from(name), data.to_vec())).chain(companions));
+    // Each file copied once, from Python's bytes into the set's shared buffers.
+    let companions = companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes()));
+    let files = MemoryFiles::new(std::iter::once((PathBuf::from(name), data)).chain(companions));
     let load_options =
         LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::FIX) };
     let save =

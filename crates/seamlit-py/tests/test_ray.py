@@ -285,6 +285,30 @@ def test_an_output_larger_than_one_upload_part_reaches_the_object_store_whole(cl
     assert summary.rows[0]["output_sha256"] == seamlit.ray._task.sha256(body)
 
 
+def test_a_model_of_several_files_in_a_folder_is_fixed_straight_into_a_local_dst(tmp_path, monkeypatch):
+    # An OBJ with its MTL, and USD layers, from a local SRC into a GLB in a local DST: fixed by
+    # path and saved in place (a temporary name renamed), with no scratch folder or copy.
+    from seamlit.ray import _task
+
+    def no_folder(*args, **kwargs):
+        raise AssertionError("the task made a scratch folder")
+
+    monkeypatch.setattr(_task.tempfile, "mkdtemp", no_folder)
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    shutil.copytree(MODELS / "cornell_box", src / "cornell")
+    shutil.copytree(MODELS / "usd" / "layered", src / "layered")
+    options = {"mode": "model", "tessellation": 16, "skin_seams": "match", "samples": 30}
+    for name in ("cornell/cornell_box.obj", "layered/shot.usda"):
+        output = str(Path(name).with_suffix(".glb"))
+        row = _task.process(_task.Job(relative=name, src=str(src), dst=str(dst), output=output,
+                                      options=options, flags=(), options_key=""))
+        assert row["status"] in ("fixed", "unchanged"), row
+        assert cli("fix", src / name, "-o", tmp_path / "cli.glb").returncode == 0
+        assert (dst / output).read_bytes() == (tmp_path / "cli.glb").read_bytes(), name
+        assert row["output_sha256"] == _task.sha256((dst / output).read_bytes())
+    assert sorted(p.name for p in (dst / "cornell").iterdir()) == ["cornell_box.glb"]
+
+
 def test_an_output_that_cannot_be_written_is_a_failed_row_naming_it(tmp_path):
     # DST's folder for the output is taken by a file: the row says so on one line, and
     # nothing is left under the output's name.

@@ -148,7 +148,21 @@ _FIX_FILE = _signature(fix_file)
 
 def _file_settings(**options: Any) -> str:
     """The settings of :func:`fix_file`'s options (its defaults for those not given), checked;
-    an option it does not know raises ``SeamlitError``."""
+    an option it does not know raises ``SeamlitError``. Kept per set of options: a fleet's
+    task asks for the same ones for every file."""
+    key = repr(sorted(options.items()))
+    settings = _SETTINGS.get(key)
+    if settings is None:
+        settings = _file_settings_checked(options)
+        if len(_SETTINGS) < 64:
+            _SETTINGS[key] = settings
+    return settings
+
+
+_SETTINGS: Dict[str, str] = {}
+
+
+def _file_settings_checked(options: Dict[str, Any]) -> str:
     try:
         bound = _FIX_FILE.bind("", "", **options)
     except TypeError:

@@ -27,7 +27,8 @@ import time
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Tuple
 
-from . import _files, _report
+# Not _report (Parquet): the workers import this package for its tasks and need none of it.
+from . import _files
 from ._task import Crashed, Job, Row, empty_row, process, process_batch
 
 __all__ = ["Summary", "fix", "inspect"]
@@ -124,6 +125,8 @@ def _run(
     options: Dict[str, Any],
 ) -> Summary:
     import ray
+
+    from . import _report
 
     if output_format not in _files.OUTPUT_FORMATS:
         raise ValueError(f"format={output_format!r}: expected one of {', '.join(_files.OUTPUT_FORMATS)}")

@@ -50,11 +50,35 @@ def _newell_head(head: bytes) -> bool:
     return False
 
 
+#: The AWS variables a filesystem is made from: part of the key of :func:`resolve`'s cache.
+_AWS_VARIABLES = (
+    "AWS_ENDPOINT_URL_S3",
+    "AWS_ENDPOINT_URL",
+    "AWS_REGION",
+    "AWS_DEFAULT_REGION",
+    "AWS_ACCESS_KEY_ID",
+    "AWS_SECRET_ACCESS_KEY",
+    "AWS_SESSION_TOKEN",
+)
+
+
 def resolve(uri: str) -> Tuple[pafs.FileSystem, str]:
     """The filesystem and path of a folder or object-store URI (``s3://bucket/prefix``, a
     local path...). S3's endpoint and credentials come from the standard AWS environment
     variables (``AWS_ENDPOINT_URL``, ``AWS_ACCESS_KEY_ID``, ``AWS_SECRET_ACCESS_KEY``,
-    ``AWS_REGION``)."""
+    ``AWS_REGION``). Made once per URI, working folder and those variables in a process (a
+    task resolves SRC and DST for every file)."""
+    key = (uri, os.getcwd() if "://" not in uri else "", tuple(os.environ.get(v) for v in _AWS_VARIABLES))
+    found = _RESOLVED.get(key)
+    if found is None:
+        found = _RESOLVED[key] = _resolve(uri)
+    return found
+
+
+_RESOLVED: Dict[Tuple[str, str, Tuple[Optional[str], ...]], Tuple[pafs.FileSystem, str]] = {}
+
+
+def _resolve(uri: str) -> Tuple[pafs.FileSystem, str]:
     if "://" not in uri:
         return pafs.LocalFileSystem(), os.path.abspath(uri)
     if uri.startswith("s3://"):
