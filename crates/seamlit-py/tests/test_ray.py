@@ -29,8 +29,15 @@ try:
     from ray.cluster_utils import Cluster
 except ImportError as e:  # a failure that says what to install, never a skip
     raise ImportError(
-        f"the seamlit.ray tests need ray, pyarrow and moto: pip install 'ray[data]==2.60.0' pyarrow 'moto[server]' ({e})"
+        f"the seamlit.ray tests need ray, pyarrow and moto: pip install 'ray[data]==2.60.0' pyarrow 'moto[server]>=5.2.5' ({e})"
     ) from e
+
+from importlib.metadata import version as _version
+
+# Earlier moto servers answer a multipart upload's completion with a root element Arrow takes
+# for an error: every output over one part would fail for the server's sake, not seamlit's.
+if tuple(int(p) for p in _version("moto").split(".")[:3]) < (5, 2, 5):
+    raise ImportError(f"the seamlit.ray tests need moto 5.2.5 or later (found {_version('moto')}): pip install 'moto[server]>=5.2.5'")
 
 import seamlit
 import seamlit.ray
