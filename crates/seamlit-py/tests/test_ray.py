@@ -36,7 +36,7 @@ from importlib.metadata import version as _version
 
 # Earlier moto servers answer a multipart upload's completion with a root element Arrow takes
 # for an error: every output over one part would fail for the server's sake, not seamlit's.
-if tuple(int(p) for p in _version("moto").split(".")[:3]) < (5, 2, 5):
+if tuple(int("0" + "".join(c for c in p if c.isdigit())) for p in _version("moto").split(".")[:3]) < (5, 2, 5):
     raise ImportError(f"the seamlit.ray tests need moto 5.2.5 or later (found {_version('moto')}): pip install 'moto[server]>=5.2.5'")
 
 import seamlit
