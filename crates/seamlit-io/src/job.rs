@@ -161,8 +161,14 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
         SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
         SkinSeams::Keep => None,
     };
-    let report = seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref())
-        .map_err(FixError::Report)?;
+    let report = match &as_loaded {
+        // The triangle counts as loaded are the fixed model's: not counted again.
+        Some(before) => {
+            seamlit_mesh::report_fixed(&asset.model, &report_options, welded.as_ref(), before)
+        }
+        None => seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref()),
+    }
+    .map_err(FixError::Report)?;
     let after = copies.measure(asset, &animations, job.samples, &options);
     Ok(Fixed {
         options,

@@ -137,6 +137,47 @@ pub fn report_welded(
     options: &ReportOptions,
     welded: Option<&Welded>,
 ) -> Result<SeamReport, MeshError> {
+    measure(model, options, welded, None)
+}
+
+/// [`report_welded()`] of a model a fix changed, given `as_loaded`, the [`report()`] of the
+/// model before the fix with the same options: the degenerate, degenerate-UV and mirrored
+/// triangles are `as_loaded`'s, not counted again. A fix keeps every triangle's positions and
+/// UVs (it only copies vertices and writes normals and tangents), so they are the fixed
+/// model's, bit for bit; an `as_loaded` of another model (another triangle count or weld
+/// tolerance) is not used.
+///
+/// # Errors
+///
+/// As [`report()`].
+pub fn report_fixed(
+    fixed: &Model,
+    options: &ReportOptions,
+    welded: Option<&Welded>,
+    as_loaded: &SeamReport,
+) -> Result<SeamReport, MeshError> {
+    let counts = [
+        as_loaded.degenerate_triangles,
+        as_loaded.degenerate_uv_triangles,
+        as_loaded.mirrored_triangles,
+    ];
+    measure(
+        fixed,
+        options,
+        welded,
+        (as_loaded.triangles == fixed.triangle_count())
+            .then_some((counts, as_loaded.weld_tolerance)),
+    )
+}
+
+/// The report, with the triangle counts given where they are known (with the absolute weld
+/// tolerance they were counted at).
+fn measure(
+    model: &Model,
+    options: &ReportOptions,
+    welded: Option<&Welded>,
+    known: Option<([usize; 3], f32)>,
+) -> Result<SeamReport, MeshError> {
     let mut flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
     let fresh;
@@ -153,7 +194,10 @@ pub fn report_welded(
     let near_miss = weld::near_misses(&flat.positions, roots);
     weld::snap_to_roots(&mut flat.positions, roots);
 
-    let counts = face_counts(model, &flat);
+    let counts = match known {
+        Some((counts, at)) if at.to_bits() == tolerance.to_bits() => counts,
+        _ => face_counts(model, &flat),
+    };
     let mut report = SeamReport {
         objects: model.objects.len(),
         triangles: model.triangle_count(),
@@ -548,6 +592,60 @@ mod welded_tests {
             assert!(welded.roots_for(flat.positions.len(), options.weld_tolerance).is_some());
             let with = report_welded(&fixed, &report_options, Some(&welded)).expect("valid");
             assert_eq!(with, again, "{tangents:?}");
+        }
+    }
+
+    /// The folded tube and a fourth object with a degenerate triangle (three points on a line)
+    /// and one whose UVs collapse to a point, so that every count is above zero.
+    fn tube_with_bad_faces() -> Model {
+        let mut model = folded_tube();
+        let positions =
+            vec![Vec3::new(3.0, 0.0, 0.0), Vec3::new(4.0, 0.0, 0.0), Vec3::new(5.0, 0.0, 0.0)];
+        let positions = [positions, vec![Vec3::new(3.0, 1.0, 0.0)]].concat();
+        let uvs = vec![Vec2::ZERO, Vec2::X, Vec2::new(2.0, 0.0), Vec2::X];
+        let object = Object::new("bad", positions, vec![[0, 1, 2], [0, 1, 3], [1, 3, 0]]);
+        model.objects.push(object.with_uvs(uvs));
+        model
+    }
+
+    /// The report of a fixed model with the triangle counts as loaded is the report that
+    /// counts them again, in every field, in every mode and with every tangent method; an
+    /// `as_loaded` of another model is not used.
+    #[test]
+    fn the_counts_as_loaded_are_the_fixed_models() {
+        let model = tube_with_bad_faces();
+        let options = ReportOptions::from(&FixOptions::DEFAULT);
+        let as_loaded = report(&model, &options).expect("valid");
+        assert!(as_loaded.degenerate_triangles > 0, "{as_loaded:?}");
+        assert!(as_loaded.degenerate_uv_triangles > 0 && as_loaded.mirrored_triangles > 0);
+        for mode in [Mode::Flat, Mode::Object, Mode::Model] {
+            for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit, TangentMethod::None]
+            {
+                let fix_options = FixOptions { mode, tangents, ..FixOptions::DEFAULT };
+                let mut fixed = model.clone();
+                let (changes, welded) = fix_in_place_welded(&mut fixed, &fix_options).expect("ok");
+                assert!(changes.vertices_split() > 0, "{mode:?} {tangents:?}: nothing split");
+                let again = report(&fixed, &options).expect("valid");
+                let given = report_fixed(&fixed, &options, welded.as_ref(), &as_loaded);
+                assert_eq!(given.expect("valid"), again, "{mode:?} {tangents:?}");
+            }
+        }
+        // Counts of another model (one triangle fewer, the same positions) or taken at another
+        // weld tolerance (the same triangles, more of them degenerate) are counted again.
+        let mut fixed = model.clone();
+        let (_, welded) = fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT).expect("valid");
+        let again = report(&fixed, &options).expect("valid");
+        let mut fewer = model.clone();
+        fewer.objects[3].triangles.pop();
+        let wide = ReportOptions { weld_tolerance: crate::WeldTolerance::Relative(0.1), ..options };
+        for other in [report(&fewer, &options), report(&model, &wide)] {
+            let other = other.expect("valid");
+            let counts = |r: &SeamReport| {
+                [r.degenerate_triangles, r.degenerate_uv_triangles, r.mirrored_triangles]
+            };
+            assert_ne!(counts(&other), counts(&again), "{other:?}");
+            let given = report_fixed(&fixed, &options, welded.as_ref(), &other).expect("valid");
+            assert_eq!(given, again);
         }
     }
 

@@ -227,8 +227,9 @@ fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
         let as_loaded = seamlit_mesh::report(&asset.model, &report_options).map_err(|e| at(&e))?;
         let (changes, welded) =
             seamlit_mesh::fix_in_place_welded(&mut asset.model, &options).map_err(|e| at(&e))?;
-        let fixed = seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref())
-            .map_err(|e| at(&e))?;
+        let fixed =
+            seamlit_mesh::report_fixed(&asset.model, &report_options, welded.as_ref(), &as_loaded)
+                .map_err(|e| at(&e))?;
         Ok(serde_json::json!({
             "file": path.display().to_string(),
             "options": options,

@@ -31,10 +31,12 @@ impl Inspection {
                 let copies = seamlit_mesh::shared_copies(model, options.weld_tolerance)?;
                 seamlit_mesh::match_skin_seams(&mut fixed, &copies);
             }
-            let report = seamlit_mesh::report_welded(&fixed, &report_options, welded.as_ref())?;
+            let report =
+                seamlit_mesh::report_fixed(&fixed, &report_options, welded.as_ref(), &as_loaded)?;
             Ok((mode, report, changes))
         };
-        Ok(Self { as_loaded, modes: [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?] })
+        let modes = [one(Mode::Flat)?, one(Mode::Object)?, one(Mode::Model)?];
+        Ok(Self { as_loaded, modes })
     }
 
     /// The JSON document `seamlit inspect --json` prints for the model file named `file`
