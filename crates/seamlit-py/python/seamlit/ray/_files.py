@@ -68,7 +68,10 @@ def resolve(uri: str) -> Tuple[pafs.FileSystem, str]:
     variables (``AWS_ENDPOINT_URL``, ``AWS_ACCESS_KEY_ID``, ``AWS_SECRET_ACCESS_KEY``,
     ``AWS_REGION``). Made once per URI, working folder and those variables in a process (a
     task resolves SRC and DST for every file)."""
-    key = (uri, os.getcwd() if "://" not in uri else "", tuple(os.environ.get(v) for v in _AWS_VARIABLES))
+    if "://" not in uri:  # a local path: relative to the working folder, no credentials
+        key: Tuple[str, str, Tuple[Optional[str], ...]] = (uri, os.getcwd(), ())
+    else:
+        key = (uri, "", tuple(os.environ.get(v) for v in _AWS_VARIABLES))
     found = _RESOLVED.get(key)
     if found is None:
         found = _RESOLVED[key] = _resolve(uri)
