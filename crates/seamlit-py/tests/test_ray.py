@@ -333,6 +333,14 @@ def test_an_output_that_cannot_be_written_is_a_failed_row_naming_it(tmp_path):
     assert row["error"].startswith(f"glb/Fox.glb: cannot write glb/Fox.glb to {dst}: "), row["error"]
     assert "\n" not in row["error"] and row["output_sha256"] is None
     assert sorted(p.name for p in dst.iterdir()) == ["glb"]
+    # An OBJ saved straight into DST by the library, where a folder has the output's name.
+    shutil.copytree(MODELS / "cornell_box", src / "obj")
+    (dst / "obj" / "cornell_box.glb").mkdir(parents=True)
+    row = _task.process(_task.Job(relative="obj/cornell_box.obj", src=str(src), dst=str(dst),
+                                  output="obj/cornell_box.glb", options=options, flags=(), options_key=""))
+    assert row["status"] == "failed", row
+    assert row["error"] == f"obj/cornell_box.obj: cannot write obj/cornell_box.glb to {dst}: Is a directory (os error 21)"
+    assert sorted(p.name for p in (dst / "obj").iterdir()) == ["cornell_box.glb"]
 
 
 def test_models_of_several_files_from_an_object_store_are_fixed_in_memory(tree, s3, tmp_path, monkeypatch):

@@ -169,9 +169,10 @@ class Unwritten(OSError):
     file's row is ``failed`` with this one line, never the run's end."""
 
 
-def _unwritten(output: str, dst: str, error: BaseException) -> Unwritten:
-    lines = str(error).strip().splitlines()
-    return Unwritten(f"cannot write {output} to {dst}: {lines[0] if lines else type(error).__name__}")
+def _unwritten(output: str, dst: str, reason: object) -> Unwritten:
+    """``reason`` (an exception or its message) on one line, with the output and DST."""
+    lines = str(reason).strip().splitlines()
+    return Unwritten(f"cannot write {output} to {dst}: {lines[0] if lines else type(reason).__name__}")
 
 
 class Crashed(RuntimeError):
@@ -203,8 +204,6 @@ def _publish(filesystem: pafs.FileSystem, root: str, staged: str, output_relativ
     local = isinstance(filesystem, pafs.LocalFileSystem)
     try:
         _publish_files(filesystem, root, staged, folder, local)
-    except Unwritten:
-        raise
     except OSError as e:
         raise _unwritten(output_relative, dst, e) from e
 
@@ -400,8 +399,9 @@ def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], s
         result = seamlit._fix_measured(local_input, local_output, **options)
     except (seamlit.SeamlitError, FileNotFoundError) as e:
         message = str(e)
-        if staged is None and message.startswith(local_output):  # the save's, not the model's
-            raise Unwritten(f"cannot write {job.output} to {job.dst}: {message[len(local_output):].lstrip(': ')}") from e
+        # The save's error names the output (the model's name the input): not the file's fault.
+        if staged is None and message.startswith(local_output):
+            raise _unwritten(job.output, job.dst, message[len(local_output) :].lstrip(": ")) from e
         row.update(status="refused", error=_relative_message(message, local_input, job.relative))
         return row
     _measure(row, result)
