@@ -97,10 +97,17 @@ def _flags(options: Dict[str, Any]) -> Tuple[str, ...]:
     return tuple(flags)
 
 
+#: Tasks ask for memory in multiples of this: tasks of one shape share Ray's leased workers
+#: (a scheduling class each), so a task of small files asks what any other does.
+_MEMORY_STEP = 64 * 2**20
+
+
 def _memory(size: int) -> int:
     """Bytes of memory a task asks Ray for: a base for the process and the fix's working
-    set, which grows with the model (measured: about 40 bytes per byte of a GLB)."""
-    return 256 * 2**20 + 48 * size
+    set, which grows with the model (measured: about 40 bytes per byte of a GLB), rounded up
+    to a multiple of ``_MEMORY_STEP``."""
+    needed = 256 * 2**20 + 48 * size
+    return -(-needed // _MEMORY_STEP) * _MEMORY_STEP
 
 
 def _largest_node_memory() -> Optional[float]:
@@ -304,7 +311,9 @@ class _Tasks:
             memory = min(memory, int(self.largest))
         first = jobs[0].relative
         name = f"seamlit {self.kind} {first}" + (f" (+{len(jobs) - 1} files)" if len(jobs) > 1 else "")
-        settings: Dict[str, Any] = dict(name=name, memory=memory, num_cpus=1)
+        # Spread over the nodes: with the default (the driver's node first) the tasks of a
+        # run went to one node while the other's CPU sat idle (BENCHMARKS.md, seamlit.ray).
+        settings: Dict[str, Any] = dict(name=name, memory=memory, num_cpus=1, scheduling_strategy="SPREAD")
         if len(jobs) == 1:
             retries = 0 if again else 1
             ref = self.one.options(**settings, max_retries=retries, retry_exceptions=[Crashed]).remote(jobs[0])
