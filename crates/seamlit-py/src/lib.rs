@@ -1,14 +1,16 @@
 //! `seamlit._seamlit`: the native half of the `seamlit` Python package.
 //!
 //! The package's public functions live in `python/seamlit/__init__.py`, which checks and
-//! converts the caller's arguments (NumPy dtypes, keyword options) and calls the three
+//! converts the caller's arguments (NumPy dtypes, keyword options) and calls the
 //! functions here. Each runs the same steps as the command line and releases the GIL while
 //! the geometry work runs:
 //!
 //! - [`fix_file`]: load, fix as the command line does ([`seamlit_io::job::fix_asset`]),
 //!   save: `seamlit fix INPUT -o OUTPUT`;
 //! - [`inspect`]: load, measure the seams as loaded and after a fix: `seamlit inspect`;
-//! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory.
+//! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory;
+//! - [`fix_model_bytes`]: [`fix_file`] for a model held in memory, into memory;
+//! - `seamlit.ray`'s per-file calls ([`fleet`]): a file's fix, output and report row in one.
 //!
 //! Options arrive as JSON ([`Settings`]): the fix options by their serde names (e.g.
 //! `{"fix": {"mode": "model", "crease_angle_deg": 60}, "weld_tolerance": "rel:1e-6"}`).
@@ -18,13 +20,15 @@
 
 use std::path::{Path, PathBuf};
 
+mod fleet;
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use seamlit_io::files::{Files, MemoryFiles};
-use seamlit_io::job::{FixJob, SkinSeams, fix_asset};
+use seamlit_io::job::{FixJob, Fixed, SkinSeams, fix_asset};
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
 
@@ -130,7 +134,7 @@ fn load(path: &Path, options: &LoadOptions) -> PyResult<Asset> {
 }
 
 /// JSON text of a value that serialises (seamlit's reports always do).
-fn json(value: &serde_json::Value) -> PyResult<String> {
+fn json_text<T: serde::Serialize + ?Sized>(value: &T) -> PyResult<String> {
     serde_json::to_string(value).map_err(error)
 }
 
@@ -156,7 +160,7 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         let warnings = asset.warnings.iter().chain(&saved.warnings);
         Ok(fixed.file_json(&input.display().to_string(), &output, warnings))
     };
-    json(&detached(py, run)?)
+    json_text(&detached(py, run)?)
 }
 
 /// [`fix_file`] for a model in one file held in memory (GLB, VRM, USDZ, FBX), all in memory:
@@ -178,29 +182,46 @@ fn fix_model_bytes<'py>(
     companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
+    let companions: Vec<(PathBuf, &[u8])> =
+        companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes())).collect();
+    let run = || -> PyResult<(Vec<u8>, serde_json::Value)> {
+        let (bytes, fixed, warnings) = fix_in_memory(data, name, output, &settings, companions)?;
+        Ok((bytes, fixed.file_json(name, Path::new(output), &warnings)))
+    };
+    let (bytes, report) = detached(py, run)?;
+    Ok((pyo3::types::PyBytes::new(py, &bytes), json_text(&report)?))
+}
+
+/// Loads the model `name` from `data` (with `companions`, the files beside it, each by its
+/// path beside `name`'s) as the set of files in memory the readers read, fixes it as the
+/// command line does, and writes it with the glTF writer into memory as `output` (one file:
+/// `NAME.glb` or `NAME.vrm`); returns the output's bytes, what the fix did, and the loader's
+/// and writer's warnings.
+fn fix_in_memory(
+    data: &[u8],
+    name: &str,
+    output: &str,
+    settings: &Settings,
+    companions: Vec<(PathBuf, &[u8])>,
+) -> PyResult<(Vec<u8>, Fixed, Vec<String>)> {
     // Each file copied once, from Python's bytes into the set's shared buffers.
-    let companions = companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes()));
     let files = MemoryFiles::new(std::iter::once((PathBuf::from(name), data)).chain(companions));
     let load_options =
         LoadOptions { files: Files::Memory(files), ..settings.load_options(LoadOptions::FIX) };
     let save =
         SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
-    let job = settings.job();
-    let (input, output) = (Path::new(name), Path::new(output));
-    let run = || -> PyResult<(Vec<u8>, serde_json::Value)> {
-        let mut asset = seamlit_io::load(input, &load_options).map_err(error)?;
-        let fixed = fix_asset(&mut asset, &job).map_err(|e| error(format!("{name}: {e}")))?;
-        let mut memory = seamlit_io::files::Destination::memory();
-        let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
-        let mut files = memory.into_memory();
-        if files.len() != 1 {
-            return Err(error(format!("{name}: the fixed model needs files beside it")));
-        }
-        let json = fixed.file_json(name, output, asset.warnings.iter().chain(&saved));
-        Ok((files.remove(0).1, json))
-    };
-    let (bytes, report) = detached(py, run)?;
-    Ok((pyo3::types::PyBytes::new(py, &bytes), json(&report)?))
+    let output = Path::new(output);
+    let mut asset = seamlit_io::load(Path::new(name), &load_options).map_err(error)?;
+    let fixed =
+        fix_asset(&mut asset, &settings.job()).map_err(|e| error(format!("{name}: {e}")))?;
+    let mut memory = seamlit_io::files::Destination::memory();
+    let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
+    let mut files = memory.into_memory();
+    if files.len() != 1 {
+        return Err(error(format!("{name}: the fixed model needs files beside it")));
+    }
+    let warnings = asset.warnings.into_iter().chain(saved).collect();
+    Ok((files.remove(0).1, fixed, warnings))
 }
 
 /// Runs `work` without the interpreter's lock, on a thread of rayon's pool
@@ -239,7 +260,7 @@ fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
             "warnings": asset.warnings,
         }))
     };
-    json(&detached(py, run)?)
+    json_text(&detached(py, run)?)
 }
 
 /// One object as the Python side passes it: positions (n x 3), triangles (m x 3), optional
@@ -386,13 +407,15 @@ fn fix<'py>(
         .collect()
 }
 
-/// The module: the three functions and the error type.
+/// The module: the functions above and the error type.
 #[pymodule]
 fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SeamlitError", m.py().get_type::<SeamlitError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
     m.add_function(wrap_pyfunction!(fix_model_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(fleet::fix_file_row, m)?)?;
+    m.add_function(wrap_pyfunction!(fleet::fix_bytes_row, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

@@ -225,6 +225,16 @@ def test_a_folder_is_fixed_byte_for_byte_as_folder_mode_and_every_file_is_report
         ), path
         assert row["largest_seam_before_deg"] == pytest.approx(before["cross_object"]["max_normal_angle_deg"]), path
         assert row["largest_seam_after_deg"] == pytest.approx(truth["model"]["cross_object"]["max_normal_angle_deg"]), path
+        # What the repair decided, and whether the fix changed anything, as inspect says.
+        changes = truth["changes"]["model"]
+        shared = changes["shared"]
+        assert (row["seams_repaired"], row["kept_hard_edges"], row["kept_custom"]) == (
+            shared["repaired"],
+            shared["hard_edges"],
+            shared["custom"],
+        ), path
+        changed = any(o["normals_changed"] or o["vertices_split"] for o in changes["objects"])
+        assert row["status"] == ("fixed" if changed else "unchanged"), path
     # Ray reserved memory for each task, more for a larger file.
     small = rows["obj/cornell_box/cornell_box.obj"]["memory_bytes"]
     large = rows["glb/NormalTangentTest.glb"]["memory_bytes"]
@@ -253,6 +263,14 @@ def test_an_object_store_is_fixed_byte_for_byte_as_folder_mode(cluster, tree, s3
     rows = report(out / "_seamlit" / "report.parquet")
     assert {r["status"] for r in rows} <= {"fixed", "unchanged", "refused"}
     assert (out / "_seamlit" / "summary.html").read_text().count('<img src="data:image/png;base64,') == 2
+    # Hashed where they were fixed, in memory: the bytes read and the bytes uploaded.
+    import hashlib
+
+    for row in rows:
+        assert row["input_sha256"] == hashlib.sha256((src / row["path"]).read_bytes()).hexdigest(), row["path"]
+        if row["status"] != "refused":
+            written = (out / row["output_path"]).read_bytes()
+            assert row["output_sha256"] == hashlib.sha256(written).hexdigest(), row["path"]
 
 
 def grid_obj(path: Path, n: int) -> None:
@@ -619,7 +637,7 @@ def test_fix_bytes_gives_the_bytes_the_command_line_writes(tmp_path):
 
 def test_a_model_in_one_file_is_fixed_in_memory_on_the_worker(tmp_path, monkeypatch):
     # A worker's task for a GLB, USDZ or FBX neither stages the model nor its output on disk:
-    # fix_bytes' library call, the output written to DST once, complete.
+    # one library call reads it, fixes it and writes the output to DST once, complete.
     from seamlit.ray import _task
 
     def no_folder(*args, **kwargs):

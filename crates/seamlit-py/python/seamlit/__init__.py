@@ -213,6 +213,23 @@ def _fix_measured(input: PathLike, output: PathLike, **options: Any) -> Dict[str
     return result
 
 
+def _fix_file_row(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
+    """:mod:`seamlit.ray`'s fix of a local file into a local ``.glb`` or ``.vrm`` (the bytes
+    :func:`fix_file` writes) in one native call: the report row's columns (``input_sha256``,
+    ``output_sha256``, the seam counts and angles, ``warnings``) and ``changed``."""
+    settings = _file_settings(**options)
+    return json.loads(_seamlit.fix_file_row(os.fspath(input), os.fspath(output), settings))
+
+
+def _fix_bytes_row(
+    data: bytes, name: str, out_name: str, companions: Optional[Dict[str, bytes]] = None, **options: Any
+) -> Tuple[bytes, Dict[str, Any]]:
+    """:func:`_fix_bytes_measured` with :func:`_fix_file_row`'s row in place of the report."""
+    files = list((companions or {}).items())
+    output, text = _seamlit.fix_bytes_row(bytes(data), name, out_name, _file_settings(**options), files)
+    return output, json.loads(text)
+
+
 #: Extensions of the models :func:`fix_bytes` takes: one file each, nothing beside it.
 SELF_CONTAINED = ("glb", "vrm", "usdz", "fbx")
 

@@ -132,6 +132,10 @@ def _companions_digest(files: Dict[str, bytes]) -> str:
     return digest.hexdigest()
 
 
+#: The companions' digest of a model in one file.
+_NO_COMPANIONS = _companions_digest({})
+
+
 def _first_line(text: str) -> str:
     for line in text.splitlines():
         line = line.strip()
@@ -157,6 +161,14 @@ def _measure(row: Row, report: Dict[str, Any]) -> None:
     row["warnings"] = [str(w) for w in report.get("warnings", [])]
     objects = report["changes"].get("objects", [])
     row["_changed"] = any(o.get("normals_changed") or o.get("vertices_split") for o in objects)
+
+
+def _measure_row(row: Row, result: Dict[str, Any]) -> bool:
+    """Fills the row's columns from a native fix's row (``seamlit._fix_file_row``); returns
+    whether the fix changed the model."""
+    changed = bool(result.pop("changed"))
+    row.update(result)
+    return changed
 
 
 def _inspect_options(options: Dict[str, Any]) -> Dict[str, Any]:
@@ -269,23 +281,29 @@ def process(job: Job, memory: Optional[int] = None) -> Row:
     # in memory: one in one file, or one from an object store with its files, into a GLB).
     scratch: Optional[str] = None
     try:
+        ext = _files.extension(job.relative) or ""
+        if job.previous is None and ext in _files.SELF_CONTAINED and local_src and _into_local_file(job):
+            # Nothing to compare with: read, hashed, fixed and written in one native call.
+            row["companions_sha256"] = _NO_COMPANIONS
+            return _fix_native(job, row, src_root + "/" + job.relative, job.options, None)
         try:
             data = _read(src_fs, src_root + "/" + job.relative)
         except (FileNotFoundError, OSError) as e:
             row.update(status="refused", error=f"{job.relative}: cannot read it: {e}")
             return row
-        row["input_sha256"] = sha256(data)
-        ext = _files.extension(job.relative) or ""
         companions = {} if ext in _files.SELF_CONTAINED else _gather(src_fs, src_root, job.relative, data)
         row["companions_sha256"] = _companions_digest(companions)
-        if job.previous == (row["input_sha256"], row["companions_sha256"]) and _still_there(job):
-            row["skipped"] = True
-            return row
+        if job.previous is not None:
+            row["input_sha256"] = sha256(data)
+            if job.previous == (row["input_sha256"], row["companions_sha256"]) and _still_there(job):
+                row["skipped"] = True
+                return row
 
         if _in_memory(job, ext, local_src):
             return _fix_in_memory(job, row, data, companions)
         if local_src and _into_local_file(job):
             return _fix_native(job, row, src_root + "/" + job.relative, job.options, None)
+        row["input_sha256"] = row["input_sha256"] or sha256(data)
 
         scratch = tempfile.mkdtemp(prefix="seamlit-ray-", dir=_scratch_root())
         # The model as a local file: SRC's own when SRC is local, else a staged copy.
@@ -395,19 +413,27 @@ def _fix_native(job: Job, row: Row, local_input: str, options: Dict[str, Any], s
         staged = os.path.join(scratch, "out")
         os.makedirs(staged)
         local_output = os.path.join(staged, posixpath.basename(job.output))
+    # A GLB or VRM: written and hashed by the native call; other outputs (several files)
+    # are hashed from the file written.
+    one_file = job.output.lower().endswith((".glb", ".vrm"))
     try:
-        result = seamlit._fix_measured(local_input, local_output, **options)
+        if one_file:
+            changed = _measure_row(row, seamlit._fix_file_row(local_input, local_output, **options))
+        else:
+            _measure(row, seamlit._fix_measured(local_input, local_output, **options))
+            changed = row.pop("_changed")
     except (seamlit.SeamlitError, FileNotFoundError) as e:
         message = str(e)
         # The save's error names the output (the model's name the input): not the file's fault.
         if staged is None and message.startswith(local_output):
             raise _unwritten(job.output, job.dst, message[len(local_output) :].lstrip(": ")) from e
         row.update(status="refused", error=_relative_message(message, local_input, job.relative))
+        _hash_input(row, local_input)
         return row
-    _measure(row, result)
-    changed = row.pop("_changed")
-    with open(local_output, "rb") as f:
-        row["output_sha256"] = sha256(f.read())
+    if not one_file:
+        _hash_input(row, local_input)
+        with open(local_output, "rb") as f:
+            row["output_sha256"] = sha256(f.read())
     if staged is not None:
         _publish(dst_fs, dst_root, staged, job.output, job.dst)
     row["status"] = "fixed" if changed else "unchanged"
@@ -462,15 +488,14 @@ def _fix_in_memory(job: Job, row: Row, data: bytes, companions: Dict[str, bytes]
     assert job.dst is not None and job.output is not None
     try:
         # Named by its path in SRC: errors and warnings name it so.
-        output, result = seamlit._fix_bytes_measured(
+        output, result = seamlit._fix_bytes_row(
             data, job.relative, posixpath.basename(job.output), companions, **job.options
         )
     except seamlit.SeamlitError as e:
         row.update(status="refused", error=_relative_message(str(e), job.relative, job.relative))
+        row["input_sha256"] = row["input_sha256"] or sha256(data)
         return row
-    _measure(row, result)
-    changed = row.pop("_changed")
-    row["output_sha256"] = sha256(output)
+    changed = _measure_row(row, result)
     dst_fs, dst_root = _files.resolve(job.dst)
     _write(dst_fs, dst_root, job.output, output, job.dst)
     row["status"] = "fixed" if changed else "unchanged"
@@ -498,6 +523,16 @@ def _write_file(filesystem: pafs.FileSystem, target: str, data: bytes) -> None:
     else:
         with filesystem.open_output_stream(target) as out:
             out.write(data)
+
+
+def _hash_input(row: Row, path: str) -> None:
+    """The input's SHA-256 where the native call did not give it (it refused the file)."""
+    if row["input_sha256"] is None:
+        try:
+            with open(path, "rb") as f:
+                row["input_sha256"] = sha256(f.read())
+        except OSError:  # gone since: the row says why it was refused
+            pass
 
 
 def _still_there(job: Job) -> bool:

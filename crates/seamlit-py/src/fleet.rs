@@ -1,0 +1,155 @@
+//! The per-file work of `seamlit.ray` (the Python package's fleet runs), in one native call
+//! each: the input's SHA-256, the fix, the output's bytes and their SHA-256, and the report
+//! row's columns, without the interpreter in between. A Ray task fixes hundreds of small
+//! files one after another, and reading, hashing and writing each in Python, with the full
+//! JSON report in between, took a tenth of its time (BENCHMARKS.md, "seamlit.ray").
+//!
+//! - [`fix_file_row`]: a local file into a local GLB or VRM, written atomically as the
+//!   command line writes it;
+//! - [`fix_bytes_row`]: a model held in memory (read from an object store), its output's
+//!   bytes handed back for the caller to upload.
+
+use std::path::{Path, PathBuf};
+
+use pyo3::prelude::*;
+use seamlit_io::SaveOptions;
+use seamlit_io::job::{Fixed, fix_asset};
+use sha2::{Digest, Sha256};
+
+use crate::{Settings, detached, error, fix_in_memory, json_text, load};
+
+/// The report's columns a fix fills for one file (docs/fleet.md), by their column names.
+#[derive(serde::Serialize)]
+struct Row {
+    input_sha256: String,
+    output_sha256: String,
+    objects: usize,
+    triangles: usize,
+    shared_positions: usize,
+    seams_repaired: usize,
+    kept_hard_edges: usize,
+    kept_custom: usize,
+    largest_seam_before_deg: Option<f32>,
+    largest_seam_after_deg: Option<f32>,
+    warnings: Vec<String>,
+    /// Whether the fix changed a normal or split a vertex (`fixed`, else `unchanged`).
+    changed: bool,
+}
+
+impl Row {
+    fn of<'a>(
+        fixed: &Fixed,
+        warnings: impl IntoIterator<Item = &'a String>,
+        input: &[u8],
+        output: &[u8],
+    ) -> Self {
+        // Measured as loaded by every job of this module (`Settings::job`); the fixed
+        // model's counts are the loaded one's where it was not.
+        let before = fixed.as_loaded.as_ref().unwrap_or(&fixed.report);
+        let shared = &fixed.changes.shared;
+        Self {
+            input_sha256: sha256(input),
+            output_sha256: sha256(output),
+            objects: before.objects,
+            triangles: before.triangles,
+            shared_positions: before.shared_positions,
+            seams_repaired: shared.repaired,
+            kept_hard_edges: shared.hard_edges,
+            kept_custom: shared.custom,
+            largest_seam_before_deg: before.cross_object.max_normal_angle_deg,
+            largest_seam_after_deg: fixed.report.cross_object.max_normal_angle_deg,
+            warnings: warnings.into_iter().cloned().collect(),
+            changed: fixed
+                .changes
+                .objects
+                .iter()
+                .any(|o| o.normals_changed > 0 || o.vertices_split > 0),
+        }
+    }
+}
+
+/// The SHA-256 of `bytes`, in lowercase hex (as Python's `hashlib` writes it).
+fn sha256(bytes: &[u8]) -> String {
+    use std::fmt::Write;
+    Sha256::digest(bytes).iter().fold(String::with_capacity(64), |mut hex, byte| {
+        let _ = write!(hex, "{byte:02x}");
+        hex
+    })
+}
+
+/// `seamlit fix INPUT -o OUTPUT` for one local file into a local `.glb` or `.vrm`, as
+/// [`crate::fix_file`] does it (the same bytes), and returns the JSON of the report row's
+/// columns: both files' SHA-256, the seams as loaded and fixed, what the repair decided, the
+/// warnings, and `changed`. The output is written under a temporary name and renamed once
+/// complete; an error writing it starts with the output's path.
+#[pyfunction]
+pub(crate) fn fix_file_row(
+    py: Python<'_>,
+    input: PathBuf,
+    output: PathBuf,
+    settings: &str,
+) -> PyResult<String> {
+    let settings = Settings::parse(settings)?;
+    let load_options = settings.load_options(seamlit_io::LoadOptions::FIX);
+    let save = SaveOptions {
+        overwrite_input: settings.overwrite_input,
+        keep_compression: settings.keep_compression,
+    };
+    let job = settings.job();
+    let run = || -> PyResult<Row> {
+        let mut asset = load(&input, &load_options)?;
+        // Read again for its hash: from the page cache, a copy's cost.
+        let data = std::fs::read(&input).map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let fixed =
+            fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let (bytes, saved) = glb_in_memory(&asset, &output, &save, &input)?;
+        seamlit_io::files::write(&output, &bytes).map_err(error)?;
+        Ok(Row::of(&fixed, asset.warnings.iter().chain(&saved), &data, &bytes))
+    };
+    json_text(&detached(py, run)?)
+}
+
+/// The model written by the glTF writer into memory as `output` (`.glb` or `.vrm`: one
+/// file), with the writer's warnings; refused where that would overwrite `input` without
+/// `overwrite_input`, as [`seamlit_io::save`] refuses it.
+fn glb_in_memory(
+    asset: &seamlit_io::Asset,
+    output: &Path,
+    save: &SaveOptions,
+    input: &Path,
+) -> PyResult<(Vec<u8>, Vec<String>)> {
+    if !save.overwrite_input && seamlit_io::files::same_file(input, output) {
+        return Err(error(seamlit_io::IoError::WouldOverwriteInput { path: output.to_path_buf() }));
+    }
+    let mut memory = seamlit_io::files::Destination::memory();
+    let saved = seamlit_io::gltf::save_to(asset, output, save, &mut memory).map_err(error)?;
+    let mut files = memory.into_memory();
+    if files.len() != 1 {
+        return Err(error(format!("{}: the fixed model needs files beside it", input.display())));
+    }
+    Ok((files.remove(0).1, saved))
+}
+
+/// [`crate::fix_model_bytes`] with the report row's columns ([`fix_file_row`]'s JSON) in
+/// place of the full report: the output's bytes and the row.
+#[pyfunction]
+#[pyo3(signature = (data, name, output, settings, companions = Vec::new()))]
+pub(crate) fn fix_bytes_row<'py>(
+    py: Python<'py>,
+    data: &[u8],
+    name: &str,
+    output: &str,
+    settings: &str,
+    companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
+) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
+    let settings = Settings::parse(settings)?;
+    let companions: Vec<(PathBuf, &[u8])> =
+        companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes())).collect();
+    let run = || -> PyResult<(Vec<u8>, Row)> {
+        let (bytes, fixed, warnings) = fix_in_memory(data, name, output, &settings, companions)?;
+        let row = Row::of(&fixed, &warnings, data, &bytes);
+        Ok((bytes, row))
+    };
+    let (bytes, row) = detached(py, run)?;
+    Ok((pyo3::types::PyBytes::new(py, &bytes), json_text(&row)?))
+}
