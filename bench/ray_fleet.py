@@ -9,7 +9,10 @@ of 1 and 2 nodes of one CPU each, over a library of copies of the repository's m
         python3 bench/ray_fleet.py [--files 1000] [--work /tmp/fleet] [--repeat 3]
 
 Folder mode's threads: RAYON_NUM_THREADS and taskset over that many cores. Ray's nodes have
-num_cpus=1 each (each task one thread); the driver runs beside them. Prints a Markdown table.
+num_cpus=1 each (each task one thread); the driver runs beside them. Each Ray run is
+alternated with folder mode's on 1 and 2 threads (this shared machine's speed moves by a
+third from one minute to the next), and each Ray figure is read against the folder runs
+beside it. Prints a Markdown table.
 """
 
 from __future__ import annotations
@@ -68,34 +71,55 @@ def folder_mode(binary: str, src: Path, dst: Path, threads: int) -> float:
     return seconds
 
 
-def ray_mode(src: Path, dst: Path, nodes: int, repeat: int) -> tuple:
-    """Runs ``seamlit.ray.fix`` ``repeat`` times on one cluster of ``nodes`` nodes, each into
-    a fresh DST; returns the runs' seconds (the first with the workers' start and imports) and
-    the cluster's start."""
-    import ray
-    from ray.cluster_utils import Cluster
+class RayCluster:
+    """A local Ray cluster of ``nodes`` nodes of one CPU each, the driver connected."""
 
-    import seamlit.ray
+    def __init__(self, nodes: int) -> None:
+        import ray
+        from ray.cluster_utils import Cluster
 
-    started = time.perf_counter()
-    cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
-    for _ in range(nodes - 1):
-        cluster.add_node(num_cpus=1)
-    cluster.wait_for_nodes()
-    ray.init(address=cluster.address, log_to_driver=False)
-    up = time.perf_counter() - started
-    runs = []
+        started = time.perf_counter()
+        self.cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
+        for _ in range(nodes - 1):
+            self.cluster.add_node(num_cpus=1)
+        self.cluster.wait_for_nodes()
+        ray.init(address=self.cluster.address, log_to_driver=False)
+        self.up = time.perf_counter() - started
+
+    def fix(self, src: Path, dst: Path) -> float:
+        """One ``seamlit.ray.fix`` into a fresh DST: its seconds."""
+        import seamlit.ray
+
+        shutil.rmtree(dst, ignore_errors=True)
+        summary = seamlit.ray.fix(str(src), str(dst), pictures=0, progress=False)
+        if summary.failed or summary.refused:
+            sys.exit(f"ray run had failures: {summary.line()}")
+        return summary.seconds
+
+    def close(self) -> None:
+        import ray
+
+        ray.shutdown()
+        self.cluster.shutdown()
+
+
+def phase(binary: str, work: Path, src: Path, nodes: int, repeat: int) -> dict:
+    """Ray on ``nodes`` nodes, each run alternated with folder mode on 1 and 2 threads (the
+    machine's speed moves by a third from minute to minute: each Ray figure is read against
+    the folder runs beside it). The cluster is up, idle, during the folder runs."""
+    cluster = RayCluster(nodes)
+    runs = {"folder1": [], "folder2": [], "ray": []}
     try:
         for _ in range(repeat):
-            shutil.rmtree(dst, ignore_errors=True)
-            summary = seamlit.ray.fix(str(src), str(dst), pictures=0, progress=False)
-            if summary.failed or summary.refused:
-                sys.exit(f"ray run had failures: {summary.line()}")
-            runs.append(summary.seconds)
+            for threads in (1, 2):
+                dst = work / f"folder{threads}"
+                shutil.rmtree(dst, ignore_errors=True)
+                runs[f"folder{threads}"].append(folder_mode(binary, src, dst, threads))
+            runs["ray"].append(cluster.fix(src, work / f"ray{nodes}"))
     finally:
-        ray.shutdown()
-        cluster.shutdown()
-    return runs, up
+        cluster.close()
+    assert same_tree(work / f"ray{nodes}", work / "folder1"), "ray output differs from folder mode"
+    return {"runs": runs, "up": cluster.up}
 
 
 def same_tree(a: Path, b: Path) -> bool:
@@ -133,37 +157,29 @@ def main() -> None:
     files = library(src, args.files)
     print(f"library: {files} model files ({MODELS_PER_COPY} models x {files // MODELS_PER_COPY} copies) in {src}")
     print(f"load average before: {os.getloadavg()}")
-    rows = []
-    for threads in (1, 2):
-        runs = []
-        for _ in range(args.repeat):
-            shutil.rmtree(args.work / f"folder{threads}", ignore_errors=True)
-            runs.append(folder_mode(binary, src, args.work / f"folder{threads}", threads))
-        rows.append((f"`seamlit fix DIR -o DIR`, {threads} thread(s)", threads, runs, None))
-        print(rows[-1], flush=True)
-    for nodes in (1, 2):
-        dst = args.work / f"ray{nodes}"
-        runs, up = ray_mode(src, dst, nodes, args.repeat)
-        assert same_tree(dst, args.work / "folder1"), "ray output differs from folder mode"
-        rows.append((f"`seamlit.ray.fix`, {nodes} node(s) of 1 CPU", nodes, runs, up))
-        print(rows[-1], flush=True)
+    phases = {nodes: phase(binary, args.work, src, nodes, args.repeat) for nodes in (1, 2)}
     print(f"load average after: {os.getloadavg()}")
+    median = statistics.median
     print()
-    print(f"Seconds: the median of {args.repeat} runs (Ray: on one cluster, the first run's in brackets: its")
-    print("workers start and import the package).")
+    print(f"Seconds: the median of {args.repeat} runs, each Ray run alternated with folder mode's; the")
+    print("first Ray run, in brackets, also starts the workers and imports the package.")
     print()
-    print("| run | CPUs | wall (s) | files/s | files/s per CPU | cluster start (s) |")
-    print("|---|---:|---:|---:|---:|---:|")
-    median = lambda runs: statistics.median(runs)
-    for name, cpus, runs, up in rows:
-        rate = files / median(runs)
-        wall = f"{median(runs):.2f}" + ("" if up is None else f" ({runs[0]:.2f})")
-        print(f"| {name} | {cpus} | {wall} | {rate:.1f} | {rate / cpus:.1f} | {'' if up is None else f'{up:.1f}'} |")
-    folder1 = files / median(rows[0][2])
-    ray1, ray2 = files / median(rows[2][2]), files / median(rows[3][2])
-    first1, first2 = files / rows[2][2][0], files / rows[3][2][0]
-    print(f"\nRay 1 node against folder mode 1 thread, per CPU: {folder1 / ray1:.2f}x slower (first run {folder1 / first1:.2f}x)")
-    print(f"Ray 2 nodes against 1 node: {ray2 / ray1:.2f}x (first runs {first2 / first1:.2f}x)")
+    print("| Ray nodes of 1 CPU | folder 1 thread (s) | folder 2 threads (s) | Ray (s) | Ray files/s per CPU | per CPU, folder 1 thread / Ray | cluster start (s) |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    slower = {}
+    for nodes, result in phases.items():
+        runs = result["runs"]
+        folder1, ray = median(runs["folder1"]), median(runs["ray"])
+        # Files per second per CPU: folder mode's on one thread over Ray's.
+        slower[nodes] = (files / folder1) / (files / ray / nodes)
+        first = (files / folder1) / (files / runs["ray"][0] / nodes)
+        print(f"| {nodes} | {folder1:.2f} | {median(runs['folder2']):.2f} | {ray:.2f} ({runs['ray'][0]:.2f}) "
+              f"| {files / ray / nodes:.1f} | {slower[nodes]:.2f}x ({first:.2f}x) | {result['up']:.1f} |")
+    # Two nodes against one, each read against the folder runs beside it.
+    scaling = 2 * slower[1] / slower[2]
+    raw = median(phases[1]["runs"]["ray"]) / median(phases[2]["runs"]["ray"])
+    print(f"\nRay 1 node against folder mode 1 thread, per CPU: {slower[1]:.2f}x slower")
+    print(f"Ray 2 nodes against 1 node: {scaling:.2f}x (each against its folder runs; the raw ratio of medians {raw:.2f}x)")
     cli, native, size = overhead(binary, args.work, args.runs)
     print(f"\nper file, NormalTangentTest.glb ({size} bytes), median of {args.runs}: "
           f"command line {cli * 1000:.1f} ms (process start included), fix_bytes {native * 1000:.1f} ms")
