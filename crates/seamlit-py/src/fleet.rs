@@ -6,8 +6,8 @@
 //!
 //! - [`fix_file_row`]: a local file into a local GLB or VRM, written atomically as the
 //!   command line writes it;
-//! - [`fix_bytes_row`]: a model held in memory (read from an object store), its output's
-//!   bytes handed back for the caller to upload.
+//! - [`Row`]: the row's columns, also of a model held in memory (read from an object store)
+//!   that [`crate::fix_model_bytes`] fixes, its output's bytes handed back to upload.
 
 use std::path::{Path, PathBuf};
 
@@ -16,11 +16,11 @@ use seamlit_io::SaveOptions;
 use seamlit_io::job::{Fixed, fix_asset};
 use sha2::{Digest, Sha256};
 
-use crate::{Settings, detached, error, fix_in_memory, json_text, load};
+use crate::{Settings, detached, error, json_text, load};
 
 /// The report's columns a fix fills for one file (docs/fleet.md), by their column names.
 #[derive(serde::Serialize)]
-struct Row {
+pub(crate) struct Row {
     input_sha256: String,
     output_sha256: String,
     objects: usize,
@@ -37,7 +37,8 @@ struct Row {
 }
 
 impl Row {
-    fn of<'a>(
+    /// The row of a file fixed as `fixed` says, read as `input` and written as `output`.
+    pub(crate) fn of<'a>(
         fixed: &Fixed,
         warnings: impl IntoIterator<Item = &'a String>,
         input: &[u8],
@@ -128,28 +129,4 @@ fn glb_in_memory(
         return Err(error(format!("{}: the fixed model needs files beside it", input.display())));
     }
     Ok((files.remove(0).1, saved))
-}
-
-/// [`crate::fix_model_bytes`] with the report row's columns ([`fix_file_row`]'s JSON) in
-/// place of the full report: the output's bytes and the row.
-#[pyfunction]
-#[pyo3(signature = (data, name, output, settings, companions = Vec::new()))]
-pub(crate) fn fix_bytes_row<'py>(
-    py: Python<'py>,
-    data: &[u8],
-    name: &str,
-    output: &str,
-    settings: &str,
-    companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
-) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
-    let settings = Settings::parse(settings)?;
-    let companions: Vec<(PathBuf, &[u8])> =
-        companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes())).collect();
-    let run = || -> PyResult<(Vec<u8>, Row)> {
-        let (bytes, fixed, warnings) = fix_in_memory(data, name, output, &settings, companions)?;
-        let row = Row::of(&fixed, &warnings, data, &bytes);
-        Ok((bytes, row))
-    };
-    let (bytes, row) = detached(py, run)?;
-    Ok((pyo3::types::PyBytes::new(py, &bytes), json_text(&row)?))
 }

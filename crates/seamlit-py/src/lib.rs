@@ -171,8 +171,10 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
 /// returns the output's bytes and the JSON of [`fix_file`]. `name` names the input in errors.
 /// `companions`: the files a model of several names (a `.gltf`'s buffers and images, an OBJ's
 /// MTL and textures, a USD layer's layers), each by its path beside `name`'s, in the same set.
+/// `row`: the JSON of `seamlit.ray`'s report row ([`fleet::Row`]: both files' SHA-256 and
+/// the columns a fix fills) in place of the report.
 #[pyfunction]
-#[pyo3(signature = (data, name, output, settings, companions = Vec::new()))]
+#[pyo3(signature = (data, name, output, settings, companions = Vec::new(), row = false))]
 fn fix_model_bytes<'py>(
     py: Python<'py>,
     data: &[u8],
@@ -180,16 +182,22 @@ fn fix_model_bytes<'py>(
     output: &str,
     settings: &str,
     companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
+    row: bool,
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
     let companions: Vec<(PathBuf, &[u8])> =
         companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes())).collect();
-    let run = || -> PyResult<(Vec<u8>, serde_json::Value)> {
+    let run = || -> PyResult<(Vec<u8>, String)> {
         let (bytes, fixed, warnings) = fix_in_memory(data, name, output, &settings, companions)?;
-        Ok((bytes, fixed.file_json(name, Path::new(output), &warnings)))
+        let report = if row {
+            json_text(&fleet::Row::of(&fixed, &warnings, data, &bytes))?
+        } else {
+            json_text(&fixed.file_json(name, Path::new(output), &warnings))?
+        };
+        Ok((bytes, report))
     };
     let (bytes, report) = detached(py, run)?;
-    Ok((pyo3::types::PyBytes::new(py, &bytes), json_text(&report)?))
+    Ok((pyo3::types::PyBytes::new(py, &bytes), report))
 }
 
 /// Loads the model `name` from `data` (with `companions`, the files beside it, each by its
@@ -415,7 +423,6 @@ fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
     m.add_function(wrap_pyfunction!(fix_model_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(fleet::fix_file_row, m)?)?;
-    m.add_function(wrap_pyfunction!(fleet::fix_bytes_row, m)?)?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

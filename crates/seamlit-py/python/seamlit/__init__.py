@@ -226,7 +226,7 @@ def _fix_bytes_row(
 ) -> Tuple[bytes, Dict[str, Any]]:
     """:func:`_fix_bytes_measured` with :func:`_fix_file_row`'s row in place of the report."""
     files = list((companions or {}).items())
-    output, text = _seamlit.fix_bytes_row(bytes(data), name, out_name, _file_settings(**options), files)
+    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, _file_settings(**options), files, True)
     return output, json.loads(text)
 
 
