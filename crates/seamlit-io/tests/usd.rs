@@ -680,6 +680,58 @@ fn the_patched_crate_writer_writes_what_pxr_reads() {
     assert_eq!(a["text"], b["text"], "pxr reads the crate file differently");
 }
 
+/// A `.usdc` output is, byte for byte, the `.usda` output's text parsed by openusd and
+/// written by its crate writer (the writer puts the arrays in as values instead of
+/// formatting and parsing them): meshes with changed normals, polygons, instanced
+/// prototypes, a layer with nothing to override, and skinned meshes whose matched influences are written (the
+/// joint indices and weights, the head's grown `skel:joints`).
+#[test]
+fn usdc_layers_are_the_usda_text_as_openusd_writes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    // The car overrides nothing (its normals are authored and agree): a layer of metadata.
+    for (relative, overrides) in [
+        ("head_body.usdz", true),
+        ("teapots_polygonal.usda", true),
+        ("instanced_seams.usda", true),
+        ("skinned_neck.usda", true),
+        ("others/USD_Mini_Car_Kit/assets/vehicles/formula/asset/formulaFullAsset.usda", false),
+    ] {
+        let input = stage(relative);
+        let mut asset = load(&input);
+        let options = asset.fix_options(FixOptions::default(), false);
+        let copies = seamlit_mesh::shared_copies(&asset.model, options.weld_tolerance).unwrap();
+        seamlit_mesh::fix_in_place(&mut asset.model, &options).unwrap();
+        seamlit_io::match_skin_seams(&mut asset, &copies);
+        // One stem in one folder: both layers sublayer the input by the same path.
+        let (text, binary) = (dir.path().join("layer.usda"), dir.path().join("layer.usdc"));
+        for output in [&text, &binary] {
+            seamlit_io::save(&asset, output, &SaveOptions::default()).unwrap();
+        }
+        let text = std::fs::read_to_string(&text).unwrap();
+        assert_eq!(text.contains("primvars:normals = [("), overrides, "{relative}: {text}");
+        if relative == "skinned_neck.usda" {
+            assert!(!text.contains("jointWeights = []"), "{relative}: {text}");
+            assert!(text.contains("jointWeights = ["), "{relative}: no influences written");
+        }
+        let mut data = openusd::usda::parse(&text).unwrap();
+        // As the writer does (`element_sizes_as_ints`): Pixar reads `elementSize` as an int.
+        let paths: Vec<openusd::sdf::Path> = data.iter().map(|(path, _)| path.clone()).collect();
+        for path in paths {
+            if let Some(size) = data.spec_mut(&path).and_then(|spec| spec.get_mut("elementSize"))
+                && let openusd::sdf::Value::Int64(n) = *size
+            {
+                *size = openusd::sdf::Value::Int(i32::try_from(n).unwrap());
+            }
+        }
+        let mut expected = std::io::Cursor::new(Vec::new());
+        openusd::usdc::CrateWriter::write(&data, &mut expected).unwrap();
+        assert!(
+            std::fs::read(&binary).unwrap() == expected.into_inner(),
+            "{relative}: the .usdc is not the .usda's text as openusd writes it"
+        );
+    }
+}
+
 /// A `.usdc` output is the `.usda` layer in binary: Pixar's USD reads the two layers to the
 /// same text (`Sdf.Layer.ExportToString`), for the head and body (arrays of 4 to 15 ints, which
 /// unpatched openusd compressed where Pixar reads them uncompressed; child-name lists, which

@@ -51,8 +51,8 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
 }
 
 /// Writes `asset` as [`save`] does, but the layer in USD's binary crate format (`.usdc`):
-/// the same text, parsed by openusd and written by its crate writer (patched in
-/// vendor/openusd so that Pixar's USD reads it: PATCHES.md).
+/// the data the same text parses to ([`Layer::data`]), written by openusd's crate writer
+/// (patched in vendor/openusd so that Pixar's USD reads it: PATCHES.md).
 ///
 /// # Errors
 ///
@@ -60,12 +60,11 @@ pub(crate) fn save(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
 /// parse or write the layer.
 pub(crate) fn save_usdc(asset: &Asset, path: &Path) -> Result<Vec<String>, IoError> {
     let layer = prepare(asset, path)?;
-    let text = layer.text(&relative(&layer.input, path));
     let refuse = |e: anyhow::Error| IoError::UsdOutput {
         path: path.to_path_buf(),
         kind: UsdOutput::Usdc { reason: format!("{e:#}") },
     };
-    let mut data = openusd::usda::parse(&text).map_err(refuse)?;
+    let mut data = layer.data(&relative(&layer.input, path)).map_err(refuse)?;
     element_sizes_as_ints(&mut data);
     let mut bytes = io::Cursor::new(Vec::new());
     openusd::usdc::CrateWriter::write(&data, &mut bytes).map_err(refuse)?;
@@ -111,8 +110,48 @@ impl Layer {
     pub fn text(&self, sublayer: &str) -> String {
         let mut text = String::new();
         // Writing to a String does not fail.
-        let _ = document(&mut text, sublayer, self);
+        let _ = document(&mut text, sublayer, self, Arrays::Written);
         text
+    }
+
+    /// The layer as openusd's data, for its crate writer: the document with its arrays left
+    /// empty, parsed by openusd, and the arrays then put in as values. That is the data the
+    /// whole text parses to (a float's shortest text reads back as the same float; the
+    /// parser keeps the type the text declares), without formatting and parsing every
+    /// number: the 1M-triangle teapot's layer is 40 MB of them.
+    ///
+    /// # Errors
+    ///
+    /// openusd's, where it cannot parse the document; an over or array missing from what it
+    /// parsed; an index past `i32::MAX` (`int[]`).
+    pub fn data(&self, sublayer: &str) -> anyhow::Result<openusd::sdf::Data> {
+        use openusd::sdf::Value;
+        let mut text = String::new();
+        let _ = document(&mut text, sublayer, self, Arrays::Empty);
+        let mut data = openusd::usda::parse(&text)?;
+        for over in &self.overs {
+            let prim = prim_path(&over.prim);
+            let mut put = |property: &str, value: Value| -> anyhow::Result<()> {
+                let path = openusd::sdf::Path::new(&format!("{prim}.{property}"))?;
+                let slot = data
+                    .spec_mut(&path)
+                    .and_then(|spec| spec.get_mut("default"))
+                    .ok_or_else(|| anyhow::anyhow!("<{path}> has no value to set"))?;
+                *slot = value;
+                Ok(())
+            };
+            if let Some(normals) = &over.normals {
+                let (values, indices) = indexed(normals);
+                let values = values.iter().map(|n| openusd::gf::vec3f(n.x, n.y, n.z)).collect();
+                put("primvars:normals", Value::Vec3fVec(values))?;
+                put("primvars:normals:indices", Value::IntVec(ints(&indices)?))?;
+            }
+            if let Some(skin) = &over.skin {
+                put("primvars:skel:jointIndices", Value::IntVec(ints(&skin.indices)?))?;
+                put("primvars:skel:jointWeights", Value::FloatVec(skin.weights.clone()))?;
+            }
+        }
+        Ok(data)
     }
 
     /// Writes the layer's text to `out` as it is made, sublayering the input at `sublayer`.
@@ -122,7 +161,7 @@ impl Layer {
     /// The error `out` gave.
     pub fn write(&self, sublayer: &str, out: &mut dyn io::Write) -> io::Result<()> {
         let mut text = IoText { out, error: None };
-        match document(&mut text, sublayer, self) {
+        match document(&mut text, sublayer, self, Arrays::Written) {
             Ok(()) => Ok(()),
             Err(fmt::Error) => Err(text.error.unwrap_or_else(|| io::Error::other("formatting"))),
         }
@@ -490,16 +529,22 @@ impl Over {
 
     /// Writes the prim and its children; a mesh's properties are made as they are written
     /// (one mesh's text at a time in memory).
-    fn write(&self, out: &mut impl fmt::Write, depth: usize, layer: &Layer) -> fmt::Result {
+    fn write(
+        &self,
+        out: &mut impl fmt::Write,
+        depth: usize,
+        layer: &Layer,
+        arrays: Arrays,
+    ) -> fmt::Result {
         let pad = "    ".repeat(depth);
         writeln!(out, "{pad}over \"{}\"\n{pad}{{", self.name)?;
         if let Some(k) = self.mesh {
             let over = &layer.overs[k];
             let mut body = over.normals.as_ref().map_or_else(String::new, |normals| {
-                normals_text(normals, layer.stage.meshes[over.mesh].plain_normals)
+                normals_text(normals, layer.stage.meshes[over.mesh].plain_normals, arrays)
             });
             if let Some(skin) = &over.skin {
-                body.push_str(&skin.text());
+                body.push_str(&skin.text(arrays));
             }
             for line in body.lines() {
                 writeln!(out, "{pad}    {line}")?;
@@ -509,14 +554,27 @@ impl Over {
             if k > 0 || self.mesh.is_some() {
                 out.write_char('\n')?;
             }
-            child.write(out, depth + 1, layer)?;
+            child.write(out, depth + 1, layer, arrays)?;
         }
         writeln!(out, "{pad}}}")
     }
 }
 
+/// Whether a document's arrays are written out, or left empty (`[]`) for their values to be
+/// put in afterwards ([`Layer::data`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Arrays {
+    Written,
+    Empty,
+}
+
 /// Writes the layer's text to `out`.
-fn document(out: &mut impl fmt::Write, sublayer: &str, layer: &Layer) -> fmt::Result {
+fn document(
+    out: &mut impl fmt::Write,
+    sublayer: &str,
+    layer: &Layer,
+    arrays: Arrays,
+) -> fmt::Result {
     out.write_str("#usda 1.0\n(\n")?;
     for (key, value) in &layer.stage.metadata {
         writeln!(out, "    {key} = {value}")?;
@@ -534,7 +592,7 @@ fn document(out: &mut impl fmt::Write, sublayer: &str, layer: &Layer) -> fmt::Re
         if k > 0 {
             out.write_char('\n')?;
         }
-        prim.write(out, 0, layer)?;
+        prim.write(out, 0, layer, arrays)?;
     }
     Ok(())
 }
@@ -554,8 +612,9 @@ impl fmt::Write for IoText<'_> {
     }
 }
 
-/// The properties of one mesh's override.
-fn normals_text(normals: &[Vec3], block_plain: bool) -> String {
+/// A mesh's normals at its face corners as the layer authors them: the distinct values (by
+/// their bits, in order of first use) and each corner's index into them.
+fn indexed(normals: &[Vec3]) -> (Vec<Vec3>, Vec<usize>) {
     let mut values: Vec<Vec3> = Vec::new();
     let mut index_of: FxHashMap<[u32; 3], usize> = FxHashMap::default();
     let indices: Vec<usize> = normals
@@ -567,6 +626,30 @@ fn normals_text(normals: &[Vec3], block_plain: bool) -> String {
             })
         })
         .collect();
+    (values, indices)
+}
+
+/// `indices` as an `int[]`'s values.
+fn ints<T: Copy + TryInto<i32>>(indices: &[T]) -> anyhow::Result<Vec<i32>> {
+    indices
+        .iter()
+        .map(|&i| i.try_into().map_err(|_| anyhow::anyhow!("an index past the range of int")))
+        .collect()
+}
+
+/// The prim path of an over written at `prim` (the names between its slashes, as
+/// [`document`] nests them).
+fn prim_path(prim: &str) -> String {
+    prim.split('/').filter(|n| !n.is_empty()).fold(String::new(), |path, name| path + "/" + name)
+}
+
+/// The properties of one mesh's override.
+fn normals_text(normals: &[Vec3], block_plain: bool, arrays: Arrays) -> String {
+    // Left empty, the values are put in by `Layer::data`.
+    let (values, indices) = match arrays {
+        Arrays::Written => indexed(normals),
+        Arrays::Empty => (Vec::new(), Vec::new()),
+    };
     let mut out = String::from("normal3f[] primvars:normals = [");
     push_list(&mut out, &values, |s, v| {
         let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
@@ -643,7 +726,7 @@ struct SkinOver {
 
 impl SkinOver {
     /// The override's properties: vertex interpolation, `elementSize` per point.
-    fn text(&self) -> String {
+    fn text(&self, arrays: Arrays) -> String {
         let mut out = String::new();
         if let Some(joints) = &self.joints {
             out.push_str("uniform token[] skel:joints = [");
@@ -658,11 +741,15 @@ impl SkinOver {
             "] (\n    elementSize = {}\n    interpolation = \"vertex\"\n)\n",
             self.element_size
         );
+        let (indices, weights) = match arrays {
+            Arrays::Written => (&self.indices[..], &self.weights[..]),
+            Arrays::Empty => (&[][..], &[][..]),
+        };
         out.push_str("int[] primvars:skel:jointIndices = [");
-        push_list(&mut out, &self.indices, |s, &i| s.push_str(itoa::Buffer::new().format(i)));
+        push_list(&mut out, indices, |s, &i| s.push_str(itoa::Buffer::new().format(i)));
         out.push_str(&layout);
         out.push_str("float[] primvars:skel:jointWeights = [");
-        push_list(&mut out, &self.weights, |s, w| {
+        push_list(&mut out, weights, |s, w| {
             let _ = write!(s, "{w}");
         });
         out.push_str(&layout);
