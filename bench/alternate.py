@@ -3,7 +3,9 @@
 next round), with the median of each and its ratio to the first command's median.
 
 Alternating keeps a drifting machine from favouring whichever command ran first (BENCHMARKS.md:
-this machine's speed moves by half within an hour).
+this machine's speed moves by half within an hour). For one change's before and after on many
+files, bench/ab.py (two builds, `seamlit fix` of each file into its own format); this is for
+ratios across commands, such as one model's fix from two formats.
 
 Example (the 1M teapot as `.glb` and `.usdc`, BENCHMARKS.md "A `.usdc` output without its
 text"):

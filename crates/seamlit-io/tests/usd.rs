@@ -683,8 +683,8 @@ fn the_patched_crate_writer_writes_what_pxr_reads() {
 /// A `.usdc` output is, byte for byte, the `.usda` output's text parsed by openusd and
 /// written by its crate writer (the writer puts the arrays in as values instead of
 /// formatting and parsing them): meshes with changed normals, polygons, instanced
-/// prototypes, a layer with nothing to override, and skinned meshes whose matched influences are written (the
-/// joint indices and weights, the head's grown `skel:joints`).
+/// prototypes, a layer with nothing to override, and skinned meshes whose matched
+/// influences are written (the joint indices and weights, the head's grown `skel:joints`).
 #[test]
 fn usdc_layers_are_the_usda_text_as_openusd_writes_it() {
     let dir = tempfile::tempdir().unwrap();
