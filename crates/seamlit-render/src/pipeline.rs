@@ -1,8 +1,8 @@
-//! The render pipelines: meshes in eight variants (front faces counter-clockwise or clockwise,
-//! culled or double-sided, opaque or alpha-blended), each without and (made on first use)
-//! with skinning and morphing in the vertex stage, and without and (made on first use) with
-//! the PBR extensions' layers in the fragment stage; the environment behind them and the TBN
-//! lines.
+//! The render pipelines: meshes in 32 variants (front faces counter-clockwise or clockwise,
+//! culled or double-sided, opaque or alpha-blended; without or with skinning and morphing in
+//! the vertex stage; without or with the PBR extensions' layers in the fragment stage), the
+//! environment behind them and the TBN lines. Each is made on first use: a driver compiles
+//! the whole shader for every pipeline (lavapipe about 0.2 s each), and a scene uses few.
 
 use crate::GpuContext;
 use crate::scene::VertexRaw;
@@ -10,89 +10,136 @@ use crate::scene::VertexRaw;
 /// The depth buffer's format.
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// All pipelines for one target format and sample count.
+/// The pipelines for one target format and sample count, made by the `prepare` methods
+/// before a pass draws with them.
 #[derive(Debug)]
 pub(crate) struct Pipelines {
-    /// Indexed by [`Pipelines::mesh`]'s variant, `deform.wgsl`'s `DEFORM` false and
-    /// `mesh.wgsl`'s `LAYERS` false: for objects without a pose whose materials use no PBR
-    /// extension.
-    mesh: [wgpu::RenderPipeline; 8],
-    /// The same with `DEFORM` true (posed objects), `LAYERS` true (materials with layers), or
-    /// both, indexed by [`Features::index`] less one; each made by [`Pipelines::prepare`].
-    more: [Option<[wgpu::RenderPipeline; 8]>; 3],
-    /// What making the posed variants needs.
+    /// Indexed by [`MeshKey::index`].
+    mesh: [Option<wgpu::RenderPipeline>; MeshKey::COUNT],
+    tbn: Option<wgpu::RenderPipeline>,
+    /// The environment, blurred, behind everything.
+    sky: Option<wgpu::RenderPipeline>,
+    /// What making a pipeline needs.
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     format: wgpu::TextureFormat,
     multisample: wgpu::MultisampleState,
-    pub tbn: wgpu::RenderPipeline,
-    /// The environment, blurred, behind everything.
-    pub sky: wgpu::RenderPipeline,
+}
+
+/// Which mesh pipeline an object draws with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct MeshKey {
+    pub features: Features,
+    /// A transform with a negative determinant: counter-clockwise triangles turn clockwise
+    /// on screen.
+    pub mirrored: bool,
+    /// Not culled.
+    pub double_sided: bool,
+    /// alphaMode BLEND: blended by alpha, the depth buffer left alone.
+    pub blend: bool,
+}
+
+impl MeshKey {
+    const COUNT: usize = 32;
+
+    /// A distinct index under [`MeshKey::COUNT`] for each key.
+    fn index(self) -> usize {
+        usize::from(self.mirrored)
+            | usize::from(self.double_sided) << 1
+            | usize::from(self.blend) << 2
+            | self.features.index() << 3
+    }
 }
 
 impl Pipelines {
     pub(crate) fn new(ctx: &GpuContext, format: wgpu::TextureFormat, sample_count: u32) -> Self {
         let device = ctx.device();
-        let module = crate::shaders::mesh(ctx.layouts.extension_textures).module(device);
-        let layout = mesh_layout(ctx);
-        let multisample = wgpu::MultisampleState {
-            count: sample_count,
-            mask: !0,
-            alpha_to_coverage_enabled: false,
-        };
-        let shared = Shared { device, module: &module, layout: &layout, format, multisample };
-        let vertices = [Some(VertexRaw::layout())];
-        let mesh = std::array::from_fn(|index| {
-            shared.create(&mesh_pipeline(index, &vertices, Features::default()))
-        });
-        let (tbn, sky) = (shared.create(&tbn_pipeline()), shared.create(&sky_pipeline()));
-        Self { mesh, more: [None, None, None], module, layout, format, multisample, tbn, sky }
+        Self {
+            mesh: std::array::from_fn(|_| None),
+            tbn: None,
+            sky: None,
+            module: crate::shaders::mesh(ctx.layouts.extension_textures).module(device),
+            layout: mesh_layout(ctx),
+            format,
+            multisample: wgpu::MultisampleState {
+                count: sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+        }
     }
 
-    /// Makes the mesh pipelines of `features` if they are not made yet.
-    pub(crate) fn prepare(&mut self, device: &wgpu::Device, features: Features) {
-        let Some(slot) = features.index().checked_sub(1) else { return };
-        if self.more[slot].is_some() {
-            return;
-        }
-        let shared = Shared {
+    fn shared<'a>(&'a self, device: &'a wgpu::Device) -> Shared<'a> {
+        Shared {
             device,
             module: &self.module,
             layout: &self.layout,
             format: self.format,
             multisample: self.multisample,
-        };
-        let vertices = [Some(VertexRaw::layout())];
-        self.more[slot] = Some(std::array::from_fn(|index| {
-            shared.create(&mesh_pipeline(index, &vertices, features))
-        }));
+        }
     }
 
-    /// Front face, whether back faces are culled and whether colour is blended, for a
-    /// variant index.
-    fn variant(index: usize) -> (wgpu::FrontFace, bool, bool) {
-        let front = if index & 1 == 0 { wgpu::FrontFace::Ccw } else { wgpu::FrontFace::Cw };
-        (front, index & 2 == 0, index & 4 != 0)
+    /// Makes the mesh pipeline of `key` if it is not made yet.
+    pub(crate) fn prepare_mesh(&mut self, device: &wgpu::Device, key: MeshKey) {
+        if self.mesh[key.index()].is_none() {
+            let vertices = [Some(VertexRaw::layout())];
+            let pipeline = self.shared(device).create(&mesh_pipeline(key, &vertices));
+            self.mesh[key.index()] = Some(pipeline);
+        }
     }
 
-    /// The mesh pipeline for an object: a posed object's skins and morphs in the vertex stage,
-    /// a material's PBR extensions in the fragment stage (once [`Pipelines::prepare`] has made
-    /// those variants; before, the plain ones); a transform with a negative determinant turns
-    /// counter-clockwise triangles clockwise on screen; double-sided materials are not culled;
-    /// alphaMode BLEND materials blend by alpha and leave the depth buffer alone.
-    pub(crate) fn mesh(
-        &self,
-        features: Features,
-        mirrored: bool,
-        double_sided: bool,
-        blend: bool,
-    ) -> &wgpu::RenderPipeline {
-        let set = features
-            .index()
-            .checked_sub(1)
-            .and_then(|slot| self.more[slot].as_ref())
-            .unwrap_or(&self.mesh);
-        &set[usize::from(mirrored) | (usize::from(double_sided) << 1) | (usize::from(blend) << 2)]
+    /// Makes the TBN lines' pipeline if it is not made yet.
+    pub(crate) fn prepare_tbn(&mut self, device: &wgpu::Device) {
+        if self.tbn.is_none() {
+            self.tbn = Some(self.shared(device).create(&tbn_pipeline()));
+        }
+    }
+
+    /// Makes the sky's pipeline if it is not made yet.
+    pub(crate) fn prepare_sky(&mut self, device: &wgpu::Device) {
+        if self.sky.is_none() {
+            self.sky = Some(self.shared(device).create(&sky_pipeline()));
+        }
+    }
+
+    /// The mesh pipeline of `key`.
+    ///
+    /// # Panics
+    ///
+    /// If [`Pipelines::prepare_mesh`] has not made it: the renderer prepares every key
+    /// before the pass that draws with it.
+    pub(crate) fn mesh(&self, key: MeshKey) -> &wgpu::RenderPipeline {
+        self.mesh[key.index()].as_ref().expect("mesh pipeline prepared before the pass")
+    }
+
+    /// The TBN lines' pipeline.
+    ///
+    /// # Panics
+    ///
+    /// If [`Pipelines::prepare_tbn`] has not made it.
+    pub(crate) fn tbn(&self) -> &wgpu::RenderPipeline {
+        self.tbn.as_ref().expect("TBN pipeline prepared before the pass")
+    }
+
+    /// How many mesh pipelines are made.
+    #[cfg(test)]
+    pub(crate) fn made(&self) -> usize {
+        self.mesh.iter().flatten().count()
+    }
+
+    /// Whether the TBN lines' pipeline is made.
+    #[cfg(test)]
+    pub(crate) fn made_tbn(&self) -> bool {
+        self.tbn.is_some()
+    }
+
+    /// The sky's pipeline.
+    ///
+    /// # Panics
+    ///
+    /// If [`Pipelines::prepare_sky`] has not made it.
+    pub(crate) fn sky(&self) -> &wgpu::RenderPipeline {
+        self.sky.as_ref().expect("sky pipeline prepared before the pass")
     }
 }
 
@@ -216,14 +263,13 @@ fn depth() -> wgpu::DepthStencilState {
     }
 }
 
-/// The mesh pipeline of a variant index (see [`Pipelines::mesh`]), reading `vertices`, with
-/// `features` compiled in.
+/// The mesh pipeline of `key`, reading `vertices`.
 fn mesh_pipeline<'a>(
-    index: usize,
+    key: MeshKey,
     vertices: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    features: Features,
 ) -> PipelineDescriptor<'a> {
-    let (front_face, cull, blend) = Pipelines::variant(index);
+    let MeshKey { features, mirrored, double_sided, blend } = key;
+    let front_face = if mirrored { wgpu::FrontFace::Cw } else { wgpu::FrontFace::Ccw };
     PipelineDescriptor {
         label: "seamlit mesh",
         vertex: "vs_main",
@@ -232,7 +278,7 @@ fn mesh_pipeline<'a>(
         primitive: wgpu::PrimitiveState {
             topology: wgpu::PrimitiveTopology::TriangleList,
             front_face,
-            cull_mode: cull.then_some(wgpu::Face::Back),
+            cull_mode: (!double_sided).then_some(wgpu::Face::Back),
             ..Default::default()
         },
         // Blended surfaces are tested against the depth of opaque ones but do not hide what

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use image::RgbaImage;
 
 use crate::light::LightRaw;
-use crate::pipeline::{DEPTH_FORMAT, Features, Pipelines};
+use crate::pipeline::{DEPTH_FORMAT, Features, MeshKey, Pipelines};
 use crate::settings::{FrameInputs, FrameRaw};
 use crate::shadow::{SHADOW_SIZE, Shadows};
 use crate::transmission::Transmission;
@@ -232,11 +232,10 @@ impl Renderer {
         let FrameDescriptor { scene, camera, settings, size } = *frame;
         check_size(ctx, size.0, size.1)?;
         self.prepare(ctx, frame);
-        for mesh in &scene.meshes {
-            let features = mesh_features(scene, mesh);
-            if features != Features::default() {
-                self.pipelines.prepare(ctx.device(), features);
-            }
+        let sky = self.has_environment && settings.environment_background;
+        prepare_pipelines(&mut self.pipelines, ctx.device(), scene, sky, false);
+        if settings.show_tbn {
+            self.pipelines.prepare_tbn(ctx.device());
         }
         self.shadows.encode(encoder, scene, self.shadows_used);
         if scene.meshes.iter().any(|m| scene.materials[m.material].transmission) {
@@ -259,7 +258,7 @@ impl Renderer {
         let mut pass = begin_pass(encoder, "seamlit scene", colour, &attachments.depth);
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
         pass.set_bind_group(3, &self.environment.bind_group, &[]);
-        if self.has_environment && settings.environment_background {
+        if sky {
             self.draw_sky(&mut pass, scene);
         }
         self.draw_meshes(&mut pass, &self.pipelines, scene, camera.eye, false);
@@ -284,12 +283,8 @@ impl Renderer {
             self.frame_bind_group = self.scene_frame_bind_group(ctx);
         }
         let Some(transmission) = &mut self.transmission else { return };
-        for mesh in &scene.meshes {
-            let features = mesh_features(scene, mesh);
-            if features != Features::default() {
-                transmission.pipelines.prepare(ctx.device(), features);
-            }
-        }
+        let sky = self.has_environment && settings.environment_background;
+        prepare_pipelines(&mut transmission.pipelines, ctx.device(), scene, sky, true);
         let frame_group = self.transmission_frame_group(ctx, frame);
         let Some(transmission) = &self.transmission else { return };
         {
@@ -302,7 +297,7 @@ impl Renderer {
             let mut pass = begin_pass(encoder, label, colour, &transmission.depth);
             pass.set_bind_group(0, &frame_group, &[]);
             pass.set_bind_group(3, &self.environment.bind_group, &[]);
-            if self.has_environment && settings.environment_background {
+            if sky {
                 self.draw_sky_with(&mut pass, &transmission.pipelines, scene);
             }
             self.draw_meshes(&mut pass, &transmission.pipelines, scene, camera.eye, true);
@@ -361,12 +356,7 @@ impl Renderer {
             if opaque_only && material.transmission {
                 continue;
             }
-            pass.set_pipeline(pipelines.mesh(
-                mesh_features(scene, mesh),
-                mesh.mirrored,
-                material.double_sided,
-                material.blend,
-            ));
+            pass.set_pipeline(pipelines.mesh(mesh_key(scene, mesh)));
             pass.set_bind_group(1, &material.bind_group, &[]);
             pass.set_bind_group(2, &mesh.bind_group, &[]);
             pass.set_vertex_buffer(0, mesh.vertices.slice(..));
@@ -377,7 +367,7 @@ impl Renderer {
 
     /// Draws each mesh's tangent, bitangent and normal lines (six vertices per vertex).
     fn draw_tbn(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene) {
-        pass.set_pipeline(&self.pipelines.tbn);
+        pass.set_pipeline(self.pipelines.tbn());
         for mesh in &scene.meshes {
             pass.set_bind_group(1, &scene.materials[mesh.material].bind_group, &[]);
             pass.set_bind_group(2, &mesh.bind_group, &[]);
@@ -402,7 +392,7 @@ impl Renderer {
         let (Some(material), Some(mesh)) = (scene.materials.last(), scene.meshes.first()) else {
             return;
         };
-        pass.set_pipeline(&pipelines.sky);
+        pass.set_pipeline(pipelines.sky());
         pass.set_bind_group(1, &material.bind_group, &[]);
         pass.set_bind_group(2, &mesh.bind_group, &[]);
         pass.draw(0..3, 0..1);
@@ -671,12 +661,114 @@ fn frame_bind_group(
 
 /// What a mesh's pipeline compiles in: skinning and morphing for a posed object, the PBR
 /// extensions' layers for a material that uses one.
-fn mesh_features(scene: &GpuScene, mesh: &crate::scene::GpuMesh) -> Features {
-    Features { deform: mesh.posed, layers: scene.materials[mesh.material].layers }
+/// The pipeline `mesh` draws with: a posed object's skins and morphs in the vertex stage, its
+/// material's PBR extensions in the fragment stage, its facing, culling and blending.
+fn mesh_key(scene: &GpuScene, mesh: &crate::scene::GpuMesh) -> MeshKey {
+    let material = &scene.materials[mesh.material];
+    MeshKey {
+        features: Features { deform: mesh.posed, layers: material.layers },
+        mirrored: mesh.mirrored,
+        double_sided: material.double_sided,
+        blend: material.blend,
+    }
+}
+
+/// Makes the pipelines a pass over `scene` draws with: each mesh's (with `opaque_only`, each
+/// not transmissive one's, as [`Renderer::draw_meshes`] skips the rest) and, with `sky`, the
+/// sky's.
+fn prepare_pipelines(
+    pipelines: &mut Pipelines,
+    device: &wgpu::Device,
+    scene: &GpuScene,
+    sky: bool,
+    opaque_only: bool,
+) {
+    for mesh in &scene.meshes {
+        if !(opaque_only && scene.materials[mesh.material].transmission) {
+            pipelines.prepare_mesh(device, mesh_key(scene, mesh));
+        }
+    }
+    if sky {
+        pipelines.prepare_sky(device);
+    }
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of one linear channel, for the clear colour of a
 /// target that is not sRGB.
 fn linear_to_srgb(c: f32) -> f32 {
     if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Mat4, Vec3};
+    use seamlit_asset::{Asset, Material};
+    use seamlit_mesh::{Model, Object};
+
+    use super::*;
+    use crate::{CameraDescriptor, Projection};
+
+    /// A square of two triangles facing +Z, with normals, in `material`.
+    fn square(name: &str, material: usize) -> Object {
+        let corners = [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::X - Vec3::Y,
+            Vec3::ONE - Vec3::Z,
+            -Vec3::X + Vec3::Y,
+        ];
+        let mut o = Object::new(name, corners.to_vec(), vec![[0, 1, 2], [0, 2, 3]]);
+        o.normals = Some(vec![Vec3::Z; 4]);
+        o.material = Some(material);
+        o
+    }
+
+    fn frame_of(renderer: &mut Renderer, ctx: &GpuContext, asset: &Asset, show_tbn: bool) {
+        let scene = GpuScene::upload(ctx, asset).expect("upload");
+        let camera = CameraView::look_at(&CameraDescriptor {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Orthographic { half_height: 2.0 },
+            aspect: 1.0,
+            near: 0.1,
+            far: 10.0,
+        });
+        let settings = FrameSettings { show_tbn, ..FrameSettings::default() };
+        let frame =
+            FrameDescriptor { scene: &scene, camera: &camera, settings: &settings, size: (8, 8) };
+        renderer.render_to_image(ctx, &frame).expect("a frame");
+    }
+
+    /// A frame makes the pipelines it draws with and no others (each costs a shader compile):
+    /// one for a plain opaque square; a mirrored copy and a double-sided, blended material add
+    /// theirs; TBN lines theirs when shown.
+    #[test]
+    fn a_frame_makes_only_the_pipelines_it_draws_with() {
+        let ctx = GpuContext::headless().expect("rendering tests need a GPU or lavapipe");
+        let mut renderer = Renderer::new(&ctx, IMAGE_FORMAT, 1).expect("a renderer");
+        let made = |r: &Renderer| (r.pipelines.made(), r.pipelines.made_tbn());
+        assert_eq!(made(&renderer), (0, false));
+
+        let mut asset = Asset {
+            model: Model::new(vec![square("a", 0)]),
+            materials: vec![Material::default()],
+            ..Asset::default()
+        };
+        frame_of(&mut renderer, &ctx, &asset, false);
+        assert_eq!(made(&renderer), (1, false));
+        frame_of(&mut renderer, &ctx, &asset, false);
+        assert_eq!(made(&renderer), (1, false), "made again");
+
+        let mut mirrored = square("mirrored", 0);
+        mirrored.transform = Some(Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
+        asset.model.objects.push(mirrored);
+        asset.model.objects.push(square("glass", 1));
+        asset.materials.push(Material {
+            double_sided: true,
+            alpha_mode: seamlit_asset::AlphaMode::Blend,
+            ..Material::default()
+        });
+        frame_of(&mut renderer, &ctx, &asset, true);
+        assert_eq!(made(&renderer), (3, true));
+    }
 }

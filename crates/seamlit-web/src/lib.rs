@@ -12,9 +12,9 @@
 //! as fixed, and `draw` draws a frame.
 //!
 //! `timeDemoFix` times the fix of the demo teapot in the page; [`timing`] is that code, which
-//! `examples/fix_time.rs` runs natively. [`files`] reads the dropped files from memory and
-//! writes the download into memory. On targets other than `wasm32` the crate is [`files`],
-//! [`marks`] and [`timing`].
+//! `examples/teapot_fix_time.rs` runs natively. [`files`] reads the dropped files from memory
+//! and writes the download into memory. On targets other than `wasm32` the crate is
+//! [`files`], [`marks`] and [`timing`].
 
 pub mod files;
 pub mod marks;

@@ -1,5 +1,5 @@
 //! The fix of the demo teapot, timed: the page's measurement (BENCHMARKS.md) and its native
-//! counterpart (`examples/fix_time.rs`) run this same code.
+//! counterpart (`examples/teapot_fix_time.rs`) run this same code.
 
 use seamlit_mesh::{FixOptions, TangentMethod, fix};
 

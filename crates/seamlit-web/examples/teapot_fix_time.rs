@@ -1,5 +1,5 @@
 //! The native side of the page's fix timing (BENCHMARKS.md, "The web page"):
-//! `RAYON_NUM_THREADS=1 cargo run --release -p seamlit-web --example fix_time -- 125 mikktspace 3`
+//! `RAYON_NUM_THREADS=1 cargo run --release -p seamlit-web --example teapot_fix_time -- 125 mikktspace 3`
 //! fixes the 1M-triangle demo teapot three times and prints each time.
 
 use std::time::Instant;
