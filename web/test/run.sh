@@ -19,8 +19,8 @@ web/build.sh --dev >/dev/null
 # against `object.png` (the seams kept) 0.0151, and `model.png` against `object.png` 0.0097.
 # So the page must be within BOUND of the fixed picture, and nearer to it than to the seamy one.
 bound=0.012
-# SEAMLIT and SEAMLIT_BENCH may name built programs; by default cargo runs them (CI has just
-# built them for the tests).
+# SEAMLIT and SEAMLIT_BENCH may name built programs (.ci/run names the ones `cargo test
+# --workspace` built); by default cargo runs them, building them for their packages' features.
 [ -n "${SEAMLIT:-}" ] && SEAMLIT=$(realpath "$SEAMLIT")
 [ -n "${SEAMLIT_BENCH:-}" ] && SEAMLIT_BENCH=$(realpath "$SEAMLIT_BENCH")
 seamlit() { if [ -n "${SEAMLIT:-}" ]; then "$SEAMLIT" "$@"; else cargo run -q -p seamlit -- "$@"; fi; }
