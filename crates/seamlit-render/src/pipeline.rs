@@ -121,6 +121,15 @@ impl Pipelines {
         self.tbn.as_ref().expect("TBN pipeline prepared before the pass")
     }
 
+    /// The sky's pipeline.
+    ///
+    /// # Panics
+    ///
+    /// If [`Pipelines::prepare_sky`] has not made it.
+    pub(crate) fn sky(&self) -> &wgpu::RenderPipeline {
+        self.sky.as_ref().expect("sky pipeline prepared before the pass")
+    }
+
     /// How many mesh pipelines are made.
     #[cfg(test)]
     pub(crate) fn made(&self) -> usize {
@@ -131,15 +140,6 @@ impl Pipelines {
     #[cfg(test)]
     pub(crate) fn made_tbn(&self) -> bool {
         self.tbn.is_some()
-    }
-
-    /// The sky's pipeline.
-    ///
-    /// # Panics
-    ///
-    /// If [`Pipelines::prepare_sky`] has not made it.
-    pub(crate) fn sky(&self) -> &wgpu::RenderPipeline {
-        self.sky.as_ref().expect("sky pipeline prepared before the pass")
     }
 }
 

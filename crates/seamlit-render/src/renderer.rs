@@ -659,8 +659,6 @@ fn frame_bind_group(
     })
 }
 
-/// What a mesh's pipeline compiles in: skinning and morphing for a posed object, the PBR
-/// extensions' layers for a material that uses one.
 /// The pipeline `mesh` draws with: a posed object's skins and morphs in the vertex stage, its
 /// material's PBR extensions in the fragment stage, its facing, culling and blending.
 fn mesh_key(scene: &GpuScene, mesh: &crate::scene::GpuMesh) -> MeshKey {
