@@ -171,15 +171,40 @@ pub(crate) fn face_flags(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) ->
     if !(area2 > EPS * (l1 + l2) && area2.is_finite()) {
         return DEGENERATE | DEGENERATE_UV | no_uv;
     }
-    let normal = cross * area2.recip();
-    let Some((t, b)) = uvs.and_then(|uv| uv_directions(normal, e1, e2, uv, v_axis)) else {
-        return DEGENERATE_UV | no_uv;
+    uv_flags(p, (cross * area2.recip()).into(), uvs, v_axis)
+}
+
+/// [`face_flags`] of a triangle that is not [`DEGENERATE`], given its unit `normal` as
+/// [`face`] computes it (with or without UVs: the normal does not depend on them): the UV
+/// tests alone, for a pass that has the face already (the smoothing, [`crate::smooth`]).
+#[inline]
+pub(crate) fn uv_flags(p: [Vec3; 3], normal: Vec3, uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> u8 {
+    let [p0, p1, p2] = p.map(Vec3A::from);
+    let normal = Vec3A::from(normal);
+    let Some((t, b)) = uvs.and_then(|uv| uv_directions(normal, p1 - p0, p2 - p0, uv, v_axis))
+    else {
+        return DEGENERATE_UV | if uvs.is_none() { NO_UV } else { 0 };
     };
     let (lt, lb) = (t.length_squared().sqrt(), b.length_squared().sqrt());
     if !(usable(lt) && usable(lb)) {
         return DEGENERATE_UV;
     }
     if is_mirrored(normal, t * lt.recip(), b * lb.recip()) { MIRRORED } else { 0 }
+}
+
+/// Adds a triangle of `flags` (as [`face_flags`] gives them) to the report's counts: degenerate
+/// triangles, degenerate-UV triangles of objects with UVs (degenerate ones aside), mirrored
+/// triangles.
+#[inline]
+pub(crate) fn count(counts: &mut [usize; 3], flags: u8) {
+    counts[0] += usize::from(flags & DEGENERATE != 0);
+    counts[1] += usize::from(flags & (DEGENERATE_UV | NO_UV | DEGENERATE) == DEGENERATE_UV);
+    counts[2] += usize::from(flags & MIRRORED != 0);
+}
+
+/// The sum of two [`count`]s.
+pub(crate) fn add_counts(a: [usize; 3], b: [usize; 3]) -> [usize; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// The face of a triangle with (near) zero area.
@@ -285,6 +310,11 @@ mod flag_tests {
             for v_axis in [VAxis::Up, VAxis::Down] {
                 let f = face(p, uvs, v_axis);
                 assert_eq!(face_flags(p, uvs, v_axis), f.flags, "{p:?} {uvs:?} {v_axis:?}");
+                // The smoothing's way: the face without its UVs, then the UV tests.
+                let bare = face(p, None, v_axis);
+                if !bare.is(DEGENERATE) {
+                    assert_eq!(uv_flags(p, bare.normal, uvs, v_axis), f.flags, "{p:?} {uvs:?}");
+                }
                 seen[f.flags as usize] += 1;
             }
         }

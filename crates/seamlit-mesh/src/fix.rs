@@ -75,7 +75,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
     let (_, weld) = run(&mut out, flat, options, Some(model), &authored, false)?;
-    morph::compute_deltas(&mut out, options, &computed(&authored), weld)?;
+    morph::compute_deltas(&mut out, options, &computed(&authored), weld.map(|(r, _)| r))?;
     Ok(out)
 }
 
@@ -90,11 +90,14 @@ pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, 
     fix_in_place_welded(model, options).map(|(changes, _)| changes)
 }
 
-/// [`fix_in_place`], also returning the weld the fix smoothed over, renumbered for the fixed
-/// model, where [`crate::report_welded`] can measure the fixed model with it instead of
-/// welding it again: where every object's normals were computed, in [`Mode::Model`]. The same
-/// roots, bit for bit, as welding the fixed model would give (split vertices are copies of
-/// their sources, at the same positions); it costs a pass over the vertices, against a sort.
+/// [`fix_in_place`], also returning the weld the fix smoothed over (or repaired and made
+/// tangents over), renumbered for the fixed model, where [`crate::report_welded`] can measure
+/// the fixed model with it instead of welding it again: in [`Mode::Model`], wherever the fix
+/// welded (not where every object keeps normals and tangents and nothing is repaired). The
+/// same roots, bit for bit, as welding the fixed model would give (split vertices are copies
+/// of their sources, at the same positions); it costs a pass over the vertices, against a
+/// sort. Where every object's normals were computed, it carries the report's triangle counts
+/// too, counted by the smoothing's pass over the triangles.
 ///
 /// # Errors
 ///
@@ -106,15 +109,16 @@ pub fn fix_in_place_welded(
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
     let keep = options.mode == Mode::Model;
-    let (changes, roots) = run(model, flat, options, None, &authored, keep)?;
+    let (changes, weld) = run(model, flat, options, None, &authored, keep)?;
     // Copied only where the morph targets' deltas need the roots too.
     let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
-    let (welded, for_deltas) = match roots {
-        Some(r) if keep && morphs => {
-            (Some(Welded::new(r.clone(), options.weld_tolerance)), Some(r))
+    let tolerance = options.weld_tolerance;
+    let (welded, for_deltas) = match weld {
+        Some((r, counts)) if keep && morphs => {
+            (Some(Welded::new(r.clone(), tolerance, counts)), Some(r))
         }
-        Some(r) if keep => (Some(Welded::new(r, options.weld_tolerance)), None),
-        roots => (None, roots),
+        Some((r, counts)) if keep => (Some(Welded::new(r, tolerance, counts)), None),
+        weld => (None, weld.map(|(r, _)| r)),
     };
     morph::compute_deltas(model, options, &computed(&authored), for_deltas)?;
     Ok((changes, welded))
@@ -126,11 +130,17 @@ fn computed(authored: &Authored) -> Vec<bool> {
     authored.normals.iter().map(|&kept| !kept).collect()
 }
 
+/// The weld [`run`] gives back: each vertex's root, renumbered for the fixed model, and the
+/// report's triangle counts where the fix made them.
+type RunWeld = (Vec<u32>, Option<[usize; 3]>);
+
 /// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
 /// (see [`compute`]). Objects marked in `authored` carry their input normals (and tangents
 /// where marked), the others none or their input ones, which are replaced. Returns what
-/// changed and, where every object's normals were computed and the morph targets' deltas or
-/// `keep_weld` ask for it, the weld renumbered for the fixed model.
+/// changed and the weld renumbered for the fixed model: where `keep_weld` asks for it (the
+/// report's), and where every object's normals were computed and the morph targets' deltas
+/// ask for it; with the report's triangle counts where every object's normals were computed
+/// and `keep_weld` asked.
 fn run(
     model: &mut Model,
     flat: Flat,
@@ -138,16 +148,17 @@ fn run(
     input: Option<&Model>,
     authored: &Authored,
     keep_weld: bool,
-) -> Result<(Changes, Option<Vec<u32>>), MeshError> {
+) -> Result<(Changes, Option<RunWeld>), MeshError> {
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
-        let (changed, roots) = compute(model, flat, options, input, &authored.normals);
+        let (changed, roots, counts) =
+            compute(model, flat, options, input, &authored.normals, keep_weld);
         // The weld, for the morph targets' deltas (the fix made no other change) and the
         // report: renumbering every vertex is a pass over them, not asked for otherwise.
         let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
         let weld = roots
             .filter(|_| morphs || keep_weld)
-            .map(|r| morph::roots_after_splits(&r, &vertices, model));
+            .map(|r| (morph::roots_after_splits(&r, &vertices, model), counts));
         return Ok((tally(model, &vertices, &changed, authored), weld));
     }
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
@@ -156,7 +167,7 @@ fn run(
     let (flat, mut changed) = if authored.all() {
         (flat, vec![0; model.objects.len()])
     } else {
-        let (changed, _) = compute(model, flat, options, input, &authored.normals);
+        let (changed, _, _) = compute(model, flat, options, input, &authored.normals, false);
         (validate::flatten(model)?, changed)
     };
     let mut flat = flat;
@@ -177,6 +188,7 @@ fn run(
         && options.mode == Mode::Model;
     let mut shared = SharedNormals::default();
     // 3. The weld, where the repair or the tangents need it.
+    let at_weld: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     let roots =
         (options.mode != Mode::Flat && (repairs || tangents_needed.contains(&true))).then(|| {
             let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
@@ -194,10 +206,13 @@ fn run(
         shared = decided;
     }
     // 5. Tangents where kept normals came without them.
+    let kept = roots.as_ref().filter(|_| keep_weld).cloned();
     repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
     let mut changes = tally(model, &vertices, &changed, authored);
     changes.shared = shared;
-    Ok((changes, None))
+    // The weld, for the report, as in the first branch (the triangles are counted there).
+    let weld = kept.map(|r| (morph::roots_after_splits(&r, &at_weld, model), None));
+    Ok((changes, weld))
 }
 
 /// The [`Changes`]: `vertices` and `changed` per object, before the fix.
@@ -222,14 +237,17 @@ fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Author
 /// are not written), from the faces of all objects: the paper's way, and the whole fix under
 /// [`NormalPolicy::Recompute`]. `input`, where the model is a copy, is the original (for the
 /// normals of vertices no triangle uses). Returns, per object, how many of its vertices'
-/// normals are not the input ones, and each vertex's weld root (where it welded).
+/// normals are not the input ones, each vertex's weld root (where it welded) and, where
+/// `count` asks and it welded, the report's triangle counts over the snapped positions
+/// (counted by the smoothing's pass over the triangles).
 fn compute(
     model: &mut Model,
     mut flat: Flat,
     options: &FixOptions,
     input: Option<&Model>,
     skip: &[bool],
-) -> (Vec<usize>, Option<Vec<u32>>) {
+    count: bool,
+) -> (Vec<usize>, Option<Vec<u32>>, Option<[usize; 3]>) {
     let want_tangents = options.tangents != TangentMethod::None;
     if options.mode == Mode::Flat {
         // Flat shading: each corner takes its face's frame.
@@ -241,14 +259,15 @@ fn compute(
                     [face_frame(&face(p, uv, v_axis)); 3]
                 })
             });
-        return (changed, None);
+        return (changed, None, None);
     }
 
     let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
     let roots = roots_for_mode(&flat, tolerance, options.mode);
     weld::snap_to_roots(&mut flat.positions, &roots);
     let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
-    let smooth = smooth::smooth(model, &flat, roots, rules);
+    let smooth = smooth::smooth(model, &flat, roots, rules, count);
+    let counts = smooth.counts;
 
     if options.tangents == TangentMethod::Mikktspace {
         let triangles: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
@@ -272,7 +291,7 @@ fn compute(
             write_objects(model, skip, want_tangents, input, |o, object, wanted, input| {
                 write_mikk(o, object, flat, smooth_ref, tangents, wanted, input)
             });
-        return (changed, Some(smooth.into_roots()));
+        return (changed, Some(smooth.into_roots()), counts);
     }
 
     let flat = &without_positions(flat);
@@ -282,7 +301,7 @@ fn compute(
             write_smooth(o, object, flat, smooth, tangents, input)
         })
     };
-    (changed, Some(smooth.into_roots()))
+    (changed, Some(smooth.into_roots()), counts)
 }
 
 /// `flat` without its positions: the smoothed frames are known, and writing the objects

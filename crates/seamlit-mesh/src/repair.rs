@@ -559,7 +559,7 @@ fn corner_frames(
                 .collect()
         }
         (_, _, Some(roots)) => {
-            let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true));
+            let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true), false);
             triangles
                 .as_flattened()
                 .par_iter()

@@ -11,7 +11,7 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face, face_flags};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, add_counts, count, face, face_flags};
 use crate::frame::Linear;
 use crate::skin::{self, SkinSeams};
 use crate::weld::Welded;
@@ -194,8 +194,10 @@ fn measure(
     let near_miss = weld::near_misses(&flat.positions, roots);
     weld::snap_to_roots(&mut flat.positions, roots);
 
-    let counts = match known {
-        Some((counts, at)) if at.to_bits() == tolerance.to_bits() => counts,
+    let counted = welded.and_then(|w| w.counts_for(flat.positions.len(), options.weld_tolerance));
+    let counts = match (known, counted) {
+        (Some((counts, at)), _) if at.to_bits() == tolerance.to_bits() => counts,
+        (_, Some(counts)) => counts,
         _ => face_counts(model, &flat),
     };
     let mut report = SeamReport {
@@ -228,14 +230,11 @@ fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
             let mut n = [0; 3];
             for t in 0..object.triangles.len() {
                 let c = flat.corners(model, o, t);
-                let f = face_flags(c.positions, c.uvs, model.v_axis);
-                n[0] += usize::from(f & DEGENERATE != 0);
-                n[1] += usize::from(f & (DEGENERATE_UV | NO_UV | DEGENERATE) == DEGENERATE_UV);
-                n[2] += usize::from(f & MIRRORED != 0);
+                count(&mut n, face_flags(c.positions, c.uvs, model.v_axis));
             }
             n
         })
-        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]])
+        .reduce(|| [0; 3], add_counts)
 }
 
 /// A corner at a shared position, with what the comparisons need.
@@ -606,6 +605,66 @@ mod welded_tests {
         let object = Object::new("bad", positions, vec![[0, 1, 2], [0, 1, 3], [1, 3, 0]]);
         model.objects.push(object.with_uvs(uvs));
         model
+    }
+
+    /// With authored normals (every object's, or all but one's), where the fix repairs seams
+    /// and makes tangents instead of smoothing, its weld still gives the report that welds the
+    /// fixed model again.
+    #[test]
+    fn the_weld_of_a_fix_that_keeps_normals_gives_the_same_report() {
+        // Normals of each object on its own: seams where the objects meet, for the repair.
+        let mut authored = folded_tube();
+        let per_object = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
+        fix_in_place_welded(&mut authored, &per_object).expect("valid");
+        for object in &mut authored.objects {
+            object.tangents = None;
+            object.split_from.clear();
+        }
+        // The first object as made, without normals: its vertices not yet split, so the
+        // others' move when they are.
+        let mut partly = authored.clone();
+        partly.objects[0] = folded_tube().objects.swap_remove(0);
+        for (name, model) in [("all", authored), ("partly", partly)] {
+            let mut fixed = model.clone();
+            let options = FixOptions::DEFAULT;
+            let (changes, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            assert!(changes.objects.iter().any(|o| o.kept_normals), "{name}");
+            // Where one object's normals are computed, its vertices split at the mirror line
+            // after the weld: the renumbering is exercised.
+            assert!(name == "all" || changes.vertices_split() > 0, "{name}: nothing split");
+            let welded = welded.unwrap_or_else(|| panic!("{name}: no weld"));
+            let report_options = ReportOptions::from(&options);
+            let again = report(&fixed, &report_options).expect("valid");
+            assert!(again.shared_positions > 0 && again.mirrored_triangles > 0, "{again:?}");
+            let with = report_welded(&fixed, &report_options, Some(&welded)).expect("valid");
+            assert_eq!(with, again, "{name}");
+        }
+    }
+
+    /// The triangle counts a fix makes on its way (in the smoothing's pass, with or without
+    /// the faces' UV frames) are the report's, and the report of the fixed model takes them.
+    #[test]
+    fn the_fixs_counts_are_the_reports() {
+        let model = tube_with_bad_faces();
+        for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit, TangentMethod::None] {
+            let options = FixOptions { tangents, ..FixOptions::DEFAULT };
+            let mut fixed = model.clone();
+            let (_, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            let welded = welded.expect("a weld in model mode");
+            let report_options = ReportOptions::from(&options);
+            let again = report(&fixed, &report_options).expect("valid");
+            let vertices = validate::flatten(&fixed).expect("valid").positions.len();
+            let counted = welded.counts_for(vertices, options.weld_tolerance);
+            let expected = [
+                again.degenerate_triangles,
+                again.degenerate_uv_triangles,
+                again.mirrored_triangles,
+            ];
+            assert!(expected.iter().all(|&n| n > 0), "{tangents:?}: {expected:?}");
+            assert_eq!(counted, Some(expected), "{tangents:?}");
+            let with = report_welded(&fixed, &report_options, Some(&welded)).expect("valid");
+            assert_eq!(with, again, "{tangents:?}");
+        }
     }
 
     /// The report of a fixed model with the triangle counts as loaded is the report that

@@ -45,7 +45,7 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::Model;
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, face};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, MIRRORED, NO_UV, add_counts, face, uv_flags};
 use crate::frame::{finish, finish_normal};
 use crate::group::{self, Frame, Rules, Scratch, weight};
 use crate::index::low_half;
@@ -144,6 +144,9 @@ pub(crate) struct Smooth {
     pub complex: Vec<u64>,
     /// Per group of a complex position, its frame.
     pub frames: Vec<Frame>,
+    /// Where [`smooth`] was asked to count them, the report's triangle counts (degenerate,
+    /// degenerate-UV, mirrored; see [`crate::face::count`]) over the snapped positions.
+    pub counts: Option<[usize; 3]>,
 }
 
 impl Smooth {
@@ -208,9 +211,17 @@ impl Smooth {
 }
 
 /// Smooths the model. `roots` gives each vertex's position (see [`crate::weld`]); the
-/// positions in `flat` must be snapped onto their roots.
-pub(crate) fn smooth(model: &Model, flat: &Flat, roots: Vec<u32>, rules: Rules) -> Smooth {
-    smooth_with(model, flat, roots, rules, false)
+/// positions in `flat` must be snapped onto their roots. With `count`, the pass over the
+/// triangles also counts them as the report does ([`Smooth::counts`]), reading the UVs for it
+/// where the frames do not.
+pub(crate) fn smooth(
+    model: &Model,
+    flat: &Flat,
+    roots: Vec<u32>,
+    rules: Rules,
+    count: bool,
+) -> Smooth {
+    smooth_with(model, flat, roots, rules, count, false)
 }
 
 /// [`smooth`], optionally sending every position through the grouping (for tests: both
@@ -220,10 +231,11 @@ fn smooth_with(
     flat: &Flat,
     roots: Vec<u32>,
     rules: Rules,
+    count: bool,
     all_complex: bool,
 ) -> Smooth {
     let mut sums = Sums::new(flat.positions.len(), rules.tangents);
-    accumulate(model, flat, rules, &mut sums);
+    let counts = accumulate(model, flat, rules, count, &mut sums);
     merge(&roots, &mut sums);
     let grouped = group::has_smoothing_groups(model);
     if grouped {
@@ -233,7 +245,7 @@ fn smooth_with(
     // The cones are done with.
     let Sums { normals, tangents, flags, .. } = sums;
     let (complex, frames) = group_complex(model, flat, &roots, &flags, rules, grouped);
-    Smooth { roots, normals, tangents, flags, complex, frames }
+    Smooth { roots, normals, tangents, flags, complex, frames, counts: count.then_some(counts) }
 }
 
 /// What a face tells its vertices.
@@ -272,8 +284,15 @@ fn per_object<'a, T>(items: &'a mut [T], starts: &[u32]) -> std::vec::IntoIter<&
 }
 
 /// Adds every face's weighted frame to its three vertices, and widens their cones to take in
-/// the face; one object per task.
-fn accumulate(model: &Model, flat: &Flat, rules: Rules, sums: &mut Sums) {
+/// the face; one object per task. With `count`, returns the report's triangle counts (else
+/// zeros): the faces are at hand here, a separate pass would gather every triangle again.
+fn accumulate(
+    model: &Model,
+    flat: &Flat,
+    rules: Rules,
+    count: bool,
+    sums: &mut Sums,
+) -> [usize; 3] {
     let mut tangents = per_object(&mut sums.tangents, &flat.vertex_start);
     let mut normal_cones = per_object(&mut sums.normal_cones, &flat.vertex_start);
     let mut tangent_cones = per_object(&mut sums.tangent_cones, &flat.vertex_start);
@@ -287,17 +306,29 @@ fn accumulate(model: &Model, flat: &Flat, rules: Rules, sums: &mut Sums) {
             flags: flags.next().unwrap_or_default(),
         })
         .collect();
-    parts.into_par_iter().enumerate().for_each(|(o, part)| {
+    let counted = parts.into_par_iter().enumerate().map(|(o, part)| {
         let object = &model.objects[o];
         let positions = &flat.positions[flat.vertex_start[o] as usize..][..part.normals.len()];
         // Without tangents the faces' UV frames are never read: not computed.
         let uvs = object.uvs.as_deref().filter(|_| rules.tangents);
+        let mut counts = [0; 3];
         for tri in &object.triangles {
             let p = tri.map(|i| positions[i as usize]);
             let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
             let face = face(p, uv, model.v_axis);
             let bits = face_flags(&face);
             let degenerate = face.is(DEGENERATE);
+            if count {
+                // `face`'s flags are `face_flags`' where it had the UVs; otherwise only their
+                // UV tests are left to make (a degenerate face has none).
+                let flags = if degenerate || uvs.is_some() || object.uvs.is_none() {
+                    face.flags
+                } else {
+                    let uv = object.uvs.as_deref().map(|uvs| tri.map(|i| uvs[i as usize]));
+                    uv_flags(p, face.normal, uv, model.v_axis)
+                };
+                crate::face::count(&mut counts, flags);
+            }
             // Without UVs read, every face is one without usable UVs: no tangent arrays.
             let tangent = rules.tangents && !face.is(DEGENERATE | DEGENERATE_UV);
             for (k, &i) in tri.iter().enumerate() {
@@ -328,7 +359,9 @@ fn accumulate(model: &Model, flat: &Flat, rules: Rules, sums: &mut Sums) {
                 *flag |= bits;
             }
         }
+        counts
     });
+    counted.reduce(|| [0; 3], add_counts)
 }
 
 /// Adds the sums of every vertex into its root, in vertex order, and widens the root's cones
@@ -632,8 +665,8 @@ mod tests {
             let roots = weld::roots(&flat.positions, tolerance);
             weld::snap_to_roots(&mut flat.positions, &roots);
             let rules = Rules::new(&options, tangents);
-            let fast = smooth_with(&model, &flat, roots.clone(), rules, false);
-            let slow = smooth_with(&model, &flat, roots, rules, true);
+            let fast = smooth_with(&model, &flat, roots.clone(), rules, false, false);
+            let slow = smooth_with(&model, &flat, roots, rules, false, true);
             // The sheet has both kinds of positions, so both paths run.
             let corners = model.triangle_count() * 3;
             assert!(!fast.complex.is_empty() && fast.complex.len() < corners / 2);

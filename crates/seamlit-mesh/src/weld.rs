@@ -60,17 +60,34 @@ pub struct Welded {
     /// The tolerance it was welded with (absolute from the fixed model's diagonal, which the
     /// fix does not change).
     tolerance: WeldTolerance,
+    /// The report's triangle counts (degenerate, degenerate-UV, mirrored) over the positions
+    /// snapped to `roots`, where the fix counted them on its way: a fix keeps every
+    /// triangle's positions and UVs, so they are the fixed model's.
+    counts: Option<[usize; 3]>,
 }
 
 impl Welded {
-    pub(crate) fn new(roots: Vec<u32>, tolerance: WeldTolerance) -> Self {
-        Self { roots, tolerance }
+    pub(crate) fn new(
+        roots: Vec<u32>,
+        tolerance: WeldTolerance,
+        counts: Option<[usize; 3]>,
+    ) -> Self {
+        Self { roots, tolerance, counts }
     }
 
     /// The roots, where they are the weld of a model of `vertices` vertices at `tolerance`: a
     /// weld of another model, or at another tolerance, is not used.
     pub(crate) fn roots_for(&self, vertices: usize, tolerance: WeldTolerance) -> Option<&[u32]> {
         (self.roots.len() == vertices && self.tolerance == tolerance).then_some(&self.roots[..])
+    }
+
+    /// The triangle counts, where the roots are [`Self::roots_for`] the model and counted.
+    pub(crate) fn counts_for(
+        &self,
+        vertices: usize,
+        tolerance: WeldTolerance,
+    ) -> Option<[usize; 3]> {
+        self.roots_for(vertices, tolerance).and(self.counts)
     }
 }
 
