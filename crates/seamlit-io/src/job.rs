@@ -149,14 +149,19 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
     let copies = Copies::of(asset, &options).map_err(FixError::Geometry)?;
     let before = copies.measure(asset, &animations, job.samples, &options);
     let report_options = ReportOptions::from(&options);
-    let as_loaded = (job.report_as_loaded)
-        .then(|| seamlit_mesh::report(&asset.model, &report_options))
-        .transpose()
-        .map_err(FixError::Geometry)?;
+    // The weld as loaded spares the fix welding and counting the model again.
+    let (as_loaded, loaded) = if job.report_as_loaded {
+        let (report, weld) = seamlit_mesh::report_with_weld(&asset.model, &report_options)
+            .map_err(FixError::Geometry)?;
+        (Some(report), Some(weld))
+    } else {
+        (None, None)
+    };
     // Fixed in place: computed normals and tangents overwrite the loaded ones, never copied.
     // The fix's weld, where it can give one, spares the report welding the model again.
-    let (changes, welded) = seamlit_mesh::fix_in_place_welded(&mut asset.model, &options)
-        .map_err(FixError::Geometry)?;
+    let (changes, welded) =
+        seamlit_mesh::fix_in_place_welded(&mut asset.model, &options, loaded.as_ref())
+            .map_err(FixError::Geometry)?;
     let matched = match job.skin_seams {
         SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
         SkinSeams::Keep => None,

@@ -74,7 +74,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    let (_, weld) = run(&mut out, flat, options, Some(model), &authored, false)?;
+    let (_, weld) = run(&mut out, flat, options, Some(model), &authored, false, None)?;
     morph::compute_deltas(&mut out, options, &computed(&authored), weld.map(|(r, _)| r))?;
     Ok(out)
 }
@@ -87,7 +87,7 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
 ///
 /// As [`fix`].
 pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, MeshError> {
-    fix_in_place_welded(model, options).map(|(changes, _)| changes)
+    fix_in_place_welded(model, options, None).map(|(changes, _)| changes)
 }
 
 /// [`fix_in_place`], also returning the weld the fix smoothed over (or repaired and made
@@ -99,17 +99,26 @@ pub fn fix_in_place(model: &mut Model, options: &FixOptions) -> Result<Changes, 
 /// sort. Where every object's normals were computed, it carries the report's triangle counts
 /// too, counted by the smoothing's pass over the triangles.
 ///
+/// `loaded`, the weld of the model as it is ([`crate::report_with_weld`] of it, measured
+/// before the fix), is used instead of welding it again where it fits (the same vertex count
+/// and tolerance, in [`Mode::Model`]), and its triangle counts are not made again.
+///
 /// # Errors
 ///
 /// As [`fix`].
 pub fn fix_in_place_welded(
     model: &mut Model,
     options: &FixOptions,
+    loaded: Option<&Welded>,
 ) -> Result<(Changes, Option<Welded>), MeshError> {
     let flat = validate::flatten(model)?;
     let authored = Authored::of(model, options);
     let keep = options.mode == Mode::Model;
-    let (changes, weld) = run(model, flat, options, None, &authored, keep)?;
+    let given = loaded.filter(|_| keep).and_then(|w| {
+        let roots = w.roots_for(flat.positions.len(), options.weld_tolerance)?;
+        Some(Given { roots, counts: w.counts_for(roots.len(), options.weld_tolerance) })
+    });
+    let (changes, weld) = run(model, flat, options, None, &authored, keep, given)?;
     // Copied only where the morph targets' deltas need the roots too.
     let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
     let tolerance = options.weld_tolerance;
@@ -134,13 +143,22 @@ fn computed(authored: &Authored) -> Vec<bool> {
 /// report's triangle counts where the fix made them.
 type RunWeld = (Vec<u32>, Option<[usize; 3]>);
 
+/// A weld of the model before the fix, made by the caller (the report as loaded), in
+/// [`Mode::Model`]: the roots of its vertices, and its triangle counts where made.
+#[derive(Clone, Copy)]
+struct Given<'a> {
+    roots: &'a [u32],
+    counts: Option<[usize; 3]>,
+}
+
 /// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
 /// (see [`compute`]). Objects marked in `authored` carry their input normals (and tangents
 /// where marked), the others none or their input ones, which are replaced. Returns what
 /// changed and the weld renumbered for the fixed model: where `keep_weld` asks for it (the
 /// report's), and where every object's normals were computed and the morph targets' deltas
 /// ask for it; with the report's triangle counts where every object's normals were computed
-/// and `keep_weld` asked.
+/// and `keep_weld` asked. `given` is used instead of welding the model again (its counts
+/// instead of counting).
 fn run(
     model: &mut Model,
     flat: Flat,
@@ -148,27 +166,23 @@ fn run(
     input: Option<&Model>,
     authored: &Authored,
     keep_weld: bool,
+    given: Option<Given<'_>>,
 ) -> Result<(Changes, Option<RunWeld>), MeshError> {
-    let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     if !authored.any() {
-        let (changed, roots, counts) =
-            compute(model, flat, options, input, &authored.normals, keep_weld);
-        // The weld, for the morph targets' deltas (the fix made no other change) and the
-        // report: renumbering every vertex is a pass over them, not asked for otherwise.
-        let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
-        let weld = roots
-            .filter(|_| morphs || keep_weld)
-            .map(|r| (morph::roots_after_splits(&r, &vertices, model), counts));
-        return Ok((tally(model, &vertices, &changed, authored), weld));
+        return Ok(run_computed(model, flat, options, input, authored, keep_weld, given));
     }
+    let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
+    let given_roots = given.map(|g| g.roots);
+    let given_counts = given.and_then(|g| g.counts);
     // 1. Missing normals (and their tangents), computed as `recompute` computes them; the
     //    objects that keep theirs are left as they are. Vertices may have been split since
     //    the model was flattened: flatten it again.
-    let (flat, mut changed) = if authored.all() {
-        (flat, vec![0; model.objects.len()])
+    let (flat, mut changed, welded) = if authored.all() {
+        (flat, vec![0; model.objects.len()], None)
     } else {
-        let (changed, _, _) = compute(model, flat, options, input, &authored.normals, false);
-        (validate::flatten(model)?, changed)
+        let (changed, roots, _) =
+            compute(model, flat, options, input, &authored.normals, false, given_roots);
+        (validate::flatten(model)?, changed, roots)
     };
     let mut flat = flat;
     // 2. Authored tangents that are not kept go (they are computed in step 5).
@@ -187,12 +201,19 @@ fn run(
     let repairs = matches!(options.normals, NormalPolicy::Auto | NormalPolicy::SmoothShared)
         && options.mode == Mode::Model;
     let mut shared = SharedNormals::default();
-    // 3. The weld, where the repair or the tangents need it.
+    // 3. The weld, where the repair or the tangents need it: step 1's or the given one,
+    //    renumbered past step 1's splits, where there is one (the same roots: split vertices
+    //    are copies at their sources' positions).
     let at_weld: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     let roots =
         (options.mode != Mode::Flat && (repairs || tangents_needed.contains(&true))).then(|| {
-            let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
-            let roots = roots_for_mode(&flat, tolerance, options.mode);
+            let roots = match welded.as_deref().or(given_roots) {
+                Some(r) => morph::roots_after_splits(r, &vertices, model),
+                None => {
+                    let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
+                    roots_for_mode(&flat, tolerance, options.mode)
+                }
+            };
             weld::snap_to_roots(&mut flat.positions, &roots);
             roots
         });
@@ -211,8 +232,33 @@ fn run(
     let mut changes = tally(model, &vertices, &changed, authored);
     changes.shared = shared;
     // The weld, for the report, as in the first branch (the triangles are counted there).
-    let weld = kept.map(|r| (morph::roots_after_splits(&r, &at_weld, model), None));
+    let weld = kept.map(|r| (morph::roots_after_splits(&r, &at_weld, model), given_counts));
     Ok((changes, weld))
+}
+
+/// [`run`] where no object keeps its normals: [`compute`] over the whole model.
+fn run_computed(
+    model: &mut Model,
+    flat: Flat,
+    options: &FixOptions,
+    input: Option<&Model>,
+    authored: &Authored,
+    keep_weld: bool,
+    given: Option<Given<'_>>,
+) -> (Changes, Option<RunWeld>) {
+    let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
+    let given_counts = given.and_then(|g| g.counts);
+    let count = keep_weld && given_counts.is_none();
+    let (changed, roots, counts) =
+        compute(model, flat, options, input, &authored.normals, count, given.map(|g| g.roots));
+    let counts = counts.or(given_counts);
+    // The weld, for the morph targets' deltas (the fix made no other change) and the report:
+    // renumbering every vertex is a pass over them, not asked for otherwise.
+    let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
+    let weld = roots
+        .filter(|_| morphs || keep_weld)
+        .map(|r| (morph::roots_after_splits(&r, &vertices, model), counts));
+    (tally(model, &vertices, &changed, authored), weld)
 }
 
 /// The [`Changes`]: `vertices` and `changed` per object, before the fix.
@@ -239,7 +285,8 @@ fn tally(model: &Model, vertices: &[usize], changed: &[usize], authored: &Author
 /// normals of vertices no triangle uses). Returns, per object, how many of its vertices'
 /// normals are not the input ones, each vertex's weld root (where it welded) and, where
 /// `count` asks and it welded, the report's triangle counts over the snapped positions
-/// (counted by the smoothing's pass over the triangles).
+/// (counted by the smoothing's pass over the triangles). `given`: the model's weld, where the
+/// caller has it (in [`Mode::Model`]).
 fn compute(
     model: &mut Model,
     mut flat: Flat,
@@ -247,6 +294,7 @@ fn compute(
     input: Option<&Model>,
     skip: &[bool],
     count: bool,
+    given: Option<&[u32]>,
 ) -> (Vec<usize>, Option<Vec<u32>>, Option<[usize; 3]>) {
     let want_tangents = options.tangents != TangentMethod::None;
     if options.mode == Mode::Flat {
@@ -262,8 +310,13 @@ fn compute(
         return (changed, None, None);
     }
 
-    let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
-    let roots = roots_for_mode(&flat, tolerance, options.mode);
+    let roots = match given {
+        Some(roots) => roots.to_vec(),
+        None => {
+            let tolerance = options.weld_tolerance.absolute(diagonal(&flat));
+            roots_for_mode(&flat, tolerance, options.mode)
+        }
+    };
     weld::snap_to_roots(&mut flat.positions, &roots);
     let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
     let smooth = smooth::smooth(model, &flat, roots, rules, count);

@@ -170,6 +170,26 @@ pub fn report_fixed(
     )
 }
 
+/// [`report()`], also giving the weld it measured with and the triangle counts it made, for
+/// [`crate::fix_in_place_welded`] to fix the same model without welding or counting it
+/// again (and then for [`report_welded()`] of the fixed model).
+///
+/// # Errors
+///
+/// As [`report()`].
+pub fn report_with_weld(
+    model: &Model,
+    options: &ReportOptions,
+) -> Result<(SeamReport, Welded), MeshError> {
+    let flat = validate::flatten(model)?;
+    let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
+    let roots = weld::roots(&flat.positions, tolerance);
+    let report = measure_welded(model, options, flat, &roots, tolerance, None);
+    let counts =
+        [report.degenerate_triangles, report.degenerate_uv_triangles, report.mirrored_triangles];
+    Ok((report, Welded::new(roots, options.weld_tolerance, Some(counts))))
+}
+
 /// The report, with the triangle counts given where they are known (with the absolute weld
 /// tolerance they were counted at).
 fn measure(
@@ -178,28 +198,37 @@ fn measure(
     welded: Option<&Welded>,
     known: Option<([usize; 3], f32)>,
 ) -> Result<SeamReport, MeshError> {
-    let mut flat = validate::flatten(model)?;
+    let flat = validate::flatten(model)?;
     let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
-    let fresh;
-    let roots = match welded.and_then(|w| w.roots_for(flat.positions.len(), options.weld_tolerance))
-    {
-        Some(roots) => roots,
-        None => {
-            fresh = weld::roots(&flat.positions, tolerance);
-            &fresh[..]
+    let known = known.filter(|&(_, at)| at.to_bits() == tolerance.to_bits()).map(|(c, _)| c);
+    let vertices = flat.positions.len();
+    match welded.and_then(|w| w.roots_for(vertices, options.weld_tolerance)) {
+        Some(roots) => {
+            let counted = welded.and_then(|w| w.counts_for(vertices, options.weld_tolerance));
+            Ok(measure_welded(model, options, flat, roots, tolerance, known.or(counted)))
         }
-    };
+        None => {
+            let roots = weld::roots(&flat.positions, tolerance);
+            Ok(measure_welded(model, options, flat, &roots, tolerance, known))
+        }
+    }
+}
 
+/// The report of `model` (flattened into `flat`) welded into `roots` at the absolute
+/// `tolerance`, with the triangle counts `known` or counted.
+fn measure_welded(
+    model: &Model,
+    options: &ReportOptions,
+    mut flat: validate::Flat,
+    roots: &[u32],
+    tolerance: f32,
+    known: Option<[usize; 3]>,
+) -> SeamReport {
     let shared = flat.shared_positions(roots);
     let near_miss = weld::near_misses(&flat.positions, roots);
     weld::snap_to_roots(&mut flat.positions, roots);
 
-    let counted = welded.and_then(|w| w.counts_for(flat.positions.len(), options.weld_tolerance));
-    let counts = match (known, counted) {
-        (Some((counts, at)), _) if at.to_bits() == tolerance.to_bits() => counts,
-        (_, Some(counts)) => counts,
-        _ => face_counts(model, &flat),
-    };
+    let counts = known.unwrap_or_else(|| face_counts(model, &flat));
     let mut report = SeamReport {
         objects: model.objects.len(),
         triangles: model.triangle_count(),
@@ -217,7 +246,7 @@ fn measure(
     report.skin_seams = skin::skin_seams(model, &flat, roots, &shared);
     frame_quality(model, &mut report);
     report.cross_object = cross_object(model, &flat, roots, &shared, options);
-    Ok(report)
+    report
 }
 
 /// Degenerate, degenerate-UV (of objects with UVs) and mirrored triangles.
@@ -579,7 +608,7 @@ mod welded_tests {
         for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit, TangentMethod::None] {
             let options = FixOptions { tangents, ..FixOptions::DEFAULT };
             let mut fixed = model.clone();
-            let (changes, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            let (changes, welded) = fix_in_place_welded(&mut fixed, &options, None).expect("valid");
             // Vertices were split at the crease and at the mirror line: the renumbering is
             // exercised, as is the weld across objects and transforms.
             assert!(changes.vertices_split() > 0, "{tangents:?}: nothing split");
@@ -615,7 +644,7 @@ mod welded_tests {
         // Normals of each object on its own: seams where the objects meet, for the repair.
         let mut authored = folded_tube();
         let per_object = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
-        fix_in_place_welded(&mut authored, &per_object).expect("valid");
+        fix_in_place_welded(&mut authored, &per_object, None).expect("valid");
         for object in &mut authored.objects {
             object.tangents = None;
             object.split_from.clear();
@@ -627,7 +656,7 @@ mod welded_tests {
         for (name, model) in [("all", authored), ("partly", partly)] {
             let mut fixed = model.clone();
             let options = FixOptions::DEFAULT;
-            let (changes, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            let (changes, welded) = fix_in_place_welded(&mut fixed, &options, None).expect("valid");
             assert!(changes.objects.iter().any(|o| o.kept_normals), "{name}");
             // Where one object's normals are computed, its vertices split at the mirror line
             // after the weld: the renumbering is exercised.
@@ -641,6 +670,67 @@ mod welded_tests {
         }
     }
 
+    /// The weld and counts of the report as loaded, handed to the fix, give the same fixed
+    /// model and the same report of it, with every object's normals computed, all kept, and
+    /// all but the first object's kept; and the fix uses them (its weld carries the counts as
+    /// loaded, which it would not count with them given).
+    #[test]
+    fn the_weld_as_loaded_fixes_as_a_fresh_weld() {
+        let mut authored = folded_tube();
+        let per_object = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
+        fix_in_place_welded(&mut authored, &per_object, None).expect("valid");
+        for object in &mut authored.objects {
+            object.tangents = None;
+            object.split_from.clear();
+        }
+        let mut partly = authored.clone();
+        partly.objects[0] = folded_tube().objects.swap_remove(0);
+        for (name, model) in
+            [("computed", tube_with_bad_faces()), ("all", authored), ("partly", partly)]
+        {
+            let options = FixOptions::DEFAULT;
+            let report_options = ReportOptions::from(&options);
+            let (as_loaded, loaded) = report_with_weld(&model, &report_options).expect("valid");
+            assert_eq!(as_loaded, report(&model, &report_options).expect("valid"), "{name}");
+            let (mut fresh, mut given) = (model.clone(), model.clone());
+            let (changes, welded) = fix_in_place_welded(&mut fresh, &options, None).expect("ok");
+            let (changes_given, welded_given) =
+                fix_in_place_welded(&mut given, &options, Some(&loaded)).expect("ok");
+            assert_eq!(given, fresh, "{name}");
+            assert_eq!(changes_given, changes, "{name}");
+            let welded_given = welded_given.expect("a weld in model mode");
+            let counts = [
+                as_loaded.degenerate_triangles,
+                as_loaded.degenerate_uv_triangles,
+                as_loaded.mirrored_triangles,
+            ];
+            let vertices = validate::flatten(&given).expect("valid").positions.len();
+            assert_eq!(welded_given.counts_for(vertices, options.weld_tolerance), Some(counts));
+            let with = report_welded(&given, &report_options, Some(&welded_given));
+            let again = report_welded(&fresh, &report_options, welded.as_ref());
+            assert_eq!(with.expect("valid"), again.expect("valid"), "{name}");
+        }
+        // What is given is what is used: counts it would not make, roots it would not weld.
+        let model = tube_with_bad_faces();
+        let tolerance = FixOptions::DEFAULT.weld_tolerance;
+        let vertices = model.vertex_count();
+        let (_, loaded) = report_with_weld(&model, &ReportOptions::default()).expect("valid");
+        let roots = loaded.roots_for(vertices, tolerance).expect("the model's").to_vec();
+        let odd = Welded::new(roots, tolerance, Some([7, 8, 9]));
+        let mut fixed = model.clone();
+        let (_, welded) =
+            fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT, Some(&odd)).expect("valid");
+        let fixed_vertices = validate::flatten(&fixed).expect("valid").positions.len();
+        let counts = welded.expect("a weld").counts_for(fixed_vertices, tolerance);
+        assert_eq!(counts, Some([7, 8, 9]));
+        let apart =
+            Welded::new((0..u32::try_from(vertices).expect("small")).collect(), tolerance, None);
+        let (mut fresh, mut unwelded) = (model.clone(), model.clone());
+        fix_in_place_welded(&mut fresh, &FixOptions::DEFAULT, None).expect("valid");
+        fix_in_place_welded(&mut unwelded, &FixOptions::DEFAULT, Some(&apart)).expect("valid");
+        assert_ne!(unwelded, fresh);
+    }
+
     /// The triangle counts a fix makes on its way (in the smoothing's pass, with or without
     /// the faces' UV frames) are the report's, and the report of the fixed model takes them.
     #[test]
@@ -649,7 +739,7 @@ mod welded_tests {
         for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit, TangentMethod::None] {
             let options = FixOptions { tangents, ..FixOptions::DEFAULT };
             let mut fixed = model.clone();
-            let (_, welded) = fix_in_place_welded(&mut fixed, &options).expect("valid");
+            let (_, welded) = fix_in_place_welded(&mut fixed, &options, None).expect("valid");
             let welded = welded.expect("a weld in model mode");
             let report_options = ReportOptions::from(&options);
             let again = report(&fixed, &report_options).expect("valid");
@@ -682,7 +772,8 @@ mod welded_tests {
             {
                 let fix_options = FixOptions { mode, tangents, ..FixOptions::DEFAULT };
                 let mut fixed = model.clone();
-                let (changes, welded) = fix_in_place_welded(&mut fixed, &fix_options).expect("ok");
+                let (changes, welded) =
+                    fix_in_place_welded(&mut fixed, &fix_options, None).expect("ok");
                 assert!(changes.vertices_split() > 0, "{mode:?} {tangents:?}: nothing split");
                 let again = report(&fixed, &options).expect("valid");
                 let given = report_fixed(&fixed, &options, welded.as_ref(), &as_loaded);
@@ -692,7 +783,8 @@ mod welded_tests {
         // Counts of another model (one triangle fewer, the same positions) or taken at another
         // weld tolerance (the same triangles, more of them degenerate) are counted again.
         let mut fixed = model.clone();
-        let (_, welded) = fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT).expect("valid");
+        let (_, welded) =
+            fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT, None).expect("valid");
         let again = report(&fixed, &options).expect("valid");
         let mut fewer = model.clone();
         fewer.objects[3].triangles.pop();
@@ -714,7 +806,8 @@ mod welded_tests {
     fn a_weld_that_does_not_fit_is_not_used() {
         let model = folded_tube();
         let mut fixed = model.clone();
-        let (_, welded) = fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT).expect("valid");
+        let (_, welded) =
+            fix_in_place_welded(&mut fixed, &FixOptions::DEFAULT, None).expect("valid");
         let welded = welded.expect("a weld in model mode");
         let options = ReportOptions::from(&FixOptions::DEFAULT);
         // The input has fewer vertices than the fixed model: its own weld is made.
@@ -725,7 +818,7 @@ mod welded_tests {
         let at_wider = report_welded(&fixed, &wider, Some(&welded)).expect("valid");
         assert_eq!(at_wider, report(&fixed, &wider).expect("valid"));
         let object_mode = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
-        let (_, none) = fix_in_place_welded(&mut model.clone(), &object_mode).expect("valid");
+        let (_, none) = fix_in_place_welded(&mut model.clone(), &object_mode, None).expect("valid");
         assert!(none.is_none());
     }
 }

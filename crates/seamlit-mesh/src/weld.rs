@@ -51,18 +51,20 @@ struct Weld {
     pub count: usize,
 }
 
-/// The weld a fix smoothed over, for the model it fixed ([`crate::fix_in_place_welded`]):
-/// [`crate::report_welded`] measures the fixed model with it instead of welding it again.
+/// A model's weld, handed from one step to the next so that none welds the model again: the
+/// weld of a model as loaded ([`crate::report_with_weld`]), which
+/// [`crate::fix_in_place_welded`] fixes it with, and the weld a fix smoothed over, for the
+/// model it fixed, which [`crate::report_welded`] measures it with.
 #[derive(Clone, Debug)]
 pub struct Welded {
-    /// Per vertex of the fixed model (numbered across its objects), its root: see [`roots`].
+    /// Per vertex of the model (numbered across its objects), its root: see [`roots`].
     roots: Vec<u32>,
-    /// The tolerance it was welded with (absolute from the fixed model's diagonal, which the
-    /// fix does not change).
+    /// The tolerance it was welded with (absolute from the model's diagonal, which a fix does
+    /// not change).
     tolerance: WeldTolerance,
     /// The report's triangle counts (degenerate, degenerate-UV, mirrored) over the positions
-    /// snapped to `roots`, where the fix counted them on its way: a fix keeps every
-    /// triangle's positions and UVs, so they are the fixed model's.
+    /// snapped to `roots`, where they were counted on the way: a fix keeps every triangle's
+    /// positions and UVs, so those of a model are those of the model fixed.
     counts: Option<[usize; 3]>,
 }
 

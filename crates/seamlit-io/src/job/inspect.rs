@@ -20,12 +20,16 @@ impl Inspection {
     /// The model's bad geometry (a non-finite position, an index out of range).
     pub fn measure(model: &Model, options: &FixOptions) -> Result<Self, MeshError> {
         let report_options = ReportOptions::from(options);
-        let as_loaded = seamlit_mesh::report(model, &report_options)?;
+        // The weld as loaded is the model mode's fix's too: not made again.
+        let (as_loaded, loaded) = seamlit_mesh::report_with_weld(model, &report_options)?;
         let skinned = model.objects.iter().any(|o| !o.skin.is_empty());
         let one = |mode: Mode| -> Result<(Mode, SeamReport, Changes), MeshError> {
             let mut fixed = model.clone();
-            let (changes, welded) =
-                seamlit_mesh::fix_in_place_welded(&mut fixed, &options.with_mode(mode))?;
+            let (changes, welded) = seamlit_mesh::fix_in_place_welded(
+                &mut fixed,
+                &options.with_mode(mode),
+                Some(&loaded),
+            )?;
             // As `fix` does by default (--skin-seams match).
             if skinned {
                 let copies = seamlit_mesh::shared_copies(model, options.weld_tolerance)?;
