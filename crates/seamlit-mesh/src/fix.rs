@@ -74,7 +74,9 @@ pub fn fix(model: &Model, options: &FixOptions) -> Result<Model, MeshError> {
         })
         .collect();
     let mut out = Model { objects, v_axis: model.v_axis };
-    let (_, weld) = run(&mut out, flat, options, Some(model), &authored, false, None)?;
+    let plan =
+        Plan { options, input: Some(model), authored: &authored, keep_weld: false, given: None };
+    let (_, weld) = run(&mut out, flat, plan)?;
     morph::compute_deltas(&mut out, options, &computed(&authored), weld.map(|(r, _)| r))?;
     Ok(out)
 }
@@ -118,7 +120,8 @@ pub fn fix_in_place_welded(
         let roots = w.roots_for(flat.positions.len(), options.weld_tolerance)?;
         Some(Given { roots, counts: w.counts_for(roots.len(), options.weld_tolerance) })
     });
-    let (changes, weld) = run(model, flat, options, None, &authored, keep, given)?;
+    let plan = Plan { options, input: None, authored: &authored, keep_weld: keep, given };
+    let (changes, weld) = run(model, flat, plan)?;
     // Copied only where the morph targets' deltas need the roots too.
     let morphs = model.objects.iter().any(|o| !o.morph_targets.is_empty());
     let tolerance = options.weld_tolerance;
@@ -143,6 +146,18 @@ fn computed(authored: &Authored) -> Vec<bool> {
 /// report's triangle counts where the fix made them.
 type RunWeld = (Vec<u32>, Option<[usize; 3]>);
 
+/// How [`run`] fixes a model: with `options`; `input`, where the model is a copy, the original
+/// (see [`compute`]); which objects keep their normals and tangents; whether the report
+/// wants the weld back; the weld of the model as loaded, where the caller has it.
+#[derive(Clone, Copy)]
+struct Plan<'a> {
+    options: &'a FixOptions,
+    input: Option<&'a Model>,
+    authored: &'a Authored,
+    keep_weld: bool,
+    given: Option<Given<'a>>,
+}
+
 /// A weld of the model before the fix, made by the caller (the report as loaded), in
 /// [`Mode::Model`]: the roots of its vertices, and its triangle counts where made.
 #[derive(Clone, Copy)]
@@ -151,8 +166,8 @@ struct Given<'a> {
     counts: Option<[usize; 3]>,
 }
 
-/// Fixes `model` under the normal policy; `input`, where the model is a copy, is the original
-/// (see [`compute`]). Objects marked in `authored` carry their input normals (and tangents
+/// Fixes `model` as `plan` says (flattened into `flat`) under the normal policy. Objects
+/// marked in `authored` carry their input normals (and tangents
 /// where marked), the others none or their input ones, which are replaced. Returns what
 /// changed and the weld renumbered for the fixed model: where `keep_weld` asks for it (the
 /// report's), and where every object's normals were computed and the morph targets' deltas
@@ -162,14 +177,11 @@ struct Given<'a> {
 fn run(
     model: &mut Model,
     flat: Flat,
-    options: &FixOptions,
-    input: Option<&Model>,
-    authored: &Authored,
-    keep_weld: bool,
-    given: Option<Given<'_>>,
+    plan: Plan<'_>,
 ) -> Result<(Changes, Option<RunWeld>), MeshError> {
+    let Plan { options, input, authored, keep_weld, given } = plan;
     if !authored.any() {
-        return Ok(run_computed(model, flat, options, input, authored, keep_weld, given));
+        return Ok(run_computed(model, flat, plan));
     }
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     let given_roots = given.map(|g| g.roots);
@@ -237,15 +249,8 @@ fn run(
 }
 
 /// [`run`] where no object keeps its normals: [`compute`] over the whole model.
-fn run_computed(
-    model: &mut Model,
-    flat: Flat,
-    options: &FixOptions,
-    input: Option<&Model>,
-    authored: &Authored,
-    keep_weld: bool,
-    given: Option<Given<'_>>,
-) -> (Changes, Option<RunWeld>) {
+fn run_computed(model: &mut Model, flat: Flat, plan: Plan<'_>) -> (Changes, Option<RunWeld>) {
+    let Plan { options, input, authored, keep_weld, given } = plan;
     let vertices: Vec<usize> = model.objects.iter().map(Object::vertex_count).collect();
     let given_counts = given.and_then(|g| g.counts);
     let count = keep_weld && given_counts.is_none();

@@ -636,12 +636,11 @@ mod welded_tests {
         model
     }
 
-    /// With authored normals (every object's, or all but one's), where the fix repairs seams
-    /// and makes tangents instead of smoothing, its weld still gives the report that welds the
-    /// fixed model again.
-    #[test]
-    fn the_weld_of_a_fix_that_keeps_normals_gives_the_same_report() {
-        // Normals of each object on its own: seams where the objects meet, for the repair.
+    /// The folded tube with authored normals: every object's ("all"), and all but the first
+    /// object's ("partly"; the first as made, its vertices not yet split, so the others' move
+    /// when they are). The normals are each object's own: seams where the objects meet, for
+    /// the repair.
+    fn tubes_with_normals() -> [(&'static str, Model); 2] {
         let mut authored = folded_tube();
         let per_object = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
         fix_in_place_welded(&mut authored, &per_object, None).expect("valid");
@@ -649,11 +648,17 @@ mod welded_tests {
             object.tangents = None;
             object.split_from.clear();
         }
-        // The first object as made, without normals: its vertices not yet split, so the
-        // others' move when they are.
         let mut partly = authored.clone();
         partly.objects[0] = folded_tube().objects.swap_remove(0);
-        for (name, model) in [("all", authored), ("partly", partly)] {
+        [("all", authored), ("partly", partly)]
+    }
+
+    /// With authored normals (every object's, or all but one's), where the fix repairs seams
+    /// and makes tangents instead of smoothing, its weld still gives the report that welds the
+    /// fixed model again.
+    #[test]
+    fn the_weld_of_a_fix_that_keeps_normals_gives_the_same_report() {
+        for (name, model) in tubes_with_normals() {
             let mut fixed = model.clone();
             let options = FixOptions::DEFAULT;
             let (changes, welded) = fix_in_place_welded(&mut fixed, &options, None).expect("valid");
@@ -676,18 +681,8 @@ mod welded_tests {
     /// loaded, which it would not count with them given).
     #[test]
     fn the_weld_as_loaded_fixes_as_a_fresh_weld() {
-        let mut authored = folded_tube();
-        let per_object = FixOptions { mode: Mode::Object, ..FixOptions::DEFAULT };
-        fix_in_place_welded(&mut authored, &per_object, None).expect("valid");
-        for object in &mut authored.objects {
-            object.tangents = None;
-            object.split_from.clear();
-        }
-        let mut partly = authored.clone();
-        partly.objects[0] = folded_tube().objects.swap_remove(0);
-        for (name, model) in
-            [("computed", tube_with_bad_faces()), ("all", authored), ("partly", partly)]
-        {
+        let [all, partly] = tubes_with_normals();
+        for (name, model) in [("computed", tube_with_bad_faces()), all, partly] {
             let options = FixOptions::DEFAULT;
             let report_options = ReportOptions::from(&options);
             let (as_loaded, loaded) = report_with_weld(&model, &report_options).expect("valid");
