@@ -29,6 +29,7 @@
 mod accessors;
 mod encode;
 mod files;
+mod piece;
 mod prune;
 mod uncompress;
 
@@ -45,9 +46,10 @@ use crate::json::{
 use crate::source::{GltfSource, Instance, Source};
 use accessors::read_elements;
 use encode::{Layout, Recompression};
+use piece::Piece;
 use prune::KeptBytes;
 use seamlit_asset::Asset;
-use seamlit_asset::check::{check_object, unit_normal, unit_tangent};
+use seamlit_asset::check::check_object;
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::gltf::{BadAccessor, GltfKind};
 use seamlit_asset::files::Destination;
@@ -204,7 +206,7 @@ struct OutputDocument<'a> {
     /// How buffer 0's input bytes were packed by pruning; `None`: kept as they were.
     kept: Option<KeptBytes>,
     /// Appended data, each piece starting at a multiple of 4 bytes from `base`.
-    pieces: Vec<Vec<u8>>,
+    pieces: Vec<Piece<'a>>,
     /// Bytes appended so far (pieces and their padding).
     appended: usize,
     /// Files to copy beside a `.gltf` output: (source, destination).
@@ -242,9 +244,14 @@ impl<'a> OutputDocument<'a> {
 
     /// Appends `bytes` to buffer 0 at a multiple of 4; returns their offset in it.
     fn append(&mut self, bytes: Vec<u8>) -> usize {
+        self.append_piece(Piece::Bytes(bytes))
+    }
+
+    /// Appends `piece` to buffer 0 at a multiple of 4; returns its offset in it.
+    fn append_piece(&mut self, piece: Piece<'a>) -> usize {
         let offset = self.appended.next_multiple_of(4);
-        self.appended = offset + bytes.len();
-        self.pieces.push(bytes);
+        self.appended = offset + piece.len();
+        self.pieces.push(piece);
         self.base + offset
     }
 
@@ -287,16 +294,16 @@ impl<'a> OutputDocument<'a> {
         self.warnings.push(note);
     }
 
-    /// Adds `accessor` (its JSON, less `bufferView`) over the new data `bytes`, laid out as
+    /// Adds `accessor` (its JSON, less `bufferView`) over the new data `piece`, laid out as
     /// `layout`; returns its index. The data gets a buffer view of its own in buffer 0, or,
     /// while the compression is kept, joins the new view of its layout
     /// ([`Recompression::gather`]), at the offset the accessor then names.
-    fn accessor_over(&mut self, bytes: Vec<u8>, layout: Layout, mut accessor: Value) -> usize {
+    fn accessor_over(&mut self, piece: Piece<'a>, layout: Layout, mut accessor: Value) -> usize {
         let mut keep = self.keep.take();
         let gathered =
-            keep.as_mut().and_then(|k| k.gather(&bytes, layout, self.array("bufferViews")));
+            keep.as_mut().and_then(|k| k.gather(&piece.bytes(), layout, self.array("bufferViews")));
         self.keep = keep;
-        let (view, offset) = gathered.unwrap_or_else(|| (self.view(bytes, layout), 0));
+        let (view, offset) = gathered.unwrap_or_else(|| (self.view(piece, layout), 0));
         accessor["bufferView"] = json!(view);
         if offset > 0 {
             accessor["byteOffset"] = json!(offset);
@@ -304,19 +311,19 @@ impl<'a> OutputDocument<'a> {
         self.accessor(accessor)
     }
 
-    /// Appends `bytes` to buffer 0 as a new buffer view laid out as `layout`; returns its
+    /// Appends `piece` to buffer 0 as a new buffer view laid out as `layout`; returns its
     /// index.
-    fn view(&mut self, bytes: Vec<u8>, layout: Layout) -> usize {
-        let view = self.plain_view(bytes, layout);
+    fn view(&mut self, piece: Piece<'a>, layout: Layout) -> usize {
+        let view = self.plain_view(piece, layout);
         let views = self.array("bufferViews");
         views.push(view);
         views.len() - 1
     }
 
-    /// Appends `bytes` to buffer 0; returns their buffer view.
-    fn plain_view(&mut self, bytes: Vec<u8>, layout: Layout) -> Value {
-        let length = bytes.len();
-        let offset = self.append(bytes);
+    /// Appends `piece` to buffer 0; returns its buffer view.
+    fn plain_view(&mut self, piece: Piece<'a>, layout: Layout) -> Value {
+        let length = piece.len();
+        let offset = self.append_piece(piece);
         let mut view = json!({ "buffer": 0, "byteOffset": offset, "byteLength": length });
         match layout {
             Layout::Vertices { element, stride } => {
@@ -354,7 +361,7 @@ impl<'a> OutputDocument<'a> {
 
     /// Writes one group: its primitives into the mesh, or into a clone the group's nodes
     /// then point at.
-    fn mesh(&mut self, asset: &Asset, group: &Group) -> Result<(), IoError> {
+    fn mesh(&mut self, asset: &'a Asset, group: &Group) -> Result<(), IoError> {
         let source = self.source;
         let mut mesh = source.json["meshes"][group.mesh].clone();
         for &(p, object) in &group.objects {
@@ -386,7 +393,7 @@ impl<'a> OutputDocument<'a> {
 
     /// A primitive with new NORMAL, TANGENT and indices, and its other attributes and morph
     /// targets duplicated for split vertices.
-    fn primitive(&mut self, input: &Value, object: &Object) -> Result<Value, IoError> {
+    fn primitive(&mut self, input: &Value, object: &'a Object) -> Result<Value, IoError> {
         let mut primitive = input.clone();
         let split = !object.split_from.is_empty();
         let mut attributes = input["attributes"].as_object().cloned().unwrap_or_default();
@@ -399,27 +406,17 @@ impl<'a> OutputDocument<'a> {
         }
         let count = object.vertex_count();
         if let Some(normals) = &object.normals {
-            let bytes: Vec<u8> = normals
-                .iter()
-                .flat_map(|&n| unit_normal(n).to_array())
-                .flat_map(f32::to_le_bytes)
-                .collect();
             let layout = Layout::Vertices { element: 12, stride: 12 };
             let accessor = self.accessor_over(
-                bytes,
+                Piece::Normals(normals),
                 layout,
                 json!({ "componentType": FLOAT, "count": count, "type": "VEC3" }),
             );
             attributes.insert("NORMAL".to_owned(), json!(accessor));
             if let Some(tangents) = &object.tangents {
-                let bytes: Vec<u8> = tangents
-                    .iter()
-                    .flat_map(|&t| unit_tangent(t).to_array())
-                    .flat_map(f32::to_le_bytes)
-                    .collect();
                 let layout = Layout::Vertices { element: 16, stride: 16 };
                 let accessor = self.accessor_over(
-                    bytes,
+                    Piece::Tangents(tangents),
                     layout,
                     json!({ "componentType": FLOAT, "count": count, "type": "VEC4" }),
                 );
@@ -491,7 +488,7 @@ impl<'a> OutputDocument<'a> {
             let layout = Layout::Vertices { element: 8, stride: 8 };
             let count = influences.joints.len();
             let joints_accessor = self.accessor_over(
-                bytes,
+                Piece::Bytes(bytes),
                 layout,
                 json!({ "componentType": UNSIGNED_SHORT, "count": count, "type": "VEC4" }),
             );
@@ -499,7 +496,7 @@ impl<'a> OutputDocument<'a> {
                 influences.weights.iter().flatten().flat_map(|w| w.to_le_bytes()).collect();
             let layout = Layout::Vertices { element: 16, stride: 16 };
             let weights_accessor = self.accessor_over(
-                bytes,
+                Piece::Bytes(bytes),
                 layout,
                 json!({ "componentType": FLOAT, "count": count, "type": "VEC4" }),
             );
@@ -529,7 +526,7 @@ impl<'a> OutputDocument<'a> {
                 .flat_map(f32::to_le_bytes)
                 .collect();
             let accessor = self.accessor_over(
-                bytes,
+                Piece::Bytes(bytes),
                 Layout::Bytes,
                 json!({ "componentType": FLOAT, "count": joints.len(), "type": "MAT4" }),
             );
@@ -563,7 +560,7 @@ impl<'a> OutputDocument<'a> {
                 deltas.iter().flat_map(|d| d.to_array()).flat_map(f32::to_le_bytes).collect();
             let layout = Layout::Vertices { element: 12, stride: 12 };
             let accessor = self.accessor_over(
-                bytes,
+                Piece::Bytes(bytes),
                 layout,
                 json!({ "componentType": FLOAT, "count": deltas.len(), "type": "VEC3" }),
             );
@@ -575,7 +572,7 @@ impl<'a> OutputDocument<'a> {
     /// The object's triangles as a new index accessor, in the input's component type where
     /// every index fits below its restart value, else `UNSIGNED_INT`. `None` for a
     /// non-indexed input whose triangles are still `0, 1, 2, ...`.
-    fn indices(&mut self, input: Option<usize>, object: &Object) -> Option<usize> {
+    fn indices(&mut self, input: Option<usize>, object: &'a Object) -> Option<usize> {
         let n = object.vertex_count();
         let corners = object.triangles.as_flattened();
         if input.is_none()
@@ -597,13 +594,6 @@ impl<'a> OutputDocument<'a> {
             None if fits(UNSIGNED_SHORT) => UNSIGNED_SHORT,
             None => UNSIGNED_INT,
         };
-        // Every index fits the component type, checked by `fits`.
-        #[expect(clippy::cast_possible_truncation, reason = "each index fits, checked by `fits`")]
-        let bytes: Vec<u8> = match component {
-            UNSIGNED_BYTE => corners.iter().map(|&i| i as u8).collect(),
-            UNSIGNED_SHORT => corners.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),
-            _ => corners.iter().flat_map(|&i| i.to_le_bytes()).collect(),
-        };
         let size = match component {
             UNSIGNED_BYTE => 1,
             UNSIGNED_SHORT => 2,
@@ -621,7 +611,9 @@ impl<'a> OutputDocument<'a> {
         accessor.insert("componentType".to_owned(), json!(component));
         accessor.insert("count".to_owned(), json!(corners.len()));
         accessor.insert("type".to_owned(), json!("SCALAR"));
-        Some(self.accessor_over(bytes, Layout::Triangles { size }, Value::Object(accessor)))
+        // Every index fits the component type, checked by `fits`.
+        let piece = Piece::Indices { corners, size };
+        Some(self.accessor_over(piece, Layout::Triangles { size }, Value::Object(accessor)))
     }
 
     /// A new accessor holding the input accessor `index`'s elements for the object's
@@ -653,6 +645,6 @@ impl<'a> OutputDocument<'a> {
         accessor.remove("sparse");
         accessor.insert("count".to_owned(), json!(object.vertex_count()));
         let layout = Layout::Vertices { element: size, stride };
-        Ok(self.accessor_over(bytes, layout, Value::Object(accessor)))
+        Ok(self.accessor_over(Piece::Bytes(bytes), layout, Value::Object(accessor)))
     }
 }

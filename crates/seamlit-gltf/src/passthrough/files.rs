@@ -9,6 +9,7 @@ use serde_json::{Value, json};
 
 use super::OutputDocument;
 use super::encode::Layout;
+use super::piece::Piece;
 use crate::json::usize_member;
 use seamlit_asset::error::{InvalidAsset, IoError};
 use seamlit_asset::files::{Destination, Files};
@@ -127,7 +128,7 @@ impl OutputDocument<'_> {
             ));
             return Ok(false);
         }
-        let view = self.view(bytes, Layout::Bytes);
+        let view = self.view(Piece::Bytes(bytes), Layout::Bytes);
         if let Some(image) = self.json["images"][i].as_object_mut() {
             image.remove("uri");
             image.insert("bufferView".to_owned(), json!(view));
@@ -210,7 +211,7 @@ impl OutputDocument<'_> {
         for piece in &self.pieces {
             let padding = written.next_multiple_of(4) - written;
             out.write_all(&[0; 3][..padding])?;
-            out.write_all(piece)?;
+            piece.write(out)?;
             written += padding + piece.len();
         }
         debug_assert_eq!(input_length + written, length);
