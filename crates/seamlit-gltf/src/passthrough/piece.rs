@@ -1,6 +1,6 @@
 //! The data a save appends to buffer 0 (`passthrough.rs`): bytes made when appended, or the
 //! fixed model's normals, tangents and indices, which are encoded from the model while the
-//! file is written, a chunk at a time. They are most of what a fix adds (a third of the 1M
+//! file is written, a chunk at a time. They are most of what a fix adds (two thirds of the 1M
 //! teapot's output), and a save that made them up front held a second copy of them at its
 //! memory peak.
 
@@ -30,10 +30,7 @@ pub(super) enum Piece<'a> {
 impl Piece<'_> {
     /// The piece's length in bytes.
     pub(super) fn len(&self) -> usize {
-        match self {
-            Self::Bytes(bytes) => bytes.len(),
-            _ => self.elements() * self.element_size(),
-        }
+        self.elements() * self.element_size()
     }
 
     /// All the piece's bytes at once (for data gathered into a compressed view).
