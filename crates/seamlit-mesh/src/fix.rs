@@ -306,12 +306,19 @@ fn compute(
         // Flat shading: each corner takes its face's frame.
         let v_axis = model.v_axis;
         let flat = &flat;
-        let changed =
-            write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+        let each = vec![(); model.objects.len()];
+        let changed = write_objects(
+            model,
+            skip,
+            want_tangents,
+            input,
+            each,
+            |o, object, tangents, input, ()| {
                 write_corners(o, object, flat, tangents, input, |_, p, uv| {
                     [face_frame(&face(p, uv, v_axis)); 3]
                 })
-            });
+            },
+        );
         return (changed, None, None);
     }
 
@@ -341,21 +348,31 @@ fn compute(
             vertex_normals: None,
             v_axis: model.v_axis,
         };
-        let tangents = mikk::tangents(&surface);
+        let mut tangents = mikk::tangents(&surface);
         drop((uvs, triangles));
         let flat = &without_positions(flat);
+        // Each object's fan sums become its tangents in place.
+        let sums = tangents.take_sums();
         let (smooth_ref, tangents) = (&smooth, &tangents);
-        let changed =
-            write_objects(model, skip, want_tangents, input, |o, object, wanted, input| {
-                write_mikk(o, object, flat, smooth_ref, tangents, wanted, input)
-            });
+        let changed = write_objects(
+            model,
+            skip,
+            want_tangents,
+            input,
+            sums,
+            |o, object, wanted, input, sums| {
+                let mikk = Mikk { smooth: smooth_ref, tangents, sums };
+                write_mikk(o, object, flat, mikk, wanted, input)
+            },
+        );
         return (changed, Some(smooth.into_roots()), counts);
     }
 
     let flat = &without_positions(flat);
     let changed = {
         let smooth = &smooth;
-        write_objects(model, skip, want_tangents, input, |o, object, tangents, input| {
+        let each = vec![(); model.objects.len()];
+        write_objects(model, skip, want_tangents, input, each, |o, object, tangents, input, ()| {
             write_smooth(o, object, flat, smooth, tangents, input)
         })
     };
@@ -372,24 +389,28 @@ fn without_positions(mut flat: Flat) -> Flat {
 }
 
 /// Writes every object not marked in `skip` with `write(o, object, tangents wanted, input
-/// normals)`, in parallel; returns each one's count of changed normals (0 for those skipped).
-fn write_objects(
+/// normals, its item of each)`, in parallel; returns each one's count of changed normals (0
+/// for those skipped).
+fn write_objects<T: Send>(
     model: &mut Model,
     skip: &[bool],
     want_tangents: bool,
     input: Option<&Model>,
-    write: impl Fn(usize, &mut Object, bool, Option<&[Vec3]>) -> usize + Sync,
+    each: Vec<T>,
+    write: impl Fn(usize, &mut Object, bool, Option<&[Vec3]>, T) -> usize + Sync,
 ) -> Vec<usize> {
     model
         .objects
         .par_iter_mut()
+        .zip(each)
         .enumerate()
-        .map(|(o, object)| {
+        .map(|(o, (object, item))| {
             if skip[o] {
                 return 0;
             }
             let tangents = want_tangents && object.uvs.is_some();
-            write(o, object, tangents, input.and_then(|m| m.objects[o].normals.as_deref()))
+            let input = input.and_then(|m| m.objects[o].normals.as_deref());
+            write(o, object, tangents, input, item)
         })
         .collect()
 }
@@ -423,30 +444,41 @@ fn write_corners(
     changed
 }
 
+/// What [`write_mikk`] writes one object from: the smoothed normals, MikkTSpace's tangents,
+/// and the object's fan sums taken from them ([`mikk::Tangents::take_sums`]), which become
+/// its tangents.
+struct Mikk<'a> {
+    smooth: &'a Smooth,
+    tangents: &'a mikk::Tangents,
+    sums: Vec<glam::Vec4>,
+}
+
 /// Writes one object from the smoothed normals and MikkTSpace's tangents: every vertex at a
-/// plain position takes its one frame; the corners of other positions are placed one by one,
-/// in corner order. Returns how many input vertices' normals changed.
+/// plain position takes its one frame, its tangent made from its fan's sum where the sum
+/// lies (the tangent's own memory); the corners of other positions are placed one by one, in
+/// corner order. Returns how many input vertices' normals changed.
 fn write_mikk(
     o: usize,
     object: &mut Object,
     flat: &Flat,
-    smooth: &Smooth,
-    tangents: &mikk::Tangents,
+    mikk: Mikk<'_>,
     tangents_wanted: bool,
     input_normals: Option<&[Vec3]>,
 ) -> usize {
+    let Mikk { smooth, tangents, sums } = mikk;
     let base = flat.vertex_start[o] as usize;
     let first = flat.triangle_start[o] as usize * 3;
     let others = tangents.others(first..flat.triangle_start[o + 1] as usize * 3);
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
     let linear = flat.linear[o].map(Linear::new);
-    let mut out = Out::new(object, linear, tangents_wanted, input_normals);
+    let mut out = Out::over_tangents(object, linear, tangents_wanted, input_normals, sums);
     for v in 0..out.is_set.len() {
         let g = base + v;
         if smooth.is_used(g)
             && let Some(frame) = smooth.simple_frame(g)
-            && let Some(tangent) = tangents.fan(g, smooth.roots()[g] as usize, frame.normal)
+            && let root = smooth.roots()[g] as usize
+            && let Some(tangent) = tangents.fan_of(g, root, frame.normal, out.tangent(index(v)))
         {
             out.set(v, Frame { normal: frame.normal, tangent });
         }

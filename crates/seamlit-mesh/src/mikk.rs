@@ -172,6 +172,19 @@ impl Tangents {
         self.plain[root].then(|| self.fans.tangent(v, normal))
     }
 
+    /// Per object, per vertex: the sums [`Self::fan_of`] makes the plain fans' tangents of,
+    /// taken (after which only [`Self::fan_of`] gives those tangents). Each array is as long
+    /// as its object's vertices and as wide as a tangent: it can become the object's tangents,
+    /// each vertex's sum read before its tangent is written.
+    pub fn take_sums(&mut self) -> Vec<Vec<Vec4>> {
+        std::mem::take(&mut self.fans.sums)
+    }
+
+    /// [`Self::fan`] from the vertex's `sum`, one of [`Self::take_sums`]'.
+    pub fn fan_of(&self, v: usize, root: usize, normal: Vec3, sum: Vec4) -> Option<Vec4> {
+        self.plain[root].then(|| self.fans.tangent_of(v, normal, sum))
+    }
+
     /// Whether the position of root `root` is plain: [`Self::fan`] gives its tangents.
     pub fn is_plain(&self, root: usize) -> bool {
         self.plain[root]

@@ -50,14 +50,30 @@ impl<'a> Out<'a> {
         tangents_wanted: bool,
         input_normals: Option<&'a [Vec3]>,
     ) -> Self {
+        // Reuse the input's memory.
+        let mut tangents = object.tangents.take().unwrap_or_default();
+        tangents.clear();
+        tangents.resize(object.positions.len(), Vec4::ZERO);
+        Self::over_tangents(object, linear, tangents_wanted, input_normals, tangents)
+    }
+
+    /// [`Self::new`] in `tangents`' memory, one entry per vertex of the object (the input
+    /// tangents, if any, are dropped): a vertex's entry is [`Self::tangent`] until a corner
+    /// sets it, so that what it held (MikkTSpace's fan sums) turns into the tangents in place.
+    pub(crate) fn over_tangents(
+        object: &'a mut Object,
+        linear: Option<Linear>,
+        tangents_wanted: bool,
+        input_normals: Option<&'a [Vec3]>,
+        tangents: Vec<Vec4>,
+    ) -> Self {
         let n = object.positions.len();
+        assert_eq!(tangents.len(), n, "one tangent a vertex");
+        object.tangents = None;
         let had_normals = input_normals.is_some() || object.normals.is_some();
         // Reuse the input's memory. Input normals stay where no triangle overwrites them.
         let mut normals = object.normals.take().unwrap_or_default();
         normals.resize(n, Vec3::ZERO);
-        let mut tangents = object.tangents.take().unwrap_or_default();
-        tangents.clear();
-        tangents.resize(n, Vec4::ZERO);
         Self {
             input_count: n - object.split_from.len(),
             positions: &mut object.positions,
@@ -91,6 +107,12 @@ impl<'a> Out<'a> {
     /// The normal of vertex `v`: the input one until a corner sets it.
     pub fn normal(&self, v: u32) -> Vec3 {
         self.normals[v as usize]
+    }
+
+    /// The tangent entry of vertex `v`: what the memory held (see [`Self::over_tangents`])
+    /// until a corner sets it.
+    pub fn tangent(&self, v: u32) -> Vec4 {
+        self.tangents[v as usize]
     }
 
     /// A model-space frame in the object's local space.

@@ -1,7 +1,7 @@
 //! Plain positions: the fans whose tangent is one group's sum, found and summed in one pass
 //! per object without the grouping, with step 1 (each triangle's flags) in the same pass.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 use super::Surface;
@@ -24,12 +24,13 @@ pub(super) fn spread(key: u64) -> u64 {
 }
 
 /// What one pass over the triangles gathers per vertex, for [`plain_fans`], as three arrays
-/// (of 12, 8 and 1 bytes a vertex: at a million triangles these are fresh pages the kernel
+/// (of 16, 8 and 1 bytes a vertex: at a million triangles these are fresh pages the kernel
 /// clears, a good part of the pass's cost).
 struct Gathered {
-    /// The sum of its corners' projected `s` times angle (healthy triangles, in triangle
-    /// order).
-    sums: Vec<Vec3>,
+    /// Per object, per vertex: the sum of its corners' projected `s` times angle (healthy
+    /// triangles, in triangle order), `w` zero. Per object, and as wide as a tangent, so that
+    /// each object's sums can become its tangents in place ([`Fans`]).
+    sums: Vec<Vec<Vec4>>,
     /// The sum over its corners of the spread next vertex minus the spread previous one:
     /// zero where its triangles close around it.
     closures: Vec<u64>,
@@ -40,7 +41,7 @@ struct Gathered {
 /// One object's part of [`Gathered`] and of the triangles' flags.
 struct ObjectPart<'x> {
     o: usize,
-    sums: &'x mut [Vec3],
+    sums: &'x mut Vec<Vec4>,
     closures: &'x mut [u64],
     flags: &'x mut [u8],
     faces: &'x mut [u8],
@@ -59,8 +60,12 @@ pub(super) struct PlainFans {
 
 /// The sums of the plain fans.
 pub(super) struct Fans {
-    sums: Vec<Vec3>,
+    /// Per object, per vertex: the sum (`xyz`; see [`Gathered::sums`]). Empty once taken.
+    pub(super) sums: Vec<Vec<Vec4>>,
+    /// Per vertex.
     flags: Vec<u8>,
+    /// Per object: its first vertex, one extra entry at the end.
+    vertex_start: Vec<u32>,
 }
 
 impl Fans {
@@ -68,12 +73,18 @@ impl Fans {
     /// is `normal`: the sum made orthogonal to it, `w` its triangles' orientation (zero for a
     /// vertex no triangle uses).
     pub(super) fn tangent(&self, v: usize, normal: Vec3) -> Vec4 {
+        let o = crate::index::part_of(&self.vertex_start, v);
+        self.tangent_of(v, normal, self.sums[o][v - self.vertex_start[o] as usize])
+    }
+
+    /// [`Self::tangent`] from the vertex's `sum`, where its object's sums were taken.
+    pub(super) fn tangent_of(&self, v: usize, normal: Vec3, sum: Vec4) -> Vec4 {
         let w = match self.flags[v] & (HAS_ORIENTED | HAS_REVERSED) {
             HAS_ORIENTED => 1.0,
             HAS_REVERSED => -1.0,
             _ => return Vec4::ZERO,
         };
-        crate::frame::orthogonal_tangent(normal, self.sums[v]).extend(w)
+        crate::frame::orthogonal_tangent(normal, sum.xyz()).extend(w)
     }
 }
 
@@ -95,14 +106,16 @@ where
 {
     let n = surface.roots.len();
     let mut faces = vec![0u8; surface.triangle_count()];
-    let mut gathered =
-        Gathered { sums: vec![Vec3::ZERO; n], closures: vec![0; n], flags: vec![0; n] };
+    let objects = surface.vertex_start.len() - 1;
+    let sums = (0..objects).map(|_| Vec::new()).collect();
+    let mut gathered = Gathered { sums, closures: vec![0; n], flags: vec![0; n] };
     split_by_object(surface, &mut gathered, &mut faces)
         .into_par_iter()
         .for_each(|part| gather_object(surface, part));
     let plain = plain_positions(surface, &gathered, shared);
     let Gathered { sums, flags, .. } = gathered;
-    PlainFans { faces, plain, fans: Fans { sums, flags } }
+    let vertex_start = surface.vertex_start.to_vec();
+    PlainFans { faces, plain, fans: Fans { sums, flags, vertex_start } }
 }
 
 /// What [`gather_object`] learns of one triangle before it adds it to its vertices.
@@ -126,6 +139,9 @@ where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
     let ObjectPart { o, sums, closures, flags: vertex_flags, faces } = part;
+    // Allocated here, by the object's task: its pages are first touched by the thread that
+    // fills them.
+    *sums = vec![Vec4::ZERO; closures.len()];
     let b = surface.vertex_start[o];
     let first = surface.triangle_start[o] as usize;
     let uvs = surface.uvs[o];
@@ -172,7 +188,7 @@ where
                 let (next, prev) = (spreads[(k + 1) % 3], spreads[(k + 2) % 3]);
                 closures[v] = closures[v].wrapping_add(next).wrapping_sub(prev);
                 if let Some(terms) = &told.terms {
-                    sums[v] += terms[k];
+                    sums[v] += terms[k].extend(0.0);
                 }
             }
         }
@@ -208,18 +224,18 @@ fn split_by_object<'x, N>(
 ) -> Vec<ObjectPart<'x>> {
     let objects = surface.vertex_start.len() - 1;
     let mut parts = Vec::with_capacity(objects);
-    let (mut sums, mut closures, mut flags) =
-        (&mut gathered.sums[..], &mut gathered.closures[..], &mut gathered.flags[..]);
+    let mut sums = gathered.sums.iter_mut();
+    let (mut closures, mut flags) = (&mut gathered.closures[..], &mut gathered.flags[..]);
     let mut faces = faces;
     for o in 0..objects {
         let vertices = (surface.vertex_start[o + 1] - surface.vertex_start[o]) as usize;
         let triangles = (surface.triangle_start[o + 1] - surface.triangle_start[o]) as usize;
-        let (s, rest_s) = sums.split_at_mut(vertices);
+        let s = sums.next().expect("one sum array per object");
         let (c, rest_c) = closures.split_at_mut(vertices);
         let (f, rest_f) = flags.split_at_mut(vertices);
         let (t, rest_t) = faces.split_at_mut(triangles);
         parts.push(ObjectPart { o, sums: s, closures: c, flags: f, faces: t });
-        (sums, closures, flags, faces) = (rest_s, rest_c, rest_f, rest_t);
+        (closures, flags, faces) = (rest_c, rest_f, rest_t);
     }
     parts
 }
