@@ -6,7 +6,8 @@ normals, skins), where bench/floor.sh times one large generated model.
     bench/ab.py OLD NEW FILE... [--runs N] [--threads T]
 
 OLD and NEW are seamlit binaries (release builds: copy target/release/seamlit aside before the
-change). Each run starts both builds on the file in turn (which goes first alternates), so a
+change, and keep both in one folder: from /dev/shm a binary starts 10 to 15% slower on small
+files than from disk, BENCHMARKS.md). Each run starts both builds on the file in turn (which goes first alternates), so a
 machine that drifts drifts for both. Prints, per file, each build's median wall time and NEW /
 OLD, and the geometric mean of the ratios. Outputs go to a temporary folder (their bytes are
 compared by bench/io-identical.sh); a run that fails stops the script with its error line.

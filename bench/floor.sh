@@ -8,7 +8,8 @@
 #   bench/floor.sh [--old PATH] [--runs N] [--sizes "128"] [--threads "2"]
 #
 # --old PATH adds the same fix run by an older binary (before and after a change), and its
-# ratios to the floor.
+# ratios to the floor. Keep it on the same filesystem as target/: a binary's own pages count
+# in its peak memory, differently from tmpfs (/dev/shm) than from disk (2 MiB here).
 # Sizes are the teapot's tessellation (128: 1,048,576 triangles). Needs release builds:
 # cargo build --release -p seamlit -p seamlit-bench && cargo build --release -p seamlit-io --example load_save
 set -euo pipefail
