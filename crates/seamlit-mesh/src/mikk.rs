@@ -165,22 +165,17 @@ pub(crate) struct Tangents {
 }
 
 impl Tangents {
-    /// The tangent of every corner of vertex `v` (whose root is `root`), where its position
-    /// is plain: all its corners have one, made orthogonal to their `normal`, the one the
-    /// [`Surface`] gave them.
-    pub fn fan(&self, v: usize, root: usize, normal: Vec3) -> Option<Vec4> {
-        self.plain[root].then(|| self.fans.tangent(v, normal))
-    }
-
     /// Per object, per vertex: the sums [`Self::fan_of`] makes the plain fans' tangents of,
-    /// taken (after which only [`Self::fan_of`] gives those tangents). Each array is as long
+    /// taken. Each array is as long
     /// as its object's vertices and as wide as a tangent: it can become the object's tangents,
     /// each vertex's sum read before its tangent is written.
     pub fn take_sums(&mut self) -> Vec<Vec<Vec4>> {
         std::mem::take(&mut self.fans.sums)
     }
 
-    /// [`Self::fan`] from the vertex's `sum`, one of [`Self::take_sums`]'.
+    /// The tangent of every corner of vertex `v` (whose root is `root`), where its position
+    /// is plain: all its corners have one, made orthogonal to their `normal`, the one the
+    /// [`Surface`] gave them; from the vertex's `sum`, one of [`Self::take_sums`]'.
     pub fn fan_of(&self, v: usize, root: usize, normal: Vec3, sum: Vec4) -> Option<Vec4> {
         self.plain[root].then(|| self.fans.tangent_of(v, normal, sum))
     }
@@ -198,7 +193,8 @@ impl Tangents {
     }
 
     /// The tangent of corner `c` (`triangle * 3 + k`) at a position that is not plain.
-    pub fn other(&self, c: usize) -> Vec4 {
+    #[cfg(test)]
+    fn other(&self, c: usize) -> Vec4 {
         let i = self.rest.partition_point(|&(e, _)| (e as usize) < c);
         debug_assert_eq!(self.rest.get(i).map(|e| e.0 as usize), Some(c), "corner {c} is plain");
         self.rest[i].1
@@ -210,8 +206,12 @@ impl Tangents {
     /// space (a degenerate triangle whose vertex has no healthy one) gets a direction across
     /// its normal, `w = +1`.
     #[cfg(test)]
-    pub fn get(&self, c: usize, v: usize, root: usize, normal: Vec3) -> Vec4 {
-        self.fan(v, root, normal).unwrap_or_else(|| self.other(c))
+    fn get(&self, c: usize, v: usize, root: usize, normal: Vec3) -> Vec4 {
+        let (mut o, mut i) = (0, v);
+        while i >= self.fans.sums[o].len() {
+            (i, o) = (i - self.fans.sums[o].len(), o + 1);
+        }
+        self.fan_of(v, root, normal, self.fans.sums[o][i]).unwrap_or_else(|| self.other(c))
     }
 }
 

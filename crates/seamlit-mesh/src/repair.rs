@@ -473,6 +473,11 @@ fn apply(model: &mut Model, linear: &[Option<Linear>], updates: &[Update]) -> Ve
 /// normal, its handedness taken against that normal; a vertex whose corners get different
 /// tangents is split. `flat` holds the model's positions (snapped to `roots` where the mode
 /// welds; `roots` is `None` in [`Mode::Flat`]).
+///
+/// The generator's model-space frame of every corner: face frames in [`Mode::Flat`],
+/// MikkTSpace over the whole model with the model's normals, or seamlit's smoothed frames.
+/// Each is made triangle by triangle as its object is written, not kept for the whole model
+/// (32 bytes a corner: 100 MB of a 1M-triangle model).
 pub(crate) fn compute_tangents(
     model: &mut Model,
     flat: &Flat,
@@ -483,98 +488,125 @@ pub(crate) fn compute_tangents(
     if !which.iter().any(|&w| w) {
         return;
     }
-    let frames = corner_frames(model, flat, roots, options);
-    let frames = &frames;
-    model.objects.par_iter_mut().enumerate().filter(|(o, _)| which[*o]).for_each(|(o, object)| {
-        let first = flat.triangle_start[o] as usize * 3;
-        let linear = flat.linear[o].map(Linear::new);
-        write_tangents(object, linear, &frames[first..]);
-    });
-}
-
-/// The model-space frame of every corner of the model (`triangle * 3 + k`) as the tangent
-/// generator of `options` gives it: face frames in [`Mode::Flat`], MikkTSpace over the whole
-/// model with the model's normals, or seamlit's smoothed frames.
-fn corner_frames(
-    model: &Model,
-    flat: &Flat,
-    roots: Option<Vec<u32>>,
-    options: &FixOptions,
-) -> Vec<Frame> {
-    let triangles = flat.triangles(model);
     match (options.mode, options.tangents, roots) {
-        (Mode::Flat, ..) | (_, _, None) => (0..triangles.len())
-            .into_par_iter()
-            .flat_map_iter(|t| {
-                let o = flat.object_of_triangle(t);
-                let c = flat.corners(model, o, t - flat.triangle_start[o] as usize);
-                [face_frame(&face(c.positions, c.uvs, model.v_axis)); 3]
-            })
-            .collect(),
-        (_, TangentMethod::Mikktspace, Some(roots)) => {
-            let linear: Vec<Option<Linear>> =
-                flat.linear.iter().map(|m| m.map(Linear::new)).collect();
-            // Per vertex: the object's normal in model space (+Z where it has none).
-            let vertex_normals: Vec<Vec3> = (0..flat.positions.len())
-                .into_par_iter()
-                .map(|v| {
-                    let o = crate::index::part_of(&flat.vertex_start, v);
-                    let n = model.objects[o]
-                        .normals
-                        .as_ref()
-                        .map_or(Vec3::Z, |ns| ns[v - flat.vertex_start[o] as usize]);
-                    linear[o].as_ref().map_or(n, |l| l.normal_to_model(n)).normalize_or(Vec3::Z)
-                })
-                .collect();
-            let uvs: Vec<Option<&[Vec2]>> =
-                model.objects.iter().map(|o| o.uvs.as_deref()).collect();
-            let local: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
-            let surface = crate::mikk::Surface {
-                positions: &flat.positions,
-                roots: &roots,
-                uvs: &uvs,
-                triangles: &local,
-                vertex_start: &flat.vertex_start,
-                triangle_start: &flat.triangle_start,
-                normal: |_, v: usize| (vertex_normals[v], 0),
-                vertex_normals: Some(&vertex_normals),
-                v_axis: model.v_axis,
-            };
-            let tangents = crate::mikk::tangents(&surface);
-            // Each plain vertex's tangent once, not once a corner.
-            let fans: Vec<Vec4> = (0..vertex_normals.len())
-                .into_par_iter()
-                .map(|v| tangents.fan(v, roots[v] as usize, vertex_normals[v]).unwrap_or_default())
-                .collect();
-            triangles
-                .as_flattened()
-                .par_iter()
-                .enumerate()
-                .map(|(c, &v)| {
-                    let (v, root) = (v as usize, roots[v as usize] as usize);
-                    let plain = tangents.is_plain(root);
-                    let tangent = if plain { fans[v] } else { tangents.other(c) };
-                    Frame { normal: vertex_normals[v], tangent }
-                })
-                .collect()
+        (Mode::Flat, ..) | (_, _, None) => {
+            let v_axis = model.v_axis;
+            let each = vec![(); model.objects.len()];
+            write_each(model, flat, which, each, |o, (), _, tri, uvs| {
+                let base = flat.vertex_start[o];
+                let p = tri.map(|i| flat.positions[(base + i) as usize]);
+                [face_frame(&face(p, uvs, v_axis)); 3]
+            });
         }
+        (_, TangentMethod::Mikktspace, Some(roots)) => mikk_tangents(model, flat, &roots, which),
         (_, _, Some(roots)) => {
             let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true), false);
-            triangles
-                .as_flattened()
-                .par_iter()
-                .enumerate()
-                .map(|(c, &v)| smooth.corner_frame(index(c), v as usize))
-                .collect()
+            let each = vec![(); model.objects.len()];
+            write_each(model, flat, which, each, |o, (), t, tri, _| {
+                let first = flat.triangle_start[o] as usize + t;
+                let base = flat.vertex_start[o] as usize;
+                std::array::from_fn(|k| {
+                    smooth.corner_frame(index(first * 3 + k), base + tri[k] as usize)
+                })
+            });
         }
     }
 }
 
-/// Writes one object's tangents from its corners' model-space `frames`, keeping its normals.
-fn write_tangents(object: &mut Object, linear: Option<Linear>, frames: &[Frame]) {
+/// [`compute_tangents`] with MikkTSpace: over the whole model, against each object's
+/// normals in model space.
+fn mikk_tangents(model: &mut Model, flat: &Flat, roots: &[u32], which: &[bool]) {
+    let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
+    // Per vertex: the object's normal in model space (+Z where it has none).
+    let vertex_normals: Vec<Vec3> = (0..flat.positions.len())
+        .into_par_iter()
+        .map(|v| {
+            let o = crate::index::part_of(&flat.vertex_start, v);
+            let n = model.objects[o]
+                .normals
+                .as_ref()
+                .map_or(Vec3::Z, |ns| ns[v - flat.vertex_start[o] as usize]);
+            linear[o].as_ref().map_or(n, |l| l.normal_to_model(n)).normalize_or(Vec3::Z)
+        })
+        .collect();
+    let uvs: Vec<Option<&[Vec2]>> = model.objects.iter().map(|o| o.uvs.as_deref()).collect();
+    let local: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
+    let surface = crate::mikk::Surface {
+        positions: &flat.positions,
+        roots,
+        uvs: &uvs,
+        triangles: &local,
+        vertex_start: &flat.vertex_start,
+        triangle_start: &flat.triangle_start,
+        normal: |_, v: usize| (vertex_normals[v], 0),
+        vertex_normals: Some(&vertex_normals),
+        v_axis: model.v_axis,
+    };
+    let mut tangents = crate::mikk::tangents(&surface);
+    drop((uvs, local));
+    // Each plain vertex's tangent once, not once a corner, in its fan's sum's place.
+    let mut fans = tangents.take_sums();
+    fans.par_iter_mut().enumerate().filter(|(o, _)| which[*o]).for_each(|(o, sums)| {
+        let base = flat.vertex_start[o] as usize;
+        sums.par_iter_mut().enumerate().for_each(|(i, sum)| {
+            let (v, root) = (base + i, roots[base + i] as usize);
+            *sum = tangents.fan_of(v, root, vertex_normals[v], *sum).unwrap_or_default();
+        });
+    });
+    let tangents = &tangents;
+    let vertex_normals = &vertex_normals;
+    // Per object: its fans' tangents, and how far it is through its corners at positions
+    // that are not plain.
+    let each = fans.into_iter().map(|fans| (fans, 0)).collect();
+    write_each(model, flat, which, each, |o, (fans, next): &mut (Vec<Vec4>, usize), t, tri, _| {
+        let first = flat.triangle_start[o] as usize * 3;
+        let others = tangents.others(first..flat.triangle_start[o + 1] as usize * 3);
+        let base = flat.vertex_start[o] as usize;
+        std::array::from_fn(|k| {
+            let v = base + tri[k] as usize;
+            let tangent = if tangents.is_plain(roots[v] as usize) {
+                fans[tri[k] as usize]
+            } else {
+                // The object's corners at positions that are not plain, in corner order.
+                let (c, tangent) = others[*next];
+                debug_assert_eq!(c as usize, first + t * 3 + k);
+                *next += 1;
+                tangent
+            };
+            Frame { normal: vertex_normals[v], tangent }
+        })
+    });
+}
+
+/// Writes the tangents of every object marked in `which`, in parallel: `frames(o, its item
+/// of each, t, triangle, its UVs)` gives the model-space frames of the corners of object
+/// `o`'s triangle `t` (its input vertices, before any split), in triangle order.
+fn write_each<S: Send>(
+    model: &mut Model,
+    flat: &Flat,
+    which: &[bool],
+    each: Vec<S>,
+    frames: impl Fn(usize, &mut S, usize, [u32; 3], Option<[Vec2; 3]>) -> [Frame; 3] + Sync,
+) {
+    let objects = model.objects.par_iter_mut().zip(each).enumerate();
+    objects.filter(|(o, _)| which[*o]).for_each(|(o, (object, mut item))| {
+        let linear = flat.linear[o].map(Linear::new);
+        write_tangents(object, linear, |t, tri, uvs| frames(o, &mut item, t, tri, uvs));
+    });
+}
+
+/// Writes one object's tangents from its corners' model-space frames, `frames(t, triangle,
+/// its UVs)` for its triangle `t`, keeping its normals.
+fn write_tangents(
+    object: &mut Object,
+    linear: Option<Linear>,
+    mut frames: impl FnMut(usize, [u32; 3], Option<[Vec2; 3]>) -> [Frame; 3],
+) {
     let mut triangles = std::mem::take(&mut object.triangles);
     let mut out = Out::keeping_normals(object);
-    for (tri, f) in triangles.iter_mut().zip(frames.as_chunks::<3>().0) {
+    for (t, tri) in triangles.iter_mut().enumerate() {
+        let uvs = out.uvs.as_ref().map(|uvs| tri.map(|i| uvs[i as usize]));
+        let f = frames(t, *tri, uvs);
         for k in 0..3 {
             let (n0, t0) = match &linear {
                 Some(l) => l.frame_to_local(f[k].normal, f[k].tangent),

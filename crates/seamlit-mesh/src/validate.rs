@@ -90,7 +90,8 @@ impl Flat {
         shared
     }
 
-    /// Every triangle, indexing the concatenated positions.
+    /// Every triangle, indexing the concatenated positions (for the paper's listing).
+    #[cfg(feature = "reference")]
     pub fn triangles(&self, model: &Model) -> Vec<[u32; 3]> {
         let mut out = vec![[0; 3]; *self.triangle_start.last().unwrap_or(&0) as usize];
         let parts = split_at_starts(&mut out, &self.triangle_start);

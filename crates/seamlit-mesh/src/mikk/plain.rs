@@ -64,20 +64,12 @@ pub(super) struct Fans {
     pub(super) sums: Vec<Vec<Vec4>>,
     /// Per vertex.
     flags: Vec<u8>,
-    /// Per object: its first vertex, one extra entry at the end.
-    vertex_start: Vec<u32>,
 }
 
 impl Fans {
     /// The tangent of every corner of vertex `v`, at a plain position, whose corners' normal
-    /// is `normal`: the sum made orthogonal to it, `w` its triangles' orientation (zero for a
-    /// vertex no triangle uses).
-    pub(super) fn tangent(&self, v: usize, normal: Vec3) -> Vec4 {
-        let o = crate::index::part_of(&self.vertex_start, v);
-        self.tangent_of(v, normal, self.sums[o][v - self.vertex_start[o] as usize])
-    }
-
-    /// [`Self::tangent`] from the vertex's `sum`, where its object's sums were taken.
+    /// is `normal`, from the vertex's `sum`: the sum made orthogonal to it, `w` its triangles'
+    /// orientation (zero for a vertex no triangle uses).
     pub(super) fn tangent_of(&self, v: usize, normal: Vec3, sum: Vec4) -> Vec4 {
         let w = match self.flags[v] & (HAS_ORIENTED | HAS_REVERSED) {
             HAS_ORIENTED => 1.0,
@@ -114,8 +106,7 @@ where
         .for_each(|part| gather_object(surface, part));
     let plain = plain_positions(surface, &gathered, shared);
     let Gathered { sums, flags, .. } = gathered;
-    let vertex_start = surface.vertex_start.to_vec();
-    PlainFans { faces, plain, fans: Fans { sums, flags, vertex_start } }
+    PlainFans { faces, plain, fans: Fans { sums, flags } }
 }
 
 /// What [`gather_object`] learns of one triangle before it adds it to its vertices.
