@@ -495,7 +495,7 @@ pub(crate) fn compute_tangents(
             write_each(model, flat, which, each, |o, (), _, tri, uvs| {
                 let base = flat.vertex_start[o];
                 let p = tri.map(|i| flat.positions[(base + i) as usize]);
-                [face_frame(&face(p, uvs, v_axis)); 3]
+                [CornerFrame::own(face_frame(&face(p, uvs, v_axis))); 3]
             });
         }
         (_, TangentMethod::Mikktspace, Some(roots)) => mikk_tangents(model, flat, &roots, which),
@@ -506,7 +506,11 @@ pub(crate) fn compute_tangents(
                 let first = flat.triangle_start[o] as usize + t;
                 let base = flat.vertex_start[o] as usize;
                 std::array::from_fn(|k| {
-                    smooth.corner_frame(index(first * 3 + k), base + tri[k] as usize)
+                    let v = base + tri[k] as usize;
+                    match smooth.simple_frame(v) {
+                        Some(frame) => CornerFrame { frame, whole_vertex: true },
+                        None => CornerFrame::own(smooth.corner_frame(index(first * 3 + k), v)),
+                    }
                 })
             });
         }
@@ -564,18 +568,34 @@ fn mikk_tangents(model: &mut Model, flat: &Flat, roots: &[u32], which: &[bool]) 
         let base = flat.vertex_start[o] as usize;
         std::array::from_fn(|k| {
             let v = base + tri[k] as usize;
-            let tangent = if tangents.is_plain(roots[v] as usize) {
-                fans[tri[k] as usize]
-            } else {
-                // The object's corners at positions that are not plain, in corner order.
-                let (c, tangent) = others[*next];
-                debug_assert_eq!(c as usize, first + t * 3 + k);
-                *next += 1;
-                tangent
-            };
-            Frame { normal: vertex_normals[v], tangent }
+            let normal = vertex_normals[v];
+            if tangents.is_plain(roots[v] as usize) {
+                let frame = Frame { normal, tangent: fans[tri[k] as usize] };
+                return CornerFrame { frame, whole_vertex: true };
+            }
+            // The object's corners at positions that are not plain, in corner order.
+            let (c, tangent) = others[*next];
+            debug_assert_eq!(c as usize, first + t * 3 + k);
+            *next += 1;
+            CornerFrame::own(Frame { normal, tangent })
         })
     });
+}
+
+/// A corner's model-space frame from the tangent generator, and whether it is its vertex's
+/// one frame: every corner of the vertex gets the same (a plain or simple position), so the
+/// vertex's first corner writes it for all.
+#[derive(Clone, Copy)]
+struct CornerFrame {
+    frame: Frame,
+    whole_vertex: bool,
+}
+
+impl CornerFrame {
+    /// A frame of this corner's own.
+    fn own(frame: Frame) -> Self {
+        Self { frame, whole_vertex: false }
+    }
 }
 
 /// Writes the tangents of every object marked in `which`, in parallel: `frames(o, its item
@@ -586,7 +606,7 @@ fn write_each<S: Send>(
     flat: &Flat,
     which: &[bool],
     each: Vec<S>,
-    frames: impl Fn(usize, &mut S, usize, [u32; 3], Option<[Vec2; 3]>) -> [Frame; 3] + Sync,
+    frames: impl Fn(usize, &mut S, usize, [u32; 3], Option<[Vec2; 3]>) -> [CornerFrame; 3] + Sync,
 ) {
     let objects = model.objects.par_iter_mut().zip(each).enumerate();
     objects.filter(|(o, _)| which[*o]).for_each(|(o, (object, mut item))| {
@@ -600,7 +620,7 @@ fn write_each<S: Send>(
 fn write_tangents(
     object: &mut Object,
     linear: Option<Linear>,
-    mut frames: impl FnMut(usize, [u32; 3], Option<[Vec2; 3]>) -> [Frame; 3],
+    mut frames: impl FnMut(usize, [u32; 3], Option<[Vec2; 3]>) -> [CornerFrame; 3],
 ) {
     let mut triangles = std::mem::take(&mut object.triangles);
     let mut out = Out::keeping_normals(object);
@@ -608,9 +628,15 @@ fn write_tangents(
         let uvs = out.uvs.as_ref().map(|uvs| tri.map(|i| uvs[i as usize]));
         let f = frames(t, *tri, uvs);
         for k in 0..3 {
+            let CornerFrame { frame, whole_vertex } = f[k];
+            if whole_vertex && out.is_set[tri[k] as usize] {
+                // Its vertex's first corner wrote this frame (the vertex keeps its normal, and
+                // the same inputs give the same bits): the corner stays on the vertex.
+                continue;
+            }
             let (n0, t0) = match &linear {
-                Some(l) => l.frame_to_local(f[k].normal, f[k].tangent),
-                None => (f[k].normal, f[k].tangent),
+                Some(l) => l.frame_to_local(frame.normal, frame.tangent),
+                None => (frame.normal, frame.tangent),
             };
             let n = out.normal(tri[k]);
             let unit = n.try_normalize().unwrap_or(n0);
