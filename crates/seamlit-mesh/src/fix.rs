@@ -238,13 +238,16 @@ fn run(
         }
         shared = decided;
     }
-    // 5. Tangents where kept normals came without them.
+    // 5. Tangents where kept normals came without them; the report's triangle counts made by
+    //    their pass over the triangles where the report wants the weld and has no counts.
     let kept = roots.as_ref().filter(|_| keep_weld).cloned();
-    repair::compute_tangents(model, &flat, roots, options, &tangents_needed);
+    let count = keep_weld && given_counts.is_none();
+    let counted = repair::compute_tangents(model, &flat, roots, options, &tangents_needed, count);
     let mut changes = tally(model, &vertices, &changed, authored);
     changes.shared = shared;
-    // The weld, for the report, as in the first branch (the triangles are counted there).
-    let weld = kept.map(|r| (morph::roots_after_splits(&r, &at_weld, model), given_counts));
+    // The weld, for the report, as in the first branch.
+    let counts = given_counts.or(counted);
+    let weld = kept.map(|r| (morph::roots_after_splits(&r, &at_weld, model), counts));
     Ok((changes, weld))
 }
 
@@ -347,6 +350,8 @@ fn compute(
             normal: |c: usize, v: usize| smooth.corner_normal(index(c), v),
             vertex_normals: None,
             v_axis: model.v_axis,
+            // The smoothing's pass counted them.
+            count: false,
         };
         let mut tangents = mikk::tangents(&surface);
         drop((uvs, triangles));

@@ -87,6 +87,9 @@ pub(crate) struct Surface<'a, N> {
     /// For glTF (V down) the V coordinate is flipped before MikkTSpace sees it, so that its
     /// bitangent points up the image, as with OBJ's V.
     pub v_axis: VAxis,
+    /// Whether the pass over the triangles also counts them as the report does
+    /// ([`Tangents::counts`]): it has each triangle's positions and UVs at hand.
+    pub count: bool,
 }
 
 impl<N> Surface<'_, N> {
@@ -138,7 +141,7 @@ where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
     let FirstEqual { first, shared } = first_equal_vertex(surface);
-    let PlainFans { mut faces, mut plain, fans } = plain_fans(surface, &shared);
+    let PlainFans { mut faces, mut plain, fans, counts } = plain_fans(surface, &shared);
     drop(shared);
     if all_grouped {
         plain.fill(false);
@@ -151,7 +154,7 @@ where
     drop(keys);
     let mut rest: Vec<(u32, Vec4)> = by_position.corners.iter().copied().zip(raw).collect();
     rest.par_sort_unstable_by_key(|&(c, _)| c);
-    Tangents { plain, fans, rest }
+    Tangents { plain, fans, rest, counts: surface.count.then_some(counts) }
 }
 
 /// The result of [`tangents`].
@@ -162,9 +165,17 @@ pub(crate) struct Tangents {
     fans: Fans,
     /// The tangent of every corner at the other positions, sorted by corner.
     rest: Vec<(u32, Vec4)>,
+    /// Where the [`Surface`] asked for them, the report's triangle counts (degenerate,
+    /// degenerate-UV, mirrored; see [`crate::face::count`]) over its positions.
+    counts: Option<[usize; 3]>,
 }
 
 impl Tangents {
+    /// The report's triangle counts, where the [`Surface`] asked for them.
+    pub fn counts(&self) -> Option<[usize; 3]> {
+        self.counts
+    }
+
     /// Per object, per vertex: the sums [`Self::fan_of`] makes the plain fans' tangents of,
     /// taken. Each array is as long
     /// as its object's vertices and as wide as a tangent: it can become the object's tangents,
@@ -263,6 +274,7 @@ mod tests {
             normal: |_, v: usize| (normals[v], 0),
             vertex_normals: Some(&normals),
             v_axis: VAxis::Up,
+            count: false,
         };
         let (fast, grouped) = (tangents_with(&surface, false), tangents_with(&surface, true));
         let plain = fast.plain.iter().filter(|&&p| p).count();

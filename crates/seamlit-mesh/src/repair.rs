@@ -478,15 +478,20 @@ fn apply(model: &mut Model, linear: &[Option<Linear>], updates: &[Update]) -> Ve
 /// MikkTSpace over the whole model with the model's normals, or seamlit's smoothed frames.
 /// Each is made triangle by triangle as its object is written, not kept for the whole model
 /// (32 bytes a corner: 100 MB of a 1M-triangle model).
+///
+/// With `count`, where a generator passes over every triangle of the welded model
+/// (MikkTSpace's, seamlit's), returns the report's triangle counts over `flat`'s positions
+/// (see [`crate::face::count`]); else `None`.
 pub(crate) fn compute_tangents(
     model: &mut Model,
     flat: &Flat,
     roots: Option<Vec<u32>>,
     options: &FixOptions,
     which: &[bool],
-) {
+    count: bool,
+) -> Option<[usize; 3]> {
     if !which.iter().any(|&w| w) {
-        return;
+        return None;
     }
     match (options.mode, options.tangents, roots) {
         (Mode::Flat, ..) | (_, _, None) => {
@@ -497,10 +502,13 @@ pub(crate) fn compute_tangents(
                 let p = tri.map(|i| flat.positions[(base + i) as usize]);
                 [CornerFrame::own(face_frame(&face(p, uvs, v_axis))); 3]
             });
+            None
         }
-        (_, TangentMethod::Mikktspace, Some(roots)) => mikk_tangents(model, flat, &roots, which),
+        (_, TangentMethod::Mikktspace, Some(roots)) => {
+            mikk_tangents(model, flat, &roots, which, count)
+        }
         (_, _, Some(roots)) => {
-            let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true), false);
+            let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true), count);
             let each = vec![(); model.objects.len()];
             write_each(model, flat, which, each, |o, (), t, tri, _| {
                 let first = flat.triangle_start[o] as usize + t;
@@ -513,13 +521,20 @@ pub(crate) fn compute_tangents(
                     }
                 })
             });
+            smooth.counts
         }
     }
 }
 
 /// [`compute_tangents`] with MikkTSpace: over the whole model, against each object's
-/// normals in model space.
-fn mikk_tangents(model: &mut Model, flat: &Flat, roots: &[u32], which: &[bool]) {
+/// normals in model space. With `count`, returns the report's triangle counts.
+fn mikk_tangents(
+    model: &mut Model,
+    flat: &Flat,
+    roots: &[u32],
+    which: &[bool],
+    count: bool,
+) -> Option<[usize; 3]> {
     let linear: Vec<Option<Linear>> = flat.linear.iter().map(|m| m.map(Linear::new)).collect();
     // Per vertex: the object's normal in model space (+Z where it has none).
     let vertex_normals: Vec<Vec3> = (0..flat.positions.len())
@@ -545,8 +560,10 @@ fn mikk_tangents(model: &mut Model, flat: &Flat, roots: &[u32], which: &[bool]) 
         normal: |_, v: usize| (vertex_normals[v], 0),
         vertex_normals: Some(&vertex_normals),
         v_axis: model.v_axis,
+        count,
     };
     let mut tangents = crate::mikk::tangents(&surface);
+    let counts = tangents.counts();
     drop((uvs, local));
     // Each plain vertex's tangent once, not once a corner, in its fan's sum's place.
     let mut fans = tangents.take_sums();
@@ -580,6 +597,7 @@ fn mikk_tangents(model: &mut Model, flat: &Flat, roots: &[u32], which: &[bool]) 
             CornerFrame::own(Frame { normal, tangent })
         })
     });
+    counts
 }
 
 /// A corner's model-space frame from the tangent generator, and whether it is its vertex's

@@ -752,6 +752,33 @@ mod welded_tests {
         }
     }
 
+    /// Where the normals are kept and the tangents made against them, the generator's pass
+    /// over the triangles counts them, and the counts are the report's.
+    #[test]
+    fn the_counts_made_beside_kept_normals_are_the_reports() {
+        let without_tangents = FixOptions { tangents: TangentMethod::None, ..FixOptions::DEFAULT };
+        let with_normals = crate::fix(&tube_with_bad_faces(), &without_tangents).expect("valid");
+        assert!(with_normals.objects.iter().all(|o| o.normals.is_some() && o.tangents.is_none()));
+        for tangents in [TangentMethod::Mikktspace, TangentMethod::Seamlit] {
+            let options = FixOptions { tangents, ..FixOptions::DEFAULT };
+            let mut fixed = with_normals.clone();
+            let (changes, welded) = fix_in_place_welded(&mut fixed, &options, None).expect("valid");
+            assert!(changes.objects.iter().all(|o| o.kept_normals && !o.kept_tangents));
+            assert!(fixed.objects.iter().all(|o| o.tangents.is_some()), "{tangents:?}");
+            let welded = welded.expect("a weld in model mode");
+            let again = report(&fixed, &ReportOptions::from(&options)).expect("valid");
+            let vertices = validate::flatten(&fixed).expect("valid").positions.len();
+            let expected = [
+                again.degenerate_triangles,
+                again.degenerate_uv_triangles,
+                again.mirrored_triangles,
+            ];
+            assert!(expected.iter().all(|&n| n > 0), "{tangents:?}: {expected:?}");
+            let counted = welded.counts_for(vertices, options.weld_tolerance);
+            assert_eq!(counted, Some(expected), "{tangents:?}");
+        }
+    }
+
     /// The report of a fixed model with the triangle counts as loaded is the report that
     /// counts them again, in every field, in every mode and with every tangent method; an
     /// `as_loaded` of another model is not used.

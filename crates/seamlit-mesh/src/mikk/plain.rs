@@ -54,8 +54,10 @@ pub(super) struct PlainFans {
     /// Per root vertex: whether its position is plain (see [`plain_fans`]).
     pub(super) plain: Vec<bool>,
     /// Per vertex at a plain position: the fan's sum, whose part across the normal is the
-    /// tangent of all its corners (see [`Fans::tangent`]).
+    /// tangent of all its corners (see [`Fans::tangent_of`]).
     pub(super) fans: Fans,
+    /// The report's triangle counts where [`Surface::count`] asks (else zeros).
+    pub(super) counts: [usize; 3],
 }
 
 /// The sums of the plain fans.
@@ -101,12 +103,13 @@ where
     let objects = surface.vertex_start.len() - 1;
     let sums = (0..objects).map(|_| Vec::new()).collect();
     let mut gathered = Gathered { sums, closures: vec![0; n], flags: vec![0; n] };
-    split_by_object(surface, &mut gathered, &mut faces)
+    let counts = split_by_object(surface, &mut gathered, &mut faces)
         .into_par_iter()
-        .for_each(|part| gather_object(surface, part));
+        .map(|part| gather_object(surface, part))
+        .reduce(|| [0; 3], crate::face::add_counts);
     let plain = plain_positions(surface, &gathered, shared);
     let Gathered { sums, flags, .. } = gathered;
-    PlainFans { faces, plain, fans: Fans { sums, flags } }
+    PlainFans { faces, plain, fans: Fans { sums, flags }, counts }
 }
 
 /// What [`gather_object`] learns of one triangle before it adds it to its vertices.
@@ -124,8 +127,9 @@ struct Told {
 const BLOCK: usize = 32;
 
 /// [`plain_fans`]' pass over one object's triangles: their flags into `faces` (the object's
-/// part), and what their corners tell into the object's part of [`Gathered`].
-fn gather_object<N>(surface: &Surface<'_, N>, part: ObjectPart<'_>)
+/// part), and what their corners tell into the object's part of [`Gathered`]. Returns the
+/// report's counts of its triangles where [`Surface::count`] asks (else zeros).
+fn gather_object<N>(surface: &Surface<'_, N>, part: ObjectPart<'_>) -> [usize; 3]
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
@@ -137,6 +141,7 @@ where
     let first = surface.triangle_start[o] as usize;
     let uvs = surface.uvs[o];
     let mut told = [Told::default(); BLOCK];
+    let mut counts = [0; 3];
     for (block, (faces, locals)) in
         faces.chunks_mut(BLOCK).zip(surface.triangles[o].chunks(BLOCK)).enumerate()
     {
@@ -149,6 +154,11 @@ where
                 None => [Vec2::ZERO; 3],
             };
             let tri = [local[0] + b, local[1] + b, local[2] + b];
+            if surface.count {
+                let p = tri.map(|v| surface.positions[v as usize]);
+                let flags = crate::face::face_flags(p, uvs.map(|_| uv), surface.v_axis);
+                crate::face::count(&mut counts, flags);
+            }
             let face = face_flags(surface, tri, uv);
             *flags = face.flags;
             let bits = if face.is(ANY | DEGENERATE) {
@@ -184,6 +194,7 @@ where
             }
         }
     }
+    counts
 }
 
 /// Per root vertex: whether every vertex of its position is plain, from what
