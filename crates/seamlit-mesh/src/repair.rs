@@ -511,13 +511,13 @@ pub(crate) fn compute_tangents(
             let smooth = smooth::smooth(model, flat, roots, Rules::new(options, true), count);
             let each = vec![(); model.objects.len()];
             write_each(model, flat, which, each, |o, (), t, tri, _| {
-                let first = flat.triangle_start[o] as usize + t;
+                let triangle = flat.triangle_start[o] as usize + t;
                 let base = flat.vertex_start[o] as usize;
                 std::array::from_fn(|k| {
                     let v = base + tri[k] as usize;
                     match smooth.simple_frame(v) {
                         Some(frame) => CornerFrame { frame, whole_vertex: true },
-                        None => CornerFrame::own(smooth.corner_frame(index(first * 3 + k), v)),
+                        None => CornerFrame::own(smooth.corner_frame(index(triangle * 3 + k), v)),
                     }
                 })
             });
@@ -576,12 +576,19 @@ fn mikk_tangents(
     });
     let tangents = &tangents;
     let vertex_normals = &vertex_normals;
-    // Per object: its fans' tangents, and how far it is through its corners at positions
-    // that are not plain.
-    let each = fans.into_iter().map(|fans| (fans, 0)).collect();
-    write_each(model, flat, which, each, |o, (fans, next): &mut (Vec<Vec4>, usize), t, tri, _| {
-        let first = flat.triangle_start[o] as usize * 3;
-        let others = tangents.others(first..flat.triangle_start[o + 1] as usize * 3);
+    // Per object: its fans' tangents, its corners at positions that are not plain (in corner
+    // order) with their tangents, and how far it is through them.
+    let each = fans
+        .into_iter()
+        .enumerate()
+        .map(|(o, fans)| {
+            let corners =
+                flat.triangle_start[o] as usize * 3..flat.triangle_start[o + 1] as usize * 3;
+            (fans, tangents.others(corners), 0)
+        })
+        .collect();
+    type Each<'a> = (Vec<Vec4>, &'a [(u32, Vec4)], usize);
+    write_each(model, flat, which, each, |o, (fans, others, next): &mut Each<'_>, t, tri, _| {
         let base = flat.vertex_start[o] as usize;
         std::array::from_fn(|k| {
             let v = base + tri[k] as usize;
@@ -590,9 +597,8 @@ fn mikk_tangents(
                 let frame = Frame { normal, tangent: fans[tri[k] as usize] };
                 return CornerFrame { frame, whole_vertex: true };
             }
-            // The object's corners at positions that are not plain, in corner order.
             let (c, tangent) = others[*next];
-            debug_assert_eq!(c as usize, first + t * 3 + k);
+            debug_assert_eq!(c as usize, (flat.triangle_start[o] as usize + t) * 3 + k);
             *next += 1;
             CornerFrame::own(Frame { normal, tangent })
         })
