@@ -304,24 +304,16 @@ fn compute(
     count: bool,
     given: Option<&[u32]>,
 ) -> (Vec<usize>, Option<Vec<u32>>, Option<[usize; 3]>) {
-    let want_tangents = options.tangents != TangentMethod::None;
+    let writing = Writing { skip, want_tangents: options.tangents != TangentMethod::None, input };
     if options.mode == Mode::Flat {
         // Flat shading: each corner takes its face's frame.
-        let v_axis = model.v_axis;
-        let flat = &flat;
+        let (v_axis, flat) = (model.v_axis, &flat);
         let each = vec![(); model.objects.len()];
-        let changed = write_objects(
-            model,
-            skip,
-            want_tangents,
-            input,
-            each,
-            |o, object, tangents, input, ()| {
-                write_corners(o, object, flat, tangents, input, |_, p, uv| {
-                    [face_frame(&face(p, uv, v_axis)); 3]
-                })
-            },
-        );
+        let changed = write_objects(model, writing, each, |o, object, tangents, input, ()| {
+            write_corners(o, object, flat, tangents, input, |_, p, uv| {
+                [face_frame(&face(p, uv, v_axis)); 3]
+            })
+        });
         return (changed, None, None);
     }
 
@@ -336,52 +328,50 @@ fn compute(
     let rules = Rules::new(options, options.tangents == TangentMethod::Seamlit);
     let smooth = smooth::smooth(model, &flat, roots, rules, count);
     let counts = smooth.counts;
-
-    if options.tangents == TangentMethod::Mikktspace {
-        let triangles: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
-        let uvs: Vec<Option<&[Vec2]>> = model.objects.iter().map(|o| o.uvs.as_deref()).collect();
-        let surface = mikk::Surface {
-            positions: &flat.positions,
-            roots: smooth.roots(),
-            uvs: &uvs,
-            triangles: &triangles,
-            vertex_start: &flat.vertex_start,
-            triangle_start: &flat.triangle_start,
-            normal: |c: usize, v: usize| smooth.corner_normal(index(c), v),
-            vertex_normals: None,
-            v_axis: model.v_axis,
-            // The smoothing's pass counted them.
-            count: false,
-        };
-        let mut tangents = mikk::tangents(&surface);
-        drop((uvs, triangles));
-        let flat = &without_positions(flat);
-        // Each object's fan sums become its tangents in place.
-        let sums = tangents.take_sums();
-        let (smooth_ref, tangents) = (&smooth, &tangents);
-        let changed = write_objects(
-            model,
-            skip,
-            want_tangents,
-            input,
-            sums,
-            |o, object, wanted, input, sums| {
-                let mikk = Mikk { smooth: smooth_ref, tangents, sums };
-                write_mikk(o, object, flat, mikk, wanted, input)
-            },
-        );
-        return (changed, Some(smooth.into_roots()), counts);
-    }
-
-    let flat = &without_positions(flat);
-    let changed = {
-        let smooth = &smooth;
+    let changed = if options.tangents == TangentMethod::Mikktspace {
+        write_with_mikk(model, flat, &smooth, writing)
+    } else {
+        let (flat, smooth) = (&without_positions(flat), &smooth);
         let each = vec![(); model.objects.len()];
-        write_objects(model, skip, want_tangents, input, each, |o, object, tangents, input, ()| {
+        write_objects(model, writing, each, |o, object, tangents, input, ()| {
             write_smooth(o, object, flat, smooth, tangents, input)
         })
     };
     (changed, Some(smooth.into_roots()), counts)
+}
+
+/// Makes MikkTSpace's tangents over the smoothed model and writes every object with them
+/// ([`write_mikk`]); returns each object's count of changed normals.
+fn write_with_mikk(
+    model: &mut Model,
+    flat: Flat,
+    smooth: &Smooth,
+    writing: Writing<'_>,
+) -> Vec<usize> {
+    let triangles: Vec<&[[u32; 3]]> = model.objects.iter().map(|o| &o.triangles[..]).collect();
+    let uvs: Vec<Option<&[Vec2]>> = model.objects.iter().map(|o| o.uvs.as_deref()).collect();
+    let surface = mikk::Surface {
+        positions: &flat.positions,
+        roots: smooth.roots(),
+        uvs: &uvs,
+        triangles: &triangles,
+        vertex_start: &flat.vertex_start,
+        triangle_start: &flat.triangle_start,
+        normal: |c: usize, v: usize| smooth.corner_normal(index(c), v),
+        vertex_normals: None,
+        v_axis: model.v_axis,
+        // The smoothing's pass counted them.
+        count: false,
+    };
+    let mut tangents = mikk::tangents(&surface);
+    drop((uvs, triangles));
+    let flat = &without_positions(flat);
+    // Each object's fan sums become its tangents in place.
+    let sums = tangents.take_sums();
+    let tangents = &tangents;
+    write_objects(model, writing, sums, |o, object, wanted, input, sums| {
+        write_mikk(o, object, flat, Mikk { smooth, tangents, sums }, wanted, input)
+    })
 }
 
 /// `flat` without its positions: the smoothed frames are known, and writing the objects
@@ -393,14 +383,22 @@ fn without_positions(mut flat: Flat) -> Flat {
     flat
 }
 
-/// Writes every object not marked in `skip` with `write(o, object, tangents wanted, input
+/// How [`write_objects`] writes a model's objects: those marked in `skip` not at all; with
+/// tangents where they are wanted (and the object has UVs); `input`, where the model is a
+/// copy, the original (for the input normals).
+#[derive(Clone, Copy)]
+struct Writing<'a> {
+    skip: &'a [bool],
+    want_tangents: bool,
+    input: Option<&'a Model>,
+}
+
+/// Writes every object as `writing` says with `write(o, object, tangents wanted, input
 /// normals, its item of each)`, in parallel; returns each one's count of changed normals (0
 /// for those skipped).
 fn write_objects<T: Send>(
     model: &mut Model,
-    skip: &[bool],
-    want_tangents: bool,
-    input: Option<&Model>,
+    writing: Writing<'_>,
     each: Vec<T>,
     write: impl Fn(usize, &mut Object, bool, Option<&[Vec3]>, T) -> usize + Sync,
 ) -> Vec<usize> {
@@ -410,11 +408,11 @@ fn write_objects<T: Send>(
         .zip(each)
         .enumerate()
         .map(|(o, (object, item))| {
-            if skip[o] {
+            if writing.skip[o] {
                 return 0;
             }
-            let tangents = want_tangents && object.uvs.is_some();
-            let input = input.and_then(|m| m.objects[o].normals.as_deref());
+            let tangents = writing.want_tangents && object.uvs.is_some();
+            let input = writing.input.and_then(|m| m.objects[o].normals.as_deref());
             write(o, object, tangents, input, item)
         })
         .collect()

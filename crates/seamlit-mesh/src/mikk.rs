@@ -126,7 +126,8 @@ impl<N> Surface<'_, N> {
     }
 }
 
-/// MikkTSpace's tangent of every corner of a [`Surface`]: see [`Tangents::get`].
+/// MikkTSpace's tangent of every corner of a [`Surface`]: see [`Tangents::fan_of`] and
+/// [`Tangents::others`].
 pub(crate) fn tangents<N>(surface: &Surface<'_, N>) -> Tangents
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
@@ -177,9 +178,8 @@ impl Tangents {
     }
 
     /// Per object, per vertex: the sums [`Self::fan_of`] makes the plain fans' tangents of,
-    /// taken. Each array is as long
-    /// as its object's vertices and as wide as a tangent: it can become the object's tangents,
-    /// each vertex's sum read before its tangent is written.
+    /// taken. Each array is as long as its object's vertices and as wide as a tangent: it can
+    /// become the object's tangents, each vertex's sum read before its tangent is written.
     pub fn take_sums(&mut self) -> Vec<Vec<Vec4>> {
         std::mem::take(&mut self.fans.sums)
     }
@@ -191,7 +191,7 @@ impl Tangents {
         self.plain[root].then(|| self.fans.tangent_of(v, normal, sum))
     }
 
-    /// Whether the position of root `root` is plain: [`Self::fan`] gives its tangents.
+    /// Whether the position of root `root` is plain: [`Self::fan_of`] gives its tangents.
     pub fn is_plain(&self, root: usize) -> bool {
         self.plain[root]
     }
