@@ -7,6 +7,9 @@ mod mesh;
 mod nodes;
 mod scene;
 mod skin;
+// The one module of seamlit with `unsafe`: ufbx's thread pool is a C interface.
+#[allow(unsafe_code)]
+mod threads;
 
 use std::path::Path;
 

@@ -534,6 +534,29 @@ fn no_crate_holds_a_quarter_of_the_source() {
     assert!(large.is_empty(), "crates over a quarter of the source:\n  {}", large.join("\n  "));
 }
 
+/// Where `unsafe` is allowed: the workspace denies it (`Cargo.toml`), and only ufbx's thread
+/// pool (a C interface of callbacks) opts out, in one module.
+#[test]
+fn unsafe_code_is_allowed_in_one_module_only() {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    assert!(
+        manifest
+            .lines()
+            .any(|l| l == r#"unsafe_code = "deny""# || l == r#"unsafe_code = "forbid""#),
+        "the workspace's lints no longer deny unsafe code"
+    );
+    let mut found = Vec::new();
+    for (name, folder) in crates() {
+        for (file, text) in sources(&folder.join("src")) {
+            let opts_out = ["allow(unsafe_code)", "expect(unsafe_code)", "warn(unsafe_code)"];
+            if opts_out.iter().any(|o| text.contains(o)) {
+                found.push(format!("{name}/src/{file}"));
+            }
+        }
+    }
+    assert_eq!(found, ["seamlit-fbx/src/read.rs"], "files that allow unsafe code");
+}
+
 // --- The checks themselves --------------------------------------------------------------
 
 #[test]

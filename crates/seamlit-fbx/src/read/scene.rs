@@ -4,18 +4,42 @@
 //! where a mesh is instanced), and ufbx's errors as [`FbxKind`]s.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::fbx::FbxKind;
 
+use super::threads::Pool;
+
 /// Opens the file's bytes as FBX (never as OBJ, which ufbx reads too). External files are
-/// not opened by ufbx (textures are read by this crate, inside the model's folder).
+/// not opened by ufbx (textures are read by this crate, inside the model's folder). The
+/// compressed arrays of a binary file are inflated on rayon's threads (`threads.rs`).
 ///
 /// # Errors
 ///
 /// [`IoError::Fbx`] with [`FbxKind::Truncated`] or [`FbxKind::Refused`].
 pub(super) fn open(bytes: &[u8], path: &Path) -> Result<ufbx::SceneRoot, IoError> {
-    let options = ufbx::LoadOpts {
+    // Kept alive until ufbx returns: its tasks reach it through a raw pointer.
+    let pool = Arc::new(Pool::default());
+    let options = ufbx::LoadOpts { thread_opts: Pool::options(&pool), ..load_options() };
+    let scene = ufbx::load_memory(bytes, options);
+    drop(pool);
+    scene.map_err(|error| {
+        let description = error.description.to_string();
+        let info = error.info();
+        let description =
+            if info.is_empty() { description } else { format!("{description} ({info})") };
+        let kind = match error.type_ {
+            ufbx::ErrorType::TruncatedFile => FbxKind::Truncated { description },
+            other => FbxKind::Refused { error: error_name(other).to_owned(), description },
+        };
+        IoError::Fbx { path: path.to_path_buf(), kind }
+    })
+}
+
+/// ufbx's options for glTF's conventions, without a thread pool.
+pub(super) fn load_options() -> ufbx::LoadOpts<'static> {
+    ufbx::LoadOpts {
         file_format: ufbx::FileFormat::Fbx,
         no_format_from_content: true,
         no_format_from_extension: true,
@@ -30,18 +54,7 @@ pub(super) fn open(bytes: &[u8], path: &Path) -> Result<ufbx::SceneRoot, IoError
         inherit_mode_handling: ufbx::InheritModeHandling::Compensate,
         pivot_handling: ufbx::PivotHandling::AdjustToPivot,
         ..Default::default()
-    };
-    ufbx::load_memory(bytes, options).map_err(|error| {
-        let description = error.description.to_string();
-        let info = error.info();
-        let description =
-            if info.is_empty() { description } else { format!("{description} ({info})") };
-        let kind = match error.type_ {
-            ufbx::ErrorType::TruncatedFile => FbxKind::Truncated { description },
-            other => FbxKind::Refused { error: error_name(other).to_owned(), description },
-        };
-        IoError::Fbx { path: path.to_path_buf(), kind }
-    })
+    }
 }
 
 /// ufbx's name of an error kind.
