@@ -3,6 +3,7 @@
 //! indices (FBX stores each attribute with its own index per face corner).
 
 use glam::{Mat4, Vec2, Vec3};
+use rayon::prelude::*;
 use seamlit_mesh::{MorphTarget, Object};
 
 use super::nodes::Tree;
@@ -25,11 +26,12 @@ const NONE: u32 = u32::MAX;
 /// before any is built) or `options.max_elements`; [`IoError::Fbx`] with
 /// [`FbxKind::NotFinite`] for a position, normal or UV that is not finite.
 pub(super) fn objects(
-    scene: &ufbx::Scene,
+    root: &ufbx::SceneRoot,
     tree: &mut Tree,
     path: &std::path::Path,
     options: &LoadOptions,
 ) -> Result<(Vec<Object>, Vec<Skin>), IoError> {
+    let scene: &ufbx::Scene = root;
     let instances: Vec<(usize, &ufbx::Node, &ufbx::Mesh)> = (0..tree.nodes.len())
         .filter_map(|i| {
             let node = scene.nodes.get(tree.typed[i])?;
@@ -45,6 +47,7 @@ pub(super) fn objects(
             actual: total,
         });
     }
+    let mut parts = converted_parts(root, tree, &instances, path, options).into_iter();
     let mut objects = Vec::new();
     let mut skins = Vec::new();
     for (i, node, mesh) in instances {
@@ -58,12 +61,8 @@ pub(super) fn objects(
         }
         tree.nodes[i].weights =
             blend_shapes(mesh).map(|(channel, _)| f32_of(channel.weight)).collect();
-        let parts = mesh.material_parts.iter().filter(|p| p.num_triangles > 0).count();
         for part in mesh.material_parts.iter().filter(|p| p.num_triangles > 0) {
-            let base = &tree.nodes[i].name;
-            let name = if parts > 1 { format!("{base}.{}", part.index) } else { base.clone() };
-            let (mut object, corners) = part_object(mesh, part, name, path, options)?;
-            object.morph_targets = morph_targets(mesh, &corners);
+            let (mut object, corners) = parts.next().expect("a part converted per part")?;
             object.transform = (transform != Mat4::IDENTITY).then_some(transform);
             object.material = material_of(scene, node, mesh, part.index as usize);
             if let Some(bound) = &bound {
@@ -74,6 +73,39 @@ pub(super) fn objects(
         }
     }
     Ok((objects, skins))
+}
+
+/// Every instance's material parts with triangles as objects with their morph targets, and
+/// each object's vertices' corners, in instance and part order; converted on rayon's threads
+/// (ufbx's scene is only read; each job finds its mesh from the root, which alone may be
+/// shared between threads).
+fn converted_parts(
+    root: &ufbx::SceneRoot,
+    tree: &Tree,
+    instances: &[(usize, &ufbx::Node, &ufbx::Mesh)],
+    path: &std::path::Path,
+    options: &LoadOptions,
+) -> Vec<Result<(Object, Vec<u32>), IoError>> {
+    // (the node's index in ufbx's nodes, the part's index in its mesh's parts, its name)
+    let mut jobs: Vec<(usize, usize, String)> = Vec::new();
+    for &(i, _, mesh) in instances {
+        let parts = mesh.material_parts.iter().filter(|p| p.num_triangles > 0).count();
+        for (k, part) in mesh.material_parts.iter().enumerate().filter(|(_, p)| p.num_triangles > 0)
+        {
+            let base = &tree.nodes[i].name;
+            let name = if parts > 1 { format!("{base}.{}", part.index) } else { base.clone() };
+            jobs.push((tree.typed[i], k, name));
+        }
+    }
+    jobs.into_par_iter()
+        .map(|(node, part, name)| {
+            let mesh = root.nodes[node].mesh.as_ref().expect("a node with a mesh");
+            let (mut object, corners) =
+                part_object(mesh, &mesh.material_parts[part], name, path, options)?;
+            object.morph_targets = morph_targets(mesh, &corners);
+            Ok((object, corners))
+        })
+        .collect()
 }
 
 /// The index in the scene's materials of material slot `slot` of a mesh instance: the node's
