@@ -132,6 +132,7 @@ fn read(
         ));
     }
     let mut scene_walk = SceneWalk::new(&reader, &buffers, &without_data);
+    scene_walk.decode_ahead(&roots);
     scene_walk.walk(roots, &mut asset, &mut warnings)?;
     let (instances, mut node_indices) = (scene_walk.instances, scene_walk.node_indices);
     reader.skins_and_animations(

@@ -501,3 +501,81 @@ fn a_percent_encoded_data_uri_is_read_like_a_base64_one() {
     assert_eq!(positions, POSITIONS);
     assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
 }
+
+/// The fixture with four meshes over its buffer, reached through four nodes in the order
+/// `meshes` gives, each node's mesh made by `primitive(mesh)`.
+fn four_meshes(order: [usize; 4], primitive: impl Fn(usize) -> Value) -> Value {
+    let mut document = triangle(POSITIONS, [0, 1, 2]);
+    document["meshes"] = (0..4).map(|m| json!({ "primitives": [primitive(m)] })).collect();
+    document["nodes"] =
+        order.iter().map(|&m| json!({ "name": format!("n{m}"), "mesh": m })).collect();
+    document["scenes"] = json!([{ "nodes": [0, 1, 2, 3] }]);
+    document
+}
+
+/// Primitives are decoded on several threads ahead of the scene walk; what the walk says is
+/// still in its order: the warnings of skipped primitives (the walk's own) and of decoding
+/// (a primitive without POSITION) interleaved as the nodes are reached.
+#[test]
+fn warnings_come_in_the_order_the_nodes_are_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let document = four_meshes([2, 1, 3, 0], |m| match m {
+        0 => json!({ "attributes": { "POSITION": 0 }, "indices": 1 }),
+        1 => json!({ "attributes": { "POSITION": 0 }, "mode": 0 }),
+        _ => json!({ "attributes": { "NORMAL": 0 } }),
+    });
+    let asset =
+        seamlit_io::load(&write(dir.path(), "order.gltf", &document), &LoadOptions::default())
+            .unwrap();
+    let said: Vec<String> =
+        asset.warnings.iter().map(|w| w.split(": ").nth(1).unwrap_or(w).to_owned()).collect();
+    assert_eq!(
+        said,
+        [
+            "mesh 2 primitive 0 has no POSITION; skipped",
+            "mesh 1 primitive 0",
+            "mesh 3 primitive 0 has no POSITION; skipped",
+        ]
+        .map(str::to_owned),
+        "{:?}",
+        asset.warnings
+    );
+    assert_eq!(asset.model.objects.len(), 1);
+}
+
+/// Of two primitives with a bad index, the error is the one of the first node's mesh, as a
+/// walk decoding one primitive after another gives it.
+#[test]
+fn the_first_error_is_the_first_reached_primitives() {
+    let dir = tempfile::tempdir().unwrap();
+    for first in [0, 3] {
+        let order = if first == 0 { [0, 3, 1, 2] } else { [3, 0, 1, 2] };
+        let document = four_meshes(order, |m| match m {
+            0 | 3 => json!({ "attributes": { "POSITION": 0 }, "indices": 2 + m / 3 }),
+            _ => json!({ "attributes": { "POSITION": 0 }, "indices": 1 }),
+        });
+        let mut document = document;
+        // Accessors 2 and 3: the indices 0, 1, 7 (out of range), as the fixture stores them.
+        let bad = triangle(POSITIONS, [0, 1, 7]);
+        let buffer = bad["buffers"][0].clone();
+        document["buffers"].as_array_mut().unwrap().push(buffer);
+        document["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({ "buffer": 1, "byteOffset": 36, "byteLength": 6 }));
+        for _ in 0..2 {
+            let accessor =
+                json!({ "bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR" });
+            document["accessors"].as_array_mut().unwrap().push(accessor);
+        }
+        let err = load(&write(dir.path(), "first.gltf", &document));
+        assert!(
+            matches!(
+                err,
+                IoError::Gltf { kind: GltfKind::IndexOutOfRange { mesh, index: 7, .. }, .. }
+                    if mesh == first
+            ),
+            "first {first}: {err}"
+        );
+    }
+}

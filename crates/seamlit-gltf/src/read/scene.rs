@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use glam::Mat4;
 use gltf::mesh::Mode;
+use rayon::prelude::*;
 use seamlit_mesh::Object;
 
 use super::{Reader, deform};
@@ -23,6 +24,9 @@ pub(super) struct SceneWalk<'r> {
     /// Decoded primitives by (mesh, primitive): the object of their first instance, cloned
     /// for the other nodes that instance the mesh.
     decoded: HashMap<(usize, usize), usize>,
+    /// Primitives decoded ahead of the walk ([`Self::decode_ahead`]), with the warnings
+    /// their decoding gave, each taken by the walk where it first reaches it.
+    ahead: HashMap<(usize, usize), Decoded>,
     /// Their skin influences as read (joints index the skin's `joints`), mapped per instance.
     influences: HashMap<(usize, usize), Vec<seamlit_mesh::Influences>>,
     /// Per object: where it came from in the document, for the pass-through writer.
@@ -44,11 +48,45 @@ impl<'r> SceneWalk<'r> {
             buffers,
             without_data,
             decoded: HashMap::new(),
+            ahead: HashMap::new(),
             influences: HashMap::new(),
             instances: Vec::new(),
             triangles: 0,
             node_indices: HashMap::new(),
         }
+    }
+
+    /// Decodes, on rayon's threads, every triangle primitive with data of the meshes the
+    /// trees under `roots` reach: the walk then takes each where it first reaches it, with
+    /// its warnings and its error in the walk's order, so that what the walk says is as if
+    /// it had decoded them itself, one after another.
+    pub(super) fn decode_ahead(&mut self, roots: &[gltf::Node<'_>]) {
+        let mut jobs: Vec<(gltf::Mesh<'_>, gltf::Primitive<'_>)> = Vec::new();
+        for mesh in reached_meshes(roots) {
+            for primitive in mesh.primitives() {
+                let triangles = matches!(
+                    primitive.mode(),
+                    Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+                );
+                if triangles
+                    && super::lenient::without_data(&primitive, self.without_data).is_none()
+                {
+                    jobs.push((mesh.clone(), primitive));
+                }
+            }
+        }
+        if jobs.len() < 2 {
+            return; // nothing to share between threads: the walk decodes it
+        }
+        let (reader, buffers) = (self.reader, self.buffers);
+        self.ahead = jobs
+            .into_par_iter()
+            .map(|(mesh, primitive)| {
+                let mut warnings = Vec::new();
+                let object = reader.primitive(&mesh, &primitive, buffers, &mut warnings);
+                ((mesh.index(), primitive.index()), Decoded { object, warnings })
+            })
+            .collect();
     }
 
     /// Walks the trees under `roots` depth first, in document order, pushing the nodes and
@@ -186,12 +224,46 @@ impl<'r> SceneWalk<'r> {
             warnings.push(format!("{path}: mesh {m} primitive {p} skipped: {reason}"));
             return Ok(None);
         }
-        let object = self.reader.primitive(mesh, primitive, self.buffers, warnings)?;
+        let object = match self.ahead.remove(&(m, p)) {
+            Some(Decoded { object, warnings: mut said }) => {
+                warnings.append(&mut said);
+                object?
+            }
+            None => self.reader.primitive(mesh, primitive, self.buffers, warnings)?,
+        };
         if object.is_some() {
             self.decoded.insert((m, p), asset.model.objects.len());
         }
         Ok(object)
     }
+}
+
+/// A primitive decoded ahead of the walk: what [`Reader::primitive`] gave, and the warnings
+/// it said.
+///
+/// [`Reader::primitive`]: super::Reader
+struct Decoded {
+    object: Result<Option<Object>, IoError>,
+    warnings: Vec<String>,
+}
+
+/// The meshes of the nodes under `roots`, each once, in the order the walk first reaches
+/// them (depth first, in document order; a node reached twice is the walk's error to give).
+fn reached_meshes<'d>(roots: &[gltf::Node<'d>]) -> Vec<gltf::Mesh<'d>> {
+    let mut stack: Vec<gltf::Node<'d>> = roots.iter().rev().cloned().collect();
+    let (mut visited, mut seen) =
+        (std::collections::HashSet::new(), std::collections::HashSet::new());
+    let mut meshes = Vec::new();
+    while let Some(node) = stack.pop() {
+        if !visited.insert(node.index()) {
+            continue;
+        }
+        if let Some(mesh) = node.mesh().filter(|m| seen.insert(m.index())) {
+            meshes.push(mesh);
+        }
+        stack.extend(node.children().collect::<Vec<_>>().into_iter().rev());
+    }
+    meshes
 }
 
 /// An object's name: its node's (else its mesh's, else `mesh{index}`), with `.{primitive}`
