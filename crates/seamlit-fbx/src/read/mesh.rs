@@ -103,6 +103,9 @@ fn converted_parts(
             let (mut object, corners) =
                 part_object(mesh, &mesh.material_parts[part], name, path, options)?;
             object.morph_targets = morph_targets(mesh, &corners);
+            // Kept for the skin's weights only (`skin::bound` needs a skin deformer): the
+            // others' lists are freed here, not held until every part is done.
+            let corners = if mesh.skin_deformers.is_empty() { Vec::new() } else { corners };
             Ok((object, corners))
         })
         .collect()
