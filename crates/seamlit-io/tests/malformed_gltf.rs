@@ -502,8 +502,8 @@ fn a_percent_encoded_data_uri_is_read_like_a_base64_one() {
     assert_eq!(asset.model.objects[0].triangles, [[0, 1, 2]]);
 }
 
-/// The fixture with four meshes over its buffer, reached through four nodes in the order
-/// `meshes` gives, each node's mesh made by `primitive(mesh)`.
+/// The fixture with four meshes over its buffer, each made by `primitive(mesh)`, reached
+/// through four nodes: node `k` holds mesh `order[k]`.
 fn four_meshes(order: [usize; 4], primitive: impl Fn(usize) -> Value) -> Value {
     let mut document = triangle(POSITIONS, [0, 1, 2]);
     document["meshes"] = (0..4).map(|m| json!({ "primitives": [primitive(m)] })).collect();
@@ -550,11 +550,10 @@ fn the_first_error_is_the_first_reached_primitives() {
     let dir = tempfile::tempdir().unwrap();
     for first in [0, 3] {
         let order = if first == 0 { [0, 3, 1, 2] } else { [3, 0, 1, 2] };
-        let document = four_meshes(order, |m| match m {
+        let mut document = four_meshes(order, |m| match m {
             0 | 3 => json!({ "attributes": { "POSITION": 0 }, "indices": 2 + m / 3 }),
             _ => json!({ "attributes": { "POSITION": 0 }, "indices": 1 }),
         });
-        let mut document = document;
         // Accessors 2 and 3: the indices 0, 1, 7 (out of range), as the fixture stores them.
         let bad = triangle(POSITIONS, [0, 1, 7]);
         let buffer = bad["buffers"][0].clone();

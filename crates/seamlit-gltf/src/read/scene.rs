@@ -64,11 +64,7 @@ impl<'r> SceneWalk<'r> {
         let mut jobs: Vec<(gltf::Mesh<'_>, gltf::Primitive<'_>)> = Vec::new();
         for mesh in reached_meshes(roots) {
             for primitive in mesh.primitives() {
-                let triangles = matches!(
-                    primitive.mode(),
-                    Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-                );
-                if triangles
+                if is_triangles(&primitive)
                     && super::lenient::without_data(&primitive, self.without_data).is_none()
                 {
                     jobs.push((mesh.clone(), primitive));
@@ -210,7 +206,7 @@ impl<'r> SceneWalk<'r> {
         warnings: &mut Vec<String>,
     ) -> Result<Option<Object>, IoError> {
         let (path, m, p) = (self.reader.path.display(), mesh.index(), primitive.index());
-        if !matches!(primitive.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        if !is_triangles(primitive) {
             warnings.push(format!(
                 "{path}: mesh {m} primitive {p}: mode {:?} skipped (only triangles are read)",
                 primitive.mode()
@@ -236,6 +232,11 @@ impl<'r> SceneWalk<'r> {
         }
         Ok(object)
     }
+}
+
+/// Whether the primitive is one of triangles (a list, a strip or a fan): the ones read.
+fn is_triangles(primitive: &gltf::Primitive<'_>) -> bool {
+    matches!(primitive.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)
 }
 
 /// A primitive decoded ahead of the walk: what [`Reader::primitive`] gave, and the warnings
