@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import json
 import os
+import random
+import re
 import shutil
 import signal
 import socket
@@ -539,6 +541,20 @@ def test_small_files_go_several_to_a_task_and_large_ones_alone():
     # A task holds at most _BATCH_BYTES of small files.
     half = {f"s{i}": seamlit.ray._BATCH_BYTES // 2 for i in range(10)}
     assert max(map(len, seamlit.ray._batches([f"s{i}" for i in range(10)], half, cpus=1))) == 2
+
+
+def test_asset_paths_are_found_as_the_pattern_finds_them():
+    from seamlit.ray import _files
+
+    pattern = rb"[A-Za-z0-9_./\\:-]+\.(?:usda|usdc|usdz|usd|png|jpg|jpeg|exr|tif|tiff|hdr|tga|bmp|ktx2)\b"
+    rng = random.Random(7)
+    pieces = [b".", b"usda", b"usd", b"png", b"x", b"9", b"-", b"/", b"\\", b" ", b"@", b"\n", b"a.usdc", b"z"]
+    for _ in range(20000):
+        data = b"".join(rng.choice(pieces) for _ in range(rng.randrange(1, 24)))
+        assert _files._asset_paths(data) == re.findall(pattern, data), data
+    for layer in sorted(MODELS.rglob("*.usd[ac]")):
+        data = layer.read_bytes()
+        assert _files._asset_paths(data) == re.findall(pattern, data), layer
 
 
 def test_a_worker_killed_in_a_task_of_several_files_loses_none_of_them(cluster, tmp_path, monkeypatch):

