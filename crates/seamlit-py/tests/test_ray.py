@@ -526,7 +526,7 @@ def test_a_worker_killed_while_it_fixes_a_file_is_retried_once_then_the_file_is_
 
 def test_small_files_go_several_to_a_task_and_large_ones_alone():
     sizes = {f"s{i}": 1000 for i in range(10)}
-    sizes["big"] = seamlit.ray._BATCH_BYTES
+    sizes["big"] = seamlit.ray._ALONE_BYTES
     inputs = ["s0", "s1", "big", *[f"s{i}" for i in range(2, 10)]]
     # Ten small files on 1 CPU: at least 4 tasks of them, so 3 files a task; the large one alone.
     assert seamlit.ray._batches(inputs, sizes, cpus=1) == [
@@ -538,9 +538,21 @@ def test_small_files_go_several_to_a_task_and_large_ones_alone():
     ]
     # Many CPUs: one file a task.
     assert seamlit.ray._batches(inputs, sizes, cpus=8) == [["s0"], ["big"], *[[f"s{i}"] for i in range(1, 10)]]
-    # A task holds at most _BATCH_BYTES of small files.
-    half = {f"s{i}": seamlit.ray._BATCH_BYTES // 2 for i in range(10)}
-    assert max(map(len, seamlit.ray._batches([f"s{i}" for i in range(10)], half, cpus=1))) == 2
+    # A task holds at most _BATCH_BYTES of small files, and at most _BATCH_FILES of them.
+    near = seamlit.ray._ALONE_BYTES - 1
+    count = seamlit.ray._BATCH_BYTES // near * 10
+    many = {f"s{i}": near for i in range(count)}
+    batches = seamlit.ray._batches(list(many), many, cpus=1)
+    assert max(map(len, batches)) == seamlit.ray._BATCH_BYTES // near
+    assert max(sum(many[r] for r in b) for b in batches) <= seamlit.ray._BATCH_BYTES
+    tiny = {f"s{i}": 1 for i in range(seamlit.ray._BATCH_FILES * 10)}
+    assert max(map(len, seamlit.ray._batches(list(tiny), tiny, cpus=1))) == seamlit.ray._BATCH_FILES
+    # Many small files on 2 CPUs: tasks get smaller toward the end, down to a few files each.
+    library = {f"s{i}": 1000 for i in range(1008)}
+    counts = [len(b) for b in seamlit.ray._batches(list(library), library, cpus=2)]
+    assert sum(counts) == 1008 and counts == sorted(counts, reverse=True)
+    assert counts[0] == 1008 // (2 * seamlit.ray._TASKS_PER_CPU)
+    assert min(counts[:-1]) == seamlit.ray._LAST_BATCH_FILES
 
 
 def test_asset_paths_are_found_as_the_pattern_finds_them():
@@ -563,8 +575,10 @@ def test_a_worker_killed_in_a_task_of_several_files_loses_none_of_them(cluster, 
     for i in range(5):
         shutil.copy(MODELS / "fox" / "Fox.glb", src / f"fox{i}.glb")
     # All six files in one task (the slow model is large: it would run alone).
+    monkeypatch.setattr(seamlit.ray, "_ALONE_BYTES", 1 << 30)
     monkeypatch.setattr(seamlit.ray, "_BATCH_BYTES", 1 << 30)
     monkeypatch.setattr(seamlit.ray, "_TASKS_PER_CPU", 0.01)
+    monkeypatch.setattr(seamlit.ray, "_SHARES_PER_CPU", 0.01)
     expected = tmp_path / "expected"
     assert cli("fix", src, "-o", expected).returncode == 0
 

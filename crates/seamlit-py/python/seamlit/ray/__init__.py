@@ -255,34 +255,50 @@ def _jobs(
     return jobs
 
 
-#: Files smaller than this go several to a task, and at most this many bytes of them a task.
-_BATCH_BYTES = 4 * 2**20
-#: At most this many files a task.
-_BATCH_FILES = 32
-#: Batches are made small enough for at least this many tasks per CPU of the cluster, so
-#: that the last tasks do not leave CPUs idle.
+#: Files of this size or more go alone to a task (each asks Ray for its own memory).
+_ALONE_BYTES = 4 * 2**20
+#: The smaller ones go together, at most this many bytes of them a task...
+_BATCH_BYTES = 64 * 2**20
+#: ...and at most this many files (a task's files are retried one by one when its worker
+#: dies, and the progress moves a task at a time).
+_BATCH_FILES = 256
+#: A task takes the small files not yet in one over this many per CPU: tasks get smaller
+#: toward the end of the run, so that the CPUs finish together.
+_SHARES_PER_CPU = 2
+#: Batches are made small enough for at least this many tasks per CPU of the cluster.
 _TASKS_PER_CPU = 4
+#: Toward the end, tasks of no fewer files than this (unless there are few): Ray's cost per
+#: task is more than fixing a small model takes.
+_LAST_BATCH_FILES = 4
 
 
 def _batches(inputs: List[str], sizes: Dict[str, int], cpus: int) -> List[List[str]]:
-    """The files of each task, in the order of ``inputs``: a file of ``_BATCH_BYTES`` or
-    more alone, the smaller ones together (a task of small files costs Ray several
-    milliseconds, more than fixing one of them)."""
-    small = sum(1 for r in inputs if (sizes.get(r) or 0) < _BATCH_BYTES)
-    per_task = max(1, min(_BATCH_FILES, math.ceil(small / (_TASKS_PER_CPU * cpus))))
+    """The files of each task, in the order of ``inputs``: a file of ``_ALONE_BYTES`` or
+    more alone, the smaller ones together, each task taking a share of those left (guided
+    self-scheduling). Ray's cost per task, about 3 ms between one task's end and the next
+    one's start on a worker, is more than fixing a small model takes (49 tasks of 1,008 small
+    files on one CPU spent 0.16 s of 2.9 s so), and a run's last tasks, if large, leave CPUs
+    idle (BENCHMARKS.md, seamlit.ray)."""
+    left = sum(1 for r in inputs if (sizes.get(r) or 0) < _ALONE_BYTES)
+    most = max(1, min(_BATCH_FILES, math.ceil(left / (_TASKS_PER_CPU * cpus))))
+    least = min(_LAST_BATCH_FILES, most)
     batches: List[List[str]] = []
     current: List[str] = []
     current_bytes = 0
+    per_task = 0
     for relative in inputs:
         size = sizes.get(relative) or 0
-        if size >= _BATCH_BYTES:
+        if size >= _ALONE_BYTES:
             batches.append([relative])
             continue
         if current and (len(current) >= per_task or current_bytes + size > _BATCH_BYTES):
             batches.append(current)
             current, current_bytes = [], 0
+        if not current:
+            per_task = max(least, min(most, math.ceil(left / (_SHARES_PER_CPU * cpus))))
         current.append(relative)
         current_bytes += size
+        left -= 1
     if current:
         batches.append(current)
     return batches
