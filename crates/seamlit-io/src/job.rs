@@ -149,9 +149,10 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
     let copies = Copies::of(asset, &options).map_err(FixError::Geometry)?;
     let before = copies.measure(asset, &animations, job.samples, &options);
     let report_options = ReportOptions::from(&options);
-    // The weld as loaded spares the fix welding and counting the model again.
+    // The weld as loaded spares the fix welding the model again, and the fix counts the
+    // triangles for both reports.
     let (as_loaded, loaded) = if job.report_as_loaded {
-        let (report, weld) = seamlit_mesh::report_with_weld(&asset.model, &report_options)
+        let (report, weld) = seamlit_mesh::report_before_fix(&asset.model, &report_options)
             .map_err(FixError::Geometry)?;
         (Some(report), Some(weld))
     } else {
@@ -166,12 +167,12 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
         SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
         SkinSeams::Keep => None,
     };
-    let report = match &as_loaded {
-        // The triangle counts as loaded are the fixed model's: not counted again.
-        Some(before) => {
-            seamlit_mesh::report_fixed(&asset.model, &report_options, welded.as_ref(), before)
-        }
-        None => seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref()),
+    let (as_loaded, report) = match as_loaded {
+        Some(before) => before
+            .with_fixed(&asset.model, &report_options, welded.as_ref())
+            .map(|(before, after)| (Some(before), after)),
+        None => seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref())
+            .map(|after| (None, after)),
     }
     .map_err(FixError::Report)?;
     let after = copies.measure(asset, &animations, job.samples, &options);

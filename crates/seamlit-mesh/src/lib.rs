@@ -66,7 +66,8 @@ pub use model::{Influences, Model, MorphTarget, Object, VAxis};
 pub use options::{FixOptions, Mode, NormalPolicy, TangentMethod, Weighting, WeldTolerance};
 pub use repair::seam_copies;
 pub use report::{
-    CrossObject, ReportOptions, SeamReport, report, report_fixed, report_welded, report_with_weld,
+    AsLoaded, CrossObject, ReportOptions, SeamReport, report, report_before_fix, report_fixed,
+    report_welded, report_with_weld,
 };
 pub use skin::{SkinMatch, SkinSeamExample, SkinSeams, match_skin_seams, shared_copies};
 pub use weld::Welded;

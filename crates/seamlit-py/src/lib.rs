@@ -253,14 +253,14 @@ fn inspect(py: Python<'_>, path: PathBuf, settings: &str) -> PyResult<String> {
         let options = asset.fix_options(settings.fix, settings.tangents_asked);
         let at = |e: &dyn std::fmt::Display| error(format!("{}: {e}", path.display()));
         let report_options = ReportOptions::from(&options);
-        let (as_loaded, loaded) =
-            seamlit_mesh::report_with_weld(&asset.model, &report_options).map_err(|e| at(&e))?;
+        let (before, loaded) =
+            seamlit_mesh::report_before_fix(&asset.model, &report_options).map_err(|e| at(&e))?;
         let (changes, welded) =
             seamlit_mesh::fix_in_place_welded(&mut asset.model, &options, Some(&loaded))
                 .map_err(|e| at(&e))?;
-        let fixed =
-            seamlit_mesh::report_fixed(&asset.model, &report_options, welded.as_ref(), &as_loaded)
-                .map_err(|e| at(&e))?;
+        let (as_loaded, fixed) = before
+            .with_fixed(&asset.model, &report_options, welded.as_ref())
+            .map_err(|e| at(&e))?;
         Ok(serde_json::json!({
             "file": path.display().to_string(),
             "options": options,
