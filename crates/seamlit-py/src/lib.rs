@@ -190,7 +190,7 @@ fn fix_model_bytes<'py>(
     let run = || -> PyResult<(Vec<u8>, String)> {
         let (bytes, fixed, warnings) = fix_in_memory(data, name, output, &settings, companions)?;
         let report = if row {
-            json_text(&fleet::Row::of(&fixed, &warnings, data, &bytes))?
+            json_text(&fleet::Row::of(&fixed, &warnings, fleet::sha256(data), &bytes))?
         } else {
             json_text(&fixed.file_json(name, Path::new(output), &warnings))?
         };
