@@ -129,12 +129,43 @@ pub enum FixError {
 /// threads from `RAYON_NUM_THREADS`, else one per CPU) but with the 8 MiB stacks of a main
 /// thread, as a model's whole load now runs on them; a pool built before is used as it is.
 pub fn in_pool<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    global_pool();
+    rayon::scope(|_| work())
+}
+
+/// [`in_pool`], but where rayon's pool has one thread (`RAYON_NUM_THREADS=1`: a Ray task),
+/// on the calling thread itself, made a pool of one ([`become_a_pool_of_one`]) on its first
+/// call: for callers that run one model after another from a thread with a main thread's
+/// stack (the Python package: 8 MiB on Linux, 16 MiB on macOS). Fixing 1,008 small files
+/// so from Python, handing each to the pool's thread and waking it, maybe on the other core,
+/// cost a tenth of the time (BENCHMARKS.md, seamlit.ray).
+pub fn in_pool_or_here<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    global_pool();
+    if rayon::current_thread_index().is_none() && rayon::current_num_threads() == 1 {
+        become_a_pool_of_one();
+    }
+    rayon::scope(|_| work())
+}
+
+/// Rayon's global pool, built on first use as rayon builds it by default but with 8 MiB
+/// stacks (see [`in_pool`]); a pool built before is used as it is.
+fn global_pool() {
     static POOL: std::sync::Once = std::sync::Once::new();
     POOL.call_once(|| {
         // Fails only when the global pool exists already: then that one is used.
         let _ = rayon::ThreadPoolBuilder::new().stack_size(8 << 20).build_global();
     });
-    rayon::scope(|_| work())
+}
+
+/// Makes the calling thread the one thread of a rayon pool of its own, for good: the work
+/// it hands to rayon from then on runs on it, inline (its stack is the thread's own). The
+/// pool is leaked (rayon keeps a pool that uses the current thread for the thread's life:
+/// one small registry per thread, and no thread of its own). Where the thread cannot be
+/// made one (already a pool's), nothing changes.
+pub fn become_a_pool_of_one() {
+    if let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(1).use_current_thread().build() {
+        std::mem::forget(pool);
+    }
 }
 
 /// Fixes `asset` in place as `seamlit fix` does (the module's docs list the steps) and says

@@ -152,3 +152,31 @@ fn fix_reads_no_pixels_and_writes_what_decoding_them_wrote() {
     );
     assert_eq!(cornell.warnings, default.warnings);
 }
+
+/// A thread made a pool of one of its own runs the work it hands to rayon itself, the fix's
+/// loops and ufbx's inflating tasks (`quaternius-bus.fbx`'s compressed arrays) among them,
+/// and fixes a model as the global pool does. Run on a thread of its own: the test's thread
+/// stays as it was.
+#[test]
+fn a_pool_of_one_does_its_work_on_its_own_thread() {
+    use rayon::prelude::*;
+    let relative = "lowpoly/quaternius-bus.fbx";
+    let expected = in_memory(&fixed(relative), "bus.glb");
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        seamlit_io::job::become_a_pool_of_one();
+        let me = std::thread::current().id();
+        let threads: Vec<_> =
+            (0..256).into_par_iter().map(|_| std::thread::current().id()).collect();
+        let asset = seamlit_io::job::in_pool_or_here(|| fixed(relative));
+        let ran_here = seamlit_io::job::in_pool_or_here(|| std::thread::current().id()) == me;
+        let inline = threads.iter().all(|&t| t == me) && ran_here;
+        sender.send((inline, rayon::current_num_threads(), in_memory(&asset, "bus.glb"))).unwrap();
+    });
+    // A load that waited on a task no thread would run would never answer.
+    let (inline, threads, files) =
+        receiver.recv_timeout(std::time::Duration::from_secs(300)).expect("the load ended");
+    assert!(inline, "work handed to rayon ran on another thread");
+    assert_eq!(threads, 1);
+    assert!(files == expected, "fixed otherwise than on the global pool");
+}

@@ -232,13 +232,13 @@ fn fix_in_memory(
     Ok((files.remove(0).1, fixed, warnings))
 }
 
-/// Runs `work` without the interpreter's lock, on a thread of rayon's pool
-/// ([`seamlit_io::job::in_pool`]). On a pool of one thread (a Ray task's
-/// `RAYON_NUM_THREADS=1`) the many small loops of fixing a small model ran 1.5 times slower
-/// handed off from the interpreter's thread, the pool's thread woken on the other core for
-/// each.
+/// Runs `work` without the interpreter's lock, on a thread of rayon's pool, or with a pool
+/// of one thread (a Ray task's `RAYON_NUM_THREADS=1`) on the calling thread itself
+/// ([`seamlit_io::job::in_pool_or_here`]). Handed off from the interpreter's thread, the
+/// many small loops of fixing a small model ran 1.5 times slower, the pool's thread woken on
+/// the other core for each; and then each file, handed to the pool's thread, 1.1 times.
 fn detached<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> T {
-    py.detach(|| seamlit_io::job::in_pool(work))
+    py.detach(|| seamlit_io::job::in_pool_or_here(work))
 }
 
 /// Loads `path` and measures its seams as loaded and after a fix, without writing
