@@ -180,6 +180,9 @@ def main() -> None:
     raw = median(phases[1]["runs"]["ray"]) / median(phases[2]["runs"]["ray"])
     print(f"\nRay 1 node against folder mode 1 thread, per CPU: {slower[1]:.2f}x slower")
     print(f"Ray 2 nodes against 1 node: {scaling:.2f}x (each against its folder runs; the raw ratio of medians {raw:.2f}x)")
+    # What this machine gives a second thread: folder mode's own 2 threads against its 1.
+    own = [median(p["runs"]["folder1"]) / median(p["runs"]["folder2"]) for p in phases.values()]
+    print(f"Folder mode 2 threads against 1 thread, the same runs: {' and '.join(f'{x:.2f}x' for x in own)}")
     cli, native, size = overhead(binary, args.work, args.runs)
     print(f"\nper file, NormalTangentTest.glb ({size} bytes), median of {args.runs}: "
           f"command line {cli * 1000:.1f} ms (process start included), fix_bytes {native * 1000:.1f} ms")
