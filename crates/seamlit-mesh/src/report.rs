@@ -181,13 +181,24 @@ pub fn report_with_weld(
     model: &Model,
     options: &ReportOptions,
 ) -> Result<(SeamReport, Welded), MeshError> {
-    let flat = validate::flatten(model)?;
-    let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
-    let roots = weld::roots(&flat.positions, tolerance);
-    let report = measure_welded(model, options, flat, &roots, tolerance, None);
+    let (report, roots) = weld_and_measure(model, options, None)?;
     let counts =
         [report.degenerate_triangles, report.degenerate_uv_triangles, report.mirrored_triangles];
     Ok((report, Welded::new(roots, options.weld_tolerance, Some(counts))))
+}
+
+/// The report of `model` welded afresh, with the triangle counts `known` or counted, and the
+/// weld's roots.
+fn weld_and_measure(
+    model: &Model,
+    options: &ReportOptions,
+    known: Option<[usize; 3]>,
+) -> Result<(SeamReport, Vec<u32>), MeshError> {
+    let flat = validate::flatten(model)?;
+    let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
+    let roots = weld::roots(&flat.positions, tolerance);
+    let report = measure_welded(model, options, flat, &roots, tolerance, known);
+    Ok((report, roots))
 }
 
 /// The report of a model as loaded, all but its degenerate, degenerate-UV and mirrored
@@ -210,10 +221,8 @@ pub fn report_before_fix(
     model: &Model,
     options: &ReportOptions,
 ) -> Result<(AsLoaded, Welded), MeshError> {
-    let flat = validate::flatten(model)?;
-    let tolerance = options.weld_tolerance.absolute(weld::diagonal(&flat));
-    let roots = weld::roots(&flat.positions, tolerance);
-    let report = measure_welded(model, options, flat, &roots, tolerance, Some([0; 3]));
+    // Counts of zero for now: `AsLoaded::with_fixed` sets them.
+    let (report, roots) = weld_and_measure(model, options, Some([0; 3]))?;
     Ok((AsLoaded { report }, Welded::new(roots, options.weld_tolerance, None)))
 }
 
