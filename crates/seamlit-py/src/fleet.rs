@@ -80,18 +80,10 @@ pub(crate) fn sha256(bytes: &[u8]) -> String {
 /// of its time in a Ray task reading the file, half of it that second read, and 10% hashing
 /// it (`perf`).
 fn file_sha256(path: &Path) -> std::io::Result<String> {
-    use std::io::Read;
-    let mut file = std::fs::File::open(path)?;
-    let mut buffer = vec![0; 256 * 1024];
+    let mut file = std::io::BufReader::with_capacity(256 * 1024, std::fs::File::open(path)?);
     let mut hasher = Sha256::new();
-    loop {
-        match file.read(&mut buffer) {
-            Ok(0) => return Ok(hex(&hasher.finalize())),
-            Ok(n) => hasher.update(&buffer[..n]),
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
+    std::io::copy(&mut file, &mut hasher)?;
+    Ok(hex(&hasher.finalize()))
 }
 
 /// A digest in lowercase hex.

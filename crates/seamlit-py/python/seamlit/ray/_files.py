@@ -247,9 +247,6 @@ def _asset_paths(data: bytes) -> List[bytes]:
     for match in _ASSET_EXTENSION.finditer(data):
         dot = start = match.start()
         while start > 0 and data[start - 1] in _PATH_BYTES:
-            if found and start == found[-1][1]:  # back to the last match: the same run
-                start = found[-1][0]
-                break
             start -= 1
         if start == dot:
             continue
