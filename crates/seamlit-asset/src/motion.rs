@@ -69,7 +69,9 @@ pub fn seam_motion(
         ..SeamMotion::default()
     };
     let mut angle: Option<f32> = None;
-    for s in 0..samples {
+    // No shared position, nothing to pose: a model of one object moves no seam.
+    let posed_at = if copies.is_empty() { 0 } else { samples };
+    for s in 0..posed_at {
         let time = duration * s as f32 / (samples - 1) as f32;
         let pose = Pose::at(asset, animation, time);
         let posers: Vec<Option<Poser<'_>>> = (0..asset.model.objects.len())
