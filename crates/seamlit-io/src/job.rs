@@ -58,6 +58,11 @@ pub struct FixJob {
     /// Whether the seam report of the model as loaded is measured too ([`Fixed::as_loaded`]):
     /// one more pass over the model, which `seamlit fix` does not print.
     pub report_as_loaded: bool,
+    /// Whether the seams in motion and the morph targets' seams are measured
+    /// ([`Fixed::motion`], [`Fixed::morph_seams`]), which `seamlit fix` prints for a skinned,
+    /// animated or morphed model. A measure only: without it the fix and its output are the
+    /// same, those two are empty (`seamlit.ray`'s report has no column for them).
+    pub motion: bool,
 }
 
 impl FixJob {
@@ -68,6 +73,7 @@ impl FixJob {
         skin_seams: SkinSeams::Match,
         samples: 30,
         report_as_loaded: false,
+        motion: true,
     };
 }
 
@@ -176,7 +182,8 @@ pub fn become_a_pool_of_one() {
 /// model fails.
 pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
     let options = asset.fix_options(job.options, job.tangents_asked);
-    let animations: Vec<usize> = (0..asset.animations.len()).collect();
+    let animations: Vec<usize> =
+        if job.motion { (0..asset.animations.len()).collect() } else { Vec::new() };
     let copies = Copies::of(asset, &options).map_err(FixError::Geometry)?;
     let before = copies.measure(asset, &animations, job.samples, &options);
     let report_options = ReportOptions::from(&options);
@@ -214,7 +221,7 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
         report,
         matched,
         motion: before.into_iter().zip(after).collect(),
-        morph_seams: morph_seams(asset, &copies.copies),
+        morph_seams: if job.motion { morph_seams(asset, &copies.copies) } else { Vec::new() },
     })
 }
 

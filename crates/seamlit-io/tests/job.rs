@@ -103,6 +103,33 @@ fn the_job_matches_skin_seams_unless_asked_to_keep_them() {
 }
 
 #[test]
+fn the_seams_in_motion_are_measured_only_when_asked_and_change_nothing() {
+    // A two-object character whose neck opens as it nods (seamlit-testkit's character): the
+    // job without the measure fixes and writes the same, and measures nothing in motion.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("character.gltf");
+    seamlit_testkit::character::write(&path);
+    let loaded = seamlit_io::load(&path, &LoadOptions::FIX).unwrap();
+    let mut measured = loaded.clone();
+    let with = fix_asset(&mut measured, &FixJob::DEFAULT).unwrap();
+    assert_eq!(with.motion.len(), 1, "the nod, measured before and after");
+    assert!(with.motion[0].0.max_gap > 0.0, "the neck opens as loaded");
+
+    let mut unmeasured = loaded;
+    let without = fix_asset(&mut unmeasured, &FixJob { motion: false, ..FixJob::DEFAULT }).unwrap();
+    assert!(without.motion.is_empty() && without.morph_seams.is_empty());
+    assert!(without.matched.is_some(), "the skins still matched");
+    let rest = |fixed: &seamlit_io::job::Fixed| {
+        let mut json = fixed.json();
+        json["motion"] = serde_json::Value::Null;
+        json["morph_seams"] = serde_json::Value::Null;
+        json
+    };
+    assert_eq!(rest(&with), rest(&without));
+    assert!(in_memory(&measured, "out.glb") == in_memory(&unmeasured, "out.glb"), "same bytes");
+}
+
+#[test]
 fn a_normal_mapped_model_without_tangents_gets_mikktspace_unless_one_was_asked_for() {
     // NormalTangentTest has a normal map; its tangents dropped, the job picks MikkTSpace as
     // the command line does, and keeps the generator a caller named.

@@ -113,7 +113,7 @@ pub(crate) fn fix_file_row(
         overwrite_input: settings.overwrite_input,
         keep_compression: settings.keep_compression,
     };
-    let job = settings.job();
+    let job = settings.row_job();
     let run = || -> PyResult<Row> {
         let mut asset = load(&input, &load_options)?;
         // Read again for its hash: from the page cache.

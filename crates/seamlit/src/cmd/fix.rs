@@ -191,6 +191,7 @@ fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
         },
         samples: args.samples,
         report_as_loaded: false,
+        motion: true,
     }
 }
 
