@@ -113,7 +113,8 @@ impl Settings {
     }
 
     /// [`Self::job`] for `seamlit.ray`'s report row ([`fleet::Row`]), which has no column
-    /// for the seams in motion: they are not measured (Fox.glb's fix 2.4 to 2.2 ms).
+    /// for the seams in motion: they are not measured (the fleet bench's task loop 0.97x,
+    /// BENCHMARKS.md).
     fn row_job(&self) -> FixJob {
         FixJob { motion: false, ..self.job() }
     }
@@ -211,9 +212,9 @@ fn fix_model_bytes<'py>(
 
 /// Loads the model `name` from `data` (with `companions`, the files beside it, each by its
 /// path beside `name`'s) as the set of files in memory the readers read, fixes it as `job`
-/// says (the command line's steps), and writes it with the glTF writer into memory as `output` (one file:
-/// `NAME.glb` or `NAME.vrm`); returns the output's bytes, what the fix did, and the loader's
-/// and writer's warnings.
+/// says (the command line's steps), and writes it with the glTF writer into memory as
+/// `output` (one file: `NAME.glb` or `NAME.vrm`); returns the output's bytes, what the fix
+/// did, and the loader's and writer's warnings.
 fn fix_in_memory(
     data: &[u8],
     name: &str,
