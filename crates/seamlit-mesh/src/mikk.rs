@@ -258,25 +258,73 @@ mod tests {
         (p, uv, tris, normals)
     }
 
-    #[test]
-    fn plain_fans_give_the_bits_of_the_grouping() {
-        let (positions, uvs, triangles, normals) = wavy(24);
+    /// The tangent of every corner of one object, by the plain fans where they apply and by
+    /// the grouping for every position.
+    fn both_paths(
+        positions: &[Vec3],
+        uvs: &[Vec2],
+        triangles: &[[u32; 3]],
+        normals: &[Vec3],
+    ) -> (Tangents, Tangents) {
         let roots: Vec<u32> = (0..index(positions.len())).collect();
         let (vertex_start, triangle_start) =
             ([0, index(positions.len())], [0, index(triangles.len())]);
         let surface = Surface {
-            positions: &positions,
+            positions,
             roots: &roots,
-            uvs: &[Some(&uvs)],
-            triangles: &[&triangles],
+            uvs: &[Some(uvs)],
+            triangles: &[triangles],
             vertex_start: &vertex_start,
             triangle_start: &triangle_start,
             normal: |_, v: usize| (normals[v], 0),
-            vertex_normals: Some(&normals),
+            vertex_normals: Some(normals),
             v_axis: VAxis::Up,
             count: false,
         };
-        let (fast, grouped) = (tangents_with(&surface, false), tangents_with(&surface, true));
+        (tangents_with(&surface, false), tangents_with(&surface, true))
+    }
+
+    /// Two triangles that meet only at vertex 0, with one UV there: two fans, each open, of
+    /// one orientation, whose tangents point along x and along y. MikkTSpace makes two groups of the vertex's
+    /// corners (no edge joins them); summed as one fan, both corners would get the diagonal.
+    #[test]
+    fn a_vertex_pinched_between_two_fans_is_two_groups() {
+        let positions = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(-1.0, -1.0, 0.0),
+        ];
+        let uvs = [
+            Vec2::new(0.5, 0.5),
+            Vec2::new(1.0, 0.5),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.5, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        let triangles = [[0, 1, 2], [0, 3, 4]];
+        let normals = [Vec3::Z; 5];
+        let (fast, grouped) = both_paths(&positions, &uvs, &triangles, &normals);
+        for (c, &v) in triangles.as_flattened().iter().enumerate() {
+            let v = v as usize;
+            let (a, b) = (fast.get(c, v, v, Vec3::Z), grouped.get(c, v, v, Vec3::Z));
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "corner {c}"
+            );
+        }
+        // Each of vertex 0's corners has its own triangle's tangent.
+        let (t0, t3) = (grouped.get(0, 0, 0, Vec3::Z), grouped.get(3, 0, 0, Vec3::Z));
+        assert!(t0.abs_diff_eq(Vec4::new(1.0, 0.0, 0.0, 1.0), 1e-6), "{t0}");
+        assert!(t3.abs_diff_eq(Vec4::new(0.0, 1.0, 0.0, 1.0), 1e-6), "{t3}");
+    }
+
+    #[test]
+    fn plain_fans_give_the_bits_of_the_grouping() {
+        let (positions, uvs, triangles, normals) = wavy(24);
+        let (fast, grouped) = both_paths(&positions, &uvs, &triangles, &normals);
         let plain = fast.plain.iter().filter(|&&p| p).count();
         assert!(plain > positions.len() / 2, "{plain} plain positions");
         for (c, &v) in triangles.as_flattened().iter().enumerate() {

@@ -23,7 +23,7 @@ pub(super) struct Keys {
 }
 
 impl Keys {
-    pub(super) fn of<N>(surface: &Surface<'_, N>, first: &[u32], plain: &[bool]) -> Self
+    pub(super) fn of<N>(surface: &Surface<'_, N>, first: &Firsts, plain: &[bool]) -> Self
     where
         N: Fn(usize, usize) -> (Vec3, u32) + Sync,
     {
@@ -43,7 +43,7 @@ impl Keys {
                 let (t, tri) = (t as usize, surface.triangle(t as usize));
                 std::array::from_fn(|k| {
                     let normal = (surface.normal)(t * 3 + k, tri[k] as usize).1;
-                    (u64::from(first[tri[k] as usize]) << 32) | u64::from(normal)
+                    (u64::from(first.of(tri[k])) << 32) | u64::from(normal)
                 })
             })
             .collect();
@@ -65,10 +65,28 @@ impl Keys {
 
 /// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
 /// normals are per vertex), and whether another vertex of its position has the same first
-/// vertex, so that the two may share a MikkTSpace vertex.
+/// (it is then not plain).
 pub(super) struct FirstEqual {
-    pub(super) first: Vec<u32>,
+    pub(super) first: Firsts,
     pub(super) shared: Vec<bool>,
+}
+
+/// The first vertex of each vertex's position with its UV (see [`FirstEqual`]), kept only for
+/// the vertices whose first is another: those at positions of several vertices, a few in a
+/// model (at a million triangles an array of every vertex was 2 MB at the fix's peak).
+pub(super) struct Firsts {
+    /// The vertices whose first is another vertex, with that vertex, ascending by vertex.
+    others: Vec<(u32, u32)>,
+}
+
+impl Firsts {
+    /// The first vertex of `v`'s position with its UV: `v` itself unless it is another.
+    pub(super) fn of(&self, v: u32) -> u32 {
+        match self.others.binary_search_by_key(&v, |&(w, _)| w) {
+            Ok(i) => self.others[i].1,
+            Err(_) => v,
+        }
+    }
 }
 
 /// [`FirstEqual`]: only positions of several vertices are compared, found among the vertices
@@ -92,9 +110,10 @@ pub(super) fn first_equal_vertex<N: Sync>(surface: &Surface<'_, N>) -> FirstEqua
             bits(na.x) == bits(nb.x) && bits(na.y) == bits(nb.y) && bits(na.z) == bits(nb.z)
         })
     };
-    let mut first: Vec<u32> = (0..index(n)).into_par_iter().collect();
+    let mut others = Vec::new();
     let mut shared = vec![false; n];
-    let mut at = Vec::new();
+    // The position's vertices, and the first of each as found so far.
+    let (mut at, mut firsts) = (Vec::new(), Vec::new());
     for run in welded.chunk_by(|a, b| a >> 32 == b >> 32) {
         // The position's vertices, ascending: its root (its own root) and the others.
         let root = (run[0] >> 32) as u32;
@@ -103,13 +122,17 @@ pub(super) fn first_equal_vertex<N: Sync>(surface: &Surface<'_, N>) -> FirstEqua
         at.push(root);
         at.extend(run.iter().map(|&e| low_half(e)));
         at.sort_unstable();
+        firsts.clear();
+        firsts.extend_from_slice(&at);
         for (i, &v) in at.iter().enumerate() {
-            if let Some(&u) = at[..i].iter().find(|&&u| same(u as usize, v as usize)) {
-                let f = first[u as usize];
-                first[v as usize] = f;
+            if let Some(j) = at[..i].iter().position(|&u| same(u as usize, v as usize)) {
+                let f = firsts[j];
+                firsts[i] = f;
+                others.push((v, f));
                 (shared[v as usize], shared[f as usize]) = (true, true);
             }
         }
     }
-    FirstEqual { first, shared }
+    others.par_sort_unstable();
+    FirstEqual { first: Firsts { others }, shared }
 }

@@ -13,6 +13,8 @@ pub(super) const HAS_REVERSED: u8 = 2;
 /// With-any or degenerate triangles, or several normals at the position, or another vertex
 /// of the position with the same key.
 pub(super) const IRREGULAR: u8 = 4;
+/// Its triangles do not close around it (see [`gather_object`]'s closures).
+const OPEN: u8 = 8;
 
 /// Mixes a key into 64 well-spread bits (splitmix64's finaliser): sums of these tell whether
 /// two multisets of keys are equal, but for a 2^-64 chance.
@@ -23,18 +25,15 @@ pub(super) fn spread(key: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// What one pass over the triangles gathers per vertex, for [`plain_fans`], as three arrays
-/// (of 16, 8 and 1 bytes a vertex: at a million triangles these are fresh pages the kernel
+/// What one pass over the triangles gathers per vertex, for [`plain_fans`], as two arrays
+/// (of 16 and 1 bytes a vertex: at a million triangles these are fresh pages the kernel
 /// clears, a good part of the pass's cost).
 struct Gathered {
     /// Per object, per vertex: the sum of its corners' projected `s` times angle (healthy
     /// triangles, in triangle order), `w` zero. Per object, and as wide as a tangent, so that
     /// each object's sums can become its tangents in place ([`Fans`]).
     sums: Vec<Vec<Vec4>>,
-    /// The sum over its corners of the spread next vertex minus the spread previous one:
-    /// zero where its triangles close around it.
-    closures: Vec<u64>,
-    /// `HAS_ORIENTED`, `HAS_REVERSED`, `IRREGULAR`.
+    /// `HAS_ORIENTED`, `HAS_REVERSED`, `IRREGULAR`, `OPEN`.
     flags: Vec<u8>,
 }
 
@@ -42,7 +41,6 @@ struct Gathered {
 struct ObjectPart<'x> {
     o: usize,
     sums: &'x mut Vec<Vec4>,
-    closures: &'x mut [u64],
     flags: &'x mut [u8],
     faces: &'x mut [u8],
 }
@@ -102,7 +100,7 @@ where
     let mut faces = vec![0u8; surface.triangle_count()];
     let objects = surface.vertex_start.len() - 1;
     let sums = (0..objects).map(|_| Vec::new()).collect();
-    let mut gathered = Gathered { sums, closures: vec![0; n], flags: vec![0; n] };
+    let mut gathered = Gathered { sums, flags: vec![0; n] };
     let counts = split_by_object(surface, &mut gathered, &mut faces)
         .into_par_iter()
         .map(|part| gather_object(surface, part))
@@ -133,10 +131,14 @@ fn gather_object<N>(surface: &Surface<'_, N>, part: ObjectPart<'_>) -> [usize; 3
 where
     N: Fn(usize, usize) -> (Vec3, u32) + Sync,
 {
-    let ObjectPart { o, sums, closures, flags: vertex_flags, faces } = part;
+    let ObjectPart { o, sums, flags: vertex_flags, faces } = part;
     // Allocated here, by the object's task: its pages are first touched by the thread that
     // fills them.
-    *sums = vec![Vec4::ZERO; closures.len()];
+    *sums = vec![Vec4::ZERO; vertex_flags.len()];
+    // Per vertex, the sum over its corners of the spread next vertex minus the spread
+    // previous one: zero where its triangles close around it. Only that is kept (`OPEN`),
+    // so these 8 bytes a vertex live while one object is gathered, not the whole model.
+    let mut closures = vec![0u64; vertex_flags.len()];
     let b = surface.vertex_start[o];
     let first = surface.triangle_start[o] as usize;
     let uvs = surface.uvs[o];
@@ -194,6 +196,11 @@ where
             }
         }
     }
+    for (flags, &closure) in vertex_flags.iter_mut().zip(&closures) {
+        if closure != 0 {
+            *flags |= OPEN;
+        }
+    }
     counts
 }
 
@@ -206,7 +213,7 @@ fn plain_positions<N>(surface: &Surface<'_, N>, gathered: &Gathered, shared: &[b
         .filter(|&v| {
             let f = gathered.flags[v];
             let mixed = f & (HAS_ORIENTED | HAS_REVERSED) == HAS_ORIENTED | HAS_REVERSED;
-            f & IRREGULAR != 0 || mixed || gathered.closures[v] != 0 || shared[v]
+            f & (IRREGULAR | OPEN) != 0 || mixed || shared[v]
         })
         .map(|v| surface.roots[v])
         .collect();
@@ -227,17 +234,16 @@ fn split_by_object<'x, N>(
     let objects = surface.vertex_start.len() - 1;
     let mut parts = Vec::with_capacity(objects);
     let mut sums = gathered.sums.iter_mut();
-    let (mut closures, mut flags) = (&mut gathered.closures[..], &mut gathered.flags[..]);
+    let mut flags = &mut gathered.flags[..];
     let mut faces = faces;
     for o in 0..objects {
         let vertices = (surface.vertex_start[o + 1] - surface.vertex_start[o]) as usize;
         let triangles = (surface.triangle_start[o + 1] - surface.triangle_start[o]) as usize;
         let s = sums.next().expect("one sum array per object");
-        let (c, rest_c) = closures.split_at_mut(vertices);
         let (f, rest_f) = flags.split_at_mut(vertices);
         let (t, rest_t) = faces.split_at_mut(triangles);
-        parts.push(ObjectPart { o, sums: s, closures: c, flags: f, faces: t });
-        (closures, flags, faces) = (rest_c, rest_f, rest_t);
+        parts.push(ObjectPart { o, sums: s, flags: f, faces: t });
+        (flags, faces) = (rest_f, rest_t);
     }
     parts
 }
