@@ -536,6 +536,10 @@ def test_small_files_go_several_to_a_task_and_large_ones_alone():
         ["s6", "s7", "s8"],
         ["s9"],
     ]
+    # Many on 1 CPU: tasks of one size, none made smaller toward the end (nothing to balance).
+    library = {f"s{i}": 1000 for i in range(1008)}
+    counts = [len(b) for b in seamlit.ray._batches(list(library), library, cpus=1)]
+    assert counts == [1008 // seamlit.ray._TASKS_PER_CPU] * seamlit.ray._TASKS_PER_CPU
     # Many CPUs: one file a task.
     assert seamlit.ray._batches(inputs, sizes, cpus=8) == [["s0"], ["big"], *[[f"s{i}"] for i in range(1, 10)]]
     # A task holds at most _BATCH_BYTES of small files, and at most _BATCH_FILES of them.

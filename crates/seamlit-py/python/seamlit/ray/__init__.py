@@ -275,7 +275,7 @@ _LAST_BATCH_FILES = 4
 def _batches(inputs: List[str], sizes: Dict[str, int], cpus: int) -> List[List[str]]:
     """The files of each task, in the order of ``inputs``: a file of ``_ALONE_BYTES`` or
     more alone, the smaller ones together, each task taking a share of those left (guided
-    self-scheduling). Ray's cost per task, about 3 ms between one task's end and the next
+    self-scheduling; on one CPU, ``_TASKS_PER_CPU`` tasks of one size). Ray's cost per task, about 3 ms between one task's end and the next
     one's start on a worker, is more than fixing a small model takes (49 tasks of 1,008 small
     files on one CPU spent 0.16 s of 2.9 s so), and a run's last tasks, if large, leave CPUs
     idle (BENCHMARKS.md, seamlit.ray)."""
@@ -295,7 +295,9 @@ def _batches(inputs: List[str], sizes: Dict[str, int], cpus: int) -> List[List[s
             batches.append(current)
             current, current_bytes = [], 0
         if not current:
-            per_task = max(least, min(most, math.ceil(left / (_SHARES_PER_CPU * cpus))))
+            # One CPU has no end to balance: its tasks stay the first one's size.
+            share = most if cpus == 1 else math.ceil(left / (_SHARES_PER_CPU * cpus))
+            per_task = max(least, min(most, share))
         current.append(relative)
         current_bytes += size
         left -= 1
