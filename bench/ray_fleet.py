@@ -71,6 +71,31 @@ def folder_mode(binary: str, src: Path, dst: Path, threads: int) -> float:
     return seconds
 
 
+#: SHA-256 of every file under the folders given, one after another, in one process: the
+#: hashes seamlit.ray's report holds (each input with its companions, each output), which
+#: folder mode does not make. Prints the seconds.
+HASH_ALL = """
+import hashlib, sys, time
+from pathlib import Path
+files = [p for root in sys.argv[1:] for p in sorted(Path(root).rglob('*')) if p.is_file() and '_seamlit' not in p.parts]
+started = time.perf_counter()
+for p in files:
+    hashlib.sha256(p.read_bytes()).hexdigest()
+print(time.perf_counter() - started)
+"""
+
+
+def audit_hashes(src: Path, dst: Path, runs: int) -> float:
+    """The median seconds of hashing every input and output file as the report does, on one
+    core (the share of a Ray task's time that folder mode has no counterpart for)."""
+    seconds = []
+    for _ in range(runs):
+        done = subprocess.run(["taskset", "-c", "0", sys.executable, "-c", HASH_ALL, str(src), str(dst)],
+                              capture_output=True, text=True, check=True)
+        seconds.append(float(done.stdout.strip()))
+    return statistics.median(seconds)
+
+
 class RayCluster:
     """A local Ray cluster of ``nodes`` nodes of one CPU each, the driver connected."""
 
@@ -183,6 +208,13 @@ def main() -> None:
     # What this machine gives a second thread: folder mode's own 2 threads against its 1.
     own = [median(p["runs"]["folder1"]) / median(p["runs"]["folder2"]) for p in phases.values()]
     print(f"Folder mode 2 threads against 1 thread, the same runs: {' and '.join(f'{x:.2f}x' for x in own)}")
+    # The report's SHA-256 of every input and output: work a Ray task does that folder mode
+    # has no counterpart for, against folder mode's time and as if folder mode did it too.
+    hashes = audit_hashes(src, args.work / "folder1", args.repeat)
+    folder1 = median(phases[1]["runs"]["folder1"])
+    print(f"The report's SHA-256 of every input and output file, one core: {hashes:.2f} s, "
+          f"{hashes / folder1:.0%} of folder mode's 1-thread time; Ray 1 node against folder mode "
+          f"plus those hashes, per CPU: {slower[1] * folder1 / (folder1 + hashes):.2f}x")
     cli, native, size = overhead(binary, args.work, args.runs)
     print(f"\nper file, NormalTangentTest.glb ({size} bytes), median of {args.runs}: "
           f"command line {cli * 1000:.1f} ms (process start included), fix_bytes {native * 1000:.1f} ms")
