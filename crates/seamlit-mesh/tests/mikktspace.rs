@@ -192,6 +192,21 @@ fn v_down_as_in_gltf_agrees_with_mikktspace() {
 }
 
 #[test]
+fn a_torus_whose_triangles_share_no_vertex_agrees_with_mikktspace() {
+    // Every corner its own vertex, as some exporters write a mesh: MikkTSpace's vertices are
+    // the same (equal position, normal and UV), and so are its tangents.
+    let torus = common::torus(32, 64);
+    let uvs = torus.uvs.as_ref().unwrap();
+    let corners = torus.triangles.as_flattened();
+    let positions = corners.iter().map(|&v| torus.positions[v as usize]).collect();
+    let triangles =
+        (0..u32::try_from(corners.len()).unwrap()).step_by(3).map(|c| [c, c + 1, c + 2]).collect();
+    let unshared = Object::new("torus", positions, triangles)
+        .with_uvs(corners.iter().map(|&v| uvs[v as usize]).collect());
+    assert_agrees("torus, no vertex shared", &Model::new(vec![unshared]));
+}
+
+#[test]
 fn the_teapot_as_one_object_agrees_with_mikktspace() {
     // The 32 patches merged into one object: poles (degenerate triangles), creases at the
     // spout and handle, and the patches' UV seams.

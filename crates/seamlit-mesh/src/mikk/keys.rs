@@ -71,20 +71,44 @@ pub(super) struct FirstEqual {
     pub(super) shared: Vec<bool>,
 }
 
-/// The first vertex of each vertex's position with its UV (see [`FirstEqual`]), kept only for
-/// the vertices whose first is another: those at positions of several vertices, a few in a
-/// model (at a million triangles an array of every vertex was 2 MB at the fix's peak).
-pub(super) struct Firsts {
-    /// The vertices whose first is another vertex, with that vertex, ascending by vertex.
-    others: Vec<(u32, u32)>,
+/// The first vertex of each vertex's position with its UV (see [`FirstEqual`]).
+pub(super) enum Firsts {
+    /// Where few vertices have another first (the usual model, its vertices shared by its
+    /// triangles): those vertices with their first, ascending by vertex. At a million
+    /// triangles an array of every vertex was 2 MB at the fix's peak.
+    Few(Vec<(u32, u32)>),
+    /// Where many do (a model whose triangles share no vertex: every position's vertices but
+    /// one), every vertex's first: searching the pairs for every corner was slower, and the
+    /// pairs larger than the array.
+    Every(Vec<u32>),
 }
 
+/// Above this share of the vertices (one in [`FEW`]) having another first, [`Firsts`] keeps
+/// every vertex's.
+const FEW: usize = 16;
+
 impl Firsts {
+    /// `others`: the vertices of `n` whose first is another vertex, with that vertex.
+    fn new(n: usize, mut others: Vec<(u32, u32)>) -> Self {
+        if others.len() > n / FEW {
+            let mut every: Vec<u32> = (0..index(n)).into_par_iter().collect();
+            for (v, first) in others {
+                every[v as usize] = first;
+            }
+            return Self::Every(every);
+        }
+        others.par_sort_unstable();
+        Self::Few(others)
+    }
+
     /// The first vertex of `v`'s position with its UV: `v` itself unless it is another.
     pub(super) fn of(&self, v: u32) -> u32 {
-        match self.others.binary_search_by_key(&v, |&(w, _)| w) {
-            Ok(i) => self.others[i].1,
-            Err(_) => v,
+        match self {
+            Self::Few(others) => match others.binary_search_by_key(&v, |&(w, _)| w) {
+                Ok(i) => others[i].1,
+                Err(_) => v,
+            },
+            Self::Every(every) => every[v as usize],
         }
     }
 }
@@ -133,6 +157,28 @@ pub(super) fn first_equal_vertex<N: Sync>(surface: &Surface<'_, N>) -> FirstEqua
             }
         }
     }
-    others.par_sort_unstable();
-    FirstEqual { first: Firsts { others }, shared }
+    FirstEqual { first: Firsts::new(n, others), shared }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both forms give each vertex of the pairs its first and every other vertex itself; the
+    /// pairs are kept where they are few, every vertex's first where they are many.
+    #[test]
+    fn firsts_few_and_every_answer_alike() {
+        let n = 64;
+        let few = vec![(40, 3), (9, 3), (5, 2)];
+        let many: Vec<(u32, u32)> = (1..index(n)).map(|v| (v, v - 1)).collect();
+        for pairs in [few, many] {
+            let firsts = Firsts::new(n, pairs.clone());
+            let every = matches!(firsts, Firsts::Every(_));
+            assert_eq!(every, pairs.len() > n / FEW, "{} pairs of {n}", pairs.len());
+            for v in 0..index(n) {
+                let first = pairs.iter().find(|&&(w, _)| w == v).map_or(v, |&(_, f)| f);
+                assert_eq!(firsts.of(v), first, "vertex {v}");
+            }
+        }
+    }
 }
