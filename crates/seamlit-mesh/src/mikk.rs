@@ -285,8 +285,9 @@ mod tests {
     }
 
     /// Two triangles that meet only at vertex 0, with one UV there: two fans, each open, of
-    /// one orientation, whose tangents point along x and along y. MikkTSpace makes two groups of the vertex's
-    /// corners (no edge joins them); summed as one fan, both corners would get the diagonal.
+    /// one orientation, whose tangents point along x and along y. MikkTSpace makes two groups
+    /// of the vertex's corners (no edge joins them); summed as one fan, both corners would get
+    /// the diagonal.
     #[test]
     fn a_vertex_pinched_between_two_fans_is_two_groups() {
         let positions = [

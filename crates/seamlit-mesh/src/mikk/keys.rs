@@ -65,7 +65,7 @@ impl Keys {
 
 /// Per vertex: the first vertex of its position with the same UV bits (and normal bits, where
 /// normals are per vertex), and whether another vertex of its position has the same first
-/// (it is then not plain).
+/// vertex, so that the two may share a MikkTSpace vertex.
 pub(super) struct FirstEqual {
     pub(super) first: Firsts,
     pub(super) shared: Vec<bool>,

@@ -275,10 +275,10 @@ _LAST_BATCH_FILES = 4
 def _batches(inputs: List[str], sizes: Dict[str, int], cpus: int) -> List[List[str]]:
     """The files of each task, in the order of ``inputs``: a file of ``_ALONE_BYTES`` or
     more alone, the smaller ones together, each task taking a share of those left (guided
-    self-scheduling; on one CPU, ``_TASKS_PER_CPU`` tasks of one size). Ray's cost per task, about 3 ms between one task's end and the next
-    one's start on a worker, is more than fixing a small model takes (49 tasks of 1,008 small
-    files on one CPU spent 0.16 s of 2.9 s so), and a run's last tasks, if large, leave CPUs
-    idle (BENCHMARKS.md, seamlit.ray)."""
+    self-scheduling; on one CPU, ``_TASKS_PER_CPU`` tasks of one size). Ray's cost per task,
+    about 3 ms between one task's end and the next one's start on a worker, is more than
+    fixing a small model takes (49 tasks of 1,008 small files on one CPU spent 0.16 s of 2.9 s
+    so), and a run's last tasks, if large, leave CPUs idle (BENCHMARKS.md, seamlit.ray)."""
     left = sum(1 for r in inputs if (sizes.get(r) or 0) < _ALONE_BYTES)
     most = max(1, min(_BATCH_FILES, math.ceil(left / (_TASKS_PER_CPU * cpus))))
     least = min(_LAST_BATCH_FILES, most)
