@@ -2,6 +2,7 @@
 //! and textures that lighting needs, and the conversions between the two material models
 //! (Blinn-Phong shininess and glTF roughness).
 
+use bytes::Bytes;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -773,8 +774,9 @@ pub enum TextureSource {
     Embedded {
         /// `image/png` or `image/jpeg`.
         mime_type: String,
-        /// The encoded image.
-        bytes: Arc<[u8]>,
+        /// The encoded image: where it came from a model's buffer (a GLB's BIN chunk), a slice
+        /// of that buffer, not a copy.
+        bytes: Bytes,
     },
     /// Made in code (the demo's brick normal map); writers encode it as PNG.
     Generated,

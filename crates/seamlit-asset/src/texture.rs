@@ -13,6 +13,7 @@
 
 mod ktx2;
 
+use bytes::Bytes;
 use std::borrow::Cow;
 use std::fmt::Display;
 use std::io::{BufRead, BufReader, Cursor, Read, Seek};
@@ -33,7 +34,7 @@ enum Encoded {
     /// A file, by its real path (symbolic links followed and checked).
     File(PathBuf),
     /// Bytes in memory (GLB buffer view, data: URI).
-    Bytes(Arc<[u8]>),
+    Bytes(Bytes),
 }
 
 impl Encoded {
@@ -177,7 +178,7 @@ fn locate(
         let source = match &texture.source {
             _ if texture.image.is_some() => None,
             TextureSource::Generated => None,
-            TextureSource::Embedded { bytes, .. } => Some(Ok(Encoded::Bytes(Arc::clone(bytes)))),
+            TextureSource::Embedded { bytes, .. } => Some(Ok(Encoded::Bytes(bytes.clone()))),
             TextureSource::File(file) => match options.files.real_inside(folder, file) {
                 Ok(real) => Some(encoded_file(real, options)),
                 // A folder the caller allows (a USD stage's textures beside its other layers).
@@ -223,7 +224,7 @@ fn encoded_file(real: PathBuf, options: &LoadOptions) -> Result<Encoded, String>
         Files::Disk => Ok(Encoded::File(real)),
         Files::Memory(files) => files
             .get(&real)
-            .map(|bytes| Encoded::Bytes(Arc::clone(bytes)))
+            .map(|bytes| Encoded::Bytes(Bytes::from_owner(Arc::clone(bytes))))
             .ok_or_else(|| format!("texture {}: not among the files given", real.display())),
     }
 }
@@ -381,7 +382,7 @@ pub fn encoded(texture: &Texture, path: &Path) -> Result<Option<(Vec<u8>, &'stat
         (Some(image), _) => &**image,
         (None, Some(bytes)) => {
             let max_size = LoadOptions::DEFAULT.max_texture_size;
-            match Encoded::Bytes(Arc::from(bytes)).decode(max_size) {
+            match Encoded::Bytes(Bytes::from(bytes)).decode(max_size) {
                 Ok(image) => {
                     decoded = image;
                     &decoded

@@ -42,6 +42,8 @@ mod scene;
 
 use std::path::Path;
 
+use bytes::Bytes;
+
 use seamlit_mesh::VAxis;
 
 use crate::source::GltfSource;
@@ -115,6 +117,8 @@ fn read(
     let document = decoded.as_ref().unwrap_or(document);
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(document, &buffers, &without_data)?;
+    // Shared from here: the embedded images are slices of their buffer, not copies of it.
+    let buffers: Vec<Bytes> = buffers.into_iter().map(Bytes::from).collect();
 
     let mut asset = Asset::default();
     let mut warnings = Vec::new();

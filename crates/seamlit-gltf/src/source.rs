@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use bytes::Bytes;
+
 use seamlit_asset::files::Files;
 use seamlit_mesh::Model;
 use serde_json::Value;
@@ -25,7 +27,7 @@ pub(crate) struct Source {
     /// The document, as parsed from the file.
     pub(crate) json: Value,
     /// Each buffer's bytes (at least its `byteLength`).
-    pub(crate) buffers: Vec<Vec<u8>>,
+    pub(crate) buffers: Vec<Bytes>,
     /// The file it was read from: relative URIs are resolved against its folder.
     pub(crate) path: PathBuf,
     /// Per object of the loaded model: where it came from.
@@ -52,7 +54,7 @@ impl std::fmt::Debug for GltfSource {
         f.debug_struct("GltfSource")
             .field("path", &self.0.path)
             .field("objects", &self.0.instances.len())
-            .field("buffer_bytes", &self.0.buffers.iter().map(Vec::len).sum::<usize>())
+            .field("buffer_bytes", &self.0.buffers.iter().map(Bytes::len).sum::<usize>())
             .finish_non_exhaustive()
     }
 }
@@ -61,7 +63,7 @@ impl GltfSource {
     /// Keeps a loaded document for the pass-through writer.
     pub(crate) fn new(
         json: Value,
-        buffers: Vec<Vec<u8>>,
+        buffers: Vec<Bytes>,
         path: &Path,
         instances: Vec<Instance>,
         nodes: Vec<usize>,

@@ -7,7 +7,6 @@
 
 use std::collections::HashMap;
 use std::path::Path;
-use std::sync::Arc;
 
 use super::scene::f32_of;
 use seamlit_asset::{AlphaMode, Material, Texture, TextureRef, TextureSource};
@@ -131,9 +130,10 @@ fn convert_texture(
     };
     let name = file_name(&written).unwrap_or(&file.element.name).to_owned();
     if !file.content.is_empty() {
-        let bytes: Arc<[u8]> = Arc::from(&file.content[..]);
+        let bytes = &file.content[..];
         let mime = if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) { "image/jpeg" } else { "image/png" };
-        let source = TextureSource::Embedded { mime_type: mime.to_owned(), bytes };
+        let source =
+            TextureSource::Embedded { mime_type: mime.to_owned(), bytes: bytes.to_vec().into() };
         return Some(Texture { name, source, image: None });
     }
     let folder = path.parent().unwrap_or(Path::new(""));

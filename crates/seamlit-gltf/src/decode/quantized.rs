@@ -5,6 +5,7 @@
 //! that usually undoes a quantised position's scale is applied as any node transform is.
 //! The pass-through writer keeps these accessors' bytes as they are.
 
+use bytes::Bytes;
 use gltf::accessor::{DataType, Item, Iter};
 
 /// Reads an accessor of `N` components as floats, whatever its component type: `FLOAT` as
@@ -14,7 +15,7 @@ use gltf::accessor::{DataType, Item, Iter};
 /// the accessor's data cannot be reached (the caller checked it lies in its view).
 pub(crate) fn read_floats<const N: usize>(
     accessor: &gltf::Accessor<'_>,
-    buffers: &[Vec<u8>],
+    buffers: &[Bytes],
 ) -> Option<Vec<[f32; N]>>
 where
     [f32; N]: Item,
@@ -23,7 +24,7 @@ where
     [i16; N]: Item,
     [u16; N]: Item,
 {
-    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(Vec::as_slice);
+    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
     let normalized = accessor.normalized();
     fn convert<T: Copy, const N: usize>(
         iter: impl Iterator<Item = [T; N]>,
@@ -60,7 +61,7 @@ where
 /// is common), and the frames seamlit keeps or orthogonalises against must be unit.
 pub(crate) fn read_directions<const N: usize>(
     accessor: &gltf::Accessor<'_>,
-    buffers: &[Vec<u8>],
+    buffers: &[Bytes],
 ) -> Option<Vec<[f32; N]>>
 where
     [f32; N]: Item,

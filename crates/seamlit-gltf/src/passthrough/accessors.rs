@@ -193,7 +193,7 @@ fn view_bytes(
                 accessor,
                 view: index,
                 needed: offset.saturating_add(length) as u64,
-                available: buffer.map_or(0, Vec::len) as u64,
+                available: buffer.map_or(0, |b| b.len()) as u64,
             },
         ));
     };

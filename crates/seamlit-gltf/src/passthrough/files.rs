@@ -2,6 +2,7 @@
 //! beside a `.gltf`) holds the input's kept bytes and the appended ones; the other buffers
 //! and the images named by file are copied beside a `.gltf` and embedded in a GLB.
 
+use bytes::Bytes;
 use std::io::{Read, Write};
 use std::path::Path;
 
@@ -184,7 +185,7 @@ impl OutputDocument<'_> {
     /// `length` bytes in all.
     fn write_host(&self, out: &mut dyn Write, length: usize) -> std::io::Result<()> {
         let input_length = if self.appended > 0 { self.base } else { length };
-        let input = self.source.buffers.first().map_or(&[][..], Vec::as_slice);
+        let input = self.source.buffers.first().map_or(&[][..], |b| &b[..]);
         let zeros = |out: &mut dyn Write, n: usize| {
             std::io::copy(&mut std::io::repeat(0).take(n as u64), out).map(|_| ())
         };
@@ -224,7 +225,7 @@ impl OutputDocument<'_> {
         let host = &self.source.json["buffers"][0];
         host.is_object()
             && host.get("uri").is_none()
-            && self.source.buffers.first().map_or(0, Vec::len)
+            && self.source.buffers.first().map_or(0, Bytes::len)
                 < usize_member(host, "byteLength").unwrap_or(0)
     }
 

@@ -4,6 +4,7 @@
 //! KHR_draco_mesh_compression from the primitives (decoded at load, `decode/draco.rs`), whose
 //! compressed views pruning then drops.
 
+use bytes::Bytes;
 use std::path::Path;
 
 use serde_json::{Value, json};
@@ -21,7 +22,7 @@ use crate::json::usize_member;
 /// sentence for the save report, or `None` when nothing was compressed.
 pub(crate) fn uncompress_views(
     json: &mut Value,
-    source_buffers: &[Vec<u8>],
+    source_buffers: &[Bytes],
     path: &Path,
     mut append: impl FnMut(Vec<u8>) -> usize,
 ) -> Option<String> {
@@ -80,7 +81,7 @@ pub(crate) fn uncompress_views(
 /// are removed (no index changes); one followed by a buffer that stays is given its bytes
 /// as a `data:` URI, so that every buffer of the output has data. Every fallback buffer
 /// left loses the extension.
-fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Vec<u8>]) {
+fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Bytes]) {
     let used: std::collections::BTreeSet<usize> = json["bufferViews"]
         .as_array()
         .into_iter()
@@ -99,7 +100,7 @@ fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Vec<u8>]) {
         }
         // Buffer 0 is written by the pass-through itself (BIN chunk or `NAME.bin`).
         if index > 0 && buffer.get("uri").is_none() {
-            let bytes = source_buffers.get(index).map_or(&[][..], Vec::as_slice);
+            let bytes = source_buffers.get(index).map_or(&[][..], |d| &d[..]);
             buffer["uri"] =
                 json!(format!("data:application/octet-stream;base64,{}", base64::encode(bytes)));
         }

@@ -2,6 +2,7 @@
 //! view, sparse indices), and the reading of a vertex attribute: one finite element per
 //! vertex.
 
+use bytes::Bytes;
 use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 
@@ -70,7 +71,7 @@ impl Reader<'_> {
         accessor: &gltf::Accessor<'_>,
         (dimensions, types): (Dimensions, &[DataType]),
         name: &str,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<(), IoError> {
         self.check_accessor(accessor, dimensions, types, name)?;
@@ -98,7 +99,7 @@ impl Reader<'_> {
     pub(super) fn check_sparse_indices(
         &self,
         accessor: &gltf::Accessor<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
     ) -> Result<(), IoError> {
         let Some(sparse) = accessor.sparse() else { return Ok(()) };
         let error = |kind: BadAccessor| {
@@ -111,7 +112,7 @@ impl Reader<'_> {
         let view = indices.view();
         let size = indices.index_type().size();
         let stride = view.stride().unwrap_or(size);
-        let bytes = buffers.get(view.buffer().index()).map_or(&[][..], Vec::as_slice);
+        let bytes = buffers.get(view.buffer().index()).map_or(&[][..], |d| &d[..]);
         let mut previous: Option<u32> = None;
         for k in 0..sparse.count() {
             // Saturating: a view in a buffer without data is not checked against it.

@@ -2,6 +2,7 @@
 //! document's to [`Asset::nodes`]' (the walk's order), and the objects' skin influences with
 //! them.
 
+use bytes::Bytes;
 use std::collections::HashMap;
 
 use glam::Mat4;
@@ -30,7 +31,7 @@ impl Reader<'_> {
     pub(super) fn skins_and_animations(
         &self,
         (document, json): (&gltf::Document, &serde_json::Value),
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         nodes: &mut HashMap<usize, usize>,
         asset: &mut Asset,
         warnings: &mut Vec<String>,
@@ -76,7 +77,7 @@ impl Reader<'_> {
     fn skin(
         &self,
         skin: &gltf::Skin<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         nodes: &HashMap<usize, usize>,
     ) -> Result<Skin, IoError> {
         let joints: Vec<usize> = skin.joints().map(|j| nodes[&j.index()]).collect();
@@ -85,7 +86,7 @@ impl Reader<'_> {
             let name = format!("skins[{}].inverseBindMatrices", skin.index());
             self.check_accessor(&accessor, Dimensions::Mat4, &[DataType::F32], &name)?;
             self.check_sparse_indices(&accessor, buffers)?;
-            let reader = skin.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            let reader = skin.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
             let read: Vec<Mat4> = if without_data(&accessor) {
                 vec![Mat4::ZERO; accessor.count()]
             } else {
@@ -126,7 +127,7 @@ impl Reader<'_> {
         &self,
         animation: &gltf::Animation<'_>,
         (root, json): (&gltf::json::Root, &serde_json::Value),
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         nodes: &HashMap<usize, usize>,
         warnings: &mut Vec<String>,
     ) -> Result<Animation, IoError> {
@@ -168,7 +169,7 @@ impl Reader<'_> {
         animation: &gltf::Animation<'_>,
         channel: &gltf::animation::Channel<'_>,
         property: Property,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
     ) -> Result<Sampler, IoError> {
         let sampler = channel.sampler();
         let place = format!("animations[{}].samplers[{}]", animation.index(), sampler.index());
@@ -192,7 +193,7 @@ impl Reader<'_> {
         };
         self.check_accessor(&output, dimensions, output_types, &format!("{place}.output"))?;
         self.check_sparse_indices(&output, buffers)?;
-        let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let reader = channel.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         // An accessor without a view or sparse data is zeros; the gltf reader gives nothing.
         let times: Vec<f32> = if without_data(&input) {
             vec![0.0; input.count()]

@@ -3,7 +3,7 @@
 //! their declared lengths, the buffer views checked against their buffers, and its images
 //! as textures (nothing decoded here).
 
-use std::sync::Arc;
+use bytes::Bytes;
 
 use super::Reader;
 use crate::uri::{Resolved, resolve};
@@ -110,7 +110,7 @@ impl Reader<'_> {
     pub(super) fn images(
         &self,
         document: &gltf::Document,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
     ) -> Result<Vec<Texture>, IoError> {
         document
             .images()
@@ -120,14 +120,15 @@ impl Reader<'_> {
                 let (name, source) = match image.source() {
                     gltf::image::Source::View { view, mime_type } => {
                         let start = view.offset();
+                        // A slice of the buffer (checked against it by `check_views`).
                         let bytes = buffers
                             .get(view.buffer().index())
-                            .and_then(|b| b.get(start..start + view.length()))
+                            .zip(start.checked_add(view.length()))
+                            .filter(|&(b, end)| end <= b.len())
+                            .map(|(b, end)| b.slice(start..end))
                             .unwrap_or_default();
-                        let source = TextureSource::Embedded {
-                            mime_type: mime_type.to_owned(),
-                            bytes: Arc::from(bytes),
-                        };
+                        let source =
+                            TextureSource::Embedded { mime_type: mime_type.to_owned(), bytes };
                         (fallback(), source)
                     }
                     gltf::image::Source::Uri { uri, mime_type } => {

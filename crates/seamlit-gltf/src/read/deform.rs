@@ -7,6 +7,7 @@
 //! different skins. Morph targets' `NORMAL`/`TANGENT` deltas are not read: `fix` computes
 //! them where it computes normals, and the pass-through duplicates the input's otherwise.
 
+use bytes::Bytes;
 use std::path::Path;
 
 use glam::Vec3;
@@ -30,7 +31,7 @@ impl Reader<'_> {
         &self,
         mesh: &gltf::Mesh<'_>,
         primitive: &gltf::Primitive<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<(Vec<Influences>, Vec<MorphTarget>), IoError> {
         let skin = self.influences(primitive, buffers, vertex_count)?;
@@ -42,10 +43,10 @@ impl Reader<'_> {
     fn influences(
         &self,
         primitive: &gltf::Primitive<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<Vec<Influences>, IoError> {
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         let mut skin = Vec::new();
         for set in 0..SETS {
             let (Some(joints), Some(weights)) = (
@@ -91,7 +92,7 @@ impl Reader<'_> {
         &self,
         mesh: &gltf::Mesh<'_>,
         primitive: &gltf::Primitive<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<Vec<MorphTarget>, IoError> {
         let mut targets = Vec::new();
@@ -141,7 +142,7 @@ impl Reader<'_> {
     fn checked(
         &self,
         accessor: &gltf::Accessor<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         types: &[DataType],
         name: &str,
         vertex_count: usize,

@@ -2,6 +2,7 @@
 //! checked first, then its attributes (floats or KHR_mesh_quantization's integers), its
 //! triangles (a strip's or a fan's as a list) and its deformation.
 
+use bytes::Bytes;
 use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use seamlit_mesh::Object;
@@ -23,7 +24,7 @@ impl Reader<'_> {
         &self,
         mesh: &gltf::Mesh<'_>,
         primitive: &gltf::Primitive<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         warnings: &mut Vec<String>,
     ) -> Result<Option<Object>, IoError> {
         let Some(position) = primitive.get(&gltf::Semantic::Positions) else {
@@ -63,7 +64,7 @@ impl Reader<'_> {
             self.vertex_attribute(&vertices, gltf::Semantic::TexCoords(1), "TEXCOORD_1", |a| {
                 read_floats::<2>(a, buffers).map(|v| v.into_iter().map(Vec2::from_array).collect())
             })?;
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         let colors =
             self.vertex_attribute(&vertices, gltf::Semantic::Colors(0), "COLOR_0", |_| {
                 reader.read_colors(0).map(|it| it.into_rgba_f32().map(Vec4::from_array).collect())
@@ -95,7 +96,7 @@ impl Reader<'_> {
         &self,
         primitive: &gltf::Primitive<'_>,
         position: &gltf::Accessor<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
     ) -> Result<(), IoError> {
         let vertex_count = position.count();
         // KHR_mesh_quantization: integers, normalised or not, besides floats.
@@ -160,10 +161,10 @@ impl Reader<'_> {
         &self,
         mesh: &gltf::Mesh<'_>,
         primitive: &gltf::Primitive<'_>,
-        buffers: &[Vec<u8>],
+        buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<Vec<[u32; 3]>, IoError> {
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         let index_accessor = primitive.indices();
         let indices = super::lenient::zeros_without_view(
             index_accessor.as_ref(),

@@ -1,6 +1,7 @@
 //! The scene walk: every triangle primitive of every mesh instance becomes an object, placed
 //! by the composition of the node transforms above it, and every node a [`Node`].
 
+use bytes::Bytes;
 use std::collections::HashMap;
 
 use glam::Mat4;
@@ -19,7 +20,7 @@ use seamlit_asset::{Asset, Node};
 /// node.
 pub(super) struct SceneWalk<'r> {
     reader: &'r Reader<'r>,
-    buffers: &'r [Vec<u8>],
+    buffers: &'r [Bytes],
     without_data: &'r [usize],
     /// Decoded primitives by (mesh, primitive): the object of their first instance, cloned
     /// for the other nodes that instance the mesh.
@@ -40,7 +41,7 @@ pub(super) struct SceneWalk<'r> {
 impl<'r> SceneWalk<'r> {
     pub(super) fn new(
         reader: &'r Reader<'r>,
-        buffers: &'r [Vec<u8>],
+        buffers: &'r [Bytes],
         without_data: &'r [usize],
     ) -> Self {
         Self {

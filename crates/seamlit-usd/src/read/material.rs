@@ -9,7 +9,6 @@
 use super::resolver::Reach;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use openusd::ar::Resolver as _;
 use openusd::{ar, sdf, usd};
@@ -273,7 +272,7 @@ impl<'s> Materials<'s> {
                         } else {
                             "image/png"
                         };
-                        let bytes: Arc<[u8]> = Arc::from(bytes);
+                        let bytes = bytes.into();
                         Some(TextureSource::Embedded { mime_type: mime.to_owned(), bytes })
                     }
                     Err(e) => {
