@@ -132,3 +132,32 @@ impl Source {
         self.json["meshes"].get(instance.mesh)?["primitives"].get(instance.primitive)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use seamlit_asset::{LoadOptions, TextureSource};
+
+    use super::GltfSource;
+
+    /// A GLB's embedded images are read in place: each one's bytes lie inside the BIN chunk's
+    /// buffer the asset keeps (a copy would double the textures' memory).
+    #[test]
+    fn embedded_images_are_slices_of_the_buffer() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models/NormalTangentTest.glb");
+        let asset = crate::read::load(&path, &LoadOptions::FIX).unwrap();
+        let source = asset.document.as_ref().and_then(|d| d.get::<GltfSource>()).unwrap();
+        let bin = source.0.buffers[0].as_ptr_range();
+        let mut embedded = 0;
+        for texture in &asset.textures {
+            if let TextureSource::Embedded { bytes, .. } = &texture.source {
+                let inside = bin.start <= bytes.as_ptr() && bytes.as_ptr_range().end <= bin.end;
+                assert!(inside, "{} copied out of its buffer", texture.name);
+                embedded += 1;
+            }
+        }
+        assert!(embedded >= 2, "{embedded} embedded images");
+    }
+}
