@@ -2,10 +2,10 @@
 //! and textures that lighting needs, and the conversions between the two material models
 //! (Blinn-Phong shininess and glTF roughness).
 
-use bytes::Bytes;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use bytes::Bytes;
 use seamlit_mesh::{Influences, Model, MorphTarget, Object};
 
 use crate::animation::{Animation, Skin, SkinsChanged, Trs};

@@ -13,13 +13,13 @@
 
 mod ktx2;
 
-use bytes::Bytes;
 use std::borrow::Cow;
 use std::fmt::Display;
 use std::io::{BufRead, BufReader, Cursor, Read, Seek};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use bytes::Bytes;
 use rayon::prelude::*;
 
 use crate::files::Files;

@@ -43,7 +43,6 @@ mod scene;
 use std::path::Path;
 
 use bytes::Bytes;
-
 use seamlit_mesh::VAxis;
 
 use crate::source::GltfSource;

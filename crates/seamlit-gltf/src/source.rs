@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use bytes::Bytes;
-
 use seamlit_asset::files::Files;
 use seamlit_mesh::Model;
 use serde_json::Value;

@@ -2,10 +2,10 @@
 //! beside a `.gltf`) holds the input's kept bytes and the appended ones; the other buffers
 //! and the images named by file are copied beside a `.gltf` and embedded in a GLB.
 
-use bytes::Bytes;
 use std::io::{Read, Write};
 use std::path::Path;
 
+use bytes::Bytes;
 use serde_json::{Value, json};
 
 use super::OutputDocument;

@@ -4,9 +4,9 @@
 //! KHR_draco_mesh_compression from the primitives (decoded at load, `decode/draco.rs`), whose
 //! compressed views pruning then drops.
 
-use bytes::Bytes;
 use std::path::Path;
 
+use bytes::Bytes;
 use serde_json::{Value, json};
 
 use crate::decode::draco::{DRACO, draco_primitives};

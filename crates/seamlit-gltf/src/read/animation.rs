@@ -2,9 +2,9 @@
 //! document's to [`Asset::nodes`]' (the walk's order), and the objects' skin influences with
 //! them.
 
-use bytes::Bytes;
 use std::collections::HashMap;
 
+use bytes::Bytes;
 use glam::Mat4;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::util::ReadOutputs;

@@ -7,9 +7,9 @@
 //! different skins. Morph targets' `NORMAL`/`TANGENT` deltas are not read: `fix` computes
 //! them where it computes normals, and the pass-through duplicates the input's otherwise.
 
-use bytes::Bytes;
 use std::path::Path;
 
+use bytes::Bytes;
 use glam::Vec3;
 use gltf::accessor::{DataType, Dimensions};
 use seamlit_mesh::{Influences, MorphTarget};

@@ -1,9 +1,9 @@
 //! The scene walk: every triangle primitive of every mesh instance becomes an object, placed
 //! by the composition of the node transforms above it, and every node a [`Node`].
 
-use bytes::Bytes;
 use std::collections::HashMap;
 
+use bytes::Bytes;
 use glam::Mat4;
 use gltf::mesh::Mode;
 use rayon::prelude::*;
