@@ -71,26 +71,38 @@ def folder_mode(binary: str, src: Path, dst: Path, threads: int) -> float:
     return seconds
 
 
-#: SHA-256 of every file under the folders given, one after another, in one process: the
-#: hashes seamlit.ray's report holds (each input with its companions, each output), which
-#: folder mode does not make. Prints the seconds.
+#: SHA-256 of every file under the folders given, in one process: the hashes seamlit.ray's
+#: report holds (each input with its companions, each output), which folder mode does not
+#: make; one file after another (hashlib), or, with "together", as a Ray task makes them
+#: (the extension module's Digests: messages of about one size side by side). Prints the
+#: seconds.
 HASH_ALL = """
 import hashlib, sys, time
 from pathlib import Path
-files = [p for root in sys.argv[1:] for p in sorted(Path(root).rglob('*')) if p.is_file() and '_seamlit' not in p.parts]
+together = sys.argv[1] == "together"
+files = [p for root in sys.argv[2:] for p in sorted(Path(root).rglob('*')) if p.is_file() and '_seamlit' not in p.parts]
+if together:
+    from seamlit import _seamlit
+    digests = _seamlit.Digests()
 started = time.perf_counter()
-for p in files:
-    hashlib.sha256(p.read_bytes()).hexdigest()
+for k, p in enumerate(files):
+    if together:
+        digests.add_file(k, str(p))
+    else:
+        hashlib.sha256(p.read_bytes()).hexdigest()
+if together:
+    digests.take()
 print(time.perf_counter() - started)
 """
 
 
-def audit_hashes(src: Path, dst: Path, runs: int) -> float:
+def audit_hashes(src: Path, dst: Path, runs: int, how: str) -> float:
     """The median seconds of hashing every input and output file as the report does, on one
-    core (the share of a Ray task's time that folder mode has no counterpart for)."""
+    core (the share of a Ray task's time that folder mode has no counterpart for); ``how``:
+    ``one`` after another or ``together``."""
     seconds = []
     for _ in range(runs):
-        done = subprocess.run(["taskset", "-c", "0", sys.executable, "-c", HASH_ALL, str(src), str(dst)],
+        done = subprocess.run(["taskset", "-c", "0", sys.executable, "-c", HASH_ALL, how, str(src), str(dst)],
                               capture_output=True, text=True, check=True)
         seconds.append(float(done.stdout.strip()))
     return statistics.median(seconds)
@@ -210,9 +222,10 @@ def main() -> None:
     print(f"Folder mode 2 threads against 1 thread, the same runs: {' and '.join(f'{x:.2f}x' for x in own)}")
     # The report's SHA-256 of every input and output: work a Ray task does that folder mode
     # has no counterpart for, against folder mode's time and as if folder mode did it too.
-    hashes = audit_hashes(src, args.work / "folder1", args.repeat)
-    folder1 = median(phases[1]["runs"]["folder1"])
-    print(f"The report's SHA-256 of every input and output file, one core: {hashes:.2f} s, "
+    one = audit_hashes(src, args.work / "folder1", args.repeat, "one")
+    hashes = audit_hashes(src, args.work / "folder1", args.repeat, "together")
+    print(f"The report's SHA-256 of every input and output file, one core: {one:.2f} s one after "
+          f"another, {hashes:.2f} s together as a task makes them ({one / hashes:.1f}x), "
           f"{hashes / folder1:.0%} of folder mode's 1-thread time; Ray 1 node against folder mode "
           f"plus those hashes, per CPU: {slower[1] * folder1 / (folder1 + hashes):.2f}x")
     cli, native, size = overhead(binary, args.work, args.runs)

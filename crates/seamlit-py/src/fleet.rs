@@ -16,13 +16,16 @@ use seamlit_io::SaveOptions;
 use seamlit_io::job::{Fixed, fix_asset};
 use sha2::{Digest, Sha256};
 
+use crate::digests::{Digests, hex};
 use crate::{Settings, detached, error, json_text, load};
 
 /// The report's columns a fix fills for one file (docs/fleet.md), by their column names.
 #[derive(serde::Serialize)]
 pub(crate) struct Row {
-    input_sha256: String,
-    output_sha256: String,
+    /// `None` where the caller's [`Digests`] makes it.
+    input_sha256: Option<String>,
+    /// `None` where the caller's [`Digests`] makes it.
+    output_sha256: Option<String>,
     objects: usize,
     triangles: usize,
     shared_positions: usize,
@@ -37,13 +40,12 @@ pub(crate) struct Row {
 }
 
 impl Row {
-    /// The row of a file fixed as `fixed` says, read as the bytes of SHA-256 `input_sha256`
-    /// and written as `output`.
+    /// The row of a file fixed as `fixed` says, its input's and output's SHA-256 as given.
     pub(crate) fn of<'a>(
         fixed: &Fixed,
         warnings: impl IntoIterator<Item = &'a String>,
-        input_sha256: String,
-        output: &[u8],
+        input_sha256: Option<String>,
+        output_sha256: Option<String>,
     ) -> Self {
         // Measured as loaded by every job of this module (`Settings::job`); the fixed
         // model's counts are the loaded one's where it was not.
@@ -51,7 +53,7 @@ impl Row {
         let shared = &fixed.changes.shared;
         Self {
             input_sha256,
-            output_sha256: sha256(output),
+            output_sha256,
             objects: before.objects,
             triangles: before.triangles,
             shared_positions: before.shared_positions,
@@ -86,26 +88,23 @@ fn file_sha256(path: &Path) -> std::io::Result<String> {
     Ok(hex(&hasher.finalize()))
 }
 
-/// A digest in lowercase hex.
-fn hex(digest: &[u8]) -> String {
-    use std::fmt::Write;
-    digest.iter().fold(String::with_capacity(2 * digest.len()), |mut hex, byte| {
-        let _ = write!(hex, "{byte:02x}");
-        hex
-    })
-}
-
 /// `seamlit fix INPUT -o OUTPUT` for one local file into a local `.glb` or `.vrm`, as
 /// [`crate::fix_file`] does it (the same bytes), and returns the JSON of the report row's
 /// columns: both files' SHA-256, the seams as loaded and fixed, what the repair decided, the
 /// warnings, and `changed`. The output is written under a temporary name and renamed once
 /// complete; an error writing it starts with the output's path.
+///
+/// With `digests`, the two files are not hashed here: the input file and the output's bytes
+/// go to `digests` under `keys` (input, output), and the row's two hashes are `null`.
 #[pyfunction]
+#[pyo3(signature = (input, output, settings, digests = None, keys = (0, 0)))]
 pub(crate) fn fix_file_row(
     py: Python<'_>,
     input: PathBuf,
     output: PathBuf,
     settings: &str,
+    digests: Option<Bound<'_, Digests>>,
+    keys: (u64, u64),
 ) -> PyResult<String> {
     let settings = Settings::parse(settings)?;
     let load_options = settings.load_options(seamlit_io::LoadOptions::FIX);
@@ -114,18 +113,30 @@ pub(crate) fn fix_file_row(
         keep_compression: settings.keep_compression,
     };
     let job = settings.row_job();
-    let run = || -> PyResult<Row> {
+    let deferred = digests.is_some();
+    let run = || -> PyResult<(Row, Vec<u8>)> {
         let mut asset = load(&input, &load_options)?;
         // Read again for its hash: from the page cache.
-        let input_sha256 =
-            file_sha256(&input).map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let input_sha256 = if deferred {
+            None
+        } else {
+            Some(file_sha256(&input).map_err(|e| error(format!("{}: {e}", input.display())))?)
+        };
         let fixed =
             fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
         let (bytes, saved) = glb_in_memory(&asset, &output, &save, &input)?;
         seamlit_io::files::write(&output, &bytes).map_err(error)?;
-        Ok(Row::of(&fixed, asset.warnings.iter().chain(&saved), input_sha256, &bytes))
+        let output_sha256 = (!deferred).then(|| sha256(&bytes));
+        let row = Row::of(&fixed, asset.warnings.iter().chain(&saved), input_sha256, output_sha256);
+        Ok((row, bytes))
     };
-    json_text(&detached(py, run)?)
+    let (row, bytes) = detached(py, run)?;
+    if let Some(digests) = digests {
+        let mut digests = digests.borrow_mut();
+        digests.push_file(keys.0, input);
+        digests.push_bytes(keys.1, bytes);
+    }
+    json_text(&row)
 }
 
 /// The model written by the glTF writer into memory as `output` (`.glb` or `.vrm`: one

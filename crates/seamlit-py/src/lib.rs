@@ -10,7 +10,8 @@
 //! - [`inspect`]: load, measure the seams as loaded and after a fix: `seamlit inspect`;
 //! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory;
 //! - [`fix_model_bytes`]: [`fix_file`] for a model held in memory, into memory;
-//! - `seamlit.ray`'s per-file calls ([`fleet`]): a file's fix, output and report row in one.
+//! - `seamlit.ray`'s per-file calls ([`fleet`]): a file's fix, output and report row in one;
+//!   the report's hashes of a task's files, made together ([`digests`]).
 //!
 //! Options arrive as JSON ([`Settings`]): the fix options by their serde names (e.g.
 //! `{"fix": {"mode": "model", "crease_angle_deg": 60}, "weld_tolerance": "rel:1e-6"}`).
@@ -20,6 +21,7 @@
 
 use std::path::{Path, PathBuf};
 
+mod digests;
 mod fleet;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -200,7 +202,12 @@ fn fix_model_bytes<'py>(
         let (bytes, fixed, warnings) =
             fix_in_memory(data, name, output, &settings, &job, companions)?;
         let report = if row {
-            json_text(&fleet::Row::of(&fixed, &warnings, fleet::sha256(data), &bytes))?
+            json_text(&fleet::Row::of(
+                &fixed,
+                &warnings,
+                Some(fleet::sha256(data)),
+                Some(fleet::sha256(&bytes)),
+            ))?
         } else {
             json_text(&fixed.file_json(name, Path::new(output), &warnings))?
         };
@@ -435,6 +442,7 @@ fn _seamlit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fix_file, m)?)?;
     m.add_function(wrap_pyfunction!(fix_model_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(fleet::fix_file_row, m)?)?;
+    m.add_class::<digests::Digests>()?;
     m.add_function(wrap_pyfunction!(inspect, m)?)?;
     m.add_function(wrap_pyfunction!(fix, m)?)?;
     Ok(())

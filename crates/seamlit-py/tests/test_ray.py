@@ -8,6 +8,7 @@ Needs ``ray[data]==2.60.0``, ``pyarrow`` and ``moto[server]`` (.ci/run installs 
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import random
@@ -698,3 +699,62 @@ def test_a_model_in_one_file_is_fixed_in_memory_on_the_worker(tmp_path, monkeypa
                                   options={"mode": "model"}, flags=(), options_key=""))
     assert row["status"] == "refused" and row["error"].startswith("broken.usdz"), row
     assert not (dst / "broken.glb").exists()
+
+
+def test_digests_made_together_are_hashlib_s(tmp_path):
+    # A task hashes its files together (seamlit._seamlit.Digests): messages of about one
+    # length side by side, the rest alone. Every length around SHA-256's block and padding
+    # boundaries, lengths that group and lengths that do not, files and bytes; a file that
+    # cannot be read has no digest, and the others are not disturbed by it.
+    from seamlit import _seamlit
+
+    rng = random.Random(44)
+    lengths = [0, 1, 55, 56, 57, 63, 64, 65, 119, 120, 121, 127, 128, 129, 4095, 4096, 4097, 1 << 20]
+    lengths += [50_000] * 33 + [rng.randrange(0, 300_000) for _ in range(60)]
+    digests, expected = _seamlit.Digests(), {}
+    for key, n in enumerate(lengths):
+        data = rng.randbytes(n)
+        if key % 3 == 0:
+            path = tmp_path / f"m{key}"
+            path.write_bytes(data)
+            digests.add_file(key, str(path))
+        else:
+            digests.add_bytes(key, data)
+        expected[key] = hashlib.sha256(data).hexdigest()
+    digests.add_file(len(lengths), str(tmp_path / "gone"))
+    expected[len(lengths)] = None
+    assert len(digests) == len(lengths) + 1
+    assert digests.held() == sum(n for k, n in enumerate(lengths) if k % 3)
+    assert dict(digests.take()) == expected
+    assert len(digests) == 0 and digests.held() == 0 and digests.take() == []
+
+
+def test_a_task_s_rows_carry_the_hashes_of_its_files_whenever_they_are_made(tmp_path, monkeypatch):
+    # GLBs fixed by path into a local DST leave their hashes to the end of the task (or to
+    # whenever the outputs held pass Hashes.HELD): the rows are the same either way, and
+    # the same as hashing each file on its own.
+    from seamlit.ray import _task
+
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    names = ["fox/Fox.glb", "NormalTangentTest.glb", "emissive_strength_test/EmissiveStrengthTest.glb"]
+    jobs = []
+    for k in range(4):
+        for name in names:
+            relative = f"c{k}/{Path(name).name}"
+            (src / relative).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(MODELS / name, src / relative)
+            jobs.append(_task.Job(relative=relative, src=str(src), dst=str(dst), output=relative,
+                                  options={"mode": "model"}, flags=(), options_key=""))
+    batched = _task.process_batch(jobs)
+    monkeypatch.setattr(_task.Hashes, "HELD", 1)
+    flushed_each_time = _task.process_batch(jobs)
+    monkeypatch.setattr(_task.Hashes, "of_package", classmethod(lambda cls: None))
+    one_by_one = _task.process_batch(jobs)
+    for job, *rows in zip(jobs, batched, flushed_each_time, one_by_one):
+        assert rows[0]["status"] in ("fixed", "unchanged"), rows[0]
+        expected = (
+            hashlib.sha256((src / job.relative).read_bytes()).hexdigest(),
+            hashlib.sha256((dst / job.output).read_bytes()).hexdigest(),
+        )
+        for row in rows:
+            assert (row["input_sha256"], row["output_sha256"]) == expected, job.relative

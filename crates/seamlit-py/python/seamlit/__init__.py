@@ -213,12 +213,16 @@ def _fix_measured(input: PathLike, output: PathLike, **options: Any) -> Dict[str
     return result
 
 
-def _fix_file_row(input: PathLike, output: PathLike, **options: Any) -> Dict[str, Any]:
+def _fix_file_row(
+    input: PathLike, output: PathLike, digests: Any = None, keys: Tuple[int, int] = (0, 0), **options: Any
+) -> Dict[str, Any]:
     """:mod:`seamlit.ray`'s fix of a local file into a local ``.glb`` or ``.vrm`` (the bytes
     :func:`fix_file` writes) in one native call: the report row's columns (``input_sha256``,
-    ``output_sha256``, the seam counts and angles, ``warnings``) and ``changed``."""
+    ``output_sha256``, the seam counts and angles, ``warnings``) and ``changed``. With
+    ``digests`` (a ``_seamlit.Digests``), the two hashes are ``None`` and the files go to it
+    under ``keys`` (input, output), to be hashed with others."""
     settings = _file_settings(**options)
-    return json.loads(_seamlit.fix_file_row(os.fspath(input), os.fspath(output), settings))
+    return json.loads(_seamlit.fix_file_row(os.fspath(input), os.fspath(output), settings, digests, keys))
 
 
 def _fix_bytes_row(

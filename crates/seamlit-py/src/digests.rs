@@ -1,0 +1,182 @@
+//! The report's SHA-256 digests of a Ray task's files, made together at the end of the task
+//! instead of one file after another: several messages hashed at once run side by side in
+//! the CPU's vector lanes (or its SHA units' parallel streams), which one message cannot
+//! (each of its blocks needs the one before). Hashing every input and output of
+//! `bench/ray_fleet.py`'s library one after another took 28% of folder mode's time to fix
+//! it; as groups of sixteen messages of about one size, 2.6 times less (BENCHMARKS.md).
+//!
+//! [`Digests`] is what Python holds: the files and bytes still to hash, each under a key of
+//! the caller's; [`Digests::take`] hashes them all and hands back each key's digest.
+//!
+//! Lanes run in step: a group is as slow as its longest message, so a group holds messages
+//! of about one length ([`groups`]); one without a partner is hashed alone (`sha2`).
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use sha2::{Digest, Sha256};
+
+/// A message to hash: a file (read when hashed) or bytes already in memory.
+enum Message {
+    File(PathBuf),
+    Bytes(Vec<u8>),
+}
+
+/// Files and bytes whose SHA-256 the caller wants, each under its key, hashed together by
+/// [`Self::take`].
+#[pyclass(module = "seamlit._seamlit")]
+#[derive(Default)]
+pub(crate) struct Digests {
+    pending: Vec<(u64, Message)>,
+    /// The bytes held in memory (files are read when hashed).
+    held: usize,
+}
+
+impl Digests {
+    /// Adds `bytes` under `key`.
+    pub(crate) fn push_bytes(&mut self, key: u64, bytes: Vec<u8>) {
+        self.held += bytes.len();
+        self.pending.push((key, Message::Bytes(bytes)));
+    }
+
+    /// Adds the file at `path` under `key`.
+    pub(crate) fn push_file(&mut self, key: u64, path: PathBuf) {
+        self.pending.push((key, Message::File(path)));
+    }
+}
+
+#[pymethods]
+impl Digests {
+    #[new]
+    fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the file at `path` under `key`: read when [`Self::take`] hashes it.
+    fn add_file(&mut self, key: u64, path: PathBuf) {
+        self.push_file(key, path);
+    }
+
+    /// Adds a copy of `data` under `key`.
+    fn add_bytes(&mut self, key: u64, data: &[u8]) {
+        self.push_bytes(key, data.to_vec());
+    }
+
+    /// The bytes held in memory until [`Self::take`].
+    fn held(&self) -> usize {
+        self.held
+    }
+
+    /// How many messages wait to be hashed.
+    fn __len__(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// Hashes everything added and empties the set: each key with its digest in lowercase
+    /// hex (as `hashlib` writes it), or `None` for a file that can no longer be read.
+    fn take(&mut self, py: Python<'_>) -> Vec<(u64, Option<String>)> {
+        let pending = std::mem::take(&mut self.pending);
+        self.held = 0;
+        py.detach(|| hash_all(pending))
+    }
+}
+
+/// Each message's digest, under its key, in the order given.
+fn hash_all(pending: Vec<(u64, Message)>) -> Vec<(u64, Option<String>)> {
+    let lengths: Vec<Option<usize>> = pending.iter().map(|(_, m)| length(m)).collect();
+    let mut digests: Vec<Option<String>> = vec![None; pending.len()];
+    // Files are read into the same buffers group after group: fresh memory for each file
+    // (page faults, zeroing) cost as much as hashing it.
+    let mut buffers: Vec<Vec<u8>> = Vec::new();
+    for group in groups(&lengths, tape_sha256::lane_width()) {
+        buffers.resize_with(buffers.len().max(group.len()), Vec::new);
+        // A file that fails to read keeps no digest.
+        let read: Vec<bool> = group
+            .iter()
+            .zip(buffers.iter_mut())
+            .map(|(&i, buffer)| match &pending[i].1 {
+                Message::Bytes(_) => true,
+                Message::File(path) => read_into(path, buffer).is_ok(),
+            })
+            .collect();
+        let messages: Vec<(usize, &[u8])> = group
+            .iter()
+            .zip(&buffers)
+            .zip(&read)
+            .filter(|(_, ok)| **ok)
+            .map(|((&i, buffer), _)| match &pending[i].1 {
+                Message::Bytes(bytes) => (i, &bytes[..]),
+                Message::File(_) => (i, &buffer[..]),
+            })
+            .collect();
+        let slices: Vec<&[u8]> = messages.iter().map(|(_, bytes)| *bytes).collect();
+        let mut out = vec![[0u8; 32]; slices.len()];
+        if let [one] = slices[..] {
+            out[0] = Sha256::digest(one).into();
+        } else if !slices.is_empty() {
+            tape_sha256::hash_many(&slices, &mut out);
+        }
+        for ((i, _), digest) in messages.iter().zip(&out) {
+            digests[*i] = Some(hex(digest));
+        }
+    }
+    pending.into_iter().map(|(key, _)| key).zip(digests).collect()
+}
+
+/// The message's length (a file's from its metadata), `None` for a file that cannot be read.
+fn length(message: &Message) -> Option<usize> {
+    match message {
+        Message::Bytes(bytes) => Some(bytes.len()),
+        Message::File(path) => {
+            std::fs::metadata(path).ok().and_then(|m| usize::try_from(m.len()).ok())
+        }
+    }
+}
+
+/// Reads the file at `path` into `buffer`, in the memory it already has.
+fn read_into(path: &std::path::Path, buffer: &mut Vec<u8>) -> std::io::Result<()> {
+    use std::io::Read;
+    buffer.clear();
+    std::fs::File::open(path)?.read_to_end(buffer).map(|_| ())
+}
+
+/// How much longer than the shortest of its group a message may be (its group runs as
+/// long as its longest lane): an eighth, or one 4 KiB page for small messages.
+fn fits(shortest: usize, length: usize) -> bool {
+    length <= shortest + (shortest / 8).max(4096)
+}
+
+/// The messages (by index into `lengths`) in groups of at most `lanes` of about one length
+/// (see [`fits`]), shortest first; messages whose length is `None` alone. Every message is
+/// in exactly one group.
+fn groups(lengths: &[Option<usize>], lanes: usize) -> Vec<Vec<usize>> {
+    let mut order: Vec<usize> = (0..lengths.len()).collect();
+    order.sort_by_key(|&i| lengths[i]);
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut shortest = 0;
+    for i in order {
+        match (lengths[i], groups.last_mut()) {
+            (Some(n), Some(group))
+                if group.len() < lanes.max(1)
+                    && lengths[group[0]].is_some()
+                    && fits(shortest, n) =>
+            {
+                group.push(i);
+            }
+            (n, _) => {
+                shortest = n.unwrap_or(0);
+                groups.push(vec![i]);
+            }
+        }
+    }
+    groups
+}
+
+/// A digest in lowercase hex.
+pub(crate) fn hex(digest: &[u8]) -> String {
+    use std::fmt::Write;
+    digest.iter().fold(String::with_capacity(2 * digest.len()), |mut hex, byte| {
+        let _ = write!(hex, "{byte:02x}");
+        hex
+    })
+}
