@@ -180,3 +180,8 @@ pub(crate) fn hex(digest: &[u8]) -> String {
         hex
     })
 }
+
+/// The SHA-256 of `bytes`, in lowercase hex (as Python's `hashlib` writes it).
+pub(crate) fn sha256(bytes: &[u8]) -> String {
+    hex(&Sha256::digest(bytes))
+}

@@ -16,7 +16,7 @@ use seamlit_io::SaveOptions;
 use seamlit_io::job::{Fixed, fix_asset};
 use sha2::{Digest, Sha256};
 
-use crate::digests::{Digests, hex};
+use crate::digests::{Digests, hex, sha256};
 use crate::{Settings, detached, error, json_text, load};
 
 /// The report's columns a fix fills for one file (docs/fleet.md), by their column names.
@@ -70,11 +70,6 @@ impl Row {
                 .any(|o| o.normals_changed > 0 || o.vertices_split > 0),
         }
     }
-}
-
-/// The SHA-256 of `bytes`, in lowercase hex (as Python's `hashlib` writes it).
-pub(crate) fn sha256(bytes: &[u8]) -> String {
-    hex(&Sha256::digest(bytes))
 }
 
 /// The SHA-256 of the file at `path`, read in pieces into one small buffer, not whole into

@@ -182,9 +182,12 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
 /// `companions`: the files a model of several names (a `.gltf`'s buffers and images, an OBJ's
 /// MTL and textures, a USD layer's layers), each by its path beside `name`'s, in the same set.
 /// `row`: the JSON of `seamlit.ray`'s report row ([`fleet::Row`]: both files' SHA-256 and
-/// the columns a fix fills) in place of the report.
+/// the columns a fix fills) in place of the report; with `digests`, the row's two hashes are
+/// `null` and `data` and the output go to `digests` under `keys` (input, output) instead,
+/// to be hashed with others.
 #[pyfunction]
-#[pyo3(signature = (data, name, output, settings, companions = Vec::new(), row = false))]
+#[pyo3(signature = (data, name, output, settings, companions = Vec::new(), row = false, digests = None, keys = (0, 0)))]
+#[allow(clippy::too_many_arguments)] // Python's keywords, each with its default
 fn fix_model_bytes<'py>(
     py: Python<'py>,
     data: &[u8],
@@ -193,28 +196,33 @@ fn fix_model_bytes<'py>(
     settings: &str,
     companions: Vec<(PathBuf, Bound<'py, pyo3::types::PyBytes>)>,
     row: bool,
+    digests: Option<Bound<'py, digests::Digests>>,
+    keys: (u64, u64),
 ) -> PyResult<(Bound<'py, pyo3::types::PyBytes>, String)> {
     let settings = Settings::parse(settings)?;
     let companions: Vec<(PathBuf, &[u8])> =
         companions.iter().map(|(path, bytes)| (path.clone(), bytes.as_bytes())).collect();
+    let deferred = row && digests.is_some();
     let run = || -> PyResult<(Vec<u8>, String)> {
         let job = if row { settings.row_job() } else { settings.job() };
         let (bytes, fixed, warnings) =
             fix_in_memory(data, name, output, &settings, &job, companions)?;
         let report = if row {
-            json_text(&fleet::Row::of(
-                &fixed,
-                &warnings,
-                Some(fleet::sha256(data)),
-                Some(fleet::sha256(&bytes)),
-            ))?
+            let hash = |bytes: &[u8]| (!deferred).then(|| digests::sha256(bytes));
+            json_text(&fleet::Row::of(&fixed, &warnings, hash(data), hash(&bytes)))?
         } else {
             json_text(&fixed.file_json(name, Path::new(output), &warnings))?
         };
         Ok((bytes, report))
     };
     let (bytes, report) = detached(py, run)?;
-    Ok((pyo3::types::PyBytes::new(py, &bytes), report))
+    let output = pyo3::types::PyBytes::new(py, &bytes);
+    if let Some(digests) = digests.filter(|_| deferred) {
+        let mut digests = digests.borrow_mut();
+        digests.push_bytes(keys.0, data.to_vec());
+        digests.push_bytes(keys.1, bytes);
+    }
+    Ok((output, report))
 }
 
 /// Loads the model `name` from `data` (with `companions`, the files beside it, each by its

@@ -729,6 +729,22 @@ def test_digests_made_together_are_hashlib_s(tmp_path):
     assert len(digests) == 0 and digests.held() == 0 and digests.take() == []
 
 
+def copied_jobs(names, copies, src, dst_of):
+    """A task's jobs: `copies` copies of the models `names` under SRC (`c0/`, `c1/`, ...),
+    each fixed into the DST `dst_of(copy)` under its own name."""
+    from seamlit.ray import _task
+
+    jobs = []
+    for k in range(copies):
+        for name in names:
+            relative = f"c{k}/{Path(name).name}"
+            (src / relative).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy(MODELS / name, src / relative)
+            jobs.append(_task.Job(relative=relative, src=str(src), dst=dst_of(k), output=relative,
+                                  options={"mode": "model"}, flags=(), options_key=""))
+    return jobs
+
+
 def test_a_task_s_rows_carry_the_hashes_of_its_files_whenever_they_are_made(tmp_path, monkeypatch):
     # GLBs fixed by path into a local DST leave their hashes to the end of the task (or to
     # whenever the outputs held pass Hashes.HELD): the rows are the same either way, and
@@ -737,14 +753,7 @@ def test_a_task_s_rows_carry_the_hashes_of_its_files_whenever_they_are_made(tmp_
 
     src, dst = tmp_path / "src", tmp_path / "dst"
     names = ["fox/Fox.glb", "NormalTangentTest.glb", "emissive_strength_test/EmissiveStrengthTest.glb"]
-    jobs = []
-    for k in range(4):
-        for name in names:
-            relative = f"c{k}/{Path(name).name}"
-            (src / relative).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy(MODELS / name, src / relative)
-            jobs.append(_task.Job(relative=relative, src=str(src), dst=str(dst), output=relative,
-                                  options={"mode": "model"}, flags=(), options_key=""))
+    jobs = copied_jobs(names, 4, src, lambda k: str(dst))
     batched = _task.process_batch(jobs)
     monkeypatch.setattr(_task.Hashes, "HELD", 1)
     flushed_each_time = _task.process_batch(jobs)
@@ -758,3 +767,25 @@ def test_a_task_s_rows_carry_the_hashes_of_its_files_whenever_they_are_made(tmp_
         )
         for row in rows:
             assert (row["input_sha256"], row["output_sha256"]) == expected, job.relative
+
+
+def test_a_task_s_rows_fixed_in_memory_carry_their_hashes_and_an_unwritten_one_none(s3, tmp_path):
+    # GLBs fixed in memory (for an object-store DST) leave their hashes to the end of the
+    # task too; an output whose upload fails is a failed row without an output hash, and the
+    # rows beside it are not disturbed.
+    from seamlit.ray import _task
+
+    s3.create_bucket(Bucket="hashes")
+    src = tmp_path / "src"
+    # The middle copy's bucket does not exist: its uploads fail.
+    dst_of = lambda k: "s3://no-such-bucket/out" if k == 1 else "s3://hashes/out"
+    jobs = copied_jobs(["fox/Fox.glb", "NormalTangentTest.glb"], 3, src, dst_of)
+    rows = _task.process_batch(jobs)
+    for job, row in zip(jobs, rows):
+        assert row["input_sha256"] == hashlib.sha256((src / job.relative).read_bytes()).hexdigest(), job.relative
+        if "no-such-bucket" in job.dst:
+            assert row["status"] == "failed" and row["output_sha256"] is None, row
+            continue
+        assert row["status"] in ("fixed", "unchanged"), row
+        written = s3.get_object(Bucket="hashes", Key=f"out/{job.output}")["Body"].read()
+        assert row["output_sha256"] == hashlib.sha256(written).hexdigest(), job.relative

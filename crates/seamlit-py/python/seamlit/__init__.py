@@ -226,11 +226,19 @@ def _fix_file_row(
 
 
 def _fix_bytes_row(
-    data: bytes, name: str, out_name: str, companions: Optional[Dict[str, bytes]] = None, **options: Any
+    data: bytes,
+    name: str,
+    out_name: str,
+    companions: Optional[Dict[str, bytes]] = None,
+    digests: Any = None,
+    keys: Tuple[int, int] = (0, 0),
+    **options: Any,
 ) -> Tuple[bytes, Dict[str, Any]]:
-    """:func:`_fix_bytes_measured` with :func:`_fix_file_row`'s row in place of the report."""
+    """:func:`_fix_bytes_measured` with :func:`_fix_file_row`'s row in place of the report
+    (and, as there, its two hashes left to ``digests`` where given)."""
     files = list((companions or {}).items())
-    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, _file_settings(**options), files, True)
+    settings = _file_settings(**options)
+    output, text = _seamlit.fix_model_bytes(bytes(data), name, out_name, settings, files, True, digests, keys)
     return output, json.loads(text)
 
 

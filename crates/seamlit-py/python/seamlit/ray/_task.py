@@ -302,7 +302,7 @@ def process(job: Job, memory: Optional[int] = None, hashes: Optional["Hashes"] =
                 return row
 
         if _in_memory(job, ext, local_src):
-            return _fix_in_memory(job, row, data, companions)
+            return _fix_in_memory(job, row, data, companions, hashes)
         if local_src and _into_local_file(job):
             return _fix_native(job, row, src_root + "/" + job.relative, job.options, None, hashes)
         row["input_sha256"] = row["input_sha256"] or sha256(data)
@@ -387,10 +387,11 @@ class Hashes:
     """The report's SHA-256 of a task's files, made together (``seamlit._seamlit.Digests``:
     messages of about one size hashed side by side, 2.6 times faster on this project's
     benchmark library than one after another). A file's input and output are added when it
-    is fixed, under keys that name its row and column; :meth:`flush` hashes them and fills
-    the rows in. The outputs' bytes wait in memory: flushed when they pass :attr:`HELD`."""
+    is fixed (by path into a local DST, or in memory), under keys that name its row and
+    column; :meth:`flush` hashes them and fills the rows in. The bytes wait in memory:
+    flushed when they pass :attr:`HELD`."""
 
-    #: Output bytes held before the task's files so far are hashed.
+    #: Bytes held (outputs, and inputs fixed in memory) before what waits is hashed.
     HELD = 64 * 2**20
 
     def __init__(self, native: Any) -> None:
@@ -414,8 +415,9 @@ class Hashes:
         self.next_key += 2
         return keys
 
-    def forget(self, keys: Tuple[int, int]) -> None:
-        """Drops the keys of a row whose files were not added."""
+    def forget(self, keys: Sequence[int]) -> None:
+        """Drops keys whose digests the row no longer wants (its files were not added, or
+        its output was not written)."""
         for key in keys:
             self.slots.pop(key, None)
 
@@ -426,8 +428,10 @@ class Hashes:
         """Hashes what was added and fills each row's column in (``None`` for a file that
         can no longer be read)."""
         for key, digest in self.native.take():
-            row, column = self.slots.pop(key)
-            row[column] = digest
+            slot = self.slots.pop(key, None)
+            if slot is not None:
+                row, column = slot
+                row[column] = digest
 
 
 def _reserved_memory() -> Optional[int]:
@@ -550,25 +554,45 @@ def _stage(scratch: str, relative: str, data: bytes, companions: Dict[str, bytes
     return os.path.join(stage, *relative.split("/"))
 
 
-def _fix_in_memory(job: Job, row: Row, data: bytes, companions: Dict[str, bytes]) -> Row:
+def _fix_in_memory(
+    job: Job, row: Row, data: bytes, companions: Dict[str, bytes], hashes: Optional[Hashes] = None
+) -> Row:
     """Fixes a model in memory (with ``companions``, SRC-relative paths -> bytes, for one of
     several files) and writes its output to DST (complete or not at all: a rename on a local
-    filesystem, one upload on an object store)."""
+    filesystem, one upload on an object store). The input and output go to ``hashes``, where
+    given (a row whose input was hashed to compare with the previous run keeps that hash)."""
     import seamlit
 
     assert job.dst is not None and job.output is not None
+    deferred = hashes is not None and row["input_sha256"] is None
+    keys = hashes.keys(row) if deferred else (0, 0)
     try:
         # Named by its path in SRC: errors and warnings name it so.
         output, result = seamlit._fix_bytes_row(
-            data, job.relative, posixpath.basename(job.output), companions, **job.options
+            data,
+            job.relative,
+            posixpath.basename(job.output),
+            companions,
+            hashes.native if deferred else None,
+            keys,
+            **job.options,
         )
-    except seamlit.SeamlitError as e:
+    except BaseException as e:
+        if deferred:
+            hashes.forget(keys)  # added by the native call only where it succeeded
+        if not isinstance(e, seamlit.SeamlitError):
+            raise
         row.update(status="refused", error=_relative_message(str(e), job.relative, job.relative))
         row["input_sha256"] = row["input_sha256"] or sha256(data)
         return row
     changed = _measure_row(row, result)
     dst_fs, dst_root = _files.resolve(job.dst)
-    _write(dst_fs, dst_root, job.output, output, job.dst)
+    try:
+        _write(dst_fs, dst_root, job.output, output, job.dst)
+    except Unwritten:
+        if deferred:
+            hashes.forget(keys[1:])  # no output: the row's output hash stays empty
+        raise
     row["status"] = "fixed" if changed else "unchanged"
     return row
 
