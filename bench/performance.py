@@ -14,7 +14,13 @@ time prints).
 
     cargo build --release -p seamlit -p seamlit-bench
     cargo build --release -p seamlit-io --example load_save
-    bench/performance.py [--runs 11] [--threads 2] [--work DIR] [--readme]
+    bench/performance.py [--runs 11] [--threads 2] [--tangent-rounds 3] [--work DIR] [--readme]
+
+And MikkTSpace on one thread against meshoptimizer's `generate_tangents` (criterion, `cargo
+bench -p seamlit-mesh --bench tangents`, `--tangent-rounds` runs of it): what MikkTSpace adds
+to a fix that has its normals (`fix/mikktspace/1t` less `fix/normals-only/1t`) against the
+generator alone on the fixed model's normals (`generator/meshopt/1t`), the medians of the
+rounds' ratios.
 
 `--readme` writes the table into README.md between its two `bench/performance.py` markers.
 The `.usdc` and `.fbx` rows are left out, with a line saying so, where `pxr` (usd-core) or
@@ -130,7 +136,45 @@ def cases(files: Dict[str, Path], seamlit: str, floor: str, work: Path) -> Dict[
     return found
 
 
-def table(c: Dict[str, Case], threads: int) -> List[str]:
+#: The criterion cases of MikkTSpace against meshoptimizer's generator, the 1M teapot.
+TANGENT_CASES = ("fix/mikktspace/1t", "fix/normals-only/1t", "generator/meshopt/1t")
+
+
+def tangent_round() -> Dict[str, float]:
+    """One run of the three criterion cases: each one's median estimate, in ms."""
+    pattern = "(" + "|".join(TANGENT_CASES) + ")/1048k"
+    argv = ["cargo", "bench", "-q", "-p", "seamlit-mesh", "--bench", "tangents", "--", "--noplot", pattern]
+    done = subprocess.run(argv, cwd=REPO, capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"bench/performance.py: {' '.join(argv)} failed: {done.stderr.strip()[-500:]}")
+    found: Dict[str, float] = {}
+    name = None
+    for line in done.stdout.splitlines():
+        words = line.split()
+        if words and words[0].startswith("tangents/"):
+            name = words[0][len("tangents/") :].rsplit("/", 1)[0]
+        if name and "time:" in words:
+            # time:   [low unit median unit high unit]
+            at = words.index("time:")
+            value, unit = float(words[at + 3]), words[at + 4]
+            found[name] = value * {"s": 1000.0, "ms": 1.0, "µs": 0.001, "us": 0.001}[unit]
+            name = None
+    missing = [c for c in TANGENT_CASES if c not in found]
+    if missing:
+        sys.exit(f"bench/performance.py: criterion printed no time for {', '.join(missing)}")
+    return found
+
+
+def tangent_ratio(rounds: List[Dict[str, float]]) -> Tuple[float, float, float]:
+    """The median over the rounds of (meshopt / what MikkTSpace adds), with the medians of
+    what MikkTSpace adds and of meshopt, in ms."""
+    adds = [r["fix/mikktspace/1t"] - r["fix/normals-only/1t"] for r in rounds]
+    ratios = [r["generator/meshopt/1t"] / a for r, a in zip(rounds, adds)]
+    meshopt = [r["generator/meshopt/1t"] for r in rounds]
+    return statistics.median(ratios), statistics.median(adds), statistics.median(meshopt)
+
+
+def table(c: Dict[str, Case], threads: int, tangents: Optional[Tuple[float, float, float]]) -> List[str]:
     """The README's table, from the medians."""
     fix, floor, nt, nt_floor = c["fix"], c["floor"], c["nt"], c["nt_floor"]
     over = lambda a, b: f"{a.wall / b.wall:.1f}x, {a.mib / b.mib:.2f}x"
@@ -156,7 +200,18 @@ def table(c: Dict[str, Case], threads: int) -> List[str]:
             f"{fbx.wall / glb.wall:.2f}x the `.glb`'s fix ({fbx.wall:.2f} s against {glb.wall:.2f} s) | "
             f"{fbx.mib:.0f} MiB | |"
         )
+    if tangents is not None:
+        ratio, adds, meshopt = tangents
+        lines.append(
+            "| MikkTSpace on one thread against meshoptimizer's `generate_tangents` (what it adds to a "
+            "fix that has its normals, against the generator alone on those normals; criterion) | "
+            f"{ratio:.2f}x faster ({adds:.0f} against {meshopt:.0f} ms) | | |"
+        )
     return lines
+
+
+def plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
 
 
 def machine() -> str:
@@ -197,10 +252,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", type=int, default=11, help="rounds of every case (medians; default 11)")
     parser.add_argument("--threads", type=int, default=2, help="threads (and cores) of each process (default 2)")
+    parser.add_argument("--tangent-rounds", type=int, default=3, help="runs of the criterion cases (0: left out; default 3)")
     parser.add_argument("--work", type=Path, help="where the models are made (default: a temporary folder)")
     parser.add_argument("--readme", action="store_true", help="write the table into README.md")
     args = parser.parse_args()
-    if args.runs < 1 or not 1 <= args.threads <= (os.cpu_count() or 1):
+    if args.runs < 1 or args.tangent_rounds < 0 or not 1 <= args.threads <= (os.cpu_count() or 1):
         sys.exit(f"bench/performance.py: --runs at least 1, --threads 1 to {os.cpu_count()}")
     seamlit = binary(RELEASE / "seamlit", "cargo build --release -p seamlit")
     bench = binary(RELEASE / "seamlit-bench", "cargo build --release -p seamlit-bench")
@@ -216,14 +272,20 @@ def main() -> None:
             for case in found.values():
                 case.run(args.threads)
             print(f"round {round + 1}/{args.runs}", file=sys.stderr)
+        rounds = []
+        for round in range(args.tangent_rounds):
+            rounds.append(tangent_round())
+            print(f"criterion round {round + 1}/{args.tangent_rounds}: {rounds[-1]}", file=sys.stderr)
         ended = datetime.datetime.now(datetime.timezone.utc)
     for case in found.values():
         print(f"{case.name}: {case.wall * 1000:.1f} ms, {case.mib:.1f} MiB ({' '.join(case.argv[:2])} ...)")
-    lines = table(found, args.threads)
+    lines = table(found, args.threads, tangent_ratio(rounds) if rounds else None)
     when = f"{started:%Y-%m-%d %H:%M}" + (f" to {ended:%H:%M}" if f"{ended:%H:%M}" != f"{started:%H:%M}" else "") + " UTC"
     note = (
         f"Measured {when} at {commit()} on {machine()} (load {load:.1f} at the start), medians of "
-        f"{args.runs} rounds, every case in each round: `bench/performance.py --runs {args.runs} --readme`."
+        f"{plural(args.runs, 'round')}, every case in each round"
+        + (f"; the criterion cases in {plural(len(rounds), 'run')} after them" if rounds else "")
+        + f": `bench/performance.py --runs {args.runs} --tangent-rounds {args.tangent_rounds} --readme`."
     )
     lines += ["", note] + [f"Left out: {m}." for m in missing]
     print()
