@@ -10,16 +10,55 @@
 //!
 //! Lanes run in step: a group is as slow as its longest message, so a group holds messages
 //! of about one length ([`groups`]); one without a partner is hashed alone (`sha2`).
+//!
+//! A file is read when it is hashed, later than when it was added (or fixed): it is hashed
+//! only if it is still the file it was then ([`Stamp`]: its length, modification time and
+//! inode), else it has no digest. A report must not hold the hash of bytes that were not the
+//! ones fixed: a second run would take the file as fixed and skip it.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::SystemTime;
 
 use pyo3::prelude::*;
 use sha2::{Digest, Sha256};
 
-/// A message to hash: a file (read when hashed) or bytes already in memory.
+/// A message to hash: a file (read when hashed, if it is still as stamped) or bytes already
+/// in memory.
 enum Message {
-    File(PathBuf),
+    File(PathBuf, Stamp),
     Bytes(Vec<u8>),
+    /// A file that could not be read when it was added: no digest.
+    Gone,
+}
+
+/// What a file was at one moment: its length, modification time and (on Unix) device and
+/// inode. A file written since, or replaced by another, has another stamp (to the file
+/// system's clock's resolution: nanoseconds on Linux's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Stamp {
+    len: u64,
+    modified: Option<SystemTime>,
+    inode: (u64, u64),
+}
+
+impl Stamp {
+    /// The stamp of the file at `path` now.
+    pub(crate) fn of(path: &Path) -> std::io::Result<Self> {
+        std::fs::metadata(path).map(|m| Self::from(&m))
+    }
+}
+
+impl From<&std::fs::Metadata> for Stamp {
+    fn from(metadata: &std::fs::Metadata) -> Self {
+        #[cfg(unix)]
+        let inode = {
+            use std::os::unix::fs::MetadataExt;
+            (metadata.dev(), metadata.ino())
+        };
+        #[cfg(not(unix))]
+        let inode = (0, 0);
+        Self { len: metadata.len(), modified: metadata.modified().ok(), inode }
+    }
 }
 
 /// Files and bytes whose SHA-256 the caller wants, each under its key, hashed together by
@@ -39,9 +78,15 @@ impl Digests {
         self.pending.push((key, Message::Bytes(bytes)));
     }
 
-    /// Adds the file at `path` under `key`.
-    pub(crate) fn push_file(&mut self, key: u64, path: PathBuf) {
-        self.pending.push((key, Message::File(path)));
+    /// Adds the file at `path` under `key`, to be hashed if it is still as `stamp` says
+    /// (taken before the file was read for what the digest stands for).
+    pub(crate) fn push_file(&mut self, key: u64, path: PathBuf, stamp: Stamp) {
+        self.pending.push((key, Message::File(path, stamp)));
+    }
+
+    /// Adds `key` without a message: its digest is `None`.
+    pub(crate) fn push_gone(&mut self, key: u64) {
+        self.pending.push((key, Message::Gone));
     }
 }
 
@@ -52,9 +97,13 @@ impl Digests {
         Self::default()
     }
 
-    /// Adds the file at `path` under `key`: read when [`Self::take`] hashes it.
+    /// Adds the file at `path` under `key` as it is now: read when [`Self::take`] hashes it,
+    /// without a digest if it has changed by then.
     fn add_file(&mut self, key: u64, path: PathBuf) {
-        self.push_file(key, path);
+        match Stamp::of(&path) {
+            Ok(stamp) => self.push_file(key, path, stamp),
+            Err(_) => self.push_gone(key),
+        }
     }
 
     /// Adds a copy of `data` under `key`.
@@ -73,7 +122,8 @@ impl Digests {
     }
 
     /// Hashes everything added and empties the set: each key with its digest in lowercase
-    /// hex (as `hashlib` writes it), or `None` for a file that can no longer be read.
+    /// hex (as `hashlib` writes it), or `None` for a file that can no longer be read or is
+    /// no longer the file it was when added.
     fn take(&mut self, py: Python<'_>) -> Vec<(u64, Option<String>)> {
         let pending = std::mem::take(&mut self.pending);
         self.held = 0;
@@ -96,7 +146,8 @@ fn hash_all(pending: Vec<(u64, Message)>) -> Vec<(u64, Option<String>)> {
             .zip(buffers.iter_mut())
             .map(|(&i, buffer)| match &pending[i].1 {
                 Message::Bytes(_) => true,
-                Message::File(path) => read_into(path, buffer).is_ok(),
+                Message::File(path, stamp) => read_unchanged(path, *stamp, buffer),
+                Message::Gone => false,
             })
             .collect();
         let messages: Vec<(usize, &[u8])> = group
@@ -106,7 +157,7 @@ fn hash_all(pending: Vec<(u64, Message)>) -> Vec<(u64, Option<String>)> {
             .filter(|(_, ok)| **ok)
             .map(|((&i, buffer), _)| match &pending[i].1 {
                 Message::Bytes(bytes) => (i, &bytes[..]),
-                Message::File(_) => (i, &buffer[..]),
+                Message::File(..) | Message::Gone => (i, &buffer[..]),
             })
             .collect();
         let slices: Vec<&[u8]> = messages.iter().map(|(_, bytes)| *bytes).collect();
@@ -123,21 +174,28 @@ fn hash_all(pending: Vec<(u64, Message)>) -> Vec<(u64, Option<String>)> {
     pending.into_iter().map(|(key, _)| key).zip(digests).collect()
 }
 
-/// The message's length (a file's from its metadata), `None` for a file that cannot be read.
+/// The message's length (a file's from its stamp), `None` for a file that cannot be read or
+/// is no longer as stamped.
 fn length(message: &Message) -> Option<usize> {
     match message {
         Message::Bytes(bytes) => Some(bytes.len()),
-        Message::File(path) => {
-            std::fs::metadata(path).ok().and_then(|m| usize::try_from(m.len()).ok())
-        }
+        Message::File(path, stamp) => (Stamp::of(path).ok() == Some(*stamp))
+            .then(|| usize::try_from(stamp.len).ok())
+            .flatten(),
+        Message::Gone => None,
     }
 }
 
-/// Reads the file at `path` into `buffer`, in the memory it already has.
-fn read_into(path: &std::path::Path, buffer: &mut Vec<u8>) -> std::io::Result<()> {
+/// Reads the file at `path` into `buffer`, in the memory it already has; whether it read the
+/// file as `stamp` says it was, before and after the read (a file written meanwhile is not).
+fn read_unchanged(path: &Path, stamp: Stamp, buffer: &mut Vec<u8>) -> bool {
     use std::io::Read;
     buffer.clear();
-    std::fs::File::open(path)?.read_to_end(buffer).map(|_| ())
+    let Ok(mut file) = std::fs::File::open(path) else { return false };
+    let before = file.metadata().map(|m| Stamp::from(&m)).ok();
+    let read = file.read_to_end(buffer).is_ok();
+    let after = file.metadata().map(|m| Stamp::from(&m)).ok();
+    read && before == Some(stamp) && after == Some(stamp) && buffer.len() as u64 == stamp.len
 }
 
 /// How much longer than the shortest of its group a message may be (its group runs as

@@ -16,7 +16,7 @@ use seamlit_io::SaveOptions;
 use seamlit_io::job::{Fixed, fix_asset};
 use sha2::{Digest, Sha256};
 
-use crate::digests::{Digests, hex, sha256};
+use crate::digests::{Digests, Stamp, hex, sha256};
 use crate::{Settings, detached, error, json_text, load};
 
 /// The report's columns a fix fills for one file (docs/fleet.md), by their column names.
@@ -109,7 +109,9 @@ pub(crate) fn fix_file_row(
     };
     let job = settings.row_job();
     let deferred = digests.is_some();
-    let run = || -> PyResult<(Row, Vec<u8>)> {
+    let run = || -> PyResult<(Row, Vec<u8>, Option<Stamp>)> {
+        // What the file is before the loader reads it: hashed later only if still that.
+        let stamp = if deferred { Stamp::of(&input).ok() } else { None };
         let mut asset = load(&input, &load_options)?;
         // Read again for its hash: from the page cache.
         let input_sha256 = if deferred {
@@ -123,12 +125,16 @@ pub(crate) fn fix_file_row(
         seamlit_io::files::write(&output, &bytes).map_err(error)?;
         let output_sha256 = (!deferred).then(|| sha256(&bytes));
         let row = Row::of(&fixed, asset.warnings.iter().chain(&saved), input_sha256, output_sha256);
-        Ok((row, bytes))
+        Ok((row, bytes, stamp))
     };
-    let (row, bytes) = detached(py, run)?;
+    let (row, bytes, stamp) = detached(py, run)?;
     if let Some(digests) = digests {
         let mut digests = digests.borrow_mut();
-        digests.push_file(keys.0, input);
+        match stamp {
+            Some(stamp) => digests.push_file(keys.0, input, stamp),
+            // Gone before it was loaded and there again when it was: nothing to vouch for.
+            None => digests.push_gone(keys.0),
+        }
         digests.push_bytes(keys.1, bytes);
     }
     json_text(&row)

@@ -769,6 +769,40 @@ def test_a_task_s_rows_carry_the_hashes_of_its_files_whenever_they_are_made(tmp_
             assert (row["input_sha256"], row["output_sha256"]) == expected, job.relative
 
 
+def test_an_input_written_before_its_hash_is_made_has_none_and_is_fixed_again(tmp_path):
+    # A task hashes its inputs at its end, after fixing them: an input written since (or
+    # replaced by another file, even one of the same bytes) has no input hash and says why,
+    # never the hash of bytes that were not the ones fixed, so that the next run fixes it
+    # again instead of skipping it as done. The rows beside it keep their hashes.
+    import dataclasses
+
+    from seamlit.ray import _task
+
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    jobs = copied_jobs(["fox/Fox.glb", "NormalTangentTest.glb"], 2, src, lambda k: str(dst))
+    hashes = _task.Hashes.of_package()
+    rows = [_task.process(job, None, hashes) for job in jobs]
+    written, replaced = src / jobs[0].relative, src / jobs[1].relative
+    with open(written, "ab") as f:
+        f.write(b"\0\0\0\0")
+    copy = replaced.with_name("copy.glb")
+    shutil.copy(replaced, copy)
+    os.replace(copy, replaced)
+    hashes.flush()
+    for row in rows[:2]:
+        assert row["status"] in ("fixed", "unchanged") and row["input_sha256"] is None, row
+        assert any(w.startswith(row["path"]) and "changed or went away" in w for w in row["warnings"]), row
+    for job, row in zip(jobs[2:], rows[2:]):
+        assert row["input_sha256"] == hashlib.sha256((src / job.relative).read_bytes()).hexdigest(), row
+        assert not any("changed" in w for w in row["warnings"]), row
+    # The next run compares each input with the hash its row holds.
+    again = [
+        dataclasses.replace(job, previous=(row["input_sha256"], row["companions_sha256"]), previous_output=job.output)
+        for job, row in zip(jobs, rows)
+    ]
+    assert [_task.process(job)["skipped"] for job in again] == [False, False, True, True]
+
+
 def test_a_task_s_rows_fixed_in_memory_carry_their_hashes_and_an_unwritten_one_none(s3, tmp_path):
     # GLBs fixed in memory (for an object-store DST) leave their hashes to the end of the
     # task too; an output whose upload fails is a failed row without an output hash, and the

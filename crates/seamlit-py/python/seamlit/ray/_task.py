@@ -425,13 +425,20 @@ class Hashes:
         return self.native.held() >= self.HELD
 
     def flush(self) -> None:
-        """Hashes what was added and fills each row's column in (``None`` for a file that
-        can no longer be read)."""
+        """Hashes what was added and fills each row's column in: ``None``, with a warning,
+        for an input that can no longer be read or is no longer the file that was fixed
+        (the next run fixes it again rather than skip it as done)."""
         for key, digest in self.native.take():
             slot = self.slots.pop(key, None)
             if slot is not None:
                 row, column = slot
                 row[column] = digest
+                if digest is None and column == "input_sha256":
+                    row["warnings"] = [*row["warnings"], f"{row['path']}: {_CHANGED}"]
+
+
+#: Why a row has no input hash (its file changed, or went, while its task ran).
+_CHANGED = "changed or went away while it was fixed: no input hash; the next run fixes it again"
 
 
 def _reserved_memory() -> Optional[int]:
