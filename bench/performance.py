@@ -179,7 +179,7 @@ def table(c: Dict[str, Case], threads: int, tangents: Optional[Tuple[float, floa
     fix, floor, nt, nt_floor = c["fix"], c["floor"], c["nt"], c["nt_floor"]
     over = lambda a, b: f"{a.wall / b.wall:.1f}x, {a.mib / b.mib:.2f}x"
     lines = [
-        f"| | wall time, {threads} threads | peak memory | against the floor |",
+        f"| | wall time, {plural(threads, 'thread')} | peak memory | against the floor |",
         "|---|---:|---:|---:|",
         f"| `seamlit fix` (default) | **{fix.wall:.2f} s** | **{fix.mib:.0f} MiB** | {over(fix, floor)} |",
         f"| load and save, no fix | {floor.wall:.2f} s | {floor.mib:.0f} MiB | 1x |",
@@ -285,7 +285,9 @@ def main() -> None:
         f"Measured {when} at {commit()} on {machine()} (load {load:.1f} at the start), medians of "
         f"{plural(args.runs, 'round')}, every case in each round"
         + (f"; the criterion cases in {plural(len(rounds), 'run')} after them" if rounds else "")
-        + f": `bench/performance.py --runs {args.runs} --tangent-rounds {args.tangent_rounds} --readme`."
+        + f": `bench/performance.py --runs {args.runs}"
+        + (f" --threads {args.threads}" if args.threads != 2 else "")
+        + f" --tangent-rounds {args.tangent_rounds} --readme`."
     )
     lines += ["", note] + [f"Left out: {m}." for m in missing]
     print()
