@@ -32,8 +32,9 @@ enum Message {
 }
 
 /// What a file was at one moment: its length, modification time and (on Unix) device and
-/// inode. A file written since, or replaced by another, has another stamp (to the file
-/// system's clock's resolution: nanoseconds on Linux's).
+/// inode. A file replaced by another, or written since to another length, has another
+/// stamp; one rewritten in place to the same length has another modification time unless
+/// both writes fall in one tick of the clock Linux stamps files with (a few milliseconds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Stamp {
     len: u64,
