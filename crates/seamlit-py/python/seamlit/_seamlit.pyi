@@ -19,6 +19,8 @@ def fix_model_bytes(
     settings: str,
     companions: Sequence[Tuple[str, bytes]] = ...,
     row: bool = ...,
+    digests: Optional["Digests"] = None,
+    keys: Tuple[int, int] = ...,
 ) -> Tuple[bytes, str]: ...
 def fix_file_row(
     input: str,
