@@ -81,7 +81,12 @@ pub(crate) fn acos_poly(x: Vec4) -> Vec4 {
 /// SSE lanes (`Vec4`, `Vec3A`): one `sqrt` and one division give the area, the normal and the
 /// two corner cosines; a second pair gives the unit tangent, the unit bitangent and the
 /// corner angles. That shortens the chain of slow operations from a dozen to four.
-#[inline]
+///
+/// Always inlined: returned through memory, the 56-byte `Face` was stored field by field and
+/// read back in 16-byte loads, each waiting for the stores it spans (a failed store-to-load
+/// forward); the smoothing's pass over the 1M teapot's triangles took 50 ms on two threads
+/// instead of 33 (BENCHMARKS.md).
+#[inline(always)]
 pub(crate) fn face(p: [Vec3; 3], uvs: Option<[Vec2; 3]>, v_axis: VAxis) -> Face {
     let [p0, p1, p2] = p.map(Vec3A::from);
     let (e1, e2, e3) = (p1 - p0, p2 - p0, p2 - p1);
