@@ -32,7 +32,7 @@
 //! Cost: the sort of about 1.1 n entries, then O(n) (O(k d) for a cell of k
 //! positions of which d are distinct: d = 1 for copies of a point).
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 use crate::index::{index, low_half};
@@ -255,13 +255,31 @@ const CELL_TOLERANCES: f32 = 64.0;
 /// Cell coordinates use 21 bits per axis.
 const AXIS_CELLS: f32 = (1u32 << 20) as f32;
 
-/// The bounds of `positions` (`min > max` for none), in parallel.
+/// The bounds of `positions` (`min > max` for none), in parallel. The positions are finite
+/// (the pipeline checks them first): in SSE lanes, four running bounds a chunk, so that no
+/// `min` waits on the one before it. (Folded one position at a time with `f32::min`, which
+/// handles NaN, each pass over the 1M teapot's positions took a few milliseconds.)
 pub(crate) fn bounds(positions: &[Vec3]) -> (Vec3, Vec3) {
-    let empty = || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    positions
-        .par_iter()
-        .fold(empty, |(lo, hi), &p| (lo.min(p), hi.max(p)))
-        .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)))
+    let empty = || (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+    let (lo, hi) = positions
+        .par_chunks(1 << 14)
+        .map(|chunk| {
+            let (mut lo, mut hi) = ([Vec3A::INFINITY; 4], [Vec3A::NEG_INFINITY; 4]);
+            let (quads, rest) = chunk.as_chunks::<4>();
+            for &p in rest {
+                lo[0] = lo[0].min(p.into());
+                hi[0] = hi[0].max(p.into());
+            }
+            for quad in quads {
+                for k in 0..4 {
+                    lo[k] = lo[k].min(quad[k].into());
+                    hi[k] = hi[k].max(quad[k].into());
+                }
+            }
+            (lo[0].min(lo[1]).min(lo[2].min(lo[3])), hi[0].max(hi[1]).max(hi[2].max(hi[3])))
+        })
+        .reduce(empty, |(a, b), (c, d)| (a.min(c), b.max(d)));
+    (lo.into(), hi.into())
 }
 
 /// Every position is entered under its own cell and, when it lies within the tolerance of a
@@ -379,6 +397,44 @@ pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lanes' bounds are those of one position at a time, for every length around a
+    /// chunk's (the remainders of four and of a chunk) and for none.
+    #[test]
+    fn bounds_in_lanes_are_the_positions_bounds() {
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed as f32 / u32::MAX as f32 - 0.5) * 200.0
+        };
+        let positions: Vec<Vec3> =
+            (0..(1 << 14) + 7).map(|_| Vec3::new(next(), next(), next())).collect();
+        for n in [0, 1, 3, 4, 5, 8, 1 << 14, (1 << 14) + 1, (1 << 14) + 7] {
+            let some = &positions[..n];
+            let one_by_one = some.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), p| {
+                    let (l, h) = (lo.to_array(), hi.to_array());
+                    let q = p.to_array();
+                    let lo = Vec3::from_array(std::array::from_fn(|k| {
+                        if q[k] < l[k] { q[k] } else { l[k] }
+                    }));
+                    let hi = Vec3::from_array(std::array::from_fn(|k| {
+                        if q[k] > h[k] { q[k] } else { h[k] }
+                    }));
+                    (lo, hi)
+                },
+            );
+            assert_eq!(bounds(some), one_by_one, "{n} positions");
+        }
+        // The extreme position in the last of four lanes, and in the remainder.
+        let mut quad = vec![Vec3::ZERO; 9];
+        quad[3] = Vec3::new(-5.0, 6.0, -7.0);
+        quad[8] = Vec3::new(9.0, -9.0, 9.0);
+        assert_eq!(bounds(&quad), (Vec3::new(-5.0, -9.0, -7.0), Vec3::new(9.0, 6.0, 9.0)));
+    }
 
     #[test]
     fn exact_weld_joins_equal_bits_and_signed_zero() {
