@@ -252,6 +252,8 @@ fn weld_exact(positions: &[Vec3]) -> Vec<u32> {
 /// Cells are at least this many tolerances wide: few positions lie within a tolerance of a
 /// cell face (about 3% per axis), while a cell of a real mesh still holds about one position.
 const CELL_TOLERANCES: f32 = 64.0;
+/// Positions a task of [`weld_tolerant`] enters.
+const ENTRY_CHUNK: usize = 1 << 13;
 /// Cell coordinates use 21 bits per axis.
 const AXIS_CELLS: f32 = (1u32 << 20) as f32;
 
@@ -299,44 +301,59 @@ fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
     let key =
         |c: [u32; 3]| hash((u64::from(c[0]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[2]));
 
-    let entries: Vec<u64> = positions
-        .par_iter()
+    // Where a cell holds about one position, all but a few positions are entered once: each
+    // position's own cell is written in place, in parallel (collecting up to eight entries a
+    // position through rayon's lists took as long as the sort); the few cells across a face
+    // are gathered apart and appended. The sort orders the entries whatever their order.
+    let cells = |p: Vec3| {
+        // Non-negative (the origin is a cell below the minimum): `as` truncates = floor.
+        let f = (p - origin) * inv_cell;
+        #[expect(
+            clippy::cast_possible_truncation,
+            reason = "in 0..AXIS_CELLS: `cell` is at least extent / (AXIS_CELLS - 2), above"
+        )]
+        let c = [f.x as u32, f.y as u32, f.z as u32];
+        let local = f - Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+        let side = |l: f32| -> i32 {
+            if l <= reach {
+                -1
+            } else if 1.0 - l <= reach {
+                1
+            } else {
+                0
+            }
+        };
+        (c, [side(local.x), side(local.y), side(local.z)])
+    };
+    let mut entries = vec![0u64; positions.len()];
+    let across: Vec<u64> = entries
+        .par_chunks_mut(ENTRY_CHUNK)
+        .zip(positions.par_chunks(ENTRY_CHUNK))
         .enumerate()
-        .flat_map_iter(|(i, &p)| {
-            // Non-negative (the origin is a cell below the minimum): `as` truncates = floor.
-            let f = (p - origin) * inv_cell;
-            #[expect(
-                clippy::cast_possible_truncation,
-                reason = "in 0..AXIS_CELLS: `cell` is at least extent / (AXIS_CELLS - 2), above"
-            )]
-            let c = [f.x as u32, f.y as u32, f.z as u32];
-            let local = f - Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
-            let side = |l: f32| -> i32 {
-                if l <= reach {
-                    -1
-                } else if 1.0 - l <= reach {
-                    1
-                } else {
-                    0
-                }
-            };
-            let s = [side(local.x), side(local.y), side(local.z)];
-            // The own cell, then every combination of the near sides (up to 7 more).
-            let mut out = [0u64; 8];
-            let mut n = 0;
-            for mask in 0..8u32 {
-                if (0..3).any(|a| mask & (1 << a) != 0 && s[a] == 0) {
+        .flat_map_iter(|(k, (entries, positions))| {
+            let mut across = Vec::new();
+            for (j, (entry, &p)) in entries.iter_mut().zip(positions).enumerate() {
+                let i = (k * ENTRY_CHUNK + j) as u64;
+                let (c, s) = cells(p);
+                *entry = (key(c) << 32) | i;
+                if s == [0; 3] {
                     continue;
                 }
-                let nc: [u32; 3] = std::array::from_fn(|a| {
-                    if mask & (1 << a) != 0 { c[a].wrapping_add_signed(s[a]) } else { c[a] }
-                });
-                out[n] = (key(nc) << 32) | i as u64;
-                n += 1;
+                // Every combination of the near sides (up to 7 more cells).
+                for mask in 1..8u32 {
+                    if (0..3).any(|a| mask & (1 << a) != 0 && s[a] == 0) {
+                        continue;
+                    }
+                    let nc: [u32; 3] = std::array::from_fn(|a| {
+                        if mask & (1 << a) != 0 { c[a].wrapping_add_signed(s[a]) } else { c[a] }
+                    });
+                    across.push((key(nc) << 32) | i);
+                }
             }
-            out.into_iter().take(n)
+            across
         })
         .collect();
+    entries.extend(across);
     let tol2 = tol * tol;
     join_runs(positions.len(), entries, |i, j| {
         let (p, q) = (positions[i as usize], positions[j as usize]);
@@ -470,6 +487,41 @@ mod tests {
         }
         let misses = near_misses(&p, &roots(&p, tol));
         assert_eq!(misses.iter().filter(|&&m| m).count(), 200);
+    }
+
+    /// The tolerant weld joins exactly what comparing every pair joins (transitively), on
+    /// clusters of points a few cells wide, many of whose pairs straddle a cell's face, edge
+    /// or corner: found only through the cells across ([`weld_tolerant`]'s second entries).
+    #[test]
+    fn tolerant_weld_joins_what_every_pair_compared_joins() {
+        let tol = 1e-3;
+        let mut seed = 0x9e37_79b9_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        let mut p = Vec::new();
+        while p.len() < 1500 {
+            let centre = Vec3::new(next(), next(), next()) * 0.2;
+            for _ in 0..3 {
+                let d = Vec3::new(next(), next(), next()) * 2.0 - Vec3::ONE;
+                p.push(centre + d * tol * 0.8);
+            }
+        }
+        let mut parent: Vec<u32> = (0..index(p.len())).collect();
+        for i in 0..p.len() {
+            for j in 0..i {
+                if p[i].distance_squared(p[j]) <= tol * tol {
+                    union(&mut parent, index(j), index(i));
+                }
+            }
+        }
+        let every_pair: Vec<u32> = (0..p.len()).map(|i| find(&mut parent, index(i))).collect();
+        let joined = (0..p.len()).filter(|&i| every_pair[i] as usize != i).count();
+        assert!(joined > 500, "clusters of three: {joined} joined");
+        assert_eq!(roots(&p, tol), every_pair);
     }
 
     #[test]
