@@ -14,13 +14,19 @@ time prints).
 
     cargo build --release -p seamlit -p seamlit-bench
     cargo build --release -p seamlit-io --example load_save
-    bench/performance.py [--runs 11] [--threads 2] [--tangent-rounds 3] [--work DIR] [--readme]
+    bench/performance.py [--runs 11] [--threads 2] [--tangent-rounds 3] [--work DIR]
+                         [--baseline BINARY] [--readme]
 
 And MikkTSpace on one thread against meshoptimizer's `generate_tangents` (criterion, `cargo
 bench -p seamlit-mesh --bench tangents`, `--tangent-rounds` runs of it): what MikkTSpace adds
 to a fix that has its normals (`fix/mikktspace/1t` less `fix/normals-only/1t`) against the
 generator alone on the fixed model's normals (`generator/meshopt/1t`), the medians of the
 rounds' ratios.
+
+`--baseline BINARY` runs every `seamlit` case with another build too (say, a copy of
+`target/release/seamlit` made before a change, kept on the same file system), in the same
+rounds, the two in turn (which goes first alternates), and prints each case's medians before
+and after and their ratios: a change's own figures, from one run.
 
 `--readme` writes the table into README.md between its two `bench/performance.py` markers.
 The `.usdc` and `.fbx` rows are left out, with a line saying so, where `pxr` (usd-core) or
@@ -210,6 +216,21 @@ def table(c: Dict[str, Case], threads: int, tangents: Optional[Tuple[float, floa
     return lines
 
 
+def comparison(found: Dict[str, Case], before: Dict[str, Case]) -> List[str]:
+    """Each case run with the baseline too: its medians before and after, and their ratios."""
+    lines = [
+        "| case | baseline | this build | this / baseline |",
+        "|---|---:|---:|---:|",
+    ]
+    for name, old in before.items():
+        new = found[name]
+        lines.append(
+            f"| {name} (`{' '.join(Path(a).name for a in new.argv[1:3])} ...`) | {old.wall * 1000:.0f} ms, {old.mib:.1f} MiB | "
+            f"{new.wall * 1000:.0f} ms, {new.mib:.1f} MiB | {new.wall / old.wall:.3f}x, {new.mib / old.mib:.3f}x |"
+        )
+    return lines
+
+
 def plural(n: int, word: str) -> str:
     return f"{n} {word}" + ("" if n == 1 else "s")
 
@@ -254,6 +275,8 @@ def main() -> None:
     parser.add_argument("--threads", type=int, default=2, help="threads (and cores) of each process (default 2)")
     parser.add_argument("--tangent-rounds", type=int, default=3, help="runs of the criterion cases (0: left out; default 3)")
     parser.add_argument("--work", type=Path, help="where the models are made (default: a temporary folder)")
+    parser.add_argument("--baseline", type=Path, metavar="BINARY",
+                        help="another seamlit binary to run every seamlit case with too, alternated, for before and after")
     parser.add_argument("--readme", action="store_true", help="write the table into README.md")
     args = parser.parse_args()
     if args.runs < 1 or args.tangent_rounds < 0 or not 1 <= args.threads <= (os.cpu_count() or 1):
@@ -261,16 +284,27 @@ def main() -> None:
     seamlit = binary(RELEASE / "seamlit", "cargo build --release -p seamlit")
     bench = binary(RELEASE / "seamlit-bench", "cargo build --release -p seamlit-bench")
     floor = binary(RELEASE / "examples" / "load_save", "cargo build --release -p seamlit-io --example load_save")
+    if args.baseline is not None and not (args.baseline.is_file() and os.access(args.baseline, os.X_OK)):
+        sys.exit(f"bench/performance.py: --baseline {args.baseline}: not an executable file")
     with tempfile.TemporaryDirectory(prefix="seamlit-performance-") as scratch:
         work = args.work or Path(scratch)
         work.mkdir(parents=True, exist_ok=True)
         files, missing = inputs(work, seamlit, bench)
         found = cases(files, seamlit, floor, work)
+        before = {}
+        if args.baseline is not None:
+            before = {
+                name: Case(f"{name} (baseline)", [str(args.baseline.resolve()), *case.argv[1:]])
+                for name, case in found.items()
+                if case.argv[0] == seamlit
+            }
         started = datetime.datetime.now(datetime.timezone.utc)
         load = os.getloadavg()[0]
         for round in range(args.runs):
-            for case in found.values():
-                case.run(args.threads)
+            for name, case in found.items():
+                pair = [case, before[name]] if name in before else [case]
+                for each in pair if round % 2 == 0 else reversed(pair):
+                    each.run(args.threads)
             print(f"round {round + 1}/{args.runs}", file=sys.stderr)
         rounds = []
         for round in range(args.tangent_rounds):
@@ -292,6 +326,9 @@ def main() -> None:
     lines += ["", note] + [f"Left out: {m}." for m in missing]
     print()
     print("\n".join(lines))
+    if before:
+        print(f"\nAgainst the baseline {args.baseline} (the same rounds, alternated):\n")
+        print("\n".join(comparison(found, before)))
     if args.readme:
         write_readme(lines)
         print("\nREADME.md: the performance table written", file=sys.stderr)
