@@ -284,30 +284,32 @@ pub(crate) fn bounds(positions: &[Vec3]) -> (Vec3, Vec3) {
     (lo.into(), hi.into())
 }
 
-/// Every position is entered under its own cell and, when it lies within the tolerance of a
-/// cell face, under the neighbouring cells across that face (and edge and corner). Two
-/// positions `p`, `q` within the tolerance then share at least one cell: `q`'s own, since `p`
-/// is within the tolerance of it. So comparing within cells finds every pair, and no cell
-/// lookups are needed.
-fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
-    let (min, max) = bounds(positions);
-    let extent = (max - min).max_element();
-    // Cells at least `tol` wide, and few enough per axis to fit 21 bits (one cell of margin).
-    let cell = (tol * CELL_TOLERANCES).max(extent / (AXIS_CELLS - 2.0)).max(f32::MIN_POSITIVE);
-    let origin = min - Vec3::splat(cell);
-    let inv_cell = 1.0 / cell;
-    // A little more than `tol`, in cells, so rounding in the cell arithmetic never hides a pair.
-    let reach = tol * 1.01 * inv_cell;
-    let key =
-        |c: [u32; 3]| hash((u64::from(c[0]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[2]));
+/// The cells [`weld_tolerant`] enters positions under: cubes at least [`CELL_TOLERANCES`]
+/// tolerances wide, from a cell below the positions' minimum.
+struct Grid {
+    origin: Vec3,
+    inv_cell: f32,
+    /// A little more than the tolerance, in cells, so rounding in the cell arithmetic never
+    /// hides a pair.
+    reach: f32,
+}
 
-    // Where a cell holds about one position, all but a few positions are entered once: each
-    // position's own cell is written in place, in parallel (collecting up to eight entries a
-    // position through rayon's lists took as long as the sort); the few cells across a face
-    // are gathered apart and appended. The sort orders the entries whatever their order.
-    let cells = |p: Vec3| {
+impl Grid {
+    fn new(positions: &[Vec3], tol: f32) -> Self {
+        let (min, max) = bounds(positions);
+        let extent = (max - min).max_element();
+        // Cells at least `tol` wide, and few enough per axis to fit 21 bits (one cell of
+        // margin).
+        let cell = (tol * CELL_TOLERANCES).max(extent / (AXIS_CELLS - 2.0)).max(f32::MIN_POSITIVE);
+        let inv_cell = 1.0 / cell;
+        Self { origin: min - Vec3::splat(cell), inv_cell, reach: tol * 1.01 * inv_cell }
+    }
+
+    /// The cell of `p`, and per axis the side (-1, 1) of the cell's face within the
+    /// tolerance of `p`, or 0.
+    fn cell(&self, p: Vec3) -> ([u32; 3], [i32; 3]) {
         // Non-negative (the origin is a cell below the minimum): `as` truncates = floor.
-        let f = (p - origin) * inv_cell;
+        let f = (p - self.origin) * self.inv_cell;
         #[expect(
             clippy::cast_possible_truncation,
             reason = "in 0..AXIS_CELLS: `cell` is at least extent / (AXIS_CELLS - 2), above"
@@ -315,49 +317,71 @@ fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
         let c = [f.x as u32, f.y as u32, f.z as u32];
         let local = f - Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
         let side = |l: f32| -> i32 {
-            if l <= reach {
+            if l <= self.reach {
                 -1
-            } else if 1.0 - l <= reach {
+            } else if 1.0 - l <= self.reach {
                 1
             } else {
                 0
             }
         };
         (c, [side(local.x), side(local.y), side(local.z)])
-    };
-    let mut entries = vec![0u64; positions.len()];
-    let across: Vec<u64> = entries
-        .par_chunks_mut(ENTRY_CHUNK)
-        .zip(positions.par_chunks(ENTRY_CHUNK))
-        .enumerate()
-        .flat_map_iter(|(k, (entries, positions))| {
-            let mut across = Vec::new();
-            for (j, (entry, &p)) in entries.iter_mut().zip(positions).enumerate() {
-                let i = (k * ENTRY_CHUNK + j) as u64;
-                let (c, s) = cells(p);
-                *entry = (key(c) << 32) | i;
-                if s == [0; 3] {
-                    continue;
-                }
-                // Every combination of the near sides (up to 7 more cells).
-                for mask in 1..8u32 {
-                    if (0..3).any(|a| mask & (1 << a) != 0 && s[a] == 0) {
+    }
+
+    /// Every position's entries (`hash of the cell << 32 | index`): under its own cell and
+    /// the cells across the faces (edges, corners) it lies near. Where a cell holds about one
+    /// position, all but a few positions are entered once: each position's own cell is
+    /// written in place, in parallel (collecting up to eight entries a position through
+    /// rayon's lists took as long as the sort); the few cells across are gathered apart and
+    /// appended. The sort orders the entries whatever their order.
+    fn entries(&self, positions: &[Vec3]) -> Vec<u64> {
+        let key =
+            |c: [u32; 3]| hash((u64::from(c[0]) << 42) | (u64::from(c[1]) << 21) | u64::from(c[2]));
+        let mut entries = vec![0u64; positions.len()];
+        let across: Vec<u64> = entries
+            .par_chunks_mut(ENTRY_CHUNK)
+            .zip(positions.par_chunks(ENTRY_CHUNK))
+            .enumerate()
+            .flat_map_iter(|(k, (entries, positions))| {
+                let mut across = Vec::new();
+                for (j, (entry, &p)) in entries.iter_mut().zip(positions).enumerate() {
+                    let i = (k * ENTRY_CHUNK + j) as u64;
+                    let (c, s) = self.cell(p);
+                    *entry = (key(c) << 32) | i;
+                    if s == [0; 3] {
                         continue;
                     }
-                    let nc: [u32; 3] = std::array::from_fn(|a| {
-                        if mask & (1 << a) != 0 { c[a].wrapping_add_signed(s[a]) } else { c[a] }
-                    });
-                    across.push((key(nc) << 32) | i);
+                    // Every combination of the near sides (up to 7 more cells).
+                    for mask in 1..8u32 {
+                        if (0..3).any(|a| mask & (1 << a) != 0 && s[a] == 0) {
+                            continue;
+                        }
+                        let nc: [u32; 3] = std::array::from_fn(|a| {
+                            if mask & (1 << a) != 0 { c[a].wrapping_add_signed(s[a]) } else { c[a] }
+                        });
+                        across.push((key(nc) << 32) | i);
+                    }
                 }
-            }
-            across
-        })
-        .collect();
-    // Exactly: a `Vec`'s doubling would make this block, freed after the weld, twice the
-    // entries, and glibc's malloc, which then serves blocks up to the largest freed one from
-    // its heap instead of fresh pages, kept 2 to 4 MB more of the fix's later arrays resident.
-    entries.reserve_exact(across.len());
-    entries.extend(across);
+                across
+            })
+            .collect();
+        // Exactly: a `Vec`'s doubling would make this block, freed after the weld, twice the
+        // entries, and glibc's malloc, which then serves blocks up to the largest freed one
+        // from its heap instead of fresh pages, kept 2 to 4 MB more of the fix's later arrays
+        // resident.
+        entries.reserve_exact(across.len());
+        entries.extend(across);
+        entries
+    }
+}
+
+/// Every position is entered under its own cell and, when it lies within the tolerance of a
+/// cell face, under the neighbouring cells across that face (and edge and corner). Two
+/// positions `p`, `q` within the tolerance then share at least one cell: `q`'s own, since `p`
+/// is within the tolerance of it. So comparing within cells finds every pair, and no cell
+/// lookups are needed.
+fn weld_tolerant(positions: &[Vec3], tol: f32) -> Vec<u32> {
+    let entries = Grid::new(positions, tol).entries(positions);
     let tol2 = tol * tol;
     join_runs(positions.len(), entries, |i, j| {
         let (p, q) = (positions[i as usize], positions[j as usize]);
@@ -419,17 +443,22 @@ pub(crate) fn roots_for_mode(flat: &Flat, tolerance: f32, mode: Mode) -> Vec<u32
 mod tests {
     use super::*;
 
+    /// Numbers in [0, 1] from Marsaglia's xorshift32, the same on every run.
+    fn xorshift(mut seed: u32) -> impl FnMut() -> f32 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        }
+    }
+
     /// The lanes' bounds are those of one position at a time, for every length around a
     /// chunk's (the remainders of four and of a chunk) and for none.
     #[test]
     fn bounds_in_lanes_are_the_positions_bounds() {
-        let mut seed = 0x2545_f491_u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed as f32 / u32::MAX as f32 - 0.5) * 200.0
-        };
+        let mut unit = xorshift(0x2545_f491);
+        let mut next = move || (unit() - 0.5) * 200.0;
         let positions: Vec<Vec3> =
             (0..(1 << 14) + 7).map(|_| Vec3::new(next(), next(), next())).collect();
         for n in [0, 1, 3, 4, 5, 8, 1 << 14, (1 << 14) + 1, (1 << 14) + 7] {
@@ -499,13 +528,7 @@ mod tests {
     #[test]
     fn tolerant_weld_joins_what_every_pair_compared_joins() {
         let tol = 1e-3;
-        let mut seed = 0x9e37_79b9_u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut next = xorshift(0x9e37_79b9);
         let mut p = Vec::new();
         while p.len() < 1500 {
             let centre = Vec3::new(next(), next(), next()) * 0.2;
