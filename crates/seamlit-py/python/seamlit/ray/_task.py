@@ -400,7 +400,7 @@ class Hashes:
         self.next_key = 0
 
     @classmethod
-    def of_package(cls) -> Optional["Hashes"]:
+    def of_package(cls) -> "Hashes":
         """A set backed by the extension module's ``Digests`` (the tests replace this to hash
         one file after another, as ``process`` alone does)."""
         import seamlit
