@@ -35,6 +35,12 @@ impl FaceTangent {
 /// of one quantity for corners 0, 1 and 2 (lane 3 is padding). Every lane performs the
 /// operations `Vec3` would for its corner alone, in the same order (a dot product is
 /// `(x * x' + y * y') + z * z'`, as glam's), so a lane gives the bits a lone corner would.
+///
+/// Always inlined, as [`crate::face::face`] is and for its reason: returned through memory,
+/// the 48-byte result was read back in loads that wait on the stores they span. Left to
+/// the compiler, it was inlined in one build and not in the next after an unrelated change
+/// (the plain fans' pass 15 ms slower on two threads; BENCHMARKS.md).
+#[inline(always)]
 pub(super) fn corner_terms<N>(
     surface: &Surface<'_, N>,
     f: &FaceTangent,
