@@ -282,6 +282,35 @@ fn bad_input_is_an_error_naming_object_and_vertex() {
     ));
 }
 
+/// The checks scan values in blocks before they search one (validate.rs): a bad index,
+/// position or UV far into a large object, past several blocks and not at the start of
+/// one, is still named at its own place, and the first of two is the one named.
+#[test]
+fn bad_input_deep_in_a_large_object_is_named_at_its_place() {
+    let n = 20_000u32;
+    let positions: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as f32, (i % 7) as f32, 0.0)).collect();
+    let triangles: Vec<[u32; 3]> = (0..n - 2).map(|i| [i, i + 1, i + 2]).collect();
+    let good = Object::new("large", positions, triangles)
+        .with_uvs((0..n).map(|i| Vec2::new(i as f32, 0.5)).collect());
+    let first_error = |o: &Object| fix(&Model::new(vec![o.clone()]), &FixOptions::default());
+
+    let mut o = good.clone();
+    (o.triangles[12_345][2], o.triangles[15_000][0]) = (n, n + 5);
+    assert!(matches!(
+        first_error(&o),
+        Err(MeshError::IndexOutOfRange { triangle: 12_345, index: 20_000, .. })
+    ));
+    let mut o = good.clone();
+    (o.positions[9_999].z, o.positions[10_001].x) = (f32::INFINITY, f32::NAN);
+    assert!(matches!(
+        first_error(&o),
+        Err(MeshError::NonFinitePosition { vertex: 9_999, value: [_, _, z], .. }) if z == f32::INFINITY
+    ));
+    let mut o = good;
+    o.uvs.as_mut().unwrap()[17_777].y = f32::NAN;
+    assert!(matches!(first_error(&o), Err(MeshError::NonFiniteUv { vertex: 17_777, .. })));
+}
+
 #[test]
 fn transforms_are_applied_before_welding() {
     // The same quad twice, the second placed by a transform so that it continues the first
