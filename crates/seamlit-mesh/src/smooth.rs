@@ -307,21 +307,41 @@ fn accumulate(
         })
         .collect();
     let counted = parts.into_par_iter().enumerate().map(|(o, part)| {
-        let object = &model.objects[o];
         let positions = &flat.positions[flat.vertex_start[o] as usize..][..part.normals.len()];
-        // Without tangents the faces' UV frames are never read: not computed.
-        let uvs = object.uvs.as_deref().filter(|_| rules.tangents);
-        let mut counts = [0; 3];
-        for tri in &object.triangles {
+        accumulate_object(model, o, positions, part, rules, count)
+    });
+    counted.reduce(|| [0; 3], add_counts)
+}
+
+/// Faces [`accumulate_object`] works out before it adds them to their vertices: the work of
+/// one face does not wait on the sums the previous one added to, so the processor overlaps
+/// several (as in MikkTSpace's pass over the triangles, `mikk/plain.rs`). One face at a
+/// time, the smoothing's pass over the 1M teapot took 30 ms on two threads; 25 so.
+const BLOCK: usize = 32;
+
+/// [`accumulate`] of object `o` (whose model-space `positions` are given) into its `part`.
+fn accumulate_object(
+    model: &Model,
+    o: usize,
+    positions: &[Vec3],
+    mut part: Part<'_>,
+    rules: Rules,
+    count: bool,
+) -> [usize; 3] {
+    let object = &model.objects[o];
+    // Without tangents the faces' UV frames are never read: not computed.
+    let uvs = object.uvs.as_deref().filter(|_| rules.tangents);
+    let mut counts = [0; 3];
+    let mut faces = [Face::default(); BLOCK];
+    for tris in object.triangles.chunks(BLOCK) {
+        for (slot, tri) in faces.iter_mut().zip(tris) {
             let p = tri.map(|i| positions[i as usize]);
             let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
             let face = face(p, uv, model.v_axis);
-            let bits = face_flags(&face);
-            let degenerate = face.is(DEGENERATE);
             if count {
                 // `face`'s flags are `face_flags`' where it had the UVs; otherwise only their
                 // UV tests are left to make (a degenerate face has none).
-                let flags = if degenerate || uvs.is_some() || object.uvs.is_none() {
+                let flags = if face.is(DEGENERATE) || uvs.is_some() || object.uvs.is_none() {
                     face.flags
                 } else {
                     let uv = object.uvs.as_deref().map(|uvs| tri.map(|i| uvs[i as usize]));
@@ -329,39 +349,50 @@ fn accumulate(
                 };
                 crate::face::count(&mut counts, flags);
             }
-            // Without UVs read, every face is one without usable UVs: no tangent arrays.
-            let tangent = rules.tangents && !face.is(DEGENERATE | DEGENERATE_UV);
-            for (k, &i) in tri.iter().enumerate() {
-                let i = i as usize;
-                let w = weight(rules.weighting, &face, k);
-                part.normals[i] += face.normal * w;
-                let flag = &mut part.flags[i];
-                if !degenerate {
-                    let cone = &mut part.normal_cones[i];
-                    if *flag & HAS_FACE == 0 || cone.axis == Vec3::ZERO {
-                        cone.axis = face.normal;
-                    } else {
-                        cone.cos = cone.cos.min(face.normal.dot(cone.axis));
-                    }
-                }
-                if tangent {
-                    let s = &mut part.tangents[i];
-                    s.t += face.tangent * w;
-                    s.b += face.bitangent * w;
-                    let cone = &mut part.tangent_cones[i];
-                    if *flag & TANGENT_AXIS == 0 {
-                        cone.axis = face.tangent;
-                        *flag |= TANGENT_AXIS;
-                    } else {
-                        cone.cos = cone.cos.min(face.tangent.dot(cone.axis));
-                    }
-                }
-                *flag |= bits;
+            *slot = face;
+        }
+        for (face, tri) in faces.iter().zip(tris) {
+            add_face(&mut part, face, tri, rules);
+        }
+    }
+    counts
+}
+
+/// Adds `face`'s weighted frame to the vertices `tri` of `part`, and widens their cones to
+/// take it in.
+#[inline(always)]
+fn add_face(part: &mut Part<'_>, face: &Face, tri: &[u32; 3], rules: Rules) {
+    let bits = face_flags(face);
+    let degenerate = face.is(DEGENERATE);
+    // Without UVs read, every face is one without usable UVs: no tangent arrays.
+    let tangent = rules.tangents && !face.is(DEGENERATE | DEGENERATE_UV);
+    for (k, &i) in tri.iter().enumerate() {
+        let i = i as usize;
+        let w = weight(rules.weighting, face, k);
+        part.normals[i] += face.normal * w;
+        let flag = &mut part.flags[i];
+        if !degenerate {
+            let cone = &mut part.normal_cones[i];
+            if *flag & HAS_FACE == 0 || cone.axis == Vec3::ZERO {
+                cone.axis = face.normal;
+            } else {
+                cone.cos = cone.cos.min(face.normal.dot(cone.axis));
             }
         }
-        counts
-    });
-    counted.reduce(|| [0; 3], add_counts)
+        if tangent {
+            let s = &mut part.tangents[i];
+            s.t += face.tangent * w;
+            s.b += face.bitangent * w;
+            let cone = &mut part.tangent_cones[i];
+            if *flag & TANGENT_AXIS == 0 {
+                cone.axis = face.tangent;
+                *flag |= TANGENT_AXIS;
+            } else {
+                cone.cos = cone.cos.min(face.tangent.dot(cone.axis));
+            }
+        }
+        *flag |= bits;
+    }
 }
 
 /// Adds the sums of every vertex into its root, in vertex order, and widens the root's cones
