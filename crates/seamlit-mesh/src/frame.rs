@@ -35,6 +35,7 @@ pub(crate) fn finish_normal(n_sum: Vec3, fallback: Vec3) -> Vec3 {
 /// such part, a direction across `n` from the surface alone (`any_orthonormal_vector`,
 /// continuous in `n`, as for faces without usable UVs).
 #[must_use]
+#[inline(always)]
 pub(crate) fn orthogonal_tangent(n: Vec3, t: Vec3) -> Vec3 {
     let across = t - n * n.dot(t);
     // Below a thousandth of |t|, the rounding of `t`'s part along `n` (about 6e-8 |t|) would
@@ -59,6 +60,7 @@ impl Linear {
 
     /// Model-space frame -> local space: `N_l ~ M^T N`, `T_l ~ M^-1 T`, `B_l ~ M^-1 B`.
     #[must_use]
+    #[inline(always)]
     pub fn frame_to_local(&self, n: Vec3, t: Vec4) -> (Vec3, Vec4) {
         let b = n.cross(t.xyz()) * t.w;
         reframe(self.m.transpose() * n, self.inverse * t.xyz(), self.inverse * b, n, t)
@@ -93,6 +95,14 @@ pub(crate) fn orthogonalise(t: Vec4, n: Vec3) -> Vec4 {
     xyz.extend(t.w)
 }
 
+/// The frame `(n, t)` given the moved normal, tangent and bitangent, with `(n0, t0)` (the
+/// frame before the move) where they vanish.
+///
+/// Always inlined, as [`orthogonal_tangent`] and [`Linear::frame_to_local`] are: the writing
+/// of a fixed model calls them for every vertex of an object with a transform, and a frame
+/// returned through memory is read back in loads that wait on the stores they span (the fix
+/// of the 1M teapot, whose objects are rotated, 3 to 5 ms faster on two threads).
+#[inline(always)]
 fn reframe(n: Vec3, t: Vec3, b: Vec3, n0: Vec3, t0: Vec4) -> (Vec3, Vec4) {
     let n = n.try_normalize().unwrap_or(n0);
     // Orthogonal in theory (`N^T M M^-1 T = N.T`), up to the rounding of a stretched transform.
