@@ -96,10 +96,15 @@ impl Welded {
 /// Moves every position onto its root's (see [`roots`]), so that geometry computed afterwards
 /// sees welded positions as one point: a sliver between two positions closer than the
 /// tolerance becomes a degenerate triangle, not a face with a random normal.
+///
+/// Few positions move (none where the weld is exact): they are found in parallel, then
+/// moved.
 pub(crate) fn snap_to_roots(positions: &mut [Vec3], roots: &[u32]) {
-    for (v, &r) in roots.iter().enumerate() {
-        // The root is the smallest index of its set, its own root: already final here.
-        positions[v] = positions[r as usize];
+    let bits = |p: Vec3| p.to_array().map(f32::to_bits);
+    let moved = off_their_roots(roots, |v, r| bits(positions[v]) != bits(positions[r]));
+    for (v, r) in moved {
+        // The root is the smallest index of its set, its own root: not moved.
+        positions[v as usize] = positions[r as usize];
     }
 }
 
@@ -107,10 +112,25 @@ pub(crate) fn snap_to_roots(positions: &mut [Vec3], roots: &[u32]) {
 /// (with `-0.0 == 0.0`), i.e. whether the tolerance alone made that weld. Index by root.
 pub(crate) fn near_misses(positions: &[Vec3], roots: &[u32]) -> Vec<bool> {
     let mut flagged = vec![false; roots.len()];
-    for (v, &r) in roots.iter().enumerate() {
-        flagged[r as usize] |= !same_bits(positions[v], positions[r as usize]);
+    for (_, r) in off_their_roots(roots, |v, r| !same_bits(positions[v], positions[r])) {
+        flagged[r as usize] = true;
     }
     flagged
+}
+
+/// The vertices `v` welded to another vertex `r` (their root) for which `differs(v, r)`, with
+/// their roots, found in parallel: one pass over the vertices on every core, where the
+/// callers then visit only the few it finds.
+fn off_their_roots(
+    roots: &[u32],
+    differs: impl Fn(usize, usize) -> bool + Sync,
+) -> Vec<(u32, u32)> {
+    roots
+        .par_iter()
+        .enumerate()
+        .filter(|&(v, &r)| r as usize != v && differs(v, r as usize))
+        .map(|(v, &r)| (index(v), r))
+        .collect()
 }
 
 /// Whether two positions have equal bits (with `-0.0 == 0.0`).
@@ -499,6 +519,31 @@ mod tests {
         assert_eq!(w.count, 2);
         let misses = near_misses(&p, &roots(&p, 0.0));
         assert_eq!(misses.iter().filter(|&&m| m).count(), 0);
+    }
+
+    /// Snapping leaves every position with its root's bits, signed zeros included (the weld
+    /// joins -0.0 and 0.0, a near miss counts them equal, snapping does not), and moves
+    /// nothing else; the near misses are the roots of the positions the tolerance joined.
+    #[test]
+    fn snapping_gives_every_position_its_roots_bits() {
+        let p = vec![
+            Vec3::new(0.0, 1.0, 2.0),
+            Vec3::new(-0.0, 1.0, 2.0),
+            Vec3::new(5.0, 5.0, 5.0),
+            Vec3::new(0.0, 1.0, 2.000_001),
+            Vec3::new(5.0, 5.0, 5.000_001),
+            Vec3::new(9.0, 9.0, 9.0),
+        ];
+        let roots = roots(&p, 1e-4);
+        assert_eq!(roots, vec![0, 0, 2, 0, 2, 5]);
+        let misses = near_misses(&p, &roots);
+        assert_eq!(misses, vec![true, false, true, false, false, false]);
+        let mut snapped = p.clone();
+        snap_to_roots(&mut snapped, &roots);
+        let bits = |p: Vec3| p.to_array().map(f32::to_bits);
+        for (v, &r) in roots.iter().enumerate() {
+            assert_eq!(bits(snapped[v]), bits(p[r as usize]), "vertex {v}");
+        }
     }
 
     #[test]
