@@ -680,6 +680,33 @@ fn the_patched_crate_writer_writes_what_pxr_reads() {
     assert_eq!(a["text"], b["text"], "pxr reads the crate file differently");
 }
 
+/// The crate writer's int arrays are coded as Pixar's are: deltas, the most common one
+/// (ties to the smallest) left out. The file is, byte for byte, `tests/usd/int_codings.usdc`,
+/// written by openusd before its most common delta was counted apart near zero
+/// (vendor/openusd/PATCHES.md): deltas far from zero, near it, tied across its edge.
+#[test]
+fn the_crate_writers_int_coding_is_unchanged() {
+    let arrays: [(&str, Vec<i64>); 5] = [
+        ("far", (0..40).map(|i| i * 5000 + i64::from(i % 7 == 0)).collect()),
+        ("near", (0..40).map(|i| i + (i % 5) * 3).collect()),
+        ("tied", (0..40).map(|i| if i % 2 == 0 { i * 1000 } else { i * 1000 + 3 }).collect()),
+        ("edges", [0, -1025, -1, 1023, 1022, -3, 1021, -4, 1020].repeat(5)),
+        ("wide", (0..40).map(|i: i64| i.pow(5) % 2_000_000_000 - 1_000_000_000).collect()),
+    ];
+    let mut text = String::from("#usda 1.0\n\nover \"World\"\n{\n");
+    for (name, values) in &arrays {
+        let values: Vec<String> = values.iter().map(i64::to_string).collect();
+        text.push_str(&format!("    int[] {name} = [{}]\n", values.join(", ")));
+    }
+    text.push_str("}\n");
+    let data = openusd::usda::parse(&text).unwrap();
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    openusd::usdc::CrateWriter::write(&data, &mut bytes).unwrap();
+    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/usd/int_codings.usdc");
+    let expected = std::fs::read(golden);
+    assert!(bytes.get_ref() == &expected.unwrap(), "the crate writer's bytes changed");
+}
+
 /// A `.usdc` output is, byte for byte, the `.usda` output's text parsed by openusd and
 /// written by its crate writer (the writer puts the arrays in as values instead of
 /// formatting and parsing them): meshes with changed normals, polygons, instanced
