@@ -19,6 +19,8 @@
 //! normals are time-sampled keeps the input's normals (a value here would hold for every
 //! frame).
 
+mod corners;
+
 use std::fmt::{self, Write as _};
 use std::io;
 use std::path::{Component, Path, PathBuf};
@@ -26,10 +28,10 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
 use seamlit_mesh::Object;
 
 use crate::source::{MeshSource, SkinSource, StageSource, UsdSource};
+use corners::CornerNormals;
 use seamlit_asset::Asset;
 use seamlit_asset::LoadOptions;
 use seamlit_asset::error::IoError;
@@ -141,10 +143,9 @@ impl Layer {
                 Ok(())
             };
             if let Some(normals) = &over.normals {
-                let (values, indices) = indexed(normals);
-                let values = values.iter().map(|n| openusd::gf::vec3f(n.x, n.y, n.z)).collect();
-                put("primvars:normals", Value::Vec3fVec(values))?;
-                put("primvars:normals:indices", Value::IntVec(ints(&indices)?))?;
+                let values = normals.values.iter().map(|n| openusd::gf::vec3f(n.x, n.y, n.z));
+                put("primvars:normals", Value::Vec3fVec(values.collect()))?;
+                put("primvars:normals:indices", Value::IntVec(ints(&normals.indices)?))?;
             }
             if let Some(skin) = &over.skin {
                 put("primvars:skel:jointIndices", Value::IntVec(ints(&skin.indices)?))?;
@@ -176,7 +177,7 @@ struct MeshOver {
     /// prototype's site in the root layer stack.
     prim: String,
     /// Its normals at each face corner, where they changed.
-    normals: Option<Vec<Vec3>>,
+    normals: Option<CornerNormals>,
     /// Its skin influences, where they changed.
     skin: Option<SkinOver>,
 }
@@ -198,7 +199,17 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
     let mut overs = Vec::new();
     // The instance proxies of each prototype mesh, in the order of the stage's meshes.
     let mut prototypes: Vec<(&str, Vec<usize>)> = Vec::new();
-    for (m, (object, mesh)) in asset.model.objects.iter().zip(&stage.meshes).enumerate() {
+    // The corner normals of every mesh outside instances, side by side (the instances' are
+    // agreed on below): most of the work of a large stage's layer.
+    let corners: Vec<Option<CornerNormals>> = (asset.model.objects.par_iter())
+        .zip(&stage.meshes)
+        .map(|(object, mesh)| match mesh.instance {
+            Some(_) => None,
+            None => CornerNormals::of(object, mesh),
+        })
+        .collect();
+    let meshes = asset.model.objects.iter().zip(&stage.meshes).zip(corners);
+    for (m, ((object, mesh), normals)) in meshes.enumerate() {
         let skin = match &mesh.skin {
             Some(skin) if asset.skins_changed.objects.contains(&m) => {
                 skin_over(object, mesh, skin, &stage.joints, path, &mut warnings)
@@ -212,7 +223,8 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
             }
             continue;
         }
-        let normals = changed_normals(object, mesh, path, &mut warnings).map_err(refuse)?;
+        let normals =
+            changed_normals(normals, object, mesh, path, &mut warnings).map_err(refuse)?;
         if normals.is_some() || skin.is_some() {
             overs.push(MeshOver { mesh: m, prim: mesh.prim.clone(), normals, skin });
         }
@@ -254,20 +266,21 @@ pub(crate) fn prepare(asset: &Asset, path: &Path) -> Result<Layer, IoError> {
     Ok(Layer { input: input.to_path_buf(), stage, overs, warnings })
 }
 
-/// The object's normals at its mesh's face corners where they are to be written: changed,
-/// finite, on a mesh that is neither a subdivision surface nor inside an instance (those get
-/// a warning).
+/// The object's normals at its mesh's face corners ([`CornerNormals::of`]) where they are
+/// to be written: changed, finite, on a mesh that is neither a subdivision surface nor inside
+/// an instance (those get a warning).
 fn changed_normals(
+    normals: Option<CornerNormals>,
     object: &Object,
     mesh: &MeshSource,
     path: &Path,
     warnings: &mut Vec<String>,
-) -> Result<Option<Vec<Vec3>>, UsdOutput> {
-    let Some(normals) = corner_normals(object, mesh) else { return Ok(None) };
-    if !normals.iter().all(|n| n.is_finite()) {
+) -> Result<Option<CornerNormals>, UsdOutput> {
+    let Some(normals) = normals else { return Ok(None) };
+    if !normals.is_finite() {
         return Err(UsdOutput::NotFinite { object: object.name.clone() });
     }
-    if mesh.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
+    if mesh.corner_normals.as_ref().is_some_and(|old| normals.same_bits(old)) {
         return Ok(None);
     }
     if let Some(scheme) = &mesh.subdivision {
@@ -317,14 +330,17 @@ fn prototype_over(
     let Some(instance) = &first.instance else { return Ok(None) };
     let mut all = Vec::with_capacity(copies.len());
     for &m in copies {
-        let Some(normals) = corner_normals(&objects[m], &stage.meshes[m]) else { return Ok(None) };
-        if !normals.iter().all(|n| n.is_finite()) {
+        let Some(normals) = CornerNormals::of(&objects[m], &stage.meshes[m]) else {
+            return Ok(None);
+        };
+        if !normals.is_finite() {
             return Err(UsdOutput::NotFinite { object: objects[m].name.clone() });
         }
-        all.push(normals);
+        all.push(normals.expanded());
     }
     let (normals, differ) = agreed_normals(&all, first.corner_normals.as_deref());
-    if first.corner_normals.as_ref().is_some_and(|old| same_bits(old, &normals)) {
+    let normals = CornerNormals::from_values(&normals);
+    if first.corner_normals.as_ref().is_some_and(|old| normals.same_bits(old)) {
         return Ok(None);
     }
     let named = format!(
@@ -473,39 +489,6 @@ fn check_model(objects: &[Object], stage: &StageSource) -> Result<(), String> {
     Ok(())
 }
 
-/// The object's normal at each face corner of its mesh: the normal of the vertex the
-/// corner's first triangle gives it (after `fix`, a split vertex's copy), for a corner of no
-/// triangle its input vertex's, else the input's value. `None` for an object without normals.
-fn corner_normals(object: &Object, mesh: &MeshSource) -> Option<Vec<Vec3>> {
-    let normals = object.normals.as_ref()?;
-    let mut out: Vec<Option<Vec3>> = vec![None; mesh.corner_vertex.len()];
-    for (triangle, corners) in object.triangles.iter().zip(&mesh.triangle_corners) {
-        for (&v, &c) in triangle.iter().zip(corners) {
-            let slot = &mut out[c as usize];
-            if slot.is_none() {
-                *slot = normals.get(v as usize).copied();
-            }
-        }
-    }
-    Some(
-        out.iter()
-            .enumerate()
-            .map(|(c, n)| {
-                n.or_else(|| normals.get(mesh.corner_vertex[c] as usize).copied())
-                    .or_else(|| mesh.corner_normals.as_ref().map(|old| old[c]))
-                    .unwrap_or(Vec3::ZERO)
-            })
-            .collect(),
-    )
-}
-
-fn same_bits(a: &[Vec3], b: &[Vec3]) -> bool {
-    a.len() == b.len()
-        && a.iter()
-            .zip(b)
-            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
-}
-
 /// A prim of the override tree: its name, the mesh whose normals it authors (an index into
 /// the layer's overs), its children.
 #[derive(Default)]
@@ -612,23 +595,6 @@ impl fmt::Write for IoText<'_> {
     }
 }
 
-/// A mesh's normals at its face corners as the layer authors them: the distinct values (by
-/// their bits, in order of first use) and each corner's index into them.
-fn indexed(normals: &[Vec3]) -> (Vec<Vec3>, Vec<usize>) {
-    let mut values: Vec<Vec3> = Vec::new();
-    let mut index_of: FxHashMap<[u32; 3], usize> = FxHashMap::default();
-    let indices: Vec<usize> = normals
-        .iter()
-        .map(|n| {
-            *index_of.entry(n.to_array().map(f32::to_bits)).or_insert_with(|| {
-                values.push(*n);
-                values.len() - 1
-            })
-        })
-        .collect();
-    (values, indices)
-}
-
 /// `indices` as an `int[]`'s values.
 fn ints<T: Copy + TryInto<i32>>(indices: &[T]) -> anyhow::Result<Vec<i32>> {
     indices
@@ -644,18 +610,18 @@ fn prim_path(prim: &str) -> String {
 }
 
 /// The properties of one mesh's override.
-fn normals_text(normals: &[Vec3], block_plain: bool, arrays: Arrays) -> String {
+fn normals_text(normals: &CornerNormals, block_plain: bool, arrays: Arrays) -> String {
     // Left empty, the values are put in by `Layer::data`.
     let (values, indices) = match arrays {
-        Arrays::Written => indexed(normals),
-        Arrays::Empty => (Vec::new(), Vec::new()),
+        Arrays::Written => (&normals.values[..], &normals.indices[..]),
+        Arrays::Empty => (&[][..], &[][..]),
     };
     let mut out = String::from("normal3f[] primvars:normals = [");
-    push_list(&mut out, &values, |s, v| {
+    push_list(&mut out, values, |s, v| {
         let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
     });
     out.push_str("] (\n    interpolation = \"faceVarying\"\n)\nint[] primvars:normals:indices = [");
-    push_list(&mut out, &indices, |s, &i| s.push_str(itoa::Buffer::new().format(i)));
+    push_list(&mut out, indices, |s, &i| s.push_str(itoa::Buffer::new().format(i)));
     out.push_str("]\n");
     if block_plain {
         out.push_str("normal3f[] normals = None\n");
