@@ -680,6 +680,36 @@ fn the_patched_crate_writer_writes_what_pxr_reads() {
     assert_eq!(a["text"], b["text"], "pxr reads the crate file differently");
 }
 
+/// A stage's meshes are read one after another and built side by side, in batches: the error
+/// is still the first mesh's. Here the first mesh cannot be built (its world transform is
+/// singular, found when its object is made) and the second cannot be read (an index past its
+/// points, found when it is read, before the first is built).
+#[test]
+fn the_first_meshs_error_is_the_one_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let triangle = |name: &str, last: u32| {
+        format!(
+            "def Mesh \"{name}\"\n{{\n    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]\n    int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, {last}]\n}}\n"
+        )
+    };
+    let text = format!(
+        "#usda 1.0\n\ndef Xform \"Flat\"\n{{\n    matrix4d xformOp:transform = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 0, 0), (0, 0, 0, 1))\n    uniform token[] xformOpOrder = [\"xformOp:transform\"]\n\n{}}}\n\n{}",
+        triangle("First", 2),
+        triangle("Second", 7)
+    );
+    let path = dir.path().join("two.usda");
+    std::fs::write(&path, text).unwrap();
+    let error = seamlit_io::load(&path, &LoadOptions::FIX).unwrap_err().to_string();
+    assert!(error.contains("</Flat/First>") && error.contains("singular"), "{error}");
+    // The second mesh alone: its own error.
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("(0, 0, 0, 0), (0, 0, 0, 1)", "(0, 0, 1, 0), (0, 0, 0, 1)");
+    std::fs::write(&path, text).unwrap();
+    let error = seamlit_io::load(&path, &LoadOptions::FIX).unwrap_err().to_string();
+    assert!(error.contains("</Second>") && error.contains("faceVertexIndices holds 7"), "{error}");
+}
+
 /// The crate writer's int arrays are coded as Pixar's are: deltas, the most common one
 /// (ties to the smallest) left out. The file is, byte for byte, `tests/usd/int_codings.usdc`,
 /// written by openusd before its most common delta was counted apart near zero

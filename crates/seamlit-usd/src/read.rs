@@ -18,7 +18,9 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use glam::DMat4;
 use openusd::{sdf, usd};
+use rayon::prelude::*;
 use seamlit_mesh::{Model, VAxis};
 
 pub(crate) use resolver::allowed_folders;
@@ -118,41 +120,45 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     let mut triangles = 0usize;
     let (meshes, subsets) = meshes_and_subsets(stage, prims, path, options)?;
     let mut triangle_materials = Vec::new();
-    for prim_path in meshes {
-        let prim = stage.prim(prim_path.clone());
-        let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
-        if xforms.hidden(&prim_path).map_err(at)? {
-            continue;
-        }
-        let world = xforms.world(&prim_path).map_err(at)?;
-        let binding = skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)?;
-        let skin = usable_skin(binding, path, &prim_path, &mut warnings);
-        let placement = mesh::Placement { world, up, skin };
-        let mut read = mesh::read(&prim, placement, path, options, &mut warnings)?;
-        read.source.instance = instances.source(&prim).map_err(at)?;
-        if read.source.instance.is_none() {
-            read.source.root_sites = instances.root_sites(&prim_path).map_err(at)?;
-        }
-        let mut object = read.object;
-        object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
-        if let Some(subsets) = subsets.get(prim_path.as_str()) {
-            let faces = (read.triangle_faces.as_slice(), read.faces);
-            let parts = materials.subsets(&prim_path, subsets, faces, &mut warnings).map_err(at)?;
-            if let Some(materials) = parts {
-                triangle_materials.push(TriangleMaterials { object: objects.len(), materials });
+    let mut meshes = meshes.into_iter().peekable();
+    while meshes.peek().is_some() {
+        let mut reading =
+            Reading { stage, xforms: &mut xforms, skels: &mut skels, up, path, options };
+        let (batch, stop) = reading.batch(&mut meshes);
+        for (prim_path, mesh_warnings, read) in batch {
+            warnings.extend(mesh_warnings);
+            let mut read = read?;
+            let prim = stage.prim(prim_path.clone());
+            let at = |e: anyhow::Error| stage::prim_error(path, &prim_path, &e);
+            read.source.instance = instances.source(&prim).map_err(at)?;
+            if read.source.instance.is_none() {
+                read.source.root_sites = instances.root_sites(&prim_path).map_err(at)?;
             }
+            let mut object = read.object;
+            object.material = materials.bound(&prim_path, &mut warnings).map_err(at)?;
+            if let Some(subsets) = subsets.get(prim_path.as_str()) {
+                let faces = (read.triangle_faces.as_slice(), read.faces);
+                let parts =
+                    materials.subsets(&prim_path, subsets, faces, &mut warnings).map_err(at)?;
+                if let Some(materials) = parts {
+                    triangle_materials.push(TriangleMaterials { object: objects.len(), materials });
+                }
+            }
+            triangles += object.triangle_count();
+            if triangles > options.max_model_triangles {
+                return Err(IoError::TooManyElements {
+                    path: path.to_path_buf(),
+                    what: "the model (every mesh)".to_owned(),
+                    limit: options.max_model_triangles,
+                    actual: triangles,
+                });
+            }
+            objects.push(object);
+            sources.push(read.source);
         }
-        triangles += object.triangle_count();
-        if triangles > options.max_model_triangles {
-            return Err(IoError::TooManyElements {
-                path: path.to_path_buf(),
-                what: "the model (every mesh)".to_owned(),
-                limit: options.max_model_triangles,
-                actual: triangles,
-            });
+        if let Some(error) = stop {
+            return Err(error);
         }
-        objects.push(object);
-        sources.push(read.source);
     }
     // Reading values composes prims' arcs too: their errors count as the walk's.
     stage::composition(&opened, path, &mut warnings)?;
@@ -167,6 +173,81 @@ fn read_stage(path: &Path, options: &LoadOptions) -> Result<(Asset, StageSource)
     };
     let metadata = stage::metadata(stage).map_err(at_root)?;
     Ok((asset, StageSource { meshes: sources, metadata, joints: skels.joints }))
+}
+
+/// The face corners of the meshes built side by side at most: a batch's arrays are held at
+/// once, and a model past its limit is found at most a batch late.
+const BATCH_CORNERS: usize = 1 << 21;
+
+/// A mesh of a batch: its path, its warnings so far, and its object and source or the error
+/// that stopped them.
+type Built = (sdf::Path, Vec<String>, Result<mesh::Read, IoError>);
+
+/// What reading the meshes of a stage takes from it, one mesh after another.
+struct Reading<'a, 's> {
+    stage: &'s usd::Stage,
+    xforms: &'a mut xform::Xforms<'s>,
+    skels: &'a mut skel::Skels<'s>,
+    up: DMat4,
+    path: &'a Path,
+    options: &'a LoadOptions,
+}
+
+impl Reading<'_, '_> {
+    /// The next meshes of `meshes`, read from the stage in turn (hidden ones skipped) until
+    /// [`BATCH_CORNERS`] face corners, then built side by side ([`mesh::Authored::build`]), in
+    /// their order; and the error that stopped the reading, if one did (it comes after the
+    /// meshes read before it, as in reading one mesh after another).
+    fn batch(
+        &mut self,
+        meshes: &mut impl Iterator<Item = sdf::Path>,
+    ) -> (Vec<Built>, Option<IoError>) {
+        let mut read = Vec::new();
+        let mut corners = 0;
+        let mut stop = None;
+        for prim_path in meshes.by_ref() {
+            let mut warnings = Vec::new();
+            match self.mesh(&prim_path, &mut warnings) {
+                Ok(None) => {}
+                Ok(Some(authored)) => {
+                    corners += authored.corners();
+                    read.push((prim_path, warnings, authored));
+                    if corners >= BATCH_CORNERS {
+                        break;
+                    }
+                }
+                Err(error) => {
+                    stop = Some(error);
+                    break;
+                }
+            }
+        }
+        let path = self.path;
+        let built = read
+            .into_par_iter()
+            .map(|(prim_path, warnings, authored)| (prim_path, warnings, authored.build(path)))
+            .collect();
+        (built, stop)
+    }
+
+    /// The mesh at `prim_path` as read from the stage; `None` where it is hidden.
+    fn mesh(
+        &mut self,
+        prim_path: &sdf::Path,
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<mesh::Authored>, IoError> {
+        let prim = self.stage.prim(prim_path.clone());
+        let at = |e: anyhow::Error| stage::prim_error(self.path, prim_path, &e);
+        if self.xforms.hidden(prim_path).map_err(at)? {
+            return Ok(None);
+        }
+        let world = self.xforms.world(prim_path).map_err(at)?;
+        let xforms = &mut *self.xforms;
+        let binding = self.skels.binding(&prim, &mut |p| xforms.world(p)).map_err(at)?;
+        let skin = usable_skin(binding, self.path, prim_path, warnings);
+        let placement = mesh::Placement { world, up: self.up, skin };
+        mesh::read(&prim, placement, self.path, self.options, warnings).map(Some)
+    }
 }
 
 /// The stage's meshes among `prims`, and the GeomSubsets under each (by the mesh's path;

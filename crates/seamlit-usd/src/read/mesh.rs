@@ -119,7 +119,30 @@ pub(super) struct Placement {
     pub skin: Option<Binding>,
 }
 
-/// Reads the `Mesh` prim at `path`, placed by `placement`.
+/// A `Mesh` prim's values as read from the stage and checked: all that making its object
+/// takes ([`Authored::build`]), which needs the stage no more, so that a stage's meshes are
+/// read one after another and built side by side.
+pub(super) struct Authored {
+    prim: String,
+    /// The most points, face corners, triangles or vertices the mesh may have.
+    limit: usize,
+    topology: Topology,
+    /// The skin binding, where it fits the mesh.
+    skin: Option<Binding>,
+    /// Its world matrix (the skin's placement where it has one), before the up axis.
+    world: DMat4,
+    up: DMat4,
+    subdivision: Option<String>,
+    left_handed: bool,
+    normals: Option<Primvar<Vec3>>,
+    plain_normals: bool,
+    uvs: Option<Primvar<Vec2>>,
+    /// Read with the rest, reported after the checks of building (in the order of old).
+    instance_proxy: Result<bool, IoError>,
+    time_sampled: Result<Vec<String>, IoError>,
+}
+
+/// Reads the `Mesh` prim at `path`, placed by `placement`, for [`Authored::build`].
 ///
 /// # Errors
 ///
@@ -131,7 +154,7 @@ pub(super) fn read(
     file: &Path,
     options: &LoadOptions,
     warnings: &mut Vec<String>,
-) -> Result<Read, IoError> {
+) -> Result<Authored, IoError> {
     let path = prim.path().clone();
     let at =
         At { file, prim: path.as_str(), limit: options.max_elements.min(u32::MAX as usize - 1) };
@@ -146,55 +169,88 @@ pub(super) fn read(
     let (normals, plain_normals) =
         read_normals(prim, &at, &topology, subdivision.as_deref(), warnings)?;
     let uvs = read_uvs(prim, &at, &topology, warnings)?;
-
-    let mut corners = Corners::build(&topology, normals.as_ref(), uvs.as_ref(), &at)?;
-    let positions: Vec<Vec3> =
-        corners.keys.iter().map(|k| topology.points[k[0] as usize]).collect();
-    corners.ear_clip(&positions);
-    let model = up * world;
-    if model.determinant() == 0.0 || !model.is_finite() {
-        return Err(at.bad("its world transform is singular or not finite"));
-    }
-    if left_handed != (model.determinant() < 0.0) {
-        corners.flip_winding();
-    }
-
-    let corner_normals = normals.as_ref().map(|n| topology.corner_values(n));
-    let object_normals =
-        normals.map(|n| corners.keys.iter().map(|k| n.values[k[1] as usize]).collect());
-    let object_uvs = uvs.map(|u| corners.keys.iter().map(|k| u.values[k[2] as usize]).collect());
-    let transform = model.as_mat4();
-    let vertex_point: Vec<u32> = corners.keys.iter().map(|k| k[0]).collect();
-    let object = Object {
-        normals: object_normals,
-        uvs: object_uvs,
-        transform: (transform != Mat4::IDENTITY).then_some(transform),
-        skin: skin.as_ref().map(|b| influences(b, &vertex_point)).unwrap_or_default(),
-        ..Object::new(at.prim, positions, corners.triangles)
-    };
-    let skin = skin.map(|b| SkinSource {
-        influences: b.influences,
-        vertex_point,
-        points: topology.points.len(),
-    });
-    let instance_proxy = prim.is_instance_proxy().map_err(|e| at.openusd(e))?;
-    let time_sampled = time_sampled(prim).map_err(|e| at.openusd(e))?;
-    let triangle_faces = triangle_faces(&topology, &corners.triangle_corners);
-    let faces = topology.faces().count();
-    let source = MeshSource {
+    Ok(Authored {
         prim: at.prim.to_owned(),
-        triangle_corners: corners.triangle_corners,
-        corner_vertex: corners.corner_vertex,
-        corner_normals,
-        subdivision,
-        plain_normals,
-        instance_proxy,
-        instance: None,
-        root_sites: Vec::new(),
-        time_sampled,
+        limit: at.limit,
+        topology,
         skin,
-    };
-    Ok(Read { object, source, triangle_faces, faces })
+        world,
+        up,
+        subdivision,
+        left_handed,
+        normals,
+        plain_normals,
+        uvs,
+        instance_proxy: prim.is_instance_proxy().map_err(|e| at.openusd(e)),
+        time_sampled: time_sampled(prim).map_err(|e| at.openusd(e)),
+    })
+}
+
+impl Authored {
+    /// The mesh's face corners: the measure of the work of building it.
+    pub(super) fn corners(&self) -> usize {
+        self.topology.indices.len()
+    }
+
+    /// The mesh's object and source; `file` names the stage in errors.
+    ///
+    /// # Errors
+    ///
+    /// [`IoError::TooManyElements`] for more triangles or vertices than the limit;
+    /// [`IoError::Usd`] for a singular world transform, and the errors [`read`] kept.
+    pub(super) fn build(self, file: &Path) -> Result<Read, IoError> {
+        let at = At { file, prim: &self.prim, limit: self.limit };
+        let (topology, normals, uvs) = (&self.topology, self.normals, self.uvs);
+        let mut corners = Corners::build(topology, normals.as_ref(), uvs.as_ref(), &at)?;
+        let positions: Vec<Vec3> =
+            corners.keys.iter().map(|k| topology.points[k[0] as usize]).collect();
+        corners.ear_clip(&positions);
+        let model = self.up * self.world;
+        if model.determinant() == 0.0 || !model.is_finite() {
+            return Err(at.bad("its world transform is singular or not finite"));
+        }
+        if self.left_handed != (model.determinant() < 0.0) {
+            corners.flip_winding();
+        }
+
+        let corner_normals = normals.as_ref().map(|n| topology.corner_values(n));
+        let object_normals =
+            normals.map(|n| corners.keys.iter().map(|k| n.values[k[1] as usize]).collect());
+        let object_uvs =
+            uvs.map(|u| corners.keys.iter().map(|k| u.values[k[2] as usize]).collect());
+        let transform = model.as_mat4();
+        let vertex_point: Vec<u32> = corners.keys.iter().map(|k| k[0]).collect();
+        let skin = self.skin;
+        let object = Object {
+            normals: object_normals,
+            uvs: object_uvs,
+            transform: (transform != Mat4::IDENTITY).then_some(transform),
+            skin: skin.as_ref().map(|b| influences(b, &vertex_point)).unwrap_or_default(),
+            ..Object::new(at.prim, positions, corners.triangles)
+        };
+        let skin = skin.map(|b| SkinSource {
+            influences: b.influences,
+            vertex_point,
+            points: topology.points.len(),
+        });
+        let (instance_proxy, time_sampled) = (self.instance_proxy?, self.time_sampled?);
+        let triangle_faces = triangle_faces(topology, &corners.triangle_corners);
+        let faces = topology.faces().count();
+        let source = MeshSource {
+            prim: self.prim,
+            triangle_corners: corners.triangle_corners,
+            corner_vertex: corners.corner_vertex,
+            corner_normals,
+            subdivision: self.subdivision,
+            plain_normals: self.plain_normals,
+            instance_proxy,
+            instance: None,
+            root_sites: Vec::new(),
+            time_sampled,
+            skin,
+        };
+        Ok(Read { object, source, triangle_faces, faces })
+    }
 }
 
 /// The skin binding where it fits a mesh of `points` points; one warning where it does not
