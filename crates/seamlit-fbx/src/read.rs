@@ -1,5 +1,5 @@
-//! `fbx::load`: the file read whole (within the size limit), opened by ufbx with glTF's
-//! conventions (`scene.rs`), then its nodes, meshes and materials converted.
+//! `fbx::load`: the file (within the size limit) streamed to ufbx (or its bytes given), opened
+//! with glTF's conventions (`scene.rs`), then its nodes, meshes and materials converted.
 
 mod animation;
 mod material;
@@ -18,6 +18,7 @@ use seamlit_mesh::{Model, VAxis};
 use seamlit_asset::Asset;
 use seamlit_asset::LoadOptions;
 use seamlit_asset::error::IoError;
+use seamlit_asset::files::Files;
 
 /// Reads an FBX file (binary or ASCII) and the textures it embeds or names. A file without
 /// a triangle loads as an empty model here; `seamlit_io::load` refuses it.
@@ -39,6 +40,20 @@ use seamlit_asset::error::IoError;
 /// [`IoError::TooManyElements`] past `options.max_elements` or
 /// `options.max_model_triangles`; the texture errors of [`seamlit_asset::LoadOptions::strict`].
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    seamlit_asset::files::check_size(path, options)?;
+    // A file on disk is streamed to ufbx, which keeps what it needs of it (the compressed
+    // arrays until they are inflated): the whole file is never held beside the scene (the 26
+    // MB Blender FBX of BENCHMARKS.md: 25 MiB less at the peak, 10 ms less to read). A stream
+    // ufbx refuses is read again whole, for the error's words: cut short, a stream can end in
+    // its "Failed to load" where the same bytes in memory give "Truncated file".
+    if options.files == Files::Disk {
+        let file = std::fs::File::open(path).map_err(|e| IoError::io(path, e))?;
+        if file.metadata().is_ok_and(|m| m.is_file())
+            && let Ok(scene) = scene::open(scene::Input::File(file), path)
+        {
+            return convert(&scene, path, options);
+        }
+    }
     let bytes = seamlit_asset::files::read_bytes(path, options)?;
     parse(&bytes, path, options)
 }
@@ -50,13 +65,18 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 ///
 /// As [`load`], but for the errors of reading the file itself.
 pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
-    let scene = scene::open(bytes, path)?;
+    let scene = scene::open(scene::Input::Bytes(bytes), path)?;
+    convert(&scene, path, options)
+}
+
+/// The asset of a scene ufbx opened from `path`.
+fn convert(scene: &ufbx::SceneRoot, path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let mut warnings = Vec::new();
-    let mut tree = nodes::tree(&scene);
-    let (materials, textures) = material::convert(&scene, path, &mut warnings);
-    let (objects, skins) = mesh::objects(&scene, &mut tree, path, options)?;
+    let mut tree = nodes::tree(scene);
+    let (materials, textures) = material::convert(scene, path, &mut warnings);
+    let (objects, skins) = mesh::objects(scene, &mut tree, path, options)?;
     let node_of = |n: &ufbx::Node| tree.index.get(n.element.typed_id as usize).copied().flatten();
-    let animations = animation::animations(&scene, node_of, path, &mut warnings);
+    let animations = animation::animations(scene, node_of, path, &mut warnings);
     let mut asset = Asset {
         model: Model { objects, v_axis: VAxis::Up },
         materials,

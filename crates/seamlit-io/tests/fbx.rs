@@ -335,6 +335,36 @@ fn cut_and_corrupted_fbx_files_fail_cleanly_or_load() {
     }
 }
 
+/// `load` streams a file on disk to ufbx; `parse` gives it the bytes. Both read the same
+/// asset from whole files (binary and ASCII, one skinned, one naming a texture), and the
+/// same error, word for word, from each of 13 prefixes of them.
+#[test]
+fn a_streamed_file_reads_as_its_bytes_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = LoadOptions::default();
+    for name in [
+        "blender_272_cube_7400_binary.fbx",
+        "blender_293_half_skinned_7400_binary.fbx",
+        "max2009_cube_texture_5800_binary.fbx",
+        "maya_cube_6100_ascii.fbx",
+    ] {
+        let whole = std::fs::read(common::model(&format!("ufbx/{name}"))).unwrap();
+        let path = dir.path().join(name);
+        for k in (1..=13).rev() {
+            let bytes = &whole[..whole.len() * k / 13];
+            std::fs::write(&path, bytes).unwrap();
+            let streamed = seamlit_io::load(&path, &options);
+            let given = seamlit_io::fbx::parse(bytes, &path, &options);
+            match (&streamed, &given) {
+                (Ok(a), Ok(b)) => assert_eq!(format!("{a:?}"), format!("{b:?}"), "{name} {k}/13"),
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{name} {k}/13"),
+                _ => panic!("{name} {k}/13: streamed {streamed:?}, given {given:?}"),
+            }
+            assert!(k < 13 || streamed.is_ok(), "{name}: the whole file loads");
+        }
+    }
+}
+
 /// Blend shapes (Blender shape keys written as FBX blend shapes) become morph targets: per
 /// target, the displaced world positions equal those of Blender's own import of the shape
 /// key; the animated weight poses the mesh as Blender poses it at three frames; and the fixed

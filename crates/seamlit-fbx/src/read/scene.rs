@@ -11,18 +11,28 @@ use seamlit_asset::error::fbx::FbxKind;
 
 use super::threads::Pool;
 
-/// Opens the file's bytes as FBX (never as OBJ, which ufbx reads too). External files are
-/// not opened by ufbx (textures are read by this crate, inside the model's folder). The
-/// compressed arrays of a binary file are inflated on rayon's threads (`threads.rs`).
+/// What ufbx reads: a file, streamed, or bytes in memory.
+pub(super) enum Input<'a> {
+    File(std::fs::File),
+    Bytes(&'a [u8]),
+}
+
+/// Opens `input` (the file at `path`) as FBX (never as OBJ, which ufbx reads too). External
+/// files are not opened by ufbx (textures are read by this crate, inside the model's folder).
+/// The compressed arrays of a binary file are inflated on rayon's threads (`threads.rs`).
 ///
 /// # Errors
 ///
-/// [`IoError::Fbx`] with [`FbxKind::Truncated`] or [`FbxKind::Refused`].
-pub(super) fn open(bytes: &[u8], path: &Path) -> Result<ufbx::SceneRoot, IoError> {
+/// [`IoError::Fbx`] with [`FbxKind::Truncated`] or [`FbxKind::Refused`] (an error reading a
+/// streamed file among them, as ufbx's `IO`).
+pub(super) fn open(input: Input<'_>, path: &Path) -> Result<ufbx::SceneRoot, IoError> {
     // Kept alive until ufbx returns: its tasks reach it through a raw pointer.
     let pool = Arc::new(Pool::default());
     let options = ufbx::LoadOpts { thread_opts: Pool::options(&pool), ..load_options() };
-    let scene = ufbx::load_memory(bytes, options);
+    let scene = match input {
+        Input::File(file) => ufbx::load_stream(ufbx::Stream::File(file), options),
+        Input::Bytes(bytes) => ufbx::load_memory(bytes, options),
+    };
     drop(pool);
     scene.map_err(|error| {
         let description = error.description.to_string();
