@@ -43,7 +43,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     seamlit_asset::files::check_size(path, options)?;
     // A file on disk is streamed to ufbx, which keeps what it needs of it (the compressed
     // arrays until they are inflated): the whole file is never held beside the scene (the 26
-    // MB Blender FBX of BENCHMARKS.md: 25 MiB less at the peak, 10 ms less to read). A stream
+    // MB Blender FBX of BENCHMARKS.md: 27 MiB less at the process's peak). A stream
     // ufbx refuses is read again whole, for the error's words: cut short, a stream can end in
     // its "Failed to load" where the same bytes in memory give "Truncated file".
     if options.files == Files::Disk {
