@@ -49,18 +49,34 @@ const SAME_NORMAL: f32 = 1.0 - 1e-5;
 /// what [`crate::fix`] does for the vertices it splits.
 pub(crate) fn copy_vertex(skin: &mut [Influences], targets: &mut [MorphTarget], v: usize) {
     for set in skin {
-        set.joints.push(set.joints[v]);
-        set.weights.push(set.weights[v]);
+        push_copy(&mut set.joints, v);
+        push_copy(&mut set.weights, v);
     }
     for target in targets {
-        target.position_deltas.push(target.position_deltas[v]);
+        push_copy(&mut target.position_deltas, v);
         if let Some(n) = &mut target.normal_deltas {
-            n.push(n[v]);
+            push_copy(n, v);
         }
         if let Some(t) = &mut target.tangent_deltas {
-            t.push(t[v]);
+            push_copy(t, v);
         }
     }
+}
+
+/// Appends `item`, growing a full vector by an eighth rather than doubling it: an object's
+/// copies are few beside its vertices (the 1M teapot's 768 among 532,512), and a doubled
+/// array of every attribute of every object that splits one vertex would be the fix's peak
+/// of memory.
+pub(crate) fn push_slack<T>(items: &mut Vec<T>, item: T) {
+    if items.len() == items.capacity() {
+        items.reserve_exact(items.len() / 8 + 16);
+    }
+    items.push(item);
+}
+
+/// [`push_slack`] of a copy of entry `v`.
+pub(crate) fn push_copy<T: Copy>(items: &mut Vec<T>, v: usize) {
+    push_slack(items, items[v]);
 }
 
 /// Sets the normal (and, where the object has tangents, tangent) deltas of every morph
