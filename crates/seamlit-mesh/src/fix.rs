@@ -476,16 +476,13 @@ fn write_mikk(
     let (mut normals, mut out_tangents) = (None, None);
     let linear = flat.linear[o].map(Linear::new);
     let mut out = Out::over_tangents(object, linear, tangents_wanted, input_normals, sums);
-    for v in 0..out.is_set.len() {
+    out.set_each(|out, v| {
         let g = base + v;
-        if smooth.is_used(g)
-            && let Some(frame) = smooth.simple_frame(g)
-            && let root = smooth.roots()[g] as usize
-            && let Some(tangent) = tangents.fan_of(g, root, frame.normal, out.tangent(index(v)))
-        {
-            out.set(v, Frame { normal: frame.normal, tangent });
-        }
-    }
+        let frame = smooth.is_used(g).then(|| smooth.simple_frame(g)).flatten()?;
+        let root = smooth.roots()[g] as usize;
+        let tangent = tangents.fan_of(g, root, frame.normal, out.tangent(index(v)))?;
+        Some(Frame { normal: frame.normal, tangent })
+    });
     for &(c, tangent) in others {
         let local = c as usize - first;
         let corner = &mut triangles[local / 3][local % 3];
@@ -515,13 +512,7 @@ fn write_smooth(
     let mut triangles = std::mem::take(&mut object.triangles);
     let (mut normals, mut out_tangents) = (None, None);
     let mut out = Out::new(object, flat.linear[o].map(Linear::new), tangents, input_normals);
-    for v in 0..out.is_set.len() {
-        if smooth.is_used(base + v)
-            && let Some(f) = smooth.simple_frame(base + v)
-        {
-            out.set(v, f);
-        }
-    }
+    out.set_each(|_, v| smooth.is_used(base + v).then(|| smooth.simple_frame(base + v)).flatten());
     for &e in complex {
         let c = (e >> 32) as usize - first as usize * 3;
         let corner = &mut triangles[c / 3][c % 3];

@@ -86,6 +86,106 @@ impl Linear {
     }
 }
 
+impl Linear {
+    /// [`Self::frame_to_local`] of four frames at once, a frame a lane, with the same bits: the
+    /// same operations in the same order (IEEE 754 rounds each lane's product, sum, quotient
+    /// and root as the scalar's), so that the roots and divisions of four frames overlap. A
+    /// lane that meets one of the fallbacks (a normal or tangent that vanishes, a tangent
+    /// along the normal, a value not finite) is made by [`Self::frame_to_local`] itself.
+    #[must_use]
+    pub fn frames_to_local(&self, n: [Vec3; 4], t: [Vec4; 4]) -> [(Vec3, Vec4); 4] {
+        let (n0, t4) = (Lanes::of(n), Lanes::of(t.map(Vec4::xyz)));
+        let w0 = Vec4::from_array(t.map(|t| t.w));
+        let b = n0.cross(t4).scale(w0);
+        let (m, inverse) = (self.m.transpose(), self.inverse);
+        let (n, t, b) = (n0.times(&m), t4.times(&inverse), b.times(&inverse));
+        // `reframe`, where nothing falls back.
+        let (rn, rt) = (n.length_recip(), t.length_recip());
+        let (n, t) = (n.scale(rn), t.scale(rt));
+        let across = t.minus(n.scale(n.dot(t)));
+        let twice = across.minus(n.scale(n.dot(across)));
+        let ra = twice.length_recip();
+        let tangent = twice.scale(ra);
+        let w = Vec4::select(n.cross(tangent).dot(b).cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+        // `across` is finite where both normalised (`reframe`'s test of it never fails here).
+        let plain = usable(rn)
+            & usable(rt)
+            & !across.length_squared().cmple(t.length_squared() * 1e-6)
+            & usable(ra);
+        let (n, tangent) = (n.lanes(), tangent.lanes());
+        std::array::from_fn(|i| {
+            if plain.test(i) {
+                (n[i], tangent[i].extend(w[i]))
+            } else {
+                self.frame_to_local(n0.lanes()[i], t4.lanes()[i].extend(w0[i]))
+            }
+        })
+    }
+}
+
+/// Where a reciprocal length lets `try_normalize` normalise: finite and above zero.
+fn usable(rcp: Vec4) -> glam::BVec4A {
+    rcp.abs().cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO)
+}
+
+/// Four `Vec3`s, a lane each, with glam's `Vec3` arithmetic in glam's order of operations.
+#[derive(Clone, Copy)]
+struct Lanes {
+    x: Vec4,
+    y: Vec4,
+    z: Vec4,
+}
+
+impl Lanes {
+    fn of(v: [Vec3; 4]) -> Self {
+        let lane = |k: usize| Vec4::from_array(v.map(|v| v[k]));
+        Self { x: lane(0), y: lane(1), z: lane(2) }
+    }
+
+    fn lanes(self) -> [Vec3; 4] {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        std::array::from_fn(|i| Vec3::new(x[i], y[i], z[i]))
+    }
+
+    fn dot(self, r: Self) -> Vec4 {
+        (self.x * r.x) + (self.y * r.y) + (self.z * r.z)
+    }
+
+    fn cross(self, r: Self) -> Self {
+        Self {
+            x: self.y * r.z - r.y * self.z,
+            y: self.z * r.x - r.z * self.x,
+            z: self.x * r.y - r.x * self.y,
+        }
+    }
+
+    fn scale(self, s: Vec4) -> Self {
+        Self { x: self.x * s, y: self.y * s, z: self.z * s }
+    }
+
+    fn minus(self, r: Self) -> Self {
+        Self { x: self.x - r.x, y: self.y - r.y, z: self.z - r.z }
+    }
+
+    fn length_squared(self) -> Vec4 {
+        self.dot(self)
+    }
+
+    /// `1 / |v|`, as `Vec3::length_recip`.
+    fn length_recip(self) -> Vec4 {
+        Vec4::ONE / self.length_squared().sqrt()
+    }
+
+    /// `m * v`, as `Mat3::mul_vec3`: the columns scaled by `v`'s components, summed in order.
+    fn times(self, m: &Mat3) -> Self {
+        let row = |k: usize| {
+            let c = |axis: Vec3| Vec4::splat(axis[k]);
+            c(m.x_axis) * self.x + c(m.y_axis) * self.y + c(m.z_axis) * self.z
+        };
+        Self { x: row(0), y: row(1), z: row(2) }
+    }
+}
+
 /// Gram-Schmidt: `t` made orthogonal to the unit normal `n`, unit length, its `w` kept (any
 /// vector orthogonal to `n` where `t` is parallel to it).
 #[must_use]
@@ -114,6 +214,7 @@ fn reframe(n: Vec3, t: Vec3, b: Vec3, n0: Vec3, t0: Vec4) -> (Vec3, Vec4) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn finish_orthogonalises_and_signs() {
@@ -127,6 +228,61 @@ mod tests {
         let (n, t) = finish(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
         assert!(n.is_finite() && t.is_finite());
         assert!((n.length() - 1.0).abs() < 1e-6 && n.dot(t.xyz()).abs() < 1e-6);
+    }
+
+    /// A coordinate: mostly plain, sometimes one that makes a fallback (vanishing, tiny,
+    /// overflowing, not finite).
+    fn coordinate() -> impl Strategy<Value = f32> {
+        let special = prop::sample::select(vec![0.0, -0.0, 1e-30, 3e38, f32::INFINITY, f32::NAN]);
+        prop_oneof![12 => -1.0f32..1.0, 1 => special]
+    }
+
+    fn vector() -> impl Strategy<Value = Vec3> {
+        [coordinate(), coordinate(), coordinate()].prop_map(Vec3::from_array)
+    }
+
+    /// Rotations, any matrix, mirrors with a stretch, and a stretch across 40 orders.
+    fn transform() -> impl Strategy<Value = Mat3> {
+        let angle = -3.2f32..3.2;
+        prop_oneof![
+            (angle.clone(), angle.clone(), angle).prop_map(|(x, y, z)| Mat3::from_euler(
+                glam::EulerRot::XYZ,
+                x,
+                y,
+                z
+            )),
+            prop::array::uniform9(-3.0f32..3.0).prop_map(|m| Mat3::from_cols_array(&m)),
+            (0.1f32..4.0).prop_map(|s| Mat3::from_diagonal(Vec3::new(-2.0, s, 0.5))),
+            Just(Mat3::from_diagonal(Vec3::new(1e-20, 1.0, 1e20))),
+        ]
+    }
+
+    /// A frame; with `along`, its tangent lies along its normal (the Gram-Schmidt fallback).
+    fn frame() -> impl Strategy<Value = (Vec3, Vec4)> {
+        (vector(), vector(), any::<bool>(), prop::bool::weighted(0.2)).prop_map(
+            |(n, t, left, along)| {
+                let t = if along { n * 2.0 } else { t };
+                (n, t.extend(if left { -1.0 } else { 1.0 }))
+            },
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+        /// The four-lane move gives every lane the scalar's bits, fallbacks included.
+        #[test]
+        fn four_frames_move_as_one_does(m in transform(), frames in prop::array::uniform4(frame())) {
+            let bits = |(n, t): (Vec3, Vec4)| {
+                (n.to_array().map(f32::to_bits), t.to_array().map(f32::to_bits))
+            };
+            let linear = Linear::new(m);
+            let four = linear.frames_to_local(frames.map(|f| f.0), frames.map(|f| f.1));
+            for (i, (n, t)) in frames.into_iter().enumerate() {
+                let one = linear.frame_to_local(n, t);
+                prop_assert_eq!(bits(four[i]), bits(one), "lane {} of {:?}", i, frames);
+            }
+        }
     }
 
     #[test]

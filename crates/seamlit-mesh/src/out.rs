@@ -11,6 +11,9 @@ use crate::group::Frame;
 use crate::index::index;
 use crate::morph::{self, push_copy, push_slack};
 
+/// The frames [`Out::set_each`] moves to local space before it stores them.
+const BATCH: usize = 32;
+
 /// One object's output, built vertex by vertex: a frame per vertex, and a copy of a vertex
 /// wherever one of its corners needs another frame.
 pub(crate) struct Out<'a> {
@@ -124,13 +127,58 @@ impl<'a> Out<'a> {
         (n, if self.tangents_wanted { t } else { Vec4::ZERO })
     }
 
-    /// Sets the frame of vertex `v`, which no corner has set yet.
-    pub(crate) fn set(&mut self, v: usize, f: Frame) {
-        let (n, t) = self.local(f);
-        self.set_local(v, n, t);
+    /// Sets the frame of every vertex `v` (which no corner has set yet) to which
+    /// `frame_of(self, v)` gives one, [`BATCH`] at a time: a batch's frames are moved to local
+    /// space before any is stored, four at once ([`Linear::frames_to_local`]), so that the
+    /// processor works on several (each a long chain of dependent roots and divisions) rather
+    /// than one after the other behind the stores and counts of the last. `frame_of` sees the
+    /// entries of `v` as they were: a batch stores only its own vertices.
+    pub(crate) fn set_each(&mut self, frame_of: impl Fn(&Self, usize) -> Option<Frame>) {
+        let none = Frame { normal: Vec3::ZERO, tangent: Vec4::ZERO };
+        let mut batch = [(0usize, none); BATCH];
+        let mut len = 0;
+        for v in 0..self.is_set.len() {
+            if let Some(f) = frame_of(self, v) {
+                batch[len] = (v, f);
+                len += 1;
+                if len == BATCH {
+                    self.set_batch(&batch);
+                    len = 0;
+                }
+            }
+        }
+        self.set_batch(&batch[..len]);
     }
 
-    /// [`Self::set`] in local space.
+    /// [`Self::set_each`]'s batch.
+    fn set_batch(&mut self, batch: &[(usize, Frame)]) {
+        let mut local = [(Vec3::ZERO, Vec4::ZERO); BATCH];
+        let wanted = |t: Vec4| if self.tangents_wanted { t } else { Vec4::ZERO };
+        match &self.linear {
+            Some(l) => {
+                let (quads, rest) = batch.as_chunks::<4>();
+                for (out, quad) in local.as_chunks_mut::<4>().0.iter_mut().zip(quads) {
+                    let frames = l
+                        .frames_to_local(quad.map(|(_, f)| f.normal), quad.map(|(_, f)| f.tangent));
+                    *out = frames.map(|(n, t)| (n, wanted(t)));
+                }
+                for (out, &(_, f)) in local[quads.len() * 4..].iter_mut().zip(rest) {
+                    let (n, t) = l.frame_to_local(f.normal, f.tangent);
+                    *out = (n, wanted(t));
+                }
+            }
+            None => {
+                for (out, &(_, f)) in local.iter_mut().zip(batch) {
+                    *out = (f.normal, wanted(f.tangent));
+                }
+            }
+        }
+        for (&(v, _), &(n, t)) in batch.iter().zip(&local) {
+            self.set_local(v, n, t);
+        }
+    }
+
+    /// Sets the frame of vertex `v`, in local space.
     fn set_local(&mut self, v: usize, normal: Vec3, tangent: Vec4) {
         let input = self.input_normals.map_or(self.normals[v], |ns| ns[v]);
         self.changed += usize::from(!self.had_normals || vec3_bits(input) != vec3_bits(normal));
@@ -245,9 +293,7 @@ mod tests {
         }];
         let frame = |x: f32| Frame { normal: Vec3::new(x, 1.0, 0.0).normalize(), tangent: Vec4::X };
         let mut out = Out::new(&mut object, None, true, None);
-        for v in 0..n {
-            out.set(v, frame(0.0));
-        }
+        out.set_each(|_, _| Some(frame(0.0)));
         for v in 0..5 {
             assert_eq!(out.put(v, frame(1.0)) as usize, n + v as usize, "a copy of vertex {v}");
         }
