@@ -123,6 +123,52 @@ impl Linear {
     }
 }
 
+/// The tangent, with its handedness, of a corner whose vertex keeps its normal `n` (local
+/// space, as the file gives it), from the corner's model-space frame `(normal, tangent)`:
+/// the frame moved to local space, its tangent made orthogonal to the unit `n` and its
+/// handedness taken from the moved frame's bitangent.
+#[must_use]
+#[inline(always)]
+pub(crate) fn kept_normal_tangent(linear: Option<&Linear>, n: Vec3, frame: (Vec3, Vec4)) -> Vec4 {
+    let (n0, t0) = match linear {
+        Some(l) => l.frame_to_local(frame.0, frame.1),
+        None => frame,
+    };
+    let unit = n.try_normalize().unwrap_or(n0);
+    let bitangent = n0.cross(t0.xyz()) * t0.w;
+    let t = orthogonalise(t0, unit);
+    let w = if unit.cross(t.xyz()).dot(bitangent) < 0.0 { -1.0 } else { 1.0 };
+    t.xyz().extend(w)
+}
+
+/// [`kept_normal_tangent`] of four corners at once, a corner a lane, with the same bits (as
+/// [`Linear::frames_to_local`]); a lane that meets a fallback is made by it alone.
+#[must_use]
+pub(crate) fn kept_normal_tangents(
+    linear: Option<&Linear>,
+    n: [Vec3; 4],
+    frames: [(Vec3, Vec4); 4],
+) -> [Vec4; 4] {
+    let moved = match linear {
+        Some(l) => l.frames_to_local(frames.map(|f| f.0), frames.map(|f| f.1)),
+        None => frames,
+    };
+    let (n0, t0) = (Lanes::of(moved.map(|f| f.0)), Lanes::of(moved.map(|f| f.1.xyz())));
+    let kept = Lanes::of(n);
+    let rn = kept.length_recip();
+    let unit = kept.scale(rn);
+    let bitangent = n0.cross(t0).scale(Vec4::from_array(moved.map(|f| f.1.w)));
+    let across = t0.minus(unit.scale(unit.dot(t0)));
+    let ra = across.length_recip();
+    let t = across.scale(ra);
+    let w = Vec4::select(unit.cross(t).dot(bitangent).cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+    let plain = usable(rn) & usable(ra);
+    let t = t.lanes();
+    std::array::from_fn(|i| {
+        if plain.test(i) { t[i].extend(w[i]) } else { kept_normal_tangent(linear, n[i], frames[i]) }
+    })
+}
+
 /// Where a reciprocal length lets `try_normalize` normalise: finite and above zero.
 fn usable(rcp: Vec4) -> glam::BVec4A {
     rcp.abs().cmplt(Vec4::INFINITY) & rcp.cmpgt(Vec4::ZERO)
@@ -281,6 +327,27 @@ mod tests {
             for (i, (n, t)) in frames.into_iter().enumerate() {
                 let one = linear.frame_to_local(n, t);
                 prop_assert_eq!(bits(four[i]), bits(one), "lane {} of {:?}", i, frames);
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+        /// The four-lane tangents for kept normals have every lane's scalar bits, with and
+        /// without a transform, fallbacks included.
+        #[test]
+        fn four_kept_normal_tangents_are_one_by_one(
+            m in prop::option::of(transform()),
+            kept in prop::array::uniform4(vector()),
+            frames in prop::array::uniform4(frame()),
+        ) {
+            let linear = m.map(Linear::new);
+            let four = kept_normal_tangents(linear.as_ref(), kept, frames);
+            for i in 0..4 {
+                let one = kept_normal_tangent(linear.as_ref(), kept[i], frames[i]);
+                let bits = |t: Vec4| t.to_array().map(f32::to_bits);
+                prop_assert_eq!(bits(four[i]), bits(one), "lane {} of {:?} {:?}", i, kept, frames);
             }
         }
     }

@@ -32,7 +32,7 @@ use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 use crate::face::face;
-use crate::frame::{Linear, orthogonalise};
+use crate::frame::{Linear, kept_normal_tangent, kept_normal_tangents, orthogonalise};
 use crate::group::{Frame, Rules, weight};
 use crate::index::{index, low_half};
 use crate::judge::{self, Copy, Corner, Kind, Shading};
@@ -640,7 +640,8 @@ fn write_each<S: Send>(
 }
 
 /// Writes one object's tangents from its corners' model-space frames, `frames(t, triangle,
-/// its UVs)` for its triangle `t`, keeping its normals.
+/// its UVs)` for its triangle `t`, keeping its normals. The corners are placed in order, a
+/// [`Corners`] batch at a time.
 fn write_tangents(
     object: &mut Object,
     linear: Option<Linear>,
@@ -648,29 +649,158 @@ fn write_tangents(
 ) {
     let mut triangles = std::mem::take(&mut object.triangles);
     let mut out = Out::keeping_normals(object);
-    for (t, tri) in triangles.iter_mut().enumerate() {
+    let mut batch = Corners::default();
+    for t in 0..triangles.len() {
+        let tri = triangles[t];
         let uvs = out.uvs.as_ref().map(|uvs| tri.map(|i| uvs[i as usize]));
-        let f = frames(t, *tri, uvs);
+        let f = frames(t, tri, uvs);
         for k in 0..3 {
             let CornerFrame { frame, whole_vertex } = f[k];
-            if whole_vertex && out.is_set[tri[k] as usize] {
-                // Its vertex's first corner wrote this frame (the vertex keeps its normal, and
-                // the same inputs give the same bits): the corner stays on the vertex.
+            if whole_vertex && (out.is_set[tri[k] as usize] || batch.has_vertex(tri[k])) {
+                // Its vertex's first corner wrote (or, in the batch, will write) this frame:
+                // the vertex keeps its normal, and the same inputs give the same bits. The
+                // corner stays on the vertex.
                 continue;
             }
-            let (n0, t0) = match &linear {
-                Some(l) => l.frame_to_local(frame.normal, frame.tangent),
-                None => (frame.normal, frame.tangent),
-            };
-            let n = out.normal(tri[k]);
-            let unit = n.try_normalize().unwrap_or(n0);
-            let bitangent = n0.cross(t0.xyz()) * t0.w;
-            let t = orthogonalise(t0, unit);
-            let w = if unit.cross(t.xyz()).dot(bitangent) < 0.0 { -1.0 } else { 1.0 };
-            tri[k] = out.put_local(tri[k], n, t.xyz().extend(w));
+            if batch.push(index(t * 3 + k), tri[k], frame) {
+                batch.place(&mut out, linear.as_ref(), &mut triangles);
+            }
         }
     }
+    batch.place(&mut out, linear.as_ref(), &mut triangles);
     let (mut normals, mut tangents) = (None, None);
     out.finish(&mut normals, &mut tangents);
     (object.normals, object.tangents, object.triangles) = (normals, tangents, triangles);
+}
+
+/// The corners [`Corners`] holds.
+const CORNERS: usize = 32;
+
+/// Corners of [`write_tangents`] waiting to be placed: their tangents are made four at once
+/// ([`kept_normal_tangents`]) before any is placed, so that the processor works on several
+/// (each a chain of dependent roots and divisions) rather than one after the other behind
+/// the placing of the last. Placed in the order they came, as one by one.
+struct Corners {
+    /// Each corner: `triangle * 3 + k`.
+    corner: [u32; CORNERS],
+    vertex: [u32; CORNERS],
+    frame: [(Vec3, Vec4); CORNERS],
+    len: usize,
+}
+
+impl Default for Corners {
+    fn default() -> Self {
+        Self {
+            corner: [0; CORNERS],
+            vertex: [0; CORNERS],
+            frame: [(Vec3::ZERO, Vec4::ZERO); CORNERS],
+            len: 0,
+        }
+    }
+}
+
+impl Corners {
+    /// Whether a corner of vertex `v` is waiting.
+    fn has_vertex(&self, v: u32) -> bool {
+        self.vertex[..self.len].contains(&v)
+    }
+
+    /// Adds a corner; returns whether the batch is full.
+    fn push(&mut self, corner: u32, vertex: u32, frame: Frame) -> bool {
+        let i = self.len;
+        (self.corner[i], self.vertex[i]) = (corner, vertex);
+        self.frame[i] = (frame.normal, frame.tangent);
+        self.len += 1;
+        self.len == CORNERS
+    }
+
+    /// Places every waiting corner: its vertex, or the copy with its frame.
+    fn place(&mut self, out: &mut Out<'_>, linear: Option<&Linear>, triangles: &mut [[u32; 3]]) {
+        let n = self.len;
+        let mut kept = [Vec3::ZERO; CORNERS];
+        for (k, &v) in kept.iter_mut().zip(&self.vertex[..n]) {
+            *k = out.normal(v);
+        }
+        let mut tangents = [Vec4::ZERO; CORNERS];
+        let (quads, _) = self.frame[..n].as_chunks::<4>();
+        let (kept4, _) = kept[..n].as_chunks::<4>();
+        for ((t, &frames), &kept) in
+            tangents.as_chunks_mut::<4>().0.iter_mut().zip(quads).zip(kept4)
+        {
+            *t = kept_normal_tangents(linear, kept, frames);
+        }
+        for i in quads.len() * 4..n {
+            tangents[i] = kept_normal_tangent(linear, kept[i], self.frame[i]);
+        }
+        for i in 0..n {
+            let (c, v) = (self.corner[i] as usize, self.vertex[i]);
+            triangles[c / 3][c % 3] = out.put_local(v, kept[i], tangents[i]);
+        }
+        self.len = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What [`write_tangents`] did before its corners were batched: each corner placed as it
+    /// came, its tangent made alone.
+    fn one_by_one(
+        object: &mut Object,
+        linear: Option<Linear>,
+        frames: impl Fn(usize, [u32; 3]) -> [CornerFrame; 3],
+    ) {
+        let mut triangles = std::mem::take(&mut object.triangles);
+        let mut out = Out::keeping_normals(object);
+        for (t, tri) in triangles.iter_mut().enumerate() {
+            let f = frames(t, *tri);
+            for k in 0..3 {
+                let CornerFrame { frame, whole_vertex } = f[k];
+                if whole_vertex && out.is_set[tri[k] as usize] {
+                    continue;
+                }
+                let n = out.normal(tri[k]);
+                let tangent =
+                    kept_normal_tangent(linear.as_ref(), n, (frame.normal, frame.tangent));
+                tri[k] = out.put_local(tri[k], n, tangent);
+            }
+        }
+        let (mut normals, mut tangents) = (None, None);
+        out.finish(&mut normals, &mut tangents);
+        (object.normals, object.tangents, object.triangles) = (normals, tangents, triangles);
+    }
+
+    /// Batched, the corners land where they did one by one: the same vertices, copies and
+    /// tangents, over batches that end inside triangles, vertices whose first corner waits
+    /// in the batch, and corners of one vertex with different frames (copies).
+    #[test]
+    fn batched_corners_land_as_one_by_one() {
+        // A strip of 200 triangles over 202 vertices; the last vertex is used by none.
+        let n = 203;
+        let positions = (0..n).map(|i| Vec3::new(i as f32, (i % 2) as f32, 0.0)).collect();
+        let triangles: Vec<[u32; 3]> = (0..200).map(|i| [i, i + 1, i + 2]).collect();
+        let mut object = Object::new("strip", positions, triangles);
+        object.normals = Some((0..n).map(|i| Vec3::new(0.1 * (i % 3) as f32, 0.0, 1.0)).collect());
+        let frames = |t: usize, tri: [u32; 3]| {
+            std::array::from_fn(|k| {
+                let v = tri[k] as usize;
+                let tangent = Vec4::new(1.0, 0.05 * (v % 4) as f32, 0.0, 1.0);
+                // Every fifth vertex's corners are its own: each triangle gives another frame.
+                if v.is_multiple_of(5) {
+                    let tangent = Vec4::new(1.0, 0.1 * (t % 3) as f32, 0.0, -1.0);
+                    CornerFrame::own(Frame { normal: Vec3::Z, tangent })
+                } else {
+                    CornerFrame { frame: Frame { normal: Vec3::Z, tangent }, whole_vertex: true }
+                }
+            })
+        };
+        for linear in [None, Some(Linear::new(glam::Mat3::from_rotation_z(0.7)))] {
+            let (mut batched, mut alone) = (object.clone(), object.clone());
+            write_tangents(&mut batched, linear, |t, tri, _| frames(t, tri));
+            one_by_one(&mut alone, linear, frames);
+            assert!(alone.positions.len() > n, "the frames make copies: {}", alone.positions.len());
+            assert_eq!(batched, alone);
+        }
+    }
 }
