@@ -164,8 +164,14 @@ impl Reader<'_> {
         buffers: &[Bytes],
         vertex_count: usize,
     ) -> Result<Vec<[u32; 3]>, IoError> {
-        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         let index_accessor = primitive.indices();
+        if primitive.mode() == gltf::mesh::Mode::Triangles
+            && let Some(accessor) = &index_accessor
+            && let Some(triangles) = packed_triangles(accessor, buffers)
+        {
+            return self.in_range(mesh, primitive, accessor, triangles, vertex_count);
+        }
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
         let indices = super::lenient::zeros_without_view(
             index_accessor.as_ref(),
             reader.read_indices().map(|read| read.into_u32().collect::<Vec<u32>>()),
@@ -207,6 +213,19 @@ impl Reader<'_> {
         if triangles.len() * 3 != accessor_count {
             return Err(self.short(&accessor, triangles.len() * 3));
         }
+        self.in_range(mesh, primitive, &accessor, triangles, vertex_count)
+    }
+
+    /// `triangles`, read from index accessor `accessor`, if each index is below the vertex
+    /// count.
+    fn in_range(
+        &self,
+        mesh: &gltf::Mesh<'_>,
+        primitive: &gltf::Primitive<'_>,
+        accessor: &gltf::Accessor<'_>,
+        triangles: Vec<[u32; 3]>,
+        vertex_count: usize,
+    ) -> Result<Vec<[u32; 3]>, IoError> {
         if let Some(&index) = triangles.as_flattened().iter().find(|&&i| i as usize >= vertex_count)
         {
             return Err(IoError::gltf_data(
@@ -224,6 +243,44 @@ impl Reader<'_> {
     }
 }
 
+/// The triangles of a list's index `accessor` read straight from its bytes, where they lie
+/// packed in its buffer view (no sparse values, no stride but the index's size, a whole
+/// number of triangles, within the view and the buffer); `None` otherwise, for the gltf
+/// crate's reader. The same values, read several times faster than through its iterator and
+/// a second array (the 1M teapot's indices: a tenth of the load).
+fn packed_triangles(accessor: &gltf::Accessor<'_>, buffers: &[Bytes]) -> Option<Vec<[u32; 3]>> {
+    let view = accessor.view()?;
+    let size = accessor.data_type().size();
+    let (count, length) = (accessor.count(), accessor.count().checked_mul(size)?);
+    if accessor.sparse().is_some()
+        || view.stride().is_some_and(|stride| stride != size)
+        || !count.is_multiple_of(3)
+        || accessor.offset().checked_add(length)? > view.length()
+    {
+        return None;
+    }
+    let start = view.offset().checked_add(accessor.offset())?;
+    let bytes = buffers.get(view.buffer().index())?.get(start..start.checked_add(length)?)?;
+    let triangles = bytes.chunks_exact(3 * size);
+    Some(match size {
+        1 => triangles.map(|t| [t[0], t[1], t[2]].map(u32::from)).collect(),
+        2 => triangles
+            .map(|t| {
+                let at = |k: usize| u32::from(u16::from_le_bytes([t[2 * k], t[2 * k + 1]]));
+                [at(0), at(1), at(2)]
+            })
+            .collect(),
+        _ => triangles
+            .map(|t| {
+                let at = |k: usize| {
+                    u32::from_le_bytes([t[4 * k], t[4 * k + 1], t[4 * k + 2], t[4 * k + 3]])
+                };
+                [at(0), at(1), at(2)]
+            })
+            .collect(),
+    })
+}
+
 /// The triangles of a strip or a fan (`mode`) of vertices `v`, as the specification draws
 /// them (3.7.2.1): strip triangle `i` is `v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]`, fan
 /// triangle `i` is `v[i + 1], v[i + 2], v[0]`. Triangles with a repeated vertex (a strip's
@@ -237,4 +294,74 @@ fn unstrip(mode: gltf::mesh::Mode, v: &[u32]) -> Vec<[u32; 3]> {
         .map(triangle)
         .filter(|[a, b, c]| a != b && b != c && a != c)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Index lists of every size, at offsets in their views and buffer, read packed give
+    /// what the gltf crate's reader gives; a sparse accessor, a count that is no whole
+    /// number of triangles and lists past their view are left to the reader.
+    #[test]
+    fn packed_indices_read_as_the_reader_does() {
+        let mut data = vec![0xEEu8; 8];
+        let u8s: Vec<u8> = (0..12).map(|i| (i * 37 % 251) as u8).collect();
+        data.extend(&u8s);
+        let u16s: Vec<u8> = (0..12u16).flat_map(|i| (i * 5003 + 7).to_le_bytes()).collect();
+        data.extend(&u16s);
+        let u32s: Vec<u8> = (0..12u32).flat_map(|i| (i * 0x0101_0101 + 3).to_le_bytes()).collect();
+        data.extend(&u32s);
+        let json = serde_json::json!({
+            "asset": {"version": "2.0"},
+            "buffers": [{"byteLength": data.len()}],
+            "bufferViews": [
+                {"buffer": 0, "byteOffset": 4, "byteLength": 16},
+                {"buffer": 0, "byteOffset": 20, "byteLength": 24},
+                {"buffer": 0, "byteOffset": 44, "byteLength": 48},
+            ],
+            "accessors": [
+                {"bufferView": 0, "byteOffset": 4, "componentType": 5121, "count": 12, "type": "SCALAR"},
+                {"bufferView": 1, "componentType": 5123, "count": 12, "type": "SCALAR"},
+                {"bufferView": 1, "byteOffset": 6, "componentType": 5123, "count": 9, "type": "SCALAR"},
+                {"bufferView": 2, "componentType": 5125, "count": 12, "type": "SCALAR"},
+                {"bufferView": 2, "componentType": 5125, "count": 10, "type": "SCALAR"},
+                {"bufferView": 2, "byteOffset": 12, "componentType": 5125, "count": 12, "type": "SCALAR"},
+                {"bufferView": 1, "byteOffset": 6, "componentType": 5123, "count": 12, "type": "SCALAR"},
+                {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR",
+                 "sparse": {"count": 1, "indices": {"bufferView": 0, "componentType": 5121},
+                            "values": {"bufferView": 1}}},
+            ],
+        });
+        let document = gltf::Document::from_json_without_validation(
+            serde_json::from_value(json).expect("a glTF root"),
+        );
+        let buffers = [Bytes::from(data)];
+        let packed: Vec<Option<Vec<[u32; 3]>>> =
+            document.accessors().map(|a| packed_triangles(&a, &buffers)).collect();
+        for (a, packed) in document.accessors().zip(&packed).take(4) {
+            let expected = match a.data_type() {
+                DataType::U8 => reader_values::<u8>(&a, &buffers),
+                DataType::U16 => reader_values::<u16>(&a, &buffers),
+                _ => reader_values::<u32>(&a, &buffers),
+            };
+            assert_eq!(expected.len(), a.count(), "accessor {}", a.index());
+            let packed = packed.as_ref().unwrap_or_else(|| panic!("accessor {}", a.index()));
+            assert_eq!(packed.as_flattened(), expected, "accessor {}", a.index());
+        }
+        // 10 indices; 12 from byte 12 of a 48-byte view (past the buffer too); 12 from byte 6
+        // of a 24-byte view (within the buffer); a sparse accessor.
+        assert_eq!(packed[4..], [None, None, None, None]);
+    }
+
+    /// The values of `accessor` as the gltf crate's reader gives them.
+    fn reader_values<T: gltf::accessor::Item + Into<u32>>(
+        accessor: &gltf::Accessor<'_>,
+        buffers: &[Bytes],
+    ) -> Vec<u32> {
+        let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
+        gltf::accessor::Iter::<T>::new(accessor.clone(), get)
+            .map(|values| values.map(Into::into).collect())
+            .unwrap_or_default()
+    }
 }
