@@ -84,18 +84,16 @@ impl Linear {
     pub fn normal_to_model(&self, n: Vec3) -> Vec3 {
         (self.inverse.transpose() * n).try_normalize().unwrap_or(n)
     }
-}
 
-impl Linear {
     /// [`Self::frame_to_local`] of four frames at once, a frame a lane, with the same bits: the
     /// same operations in the same order (IEEE 754 rounds each lane's product, sum, quotient
     /// and root as the scalar's), so that the roots and divisions of four frames overlap. A
     /// lane that meets one of the fallbacks (a normal or tangent that vanishes, a tangent
     /// along the normal, a value not finite) is made by [`Self::frame_to_local`] itself.
     #[must_use]
-    pub fn frames_to_local(&self, n: [Vec3; 4], t: [Vec4; 4]) -> [(Vec3, Vec4); 4] {
-        let (n0, t4) = (Lanes::of(n), Lanes::of(t.map(Vec4::xyz)));
-        let w0 = Vec4::from_array(t.map(|t| t.w));
+    pub fn frames_to_local(&self, normals: [Vec3; 4], tangents: [Vec4; 4]) -> [(Vec3, Vec4); 4] {
+        let (n0, t4) = (Lanes::of(normals), Lanes::of(tangents.map(Vec4::xyz)));
+        let w0 = Vec4::from_array(tangents.map(|t| t.w));
         let b = n0.cross(t4).scale(w0);
         let (m, inverse) = (self.m.transpose(), self.inverse);
         let (n, t, b) = (n0.times(&m), t4.times(&inverse), b.times(&inverse));
@@ -117,7 +115,7 @@ impl Linear {
             if plain.test(i) {
                 (n[i], tangent[i].extend(w[i]))
             } else {
-                self.frame_to_local(n0.lanes()[i], t4.lanes()[i].extend(w0[i]))
+                self.frame_to_local(normals[i], tangents[i])
             }
         })
     }

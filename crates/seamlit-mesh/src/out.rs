@@ -124,7 +124,12 @@ impl<'a> Out<'a> {
             Some(l) => l.frame_to_local(f.normal, f.tangent),
             None => (f.normal, f.tangent),
         };
-        (n, if self.tangents_wanted { t } else { Vec4::ZERO })
+        (n, self.wanted(t))
+    }
+
+    /// `tangent`, or zero where tangents are not written.
+    fn wanted(&self, tangent: Vec4) -> Vec4 {
+        if self.tangents_wanted { tangent } else { Vec4::ZERO }
     }
 
     /// Sets the frame of every vertex `v` (which no corner has set yet) to which
@@ -150,28 +155,22 @@ impl<'a> Out<'a> {
         self.set_batch(&batch[..len]);
     }
 
-    /// [`Self::set_each`]'s batch.
+    /// [`Self::set_each`]'s batch: with a transform, four frames at a time, the rest one by
+    /// one.
     fn set_batch(&mut self, batch: &[(usize, Frame)]) {
         let mut local = [(Vec3::ZERO, Vec4::ZERO); BATCH];
-        let wanted = |t: Vec4| if self.tangents_wanted { t } else { Vec4::ZERO };
-        match &self.linear {
-            Some(l) => {
-                let (quads, rest) = batch.as_chunks::<4>();
-                for (out, quad) in local.as_chunks_mut::<4>().0.iter_mut().zip(quads) {
-                    let frames = l
-                        .frames_to_local(quad.map(|(_, f)| f.normal), quad.map(|(_, f)| f.tangent));
-                    *out = frames.map(|(n, t)| (n, wanted(t)));
-                }
-                for (out, &(_, f)) in local[quads.len() * 4..].iter_mut().zip(rest) {
-                    let (n, t) = l.frame_to_local(f.normal, f.tangent);
-                    *out = (n, wanted(t));
-                }
+        let mut done = 0;
+        if let Some(l) = &self.linear {
+            let (quads, _) = batch.as_chunks::<4>();
+            for (out, quad) in local.as_chunks_mut::<4>().0.iter_mut().zip(quads) {
+                let frames =
+                    l.frames_to_local(quad.map(|(_, f)| f.normal), quad.map(|(_, f)| f.tangent));
+                *out = frames.map(|(n, t)| (n, self.wanted(t)));
             }
-            None => {
-                for (out, &(_, f)) in local.iter_mut().zip(batch) {
-                    *out = (f.normal, wanted(f.tangent));
-                }
-            }
+            done = quads.len() * 4;
+        }
+        for (out, &(_, f)) in local[done..].iter_mut().zip(&batch[done..]) {
+            *out = self.local(f);
         }
         for (&(v, _), &(n, t)) in batch.iter().zip(&local) {
             self.set_local(v, n, t);
