@@ -85,6 +85,7 @@ fn object(u: &mut Unstructured<'_>, index: usize) -> arbitrary::Result<Object> {
         name: format!("o{index}"),
         positions,
         uvs,
+        uvs1: None,
         normals,
         tangents,
         colors,
