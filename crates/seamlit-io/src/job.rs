@@ -6,7 +6,10 @@
 //! map has no tangents, unless a generator was asked for), the copies of the positions the
 //! objects share (once, before the fix: split copies are appended, so the input vertices keep
 //! their indices), the seams in motion before, the fix in place, the skin influences matched
-//! at the copies, the seam report and the seams in motion after. [`Fixed`] holds what each
+//! at the copies, the seam report and the seams in motion after. [`fix_geometry`] stops
+//! before those measures, which only read the fixed model: [`Unmeasured::measure_beside`]
+//! takes them while a save writes it (the command line and the Python package do; the save,
+//! mostly one thread's work, was a tenth of the 1M teapot's fix). [`Fixed`] holds what each
 //! step found; [`Fixed::summary`] is the text `seamlit fix` prints for a file and
 //! [`Fixed::json`] the document the Python package and the page report. [`Inspection`] is
 //! `seamlit inspect`: the seam report as loaded and after each mode.
@@ -38,7 +41,9 @@ use std::path::Path;
 
 use seamlit_asset::Asset;
 use seamlit_asset::motion::{Copies, SeamMotion, morph_seams};
-use seamlit_mesh::{Changes, FixOptions, MeshError, ReportOptions, SeamReport, SkinMatch};
+use seamlit_mesh::{
+    AsLoaded, Changes, FixOptions, MeshError, ReportOptions, SeamReport, SkinMatch, Welded,
+};
 
 pub use inspect::Inspection;
 pub use summary::{changes_line, count};
@@ -175,12 +180,23 @@ pub fn become_a_pool_of_one() {
 }
 
 /// Fixes `asset` in place as `seamlit fix` does (the module's docs list the steps) and says
-/// what was found and done.
+/// what was found and done: [`fix_geometry`], then [`Unmeasured::measure`].
 ///
 /// # Errors
 /// [`FixError::Geometry`] for bad geometry; [`FixError::Report`] when measuring the fixed
 /// model fails.
 pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
+    fix_geometry(asset, job)?.measure(asset)
+}
+
+/// [`fix_asset`] up to the fixed model's measures: the options, the copies of the shared
+/// positions and the seams in motion before, the fix in place and the skin match. The
+/// measures after ([`Unmeasured::measure`]) only read the model, as a save does: a caller
+/// that saves the model may run the two side by side (the command line does).
+///
+/// # Errors
+/// [`FixError::Geometry`] for bad geometry.
+pub fn fix_geometry(asset: &mut Asset, job: &FixJob) -> Result<Unmeasured, FixError> {
     let options = asset.fix_options(job.options, job.tangents_asked);
     let animations: Vec<usize> =
         if job.motion { (0..asset.animations.len()).collect() } else { Vec::new() };
@@ -205,24 +221,78 @@ pub fn fix_asset(asset: &mut Asset, job: &FixJob) -> Result<Fixed, FixError> {
         SkinSeams::Match => Some(seamlit_asset::match_skin_seams(asset, &copies.copies)),
         SkinSeams::Keep => None,
     };
-    let (as_loaded, report) = match as_loaded {
-        Some(before) => before
-            .with_fixed(&asset.model, &report_options, welded.as_ref())
-            .map(|(before, after)| (Some(before), after)),
-        None => seamlit_mesh::report_welded(&asset.model, &report_options, welded.as_ref())
-            .map(|after| (None, after)),
-    }
-    .map_err(FixError::Report)?;
-    let after = copies.measure(asset, &animations, job.samples, &options);
-    Ok(Fixed {
+    Ok(Unmeasured {
         options,
+        animations,
+        samples: job.samples,
+        motion: job.motion,
+        copies,
+        before,
         as_loaded,
+        welded,
         changes,
-        report,
         matched,
-        motion: before.into_iter().zip(after).collect(),
-        morph_seams: if job.motion { morph_seams(asset, &copies.copies) } else { Vec::new() },
     })
+}
+
+/// A model [`fix_geometry`] fixed, with what its measures after the fix need.
+pub struct Unmeasured {
+    options: FixOptions,
+    animations: Vec<usize>,
+    samples: u32,
+    motion: bool,
+    copies: Copies,
+    before: Vec<SeamMotion>,
+    as_loaded: Option<AsLoaded>,
+    welded: Option<Welded>,
+    changes: Changes,
+    matched: Option<SkinMatch>,
+}
+
+impl Unmeasured {
+    /// The measures of the fixed model `asset` (the one [`fix_geometry`] fixed): the seam
+    /// report, and the seams in motion after.
+    ///
+    /// # Errors
+    /// [`FixError::Report`] when measuring the fixed model fails.
+    pub fn measure(self, asset: &Asset) -> Result<Fixed, FixError> {
+        let report_options = ReportOptions::from(&self.options);
+        let (as_loaded, report) = match self.as_loaded {
+            Some(before) => before
+                .with_fixed(&asset.model, &report_options, self.welded.as_ref())
+                .map(|(before, after)| (Some(before), after)),
+            None => {
+                seamlit_mesh::report_welded(&asset.model, &report_options, self.welded.as_ref())
+                    .map(|after| (None, after))
+            }
+        }
+        .map_err(FixError::Report)?;
+        let after = self.copies.measure(asset, &self.animations, self.samples, &self.options);
+        Ok(Fixed {
+            options: self.options,
+            as_loaded,
+            changes: self.changes,
+            report,
+            matched: self.matched,
+            motion: self.before.into_iter().zip(after).collect(),
+            morph_seams: if self.motion {
+                morph_seams(asset, &self.copies.copies)
+            } else {
+                Vec::new()
+            },
+        })
+    }
+
+    /// [`Self::measure`] beside `write(asset)` (a save: both only read the fixed model), on
+    /// rayon's threads: a writer is mostly one thread's work, and the measures take the
+    /// others. Returns both results; where the measures fail, `write` has run all the same.
+    pub fn measure_beside<T: Send>(
+        self,
+        asset: &Asset,
+        write: impl FnOnce(&Asset) -> T + Send,
+    ) -> (Result<Fixed, FixError>, T) {
+        rayon::join(|| self.measure(asset), || write(asset))
+    }
 }
 
 impl Fixed {

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use seamlit_io::files::Destination;
-use seamlit_io::job::{FixJob, SkinSeams, fix_asset};
+use seamlit_io::job::{FixJob, SkinSeams, fix_asset, fix_geometry};
 use seamlit_io::{LoadOptions, SaveOptions};
 
 fn model(relative: &str) -> PathBuf {
@@ -206,4 +206,38 @@ fn a_pool_of_one_does_its_work_on_its_own_thread() {
     assert!(inline, "work handed to rayon ran on another thread");
     assert_eq!(threads, 1);
     assert!(files == expected, "fixed otherwise than on the global pool");
+}
+
+#[test]
+fn a_model_measured_while_it_is_written_is_reported_and_written_as_one_after_the_other() {
+    // The command line and the Python package measure a fixed model while they save it
+    // (`Unmeasured::measure_beside`): the same report as `fix_asset`'s, and the writer sees
+    // the fixed model. With the report as loaded and without; a character in motion, a
+    // skinned and animated GLB, a model with a normal map.
+    let dir = tempfile::tempdir().unwrap();
+    let character = dir.path().join("character.gltf");
+    seamlit_testkit::character::write(&character);
+    for (path, report_as_loaded) in [
+        (character, false),
+        (model("fox/Fox.glb"), true),
+        (model("NormalTangentTest.glb"), false),
+        (model("NormalTangentTest.glb"), true),
+    ] {
+        let job = FixJob { report_as_loaded, ..FixJob::DEFAULT };
+        let loaded = seamlit_io::load(&path, &LoadOptions::FIX).unwrap();
+        let mut whole = loaded.clone();
+        let expected = fix_asset(&mut whole, &job).unwrap();
+        let mut beside = loaded;
+        let unmeasured = fix_geometry(&mut beside, &job).unwrap();
+        let (fixed, written) =
+            unmeasured.measure_beside(&beside, |asset| in_memory(asset, "out.glb"));
+        let fixed = fixed.unwrap();
+        assert_eq!(fixed.json(), expected.json(), "{}", path.display());
+        assert_eq!(fixed.summary(Path::new("out.glb")), expected.summary(Path::new("out.glb")));
+        assert!(
+            written == in_memory(&whole, "out.glb"),
+            "{}: the fixed model written",
+            path.display()
+        );
+    }
 }

@@ -5,7 +5,7 @@
 //! functions here. Each runs the same steps as the command line and releases the GIL while
 //! the geometry work runs:
 //!
-//! - [`fix_file`]: load, fix as the command line does ([`seamlit_io::job::fix_asset`]),
+//! - [`fix_file`]: load, fix as the command line does ([`seamlit_io::job::fix_geometry`]),
 //!   save: `seamlit fix INPUT -o OUTPUT`;
 //! - [`inspect`]: load, measure the seams as loaded and after a fix: `seamlit inspect`;
 //! - [`fix`]: the fix on arrays, for callers that hold their meshes in memory;
@@ -30,7 +30,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use seamlit_io::files::{Files, MemoryFiles};
-use seamlit_io::job::{FixJob, Fixed, SkinSeams, fix_asset};
+use seamlit_io::job::{FixJob, Fixed, SkinSeams, fix_geometry};
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
 
@@ -149,7 +149,8 @@ fn json_text<T: serde::Serialize + ?Sized>(value: &T) -> PyResult<String> {
 }
 
 /// `seamlit fix INPUT -o OUTPUT`: loads `input`, fixes it as the command line does
-/// ([`seamlit_io::job::fix_asset`]: the same steps, so the same bytes), writes `output`;
+/// ([`seamlit_io::job::fix_geometry`], then its measures while it is written: the same
+/// steps, so the same bytes), writes `output`;
 /// returns the JSON of the job's report ([`seamlit_io::job::Fixed::json`]: `options`,
 /// `as_loaded`, `fixed`, `changes`, `skin_seams_matched`, `motion`, `morph_seams`) with
 /// `input`, `output`, `summary` (the lines the command line prints) and `warnings`.
@@ -164,9 +165,12 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
     let job = settings.job();
     let run = || -> PyResult<serde_json::Value> {
         let mut asset = load(&input, &load_options)?;
-        let fixed =
-            fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let saved = seamlit_io::save(&asset, &output, &save).map_err(error)?;
+        let unmeasured = fix_geometry(&mut asset, &job)
+            .map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let (fixed, saved) = unmeasured
+            .measure_beside(&asset, |asset| seamlit_io::save(asset, &output, &save).map_err(error));
+        let fixed = fixed.map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let saved = saved?;
         let warnings = asset.warnings.iter().chain(&saved.warnings);
         Ok(fixed.file_json(&input.display().to_string(), &output, warnings))
     };
@@ -246,9 +250,14 @@ fn fix_in_memory(
         SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
     let output = Path::new(output);
     let mut asset = seamlit_io::load(Path::new(name), &load_options).map_err(error)?;
-    let fixed = fix_asset(&mut asset, job).map_err(|e| error(format!("{name}: {e}")))?;
-    let mut memory = seamlit_io::files::Destination::memory();
-    let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
+    let unmeasured = fix_geometry(&mut asset, job).map_err(|e| error(format!("{name}: {e}")))?;
+    let (fixed, saved) = unmeasured.measure_beside(&asset, |asset| {
+        let mut memory = seamlit_io::files::Destination::memory();
+        let saved = seamlit_io::gltf::save_to(asset, output, &save, &mut memory).map_err(error)?;
+        Ok::<_, PyErr>((saved, memory))
+    });
+    let fixed = fixed.map_err(|e| error(format!("{name}: {e}")))?;
+    let (saved, memory) = saved?;
     let mut files = memory.into_memory();
     if files.len() != 1 {
         return Err(error(format!("{name}: the fixed model needs files beside it")));

@@ -22,7 +22,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::iter::{IntoParallelIterator, ParallelIterator};
-use seamlit_io::job::{FixError, FixJob, SkinSeams, fix_asset};
+use seamlit_io::job::{FixJob, SkinSeams, fix_geometry};
 use seamlit_io::{InvalidAsset, IoError, LoadOptions, SaveOptions};
 use seamlit_mesh::FixOptions;
 
@@ -195,7 +195,8 @@ fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
     }
 }
 
-/// Loads, fixes ([`seamlit_io::job::fix_asset`]) and writes one model; returns its summary:
+/// Loads, fixes ([`seamlit_io::job::fix_geometry`]) and writes one model while it is measured
+/// ([`seamlit_io::job::Unmeasured::measure_beside`]); returns its summary:
 /// what was written, then what the fix changed. Its warnings go to `warnings` as they arise
 /// (the caller prints them before the summary or the error).
 fn fix_file(
@@ -210,13 +211,22 @@ fn fix_file(
     }
     let mut asset = seamlit_io::load(input, load).bad_input()?;
     warnings.extend(asset.warnings.iter().map(ToString::to_string));
-    let fixed = fix_asset(&mut asset, job).map_err(|e| match e {
-        FixError::Geometry(_) => Failure::input(format!("{}: {e}", input.display())),
-        FixError::Report(_) => Failure::processing(format!("{}: {e}", input.display())),
-    })?;
+    let unmeasured = fix_geometry(&mut asset, job)
+        .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     crate::output::prepare_folder_of(output)?;
-    let saved = seamlit_io::save(&asset, output, save).map_err(classify_save)?;
-    warnings.extend(saved.warnings.iter().map(ToString::to_string));
+    let (fixed, saved) = unmeasured.measure_beside(&asset, |asset| {
+        seamlit_io::save(asset, output, save).map_err(classify_save)
+    });
+    // A failed measure is a bug (`FixError::Report`); the model was fixed and may be written.
+    let fixed = fixed.map_err(|e| {
+        let written = if saved.is_ok() {
+            format!(" ({} was written)", output.display())
+        } else {
+            String::new()
+        };
+        Failure::processing(format!("{}: {e}{written}", input.display()))
+    })?;
+    warnings.extend(saved?.warnings.iter().map(ToString::to_string));
     Ok(fixed.summary(output))
 }
 
