@@ -81,6 +81,50 @@ impl std::fmt::Debug for MemoryFiles {
     }
 }
 
+/// Files from this size up are read in parts, one per thread of rayon's pool (each part at
+/// least this size): from the page cache, a read is the kernel copying into fresh pages, and
+/// two threads did the 1M teapot's 17 MB in 5.7 ms where one took 9.3.
+#[cfg(unix)]
+const PART: usize = 4 << 20;
+
+/// [`std::fs::read`], in parts on rayon's threads for a large file (unix). A file that
+/// changes length while it is read is read again whole, as `std::fs::read` reads it.
+fn read_file(path: &Path) -> io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        let file = std::fs::File::open(path)?;
+        if let Ok(length) = usize::try_from(file.metadata()?.len()) {
+            let parts = (length / PART).min(rayon::current_num_threads());
+            if parts >= 2
+                && let Ok(bytes) = read_in_parts(&file, length, parts)
+            {
+                return Ok(bytes);
+            }
+        }
+    }
+    std::fs::read(path)
+}
+
+/// The first `length` bytes of `file`, read in `parts` parts of (nearly) equal length on
+/// rayon's threads; an error where the file does not end there.
+#[cfg(unix)]
+fn read_in_parts(file: &std::fs::File, length: usize, parts: usize) -> io::Result<Vec<u8>> {
+    use std::os::unix::fs::FileExt;
+
+    use rayon::prelude::*;
+
+    let mut bytes = vec![0; length];
+    let part = length.div_ceil(parts);
+    bytes
+        .par_chunks_mut(part)
+        .enumerate()
+        .try_for_each(|(i, chunk)| file.read_exact_at(chunk, (i * part) as u64))?;
+    match file.read_at(&mut [0], length as u64)? {
+        0 => Ok(bytes),
+        _ => Err(io::Error::other("the file grew while it was read")),
+    }
+}
+
 fn not_found(path: &Path) -> io::Error {
     io::Error::new(
         io::ErrorKind::NotFound,
@@ -97,7 +141,7 @@ impl Files {
     /// set.
     pub fn read(&self, path: &Path) -> io::Result<Vec<u8>> {
         match self {
-            Self::Disk => std::fs::read(path),
+            Self::Disk => read_file(path),
             Self::Memory(files) => {
                 files.get(path).map(|b| b.to_vec()).ok_or_else(|| not_found(path))
             }
@@ -195,8 +239,38 @@ pub fn normalize(path: &Path) -> PathBuf {
 
 #[cfg(test)]
 mod tests {
-    use super::{Files, MemoryFiles, NotInside, normalize};
+    #[cfg(unix)]
+    use super::read_in_parts;
+    use super::{Files, MemoryFiles, NotInside, PART, normalize};
     use std::path::{Path, PathBuf};
+
+    /// A large file is read in parts on several threads, each at its own offset: the bytes
+    /// are the file's, for files of two and three parts whose length is no multiple of them;
+    /// a file longer than said is refused (and read whole by `Files::read`).
+    #[test]
+    #[cfg(unix)]
+    fn a_large_file_read_in_parts_is_its_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        for (length, parts) in [(2 * PART + 12_345, 2), (3 * PART + 7, 3), (PART + 1, 5)] {
+            let mut state = 0x9e37_79b9_u32;
+            let bytes: Vec<u8> = (0..length)
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 17;
+                    state ^= state << 5;
+                    state.to_le_bytes()[0]
+                })
+                .collect();
+            let path = dir.path().join(format!("{length}.bin"));
+            std::fs::write(&path, &bytes).unwrap();
+            let file = std::fs::File::open(&path).unwrap();
+            let read = pool.install(|| read_in_parts(&file, length, parts)).unwrap();
+            assert!(read == bytes, "{length} bytes read in {parts} parts differ");
+            assert!(pool.install(|| read_in_parts(&file, length - 1, parts)).is_err());
+            assert!(pool.install(|| Files::Disk.read(&path)).unwrap() == bytes);
+        }
+    }
 
     fn set() -> Files {
         Files::Memory(MemoryFiles::new([
