@@ -7,9 +7,10 @@
 //! objects share (once, before the fix: split copies are appended, so the input vertices keep
 //! their indices), the seams in motion before, the fix in place, the skin influences matched
 //! at the copies, the seam report and the seams in motion after. [`fix_geometry`] stops
-//! before those measures, which only read the fixed model: [`Unmeasured::measure_beside`]
-//! takes them while a save writes it (the command line and the Python package do; the save,
-//! mostly one thread's work, was a tenth of the 1M teapot's fix). [`Fixed`] holds what each
+//! before those measures, which only read the fixed model: [`Unmeasured::measure_with`]
+//! takes them while a save that streams writes it (the command line and the Python
+//! package's `fix_file` do; the save, mostly one thread's work, was a tenth of the 1M
+//! teapot's fix). [`Fixed`] holds what each
 //! step found; [`Fixed::summary`] is the text `seamlit fix` prints for a file and
 //! [`Fixed::json`] the document the Python package and the page report. [`Inspection`] is
 //! `seamlit inspect`: the seam report as loaded and after each mode.
@@ -283,15 +284,23 @@ impl Unmeasured {
         })
     }
 
-    /// [`Self::measure`] beside `write(asset)` (a save: both only read the fixed model), on
-    /// rayon's threads: a writer is mostly one thread's work, and the measures take the
-    /// others. Returns both results; where the measures fail, `write` has run all the same.
-    pub fn measure_beside<T: Send>(
+    /// [`Self::measure`] and `write(asset)` (a save: both only read the fixed model), each
+    /// run whatever the other returns: beside each other on rayon's threads where `beside`
+    /// (for a save that streams, [`crate::save_streams`]: a writer is mostly one thread's
+    /// work, and the measures take the others), else one after the other (a save that builds
+    /// its output in memory would add that memory to the measures').
+    pub fn measure_with<T: Send>(
         self,
         asset: &Asset,
+        beside: bool,
         write: impl FnOnce(&Asset) -> T + Send,
     ) -> (Result<Fixed, FixError>, T) {
-        rayon::join(|| self.measure(asset), || write(asset))
+        if beside {
+            rayon::join(|| self.measure(asset), || write(asset))
+        } else {
+            let fixed = self.measure(asset);
+            (fixed, write(asset))
+        }
     }
 }
 

@@ -211,18 +211,21 @@ fn a_pool_of_one_does_its_work_on_its_own_thread() {
 #[test]
 fn a_model_measured_while_it_is_written_is_reported_and_written_as_one_after_the_other() {
     // The command line and the Python package measure a fixed model while they save it
-    // (`Unmeasured::measure_beside`): the same report as `fix_asset`'s, and the writer sees
+    // (`Unmeasured::measure_with`): the same report as `fix_asset`'s, and the writer sees
     // the fixed model. With the report as loaded and without; a character in motion, a
     // skinned and animated GLB, a model with a normal map.
     let dir = tempfile::tempdir().unwrap();
     let character = dir.path().join("character.gltf");
     seamlit_testkit::character::write(&character);
-    for (path, report_as_loaded) in [
+    let cases = [
         (character, false),
         (model("fox/Fox.glb"), true),
         (model("NormalTangentTest.glb"), false),
         (model("NormalTangentTest.glb"), true),
-    ] {
+    ];
+    for ((path, report_as_loaded), together) in
+        cases.into_iter().flat_map(|c| [(c.clone(), true), (c, false)])
+    {
         let job = FixJob { report_as_loaded, ..FixJob::DEFAULT };
         let loaded = seamlit_io::load(&path, &LoadOptions::FIX).unwrap();
         let mut whole = loaded.clone();
@@ -230,9 +233,9 @@ fn a_model_measured_while_it_is_written_is_reported_and_written_as_one_after_the
         let mut beside = loaded;
         let unmeasured = fix_geometry(&mut beside, &job).unwrap();
         let (fixed, written) =
-            unmeasured.measure_beside(&beside, |asset| in_memory(asset, "out.glb"));
+            unmeasured.measure_with(&beside, together, |asset| in_memory(asset, "out.glb"));
         let fixed = fixed.unwrap();
-        assert_eq!(fixed.json(), expected.json(), "{}", path.display());
+        assert_eq!(fixed.json(), expected.json(), "{} (beside: {together})", path.display());
         assert_eq!(fixed.summary(Path::new("out.glb")), expected.summary(Path::new("out.glb")));
         assert!(
             written == in_memory(&whole, "out.glb"),
@@ -240,4 +243,19 @@ fn a_model_measured_while_it_is_written_is_reported_and_written_as_one_after_the
             path.display()
         );
     }
+}
+
+#[test]
+fn only_the_gltf_writers_stream_what_they_save() {
+    // A save that builds its output in memory is not run beside the measures: the two
+    // memories would add up (the 1M teapot's `.usdc` peaked 9 MiB higher).
+    let plain = SaveOptions::default();
+    for name in ["a.glb", "a.GLTF", "avatar.vrm"] {
+        assert!(seamlit_io::save_streams(Path::new(name), &plain), "{name}");
+    }
+    for name in ["a.obj", "a.usda", "a.usdc", "a.usdz", "a.fbx", "a"] {
+        assert!(!seamlit_io::save_streams(Path::new(name), &plain), "{name}");
+    }
+    let kept = SaveOptions { keep_compression: true, ..SaveOptions::default() };
+    assert!(!seamlit_io::save_streams(Path::new("a.glb"), &kept), "meshopt views re-encoded");
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
 use seamlit_io::SaveOptions;
-use seamlit_io::job::{Fixed, fix_geometry};
+use seamlit_io::job::{Fixed, fix_asset};
 use sha2::{Digest, Sha256};
 
 use crate::digests::{Digests, Stamp, hex, sha256};
@@ -119,12 +119,9 @@ pub(crate) fn fix_file_row(
         } else {
             Some(file_sha256(&input).map_err(|e| error(format!("{}: {e}", input.display())))?)
         };
-        let unmeasured = fix_geometry(&mut asset, &job)
-            .map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let (fixed, written) =
-            unmeasured.measure_beside(&asset, |asset| glb_in_memory(asset, &output, &save, &input));
-        let fixed = fixed.map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let (bytes, saved) = written?;
+        let fixed =
+            fix_asset(&mut asset, &job).map_err(|e| error(format!("{}: {e}", input.display())))?;
+        let (bytes, saved) = glb_in_memory(&asset, &output, &save, &input)?;
         seamlit_io::files::write(&output, &bytes).map_err(error)?;
         let output_sha256 = (!deferred).then(|| sha256(&bytes));
         let row = Row::of(&fixed, asset.warnings.iter().chain(&saved), input_sha256, output_sha256);

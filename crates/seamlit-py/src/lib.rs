@@ -30,7 +30,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
 use seamlit_io::files::{Files, MemoryFiles};
-use seamlit_io::job::{FixJob, Fixed, SkinSeams, fix_geometry};
+use seamlit_io::job::{FixJob, Fixed, SkinSeams, fix_asset, fix_geometry};
 use seamlit_io::{Asset, LoadOptions, SaveOptions};
 use seamlit_mesh::{FixOptions, Model, Object, ReportOptions, WeldTolerance};
 
@@ -167,8 +167,10 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         let mut asset = load(&input, &load_options)?;
         let unmeasured = fix_geometry(&mut asset, &job)
             .map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let (fixed, saved) = unmeasured
-            .measure_beside(&asset, |asset| seamlit_io::save(asset, &output, &save).map_err(error));
+        let beside = seamlit_io::save_streams(&output, &save);
+        let (fixed, saved) = unmeasured.measure_with(&asset, beside, |asset| {
+            seamlit_io::save(asset, &output, &save).map_err(error)
+        });
         let fixed = fixed.map_err(|e| error(format!("{}: {e}", input.display())))?;
         let saved = saved?;
         let warnings = asset.warnings.iter().chain(&saved.warnings);
@@ -250,14 +252,9 @@ fn fix_in_memory(
         SaveOptions { keep_compression: settings.keep_compression, ..SaveOptions::default() };
     let output = Path::new(output);
     let mut asset = seamlit_io::load(Path::new(name), &load_options).map_err(error)?;
-    let unmeasured = fix_geometry(&mut asset, job).map_err(|e| error(format!("{name}: {e}")))?;
-    let (fixed, saved) = unmeasured.measure_beside(&asset, |asset| {
-        let mut memory = seamlit_io::files::Destination::memory();
-        let saved = seamlit_io::gltf::save_to(asset, output, &save, &mut memory).map_err(error)?;
-        Ok::<_, PyErr>((saved, memory))
-    });
-    let fixed = fixed.map_err(|e| error(format!("{name}: {e}")))?;
-    let (saved, memory) = saved?;
+    let fixed = fix_asset(&mut asset, job).map_err(|e| error(format!("{name}: {e}")))?;
+    let mut memory = seamlit_io::files::Destination::memory();
+    let saved = seamlit_io::gltf::save_to(&asset, output, &save, &mut memory).map_err(error)?;
     let mut files = memory.into_memory();
     if files.len() != 1 {
         return Err(error(format!("{name}: the fixed model needs files beside it")));
