@@ -239,9 +239,9 @@ pub fn normalize(path: &Path) -> PathBuf {
 
 #[cfg(test)]
 mod tests {
+    use super::{Files, MemoryFiles, NotInside, normalize};
     #[cfg(unix)]
-    use super::read_in_parts;
-    use super::{Files, MemoryFiles, NotInside, PART, normalize};
+    use super::{PART, read_in_parts};
     use std::path::{Path, PathBuf};
 
     /// A large file is read in parts on several threads, each at its own offset: the bytes

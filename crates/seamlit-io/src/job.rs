@@ -41,6 +41,9 @@ mod summary;
 use std::path::Path;
 
 use seamlit_asset::Asset;
+use seamlit_asset::error::IoError;
+
+use crate::{SaveOptions, SaveReport};
 use seamlit_asset::motion::{Copies, SeamMotion, morph_seams};
 use seamlit_mesh::{
     AsLoaded, Changes, FixOptions, MeshError, ReportOptions, SeamReport, SkinMatch, Welded,
@@ -301,6 +304,19 @@ impl Unmeasured {
             let fixed = self.measure(asset);
             (fixed, write(asset))
         }
+    }
+
+    /// [`Self::measure_with`] [`crate::save`] of the fixed model to `path`, beside the
+    /// measures where the save streams ([`crate::save_streams`]): what the command line and
+    /// the Python package's `fix_file` do after the fix.
+    pub fn measure_and_save(
+        self,
+        asset: &Asset,
+        path: &Path,
+        options: &SaveOptions,
+    ) -> (Result<Fixed, FixError>, Result<SaveReport, IoError>) {
+        let beside = crate::save_streams(path, options);
+        self.measure_with(asset, beside, |asset| crate::save(asset, path, options))
     }
 }
 

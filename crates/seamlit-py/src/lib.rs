@@ -167,12 +167,9 @@ fn fix_file(py: Python<'_>, input: PathBuf, output: PathBuf, settings: &str) -> 
         let mut asset = load(&input, &load_options)?;
         let unmeasured = fix_geometry(&mut asset, &job)
             .map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let beside = seamlit_io::save_streams(&output, &save);
-        let (fixed, saved) = unmeasured.measure_with(&asset, beside, |asset| {
-            seamlit_io::save(asset, &output, &save).map_err(error)
-        });
+        let (fixed, saved) = unmeasured.measure_and_save(&asset, &output, &save);
         let fixed = fixed.map_err(|e| error(format!("{}: {e}", input.display())))?;
-        let saved = saved?;
+        let saved = saved.map_err(error)?;
         let warnings = asset.warnings.iter().chain(&saved.warnings);
         Ok(fixed.file_json(&input.display().to_string(), &output, warnings))
     };

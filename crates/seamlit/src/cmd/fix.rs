@@ -196,7 +196,7 @@ fn job(args: &FixArgs, options: &FixOptions) -> FixJob {
 }
 
 /// Loads, fixes ([`seamlit_io::job::fix_geometry`]) and writes one model, while it is measured
-/// where the save streams ([`seamlit_io::job::Unmeasured::measure_with`]); returns its summary:
+/// where the save streams ([`seamlit_io::job::Unmeasured::measure_and_save`]); returns its summary:
 /// what was written, then what the fix changed. Its warnings go to `warnings` as they arise
 /// (the caller prints them before the summary or the error).
 fn fix_file(
@@ -214,10 +214,8 @@ fn fix_file(
     let unmeasured = fix_geometry(&mut asset, job)
         .map_err(|e| Failure::input(format!("{}: {e}", input.display())))?;
     crate::output::prepare_folder_of(output)?;
-    let beside = seamlit_io::save_streams(output, save);
-    let (fixed, saved) = unmeasured.measure_with(&asset, beside, |asset| {
-        seamlit_io::save(asset, output, save).map_err(classify_save)
-    });
+    let (fixed, saved) = unmeasured.measure_and_save(&asset, output, save);
+    let saved = saved.map_err(classify_save);
     // A failed measure is a bug (`FixError::Report`); the model was fixed and may be written.
     let fixed = fixed.map_err(|e| {
         let written = if saved.is_ok() {
