@@ -155,20 +155,38 @@ impl<'m> Attributes<'m> {
         }
     }
 
-    /// What makes corner `c` a vertex of its own, besides its position: its attributes'
-    /// value indices.
-    fn key(&self, c: usize) -> [u32; 6] {
-        fn at(indices: Option<&ufbx::List<u32>>, c: usize) -> u32 {
-            indices.and_then(|i| i.get(c).copied()).unwrap_or(NONE)
+    /// The attributes' per-corner value index lists, as [`Keys`].
+    fn keys(&self) -> Keys<'m> {
+        fn list(indices: Option<&ufbx::List<u32>>) -> &[u32] {
+            indices.map_or(&[], |i| i.as_ref())
         }
-        [
-            at(self.normal.map(|a| &a.indices), c),
-            at(self.uv0.map(|a| &a.indices), c),
-            at(self.uv1.map(|a| &a.indices), c),
-            at(self.color.map(|a| &a.indices), c),
-            at(self.tangent.map(|(t, _)| &t.indices), c),
-            at(self.tangent.map(|(_, b)| &b.indices), c),
-        ]
+        Keys([
+            list(self.normal.map(|a| &a.indices)),
+            list(self.uv0.map(|a| &a.indices)),
+            list(self.uv1.map(|a| &a.indices)),
+            list(self.color.map(|a| &a.indices)),
+            list(self.tangent.map(|(t, _)| &t.indices)),
+            list(self.tangent.map(|(_, b)| &b.indices)),
+        ])
+    }
+}
+
+/// The attributes' per-corner value index lists (normal, UV sets 0 and 1, colour, tangent,
+/// bitangent), each empty where the attribute is absent.
+struct Keys<'m>([&'m [u32]; 6]);
+
+impl Keys<'_> {
+    /// What makes corner `c` a vertex of its own, besides its position: its attributes'
+    /// value indices ([`NONE`] where absent), two to a word (compared in registers).
+    fn of(&self, c: usize) -> [u64; 3] {
+        let at = |k: usize| u64::from(self.0[k].get(c).copied().unwrap_or(NONE));
+        [at(0) | at(1) << 32, at(2) | at(3) << 32, at(4) | at(5) << 32]
+    }
+
+    /// Whether two keys are equal, word by word (`==` on the arrays compares them as one
+    /// 16-byte load of the key just built, which waits for its two stores).
+    fn same(a: &[u64; 3], b: &[u64; 3]) -> bool {
+        (a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]) == 0
     }
 }
 
@@ -190,55 +208,93 @@ fn part_object(
     if part.num_triangles > options.max_elements {
         return Err(too_many("the triangles", part.num_triangles));
     }
-    // The vertices so far: each's first corner and key, chained per position.
-    let mut head = vec![NONE; mesh.num_vertices];
-    let mut next: Vec<u32> = Vec::new();
-    let mut keys: Vec<[u32; 6]> = Vec::new();
-    let mut corners: Vec<u32> = Vec::new();
+    let limit = options.max_elements.min(u32::MAX as usize - 1);
+    let mut vertices = Vertices::new(mesh, attributes.keys(), limit);
+    let mut vertex_of = |c| vertices.of(c).map_err(|count| too_many("the vertices", count));
     let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(part.num_triangles);
     let mut scratch = vec![0u32; mesh.max_face_triangles * 3];
-    let mut vertex_of = |c: u32| -> Result<u32, IoError> {
-        let c = c as usize;
-        let position = mesh.vertex_indices.get(c).copied().unwrap_or(0) as usize;
-        let key = attributes.key(c);
-        let Some(slot) = head.get_mut(position) else { return Ok(NONE) };
-        let mut v = *slot;
-        while v != NONE {
-            if keys[v as usize] == key {
-                return Ok(v);
-            }
-            v = next[v as usize];
-        }
-        let new = corners.len();
-        if new >= options.max_elements.min(u32::MAX as usize - 1) {
-            return Err(too_many("the vertices", new + 1));
-        }
-        #[expect(clippy::cast_possible_truncation, reason = "below u32::MAX, checked above")]
-        let new = new as u32;
-        next.push(*slot);
-        *slot = new;
-        keys.push(key);
-        #[expect(clippy::cast_possible_truncation, reason = "ufbx's corner indices are u32")]
-        corners.push(c as u32);
-        Ok(new)
-    };
     for &face in part.face_indices.iter() {
         let Some(&face) = mesh.faces.get(face as usize) else { continue };
         if face.num_indices < 3 {
             continue;
         }
         let n = ufbx::triangulate_face(&mut scratch, mesh, face) as usize;
+        // The vertices of the face's first four corners, each found once (a quad's two
+        // triangles name its four corners six times); found in the triangles' order, so
+        // numbered as they would be without.
+        let mut found = [NONE; 4];
+        let mut vertex_at = |c: u32| -> Result<u32, IoError> {
+            match found.get_mut(c.wrapping_sub(face.index_begin) as usize) {
+                Some(v) if *v != NONE => Ok(*v),
+                Some(v) => {
+                    *v = vertex_of(c)?;
+                    Ok(*v)
+                }
+                None => vertex_of(c),
+            }
+        };
         for t in scratch[..3 * n].as_chunks::<3>().0 {
-            let triangle = [vertex_of(t[0])?, vertex_of(t[1])?, vertex_of(t[2])?];
+            let triangle = [vertex_at(t[0])?, vertex_at(t[1])?, vertex_at(t[2])?];
             if triangle.contains(&NONE) {
                 continue;
             }
             triangles.push(triangle);
         }
     }
+    let corners = vertices.corners;
     let object = build(mesh, &attributes, &corners, triangles, name);
     check_finite(&object, path)?;
     Ok((object, corners))
+}
+
+/// A part's vertices so far: each one's first corner and key, chained per position.
+struct Vertices<'m> {
+    mesh: &'m ufbx::Mesh,
+    keys_of: Keys<'m>,
+    /// Per position, its last vertex; per vertex, the one before it at its position.
+    head: Vec<u32>,
+    next: Vec<u32>,
+    keys: Vec<[u64; 3]>,
+    corners: Vec<u32>,
+    /// The most vertices a part may have.
+    limit: usize,
+}
+
+impl<'m> Vertices<'m> {
+    fn new(mesh: &'m ufbx::Mesh, keys_of: Keys<'m>, limit: usize) -> Self {
+        let head = vec![NONE; mesh.num_vertices];
+        Self { mesh, keys_of, head, next: Vec::new(), keys: Vec::new(), corners: Vec::new(), limit }
+    }
+
+    /// The vertex of corner `c`: an earlier corner's with its position and key, else a new
+    /// one; [`NONE`] for a corner whose position is out of range.
+    ///
+    /// # Errors
+    ///
+    /// The count of vertices there would be, past the limit.
+    fn of(&mut self, c: u32) -> Result<u32, usize> {
+        let position = self.mesh.vertex_indices.get(c as usize).copied().unwrap_or(0) as usize;
+        let key = self.keys_of.of(c as usize);
+        let Some(slot) = self.head.get_mut(position) else { return Ok(NONE) };
+        let mut v = *slot;
+        while v != NONE {
+            if Keys::same(&self.keys[v as usize], &key) {
+                return Ok(v);
+            }
+            v = self.next[v as usize];
+        }
+        let new = self.corners.len();
+        if new >= self.limit {
+            return Err(new + 1);
+        }
+        #[expect(clippy::cast_possible_truncation, reason = "below u32::MAX, checked above")]
+        let new = new as u32;
+        self.next.push(*slot);
+        *slot = new;
+        self.keys.push(key);
+        self.corners.push(c);
+        Ok(new)
+    }
 }
 
 /// The blend shapes of a mesh as morph targets, one per blend channel with a target shape
@@ -341,5 +397,120 @@ fn build(
         colors,
         tangents,
         ..Object::new(name, positions, triangles)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+    use std::path::Path;
+
+    use super::*;
+
+    /// A part's triangles and each vertex's corner as the module's doc states them, written
+    /// plainly: every corner of every triangle in turn, a new vertex at the first corner of
+    /// each distinct position and set of attribute indices.
+    fn plainly(mesh: &ufbx::Mesh, part: &ufbx::MeshPart) -> (Vec<[u32; 3]>, Vec<u32>) {
+        let index = |list: &ufbx::List<u32>, c: usize| list.get(c).copied();
+        let tangents = mesh.uv_sets.first().filter(|s| {
+            mesh.vertex_normal.exists && s.vertex_tangent.exists && s.vertex_bitangent.exists
+        });
+        let key = |c: usize| {
+            let uv = |k: usize| {
+                mesh.uv_sets
+                    .get(k)
+                    .filter(|s| s.vertex_uv.exists)
+                    .and_then(|s| index(&s.vertex_uv.indices, c))
+            };
+            let color = Some(&mesh.vertex_color).filter(|a| a.exists);
+            (
+                mesh.vertex_indices[c],
+                Some(&mesh.vertex_normal).filter(|a| a.exists).and_then(|a| index(&a.indices, c)),
+                (uv(0), uv(1), color.and_then(|a| index(&a.indices, c))),
+                tangents.map(|s| {
+                    (index(&s.vertex_tangent.indices, c), index(&s.vertex_bitangent.indices, c))
+                }),
+            )
+        };
+        let mut vertex = HashMap::new();
+        let (mut triangles, mut corners) = (Vec::new(), Vec::new());
+        let mut scratch = vec![0u32; mesh.max_face_triangles * 3];
+        for &face in part.face_indices.iter() {
+            let face = mesh.faces[face as usize];
+            let n = ufbx::triangulate_face(&mut scratch, mesh, face) as usize;
+            for t in scratch[..3 * n].as_chunks::<3>().0 {
+                triangles.push(t.map(|c| {
+                    *vertex.entry(key(c as usize)).or_insert_with(|| {
+                        corners.push(c);
+                        u32::try_from(corners.len() - 1).unwrap()
+                    })
+                }));
+            }
+        }
+        (triangles, corners)
+    }
+
+    #[test]
+    fn corners_differing_in_any_one_attribute_have_different_keys() {
+        // Corner 0 has index 0 in every list; corner k + 1 has 1 in list k alone.
+        let lists: Vec<Vec<u32>> =
+            (0..6).map(|k| (0..7).map(|c| u32::from(c == k + 1)).collect()).collect();
+        let keys = Keys(std::array::from_fn(|k| lists[k].as_slice()));
+        for a in 0..7 {
+            for b in 0..7 {
+                assert_eq!(Keys::same(&keys.of(a), &keys.of(b)), a == b, "corners {a} and {b}");
+            }
+        }
+        // An absent attribute (an empty list) is the same at every corner.
+        let absent = Keys([&[0, 1], &[], &[], &[], &[], &[]]);
+        assert!(Keys::same(&absent.of(1), &Keys([&[1], &[], &[], &[], &[], &[]]).of(0)));
+    }
+
+    #[test]
+    fn parts_have_a_vertex_per_distinct_corner_numbered_as_first_met() {
+        let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models");
+        let mut faces_over_three = 0;
+        for file in [
+            "lowpoly/kenney-castle-towerBase.fbx",
+            "lowpoly/quaternius-ambulance.fbx",
+            "ufbx/blender_279_uv_set_tangents_7400_binary.fbx",
+            "ufbx/maya_blend_shape_cube_6100_ascii.fbx",
+        ] {
+            let path = models.join(file);
+            let bytes = std::fs::read(&path).unwrap();
+            let scene = super::super::scene::open(super::super::scene::Input::Bytes(&bytes), &path)
+                .unwrap();
+            for mesh in &scene.meshes {
+                faces_over_three += mesh.faces.iter().filter(|f| f.num_indices > 3).count();
+                for part in mesh.material_parts.iter().filter(|p| p.num_triangles > 0) {
+                    let (object, corners) =
+                        part_object(mesh, part, "part".into(), &path, &LoadOptions::default())
+                            .unwrap();
+                    let (triangles, want) = plainly(mesh, part);
+                    assert_eq!(object.triangles, triangles, "{file}");
+                    assert_eq!(corners, want, "{file}");
+                }
+            }
+        }
+        assert!(faces_over_three > 100, "quads and polygons among the faces: {faces_over_three}");
+    }
+
+    #[test]
+    fn a_part_past_the_vertex_limit_is_refused_with_its_count() {
+        // A cube: 12 triangles, 24 vertices (each corner's normal is its face's).
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/models/ufbx/maya_cube_6100_ascii.fbx");
+        let bytes = std::fs::read(&path).unwrap();
+        let scene =
+            super::super::scene::open(super::super::scene::Input::Bytes(&bytes), &path).unwrap();
+        let mesh = &scene.meshes[0];
+        let part = &mesh.material_parts[0];
+        assert_eq!(part.num_triangles, 12);
+        let options = |max_elements| LoadOptions { max_elements, ..LoadOptions::default() };
+        let (object, _) = part_object(mesh, part, "cube".into(), &path, &options(24)).unwrap();
+        assert_eq!(object.positions.len(), 24);
+        let err = part_object(mesh, part, "cube".into(), &path, &options(12)).unwrap_err();
+        let IoError::TooManyElements { what, limit, actual, .. } = err else { panic!("{err}") };
+        assert_eq!((what.as_str(), limit, actual), ("the vertices of mesh \"cube\"", 12, 13));
     }
 }
