@@ -52,26 +52,22 @@ impl BinPart<'_> {
     /// Writes the piece, little-endian, [`CHUNK`] elements at a time.
     pub(super) fn write(&self, out: &mut dyn Write) -> io::Result<()> {
         match self {
-            Self::Positions(v) => chunked(out, v, 12, |c, p| floats(c, p.to_array())),
-            Self::Normals(v) => chunked(out, v, 12, |c, &n| floats(c, unit_normal(n).to_array())),
-            Self::Tangents(v) => chunked(out, v, 16, |c, &t| floats(c, unit_tangent(t).to_array())),
-            Self::Colors(v) => chunked(out, v, 16, |c, x| floats(c, x.to_array())),
-            Self::Uvs { uvs, flip } => chunked(out, uvs, 8, |c, t| {
-                floats(c, [t.x, if *flip { 1.0 - t.y } else { t.y }]);
-            }),
-            Self::Joints(joints) => chunked(out, joints, 8, |c, j| {
-                c.extend_from_slice(j.map(u16::to_le_bytes).as_flattened());
-            }),
-            Self::Weights(weights) => chunked(out, weights, 16, |c, w| floats(c, *w)),
-            Self::Floats(values) => chunked(out, values, 4, |c, x| floats(c, [*x])),
-            Self::Indices16(triangles) => chunked(out, triangles, 6, |c, t| {
-                // Every index is below 65535, checked by the caller.
-                #[expect(clippy::cast_possible_truncation, reason = "below 65535, checked")]
-                c.extend_from_slice(t.map(|i| (i as u16).to_le_bytes()).as_flattened());
-            }),
-            Self::Indices32(triangles) => chunked(out, triangles, 12, |c, t| {
-                c.extend_from_slice(t.map(u32::to_le_bytes).as_flattened());
-            }),
+            Self::Positions(v) => chunked(out, v, |p| le(p.to_array())),
+            Self::Normals(v) => chunked(out, v, |&n| le(unit_normal(n).to_array())),
+            Self::Tangents(v) => chunked(out, v, |&t| le(unit_tangent(t).to_array())),
+            Self::Colors(v) => chunked(out, v, |x| le(x.to_array())),
+            Self::Uvs { uvs, flip } => {
+                chunked(out, uvs, |t| le([t.x, if *flip { 1.0 - t.y } else { t.y }]))
+            }
+            Self::Joints(joints) => chunked(out, joints, |j| j.map(u16::to_le)),
+            Self::Weights(weights) => chunked(out, weights, |&w| le(w)),
+            Self::Floats(values) => chunked(out, values, |&x| le([x])),
+            // Every index is below 65535, checked by the caller.
+            #[expect(clippy::cast_possible_truncation, reason = "below 65535, checked")]
+            Self::Indices16(triangles) => {
+                chunked(out, triangles, |t| t.map(|i| (i as u16).to_le()))
+            }
+            Self::Indices32(triangles) => chunked(out, triangles, |t| t.map(u32::to_le)),
             Self::Bytes(bytes) => out.write_all(bytes),
         }
     }
@@ -82,29 +78,25 @@ impl BinPart<'_> {
 /// time.
 const CHUNK: usize = 4096;
 
-/// Writes `items`, each `size` bytes as `push` appends them to a chunk, [`CHUNK`] at a time.
-fn chunked<T>(
+/// Writes `items`, each as `encode` gives its little-endian words, [`CHUNK`] at a time (the
+/// words are the file's bytes in memory: a chunk is written as it lies).
+fn chunked<T, E: bytemuck::Pod>(
     out: &mut dyn Write,
     items: &[T],
-    size: usize,
-    push: impl Fn(&mut Vec<u8>, &T),
+    encode: impl Fn(&T) -> E,
 ) -> io::Result<()> {
-    let mut chunk = Vec::with_capacity(items.len().min(CHUNK) * size);
+    let mut chunk: Vec<E> = Vec::with_capacity(items.len().min(CHUNK));
     for part in items.chunks(CHUNK) {
         chunk.clear();
-        for item in part {
-            push(&mut chunk, item);
-        }
-        out.write_all(&chunk)?;
+        chunk.extend(part.iter().map(&encode));
+        out.write_all(bytemuck::cast_slice(&chunk))?;
     }
     Ok(())
 }
 
-/// Appends `values`, little-endian.
-fn floats<const N: usize>(chunk: &mut Vec<u8>, values: [f32; N]) {
-    for x in values {
-        chunk.extend_from_slice(&x.to_le_bytes());
-    }
+/// `values` as little-endian words: on a little-endian machine, their bits as they are.
+fn le<const N: usize>(values: [f32; N]) -> [u32; N] {
+    values.map(|x| x.to_bits().to_le())
 }
 
 #[cfg(test)]
