@@ -12,6 +12,7 @@
 //! buffer views (`references.rs`), and the glTF error kinds ([`seamlit_asset::GltfKind`]).
 #![deny(missing_docs)]
 
+mod chunks;
 pub(crate) mod decode;
 pub(crate) mod glb;
 pub(crate) mod json;

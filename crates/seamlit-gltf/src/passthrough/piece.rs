@@ -6,13 +6,11 @@
 
 use std::borrow::Cow;
 use std::io::{self, Write};
-use std::ops::Range;
 
 use glam::{Vec3, Vec4};
 use seamlit_asset::check::{unit_normal, unit_tangent};
 
-/// Elements encoded at a time while writing: 4,096 tangents are 64 KiB.
-const CHUNK: usize = 4096;
+use crate::chunks::{chunked, le};
 
 /// One piece of appended data.
 pub(super) enum Piece<'a> {
@@ -39,26 +37,27 @@ impl Piece<'_> {
             Self::Bytes(bytes) => Cow::Borrowed(bytes),
             _ => {
                 let mut bytes = Vec::with_capacity(self.len());
-                self.encode(0..self.elements(), &mut bytes);
+                self.write(&mut bytes).expect("writing into memory does not fail");
                 Cow::Owned(bytes)
             }
         }
     }
 
     /// Writes the piece's bytes to `out`, the same bytes as [`Self::bytes`], encoding at
-    /// most [`CHUNK`] elements at a time.
+    /// most [`crate::chunks::CHUNK`] elements at a time.
     pub(super) fn write(&self, out: &mut dyn Write) -> io::Result<()> {
-        if let Self::Bytes(bytes) = self {
-            return out.write_all(bytes);
+        match self {
+            Self::Bytes(bytes) => out.write_all(bytes),
+            Self::Normals(normals) => chunked(out, normals, |&n| le(unit_normal(n).to_array())),
+            Self::Tangents(tangents) => chunked(out, tangents, |&t| le(unit_tangent(t).to_array())),
+            // Every corner fits `size` bytes: the caller's choice.
+            #[expect(clippy::cast_possible_truncation, reason = "each index fits `size`")]
+            Self::Indices { corners, size } => match size {
+                1 => chunked(out, corners, |&i| i as u8),
+                2 => chunked(out, corners, |&i| (i as u16).to_le()),
+                _ => chunked(out, corners, |&i| i.to_le()),
+            },
         }
-        let elements = self.elements();
-        let mut chunk = Vec::with_capacity(CHUNK * self.element_size());
-        for start in (0..elements).step_by(CHUNK) {
-            chunk.clear();
-            self.encode(start..elements.min(start + CHUNK), &mut chunk);
-            out.write_all(&chunk)?;
-        }
-        Ok(())
     }
 
     fn elements(&self) -> usize {
@@ -78,37 +77,12 @@ impl Piece<'_> {
             Self::Indices { size, .. } => *size,
         }
     }
-
-    /// Appends the bytes of elements `range` to `out`.
-    fn encode(&self, range: Range<usize>, out: &mut Vec<u8>) {
-        match self {
-            Self::Bytes(bytes) => out.extend_from_slice(&bytes[range]),
-            Self::Normals(normals) => out.extend(
-                normals[range]
-                    .iter()
-                    .flat_map(|&n| unit_normal(n).to_array())
-                    .flat_map(f32::to_le_bytes),
-            ),
-            Self::Tangents(tangents) => out.extend(
-                tangents[range]
-                    .iter()
-                    .flat_map(|&t| unit_tangent(t).to_array())
-                    .flat_map(f32::to_le_bytes),
-            ),
-            // Every corner fits `size` bytes: the caller's choice.
-            #[expect(clippy::cast_possible_truncation, reason = "each index fits `size`")]
-            Self::Indices { corners, size } => match size {
-                1 => out.extend(corners[range].iter().map(|&i| i as u8)),
-                2 => out.extend(corners[range].iter().flat_map(|&i| (i as u16).to_le_bytes())),
-                _ => out.extend(corners[range].iter().flat_map(|&i| i.to_le_bytes())),
-            },
-        }
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::chunks::CHUNK;
 
     /// Written a chunk at a time or made at once, a piece is the same bytes: what the save
     /// made up front before pieces were written late.

@@ -7,6 +7,8 @@ use glam::{Vec2, Vec3, Vec4};
 
 use seamlit_asset::check::{unit_normal, unit_tangent};
 
+use crate::chunks::{chunked, le};
+
 /// A part of the binary buffer, written from the asset when the file is written.
 pub(super) enum BinPart<'a> {
     /// Vertex positions (and morph targets' deltas), as they are.
@@ -73,35 +75,10 @@ impl BinPart<'_> {
     }
 }
 
-/// Elements encoded at a time before they are written: 4,096 tangents are 64 KiB. Written an
-/// element at a time, the writer's buffer copied a few bytes per call, most of the writer's
-/// time.
-const CHUNK: usize = 4096;
-
-/// Writes `items`, each as `encode` gives its little-endian words, [`CHUNK`] at a time (the
-/// words are the file's bytes in memory: a chunk is written as it lies).
-fn chunked<T, E: bytemuck::Pod>(
-    out: &mut dyn Write,
-    items: &[T],
-    encode: impl Fn(&T) -> E,
-) -> io::Result<()> {
-    let mut chunk: Vec<E> = Vec::with_capacity(items.len().min(CHUNK));
-    for part in items.chunks(CHUNK) {
-        chunk.clear();
-        chunk.extend(part.iter().map(&encode));
-        out.write_all(bytemuck::cast_slice(&chunk))?;
-    }
-    Ok(())
-}
-
-/// `values` as little-endian words: on a little-endian machine, their bits as they are.
-fn le<const N: usize>(values: [f32; N]) -> [u32; N] {
-    values.map(|x| x.to_bits().to_le())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::chunks::CHUNK;
 
     fn written(part: &BinPart<'_>) -> Vec<u8> {
         let mut out = Vec::new();
