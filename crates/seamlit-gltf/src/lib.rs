@@ -16,6 +16,7 @@ mod chunks;
 pub(crate) mod decode;
 pub(crate) mod glb;
 pub(crate) mod json;
+mod loaded;
 mod passthrough;
 mod read;
 pub(crate) mod references;

@@ -32,6 +32,9 @@ mod files;
 mod piece;
 mod prune;
 mod uncompress;
+mod unread;
+
+pub(crate) use unread::kept_ranges;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

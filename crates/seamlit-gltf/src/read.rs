@@ -15,7 +15,10 @@
 //!   buffer views (EXT_meshopt_compression) are decoded at load (`decode/quantized.rs`,
 //!   `decode/meshopt.rs`), and so are Draco-compressed primitives with the `draco` feature
 //!   (`decode/draco.rs`); without it such a primitive is refused, naming it and a command
-//!   that decompresses it.
+//!   that decompresses it;
+//! - once the model is decoded, buffer 0 keeps only the bytes the pass-through writer reads
+//!   again: not those of the normals, tangents and indices it writes from the model
+//!   (`passthrough/unread.rs`, `loaded.rs`).
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene; in a file
 //! without scenes, under the nodes that are no node's child) becomes an object, its
@@ -34,6 +37,8 @@ mod animation;
 mod buffers;
 mod deform;
 mod document;
+#[cfg(test)]
+mod give_back_tests;
 mod lenient;
 mod lights;
 mod material;
@@ -45,6 +50,7 @@ use std::path::Path;
 use bytes::Bytes;
 use seamlit_mesh::VAxis;
 
+use crate::loaded::LoadedBuffers;
 use crate::source::GltfSource;
 #[cfg(feature = "draco")]
 use document::decode_draco;
@@ -67,6 +73,17 @@ use seamlit_asset::error::IoError;
 /// [`IoError::LinkEscapes`] for one whose symbolic links lead out of it;
 /// [`IoError::MissingFile`] for a missing buffer file (or texture, when `options.strict`).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    load_giving_back(path, options, true)
+}
+
+/// [`load`] keeping every byte of its buffers, for tests of what giving back changes.
+#[cfg(test)]
+pub(crate) fn load_whole(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
+    load_giving_back(path, options, false)
+}
+
+/// [`load`], giving back what of buffer 0 the pass-through never reads where `give_back`.
+fn load_giving_back(path: &Path, options: &LoadOptions, give_back: bool) -> Result<Asset, IoError> {
     let mut bytes = seamlit_asset::files::read_bytes(path, options)?;
     let (document, json, bin) = document(&bytes, path)?;
     // The file's bytes become the BIN chunk's buffer, moved to the front in place: a GLB is
@@ -78,7 +95,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
         bytes.shrink_to_fit();
         bytes
     });
-    let mut asset = read(&document, json, blob, path, options)?;
+    let mut asset = read(&document, json, blob, path, options, give_back)?;
     asset.source = Some(path.to_path_buf());
     Ok(asset)
 }
@@ -91,18 +108,20 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
 /// As [`load`].
 pub fn parse(bytes: &[u8], path: &Path, options: &LoadOptions) -> Result<Asset, IoError> {
     let (document, json, bin) = document(bytes, path)?;
-    read(&document, json, bin.map(|range| bytes[range].to_vec()), path, options)
+    read(&document, json, bin.map(|range| bytes[range].to_vec()), path, options, true)
 }
 
 /// Reads the asset of a validated document; `blob` is the GLB's BIN chunk. The buffers and
 /// `json` (the document as written, Draco primitives decoded) end in the asset's
-/// [`GltfSource`], for the pass-through writer.
+/// [`GltfSource`], for the pass-through writer, less what of buffer 0 it never reads where
+/// `give_back` (`passthrough/unread.rs`).
 fn read(
     document: &gltf::Document,
     json: serde_json::Value,
     blob: Option<Vec<u8>>,
     path: &Path,
     options: &LoadOptions,
+    give_back: bool,
 ) -> Result<Asset, IoError> {
     let reader = Reader { path, options, buffer_bytes: 0 };
     let without_data = buffers_without_data(document, &json, blob.is_some());
@@ -116,12 +135,10 @@ fn read(
     let document = decoded.as_ref().unwrap_or(document);
     let reader = Reader { buffer_bytes: buffers.iter().map(|b| b.len() as u64).sum(), ..reader };
     reader.check_views(document, &buffers, &without_data)?;
-    // Shared from here: the embedded images are slices of their buffer, not copies of it.
     let buffers: Vec<Bytes> = buffers.into_iter().map(Bytes::from).collect();
 
     let mut asset = Asset::default();
     let mut warnings = Vec::new();
-    asset.textures = reader.images(document, &buffers)?;
     asset.materials = document.materials().map(|m| material(&m, document)).collect();
     let scene = document.default_scene().or_else(|| document.scenes().next());
     let roots: Vec<gltf::Node<'_>> = match &scene {
@@ -145,6 +162,15 @@ fn read(
         &mut asset,
         &mut warnings,
     )?;
+    // Every accessor is decoded: buffer 0 keeps only what the pass-through writer reads again.
+    let buffers = LoadedBuffers::new(buffers);
+    let kept = give_back.then(|| crate::passthrough::kept_ranges(&json, &instances)).flatten();
+    let buffers = match kept {
+        Some(kept) => buffers.keeping_of_host(kept),
+        None => buffers,
+    };
+    // The embedded images are slices of their buffer, not copies of it.
+    asset.textures = reader.images(document, &buffers)?;
     asset.model.v_axis = VAxis::Down;
     asset.lights = punctual_lights(document, scene.as_ref(), &mut warnings);
     let mut document_nodes = vec![usize::MAX; asset.nodes.len()];

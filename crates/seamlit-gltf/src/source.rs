@@ -6,12 +6,12 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use bytes::Bytes;
 use seamlit_asset::files::Files;
 use seamlit_mesh::Model;
 use serde_json::Value;
 
 use crate::json::usize_member;
+use crate::loaded::LoadedBuffers;
 
 /// The glTF document an [`seamlit_asset::Asset`] was loaded from: the JSON as written, the buffers'
 /// bytes, and for each object of the model the node, mesh and primitive it came from.
@@ -25,8 +25,9 @@ pub struct GltfSource(pub(crate) Arc<Source>);
 pub(crate) struct Source {
     /// The document, as parsed from the file.
     pub(crate) json: Value,
-    /// Each buffer's bytes (at least its `byteLength`).
-    pub(crate) buffers: Vec<Bytes>,
+    /// Each buffer's bytes (at least its `byteLength`), less those of buffer 0 that the
+    /// writer never reads (`passthrough/unread.rs`).
+    pub(crate) buffers: LoadedBuffers,
     /// The file it was read from: relative URIs are resolved against its folder.
     pub(crate) path: PathBuf,
     /// Per object of the loaded model: where it came from.
@@ -53,7 +54,7 @@ impl std::fmt::Debug for GltfSource {
         f.debug_struct("GltfSource")
             .field("path", &self.0.path)
             .field("objects", &self.0.instances.len())
-            .field("buffer_bytes", &self.0.buffers.iter().map(Bytes::len).sum::<usize>())
+            .field("buffers", &self.0.buffers.count())
             .finish_non_exhaustive()
     }
 }
@@ -62,7 +63,7 @@ impl GltfSource {
     /// Keeps a loaded document for the pass-through writer.
     pub(crate) fn new(
         json: Value,
-        buffers: Vec<Bytes>,
+        buffers: LoadedBuffers,
         path: &Path,
         instances: Vec<Instance>,
         nodes: Vec<usize>,
@@ -148,7 +149,7 @@ mod tests {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models/NormalTangentTest.glb");
         let asset = crate::read::load(&path, &LoadOptions::FIX).unwrap();
         let source = asset.document.as_ref().and_then(|d| d.get::<GltfSource>()).unwrap();
-        let bin = source.0.buffers[0].as_ptr_range();
+        let bin = source.0.buffers.stored_bytes(0).as_ptr_range();
         let mut embedded = 0;
         for texture in &asset.textures {
             if let TextureSource::Embedded { bytes, .. } = &texture.source {

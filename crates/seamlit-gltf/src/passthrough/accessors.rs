@@ -182,10 +182,15 @@ fn view_bytes(
     element: usize,
 ) -> Result<(&[u8], usize), IoError> {
     let view = &source.json["bufferViews"][index];
-    let buffer = usize_member(view, "buffer").and_then(|b| source.buffers.get(b));
+    let buffer = usize_member(view, "buffer").filter(|&b| b < source.buffers.count());
     let offset = usize_member(view, "byteOffset").unwrap_or(0);
     let length = usize_member(view, "byteLength").unwrap_or(0);
-    let data = buffer.and_then(|b| b.get(offset..offset.checked_add(length)?));
+    let data = buffer.and_then(|b| source.buffers.get(b, offset..offset.checked_add(length)?));
+    // Never a view whose bytes the load gave back: no accessor read here is replaced.
+    debug_assert!(
+        data.is_some() || buffer.is_none_or(|b| offset + length > source.buffers.len(b)),
+        "buffer view {index}'s bytes were given back at load"
+    );
     let Some(data) = data else {
         return Err(IoError::gltf_data(
             source.path.clone(),
@@ -193,7 +198,7 @@ fn view_bytes(
                 accessor,
                 view: index,
                 needed: offset.saturating_add(length) as u64,
-                available: buffer.map_or(0, |b| b.len()) as u64,
+                available: buffer.map_or(0, |b| source.buffers.len(b)) as u64,
             },
         ));
     };

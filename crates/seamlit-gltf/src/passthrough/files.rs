@@ -2,16 +2,16 @@
 //! beside a `.gltf`) holds the input's kept bytes and the appended ones; the other buffers
 //! and the images named by file are copied beside a `.gltf` and embedded in a GLB.
 
-use std::io::{Read, Write};
+use std::io::Write;
 use std::path::Path;
 
-use bytes::Bytes;
 use serde_json::{Value, json};
 
 use super::OutputDocument;
 use super::encode::Layout;
 use super::piece::Piece;
 use crate::json::usize_member;
+use crate::loaded::zeros;
 use seamlit_asset::error::{InvalidAsset, IoError};
 use seamlit_asset::files::{Destination, Files};
 
@@ -181,28 +181,19 @@ impl OutputDocument<'_> {
         crate::glb::write(to, self.path, json, bin, |out| self.write_host(out, host_length))
     }
 
-    /// Writes buffer 0: the input's bytes (those pruning kept), then the appended pieces,
-    /// `length` bytes in all.
+    /// Writes buffer 0: the input's bytes (those pruning kept; zeros past the input's end
+    /// and where the load gave them back, `loaded.rs`), then the appended pieces, `length`
+    /// bytes in all.
     fn write_host(&self, out: &mut dyn Write, length: usize) -> std::io::Result<()> {
         let input_length = if self.appended > 0 { self.base } else { length };
-        let input = self.source.buffers.first().map_or(&[][..], |b| &b[..]);
-        let zeros = |out: &mut dyn Write, n: usize| {
-            std::io::copy(&mut std::io::repeat(0).take(n as u64), out).map(|_| ())
-        };
+        let input = &self.source.buffers;
         match &self.kept {
-            None => {
-                let kept = input.len().min(input_length);
-                out.write_all(&input[..kept])?;
-                zeros(out, input_length - kept)?;
-            }
+            None => input.write_host(0..input_length, out)?,
             Some(kept) => {
                 let mut at = 0;
                 for (range, start) in &kept.ranges {
                     zeros(out, start - at)?;
-                    let bytes = input.get(range.start.min(input.len())..range.end.min(input.len()));
-                    let bytes = bytes.unwrap_or_default();
-                    out.write_all(bytes)?;
-                    zeros(out, range.len() - bytes.len())?;
+                    input.write_host(range.clone(), out)?;
                     at = start + range.len();
                 }
                 zeros(out, input_length - at)?;
@@ -225,8 +216,7 @@ impl OutputDocument<'_> {
         let host = &self.source.json["buffers"][0];
         host.is_object()
             && host.get("uri").is_none()
-            && self.source.buffers.first().map_or(0, Bytes::len)
-                < usize_member(host, "byteLength").unwrap_or(0)
+            && self.source.buffers.len(0) < usize_member(host, "byteLength").unwrap_or(0)
     }
 
     /// Buffer 0 without data is written as it was (no `uri`) in a `.gltf`. A GLB cannot

@@ -22,6 +22,7 @@ use std::ops::Range;
 use serde_json::{Value, json};
 
 use crate::json::index;
+use crate::loaded::merged;
 use crate::references::{accessor_sites, array, unknown_extensions, used, view_sites};
 
 /// Moves the entries of the array `key` appended after the input's `input_count` into the
@@ -115,16 +116,7 @@ fn compact(
     let old: Vec<usize> = (0..input_views.min(views.len()))
         .filter(|i| !replaced.contains(i) && in_buffer_0(&views[*i]))
         .collect();
-    // The kept input ranges, merged where they overlap or touch.
-    let mut spans: Vec<Range<usize>> = old.iter().map(|&i| range(&views[i])).collect();
-    spans.sort_by_key(|r| (r.start, r.end));
-    let mut merged: Vec<Range<usize>> = Vec::new();
-    for span in spans {
-        match merged.last_mut() {
-            Some(last) if span.start <= last.end => last.end = last.end.max(span.end),
-            _ => merged.push(span),
-        }
-    }
+    let merged = merged(old.iter().map(|&i| range(&views[i])).collect());
     let mut kept = KeptBytes::default();
     for span in merged {
         // The same offset modulo 4 as in the input: accessors stay aligned.

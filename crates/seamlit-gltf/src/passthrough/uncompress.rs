@@ -6,12 +6,12 @@
 
 use std::path::Path;
 
-use bytes::Bytes;
 use serde_json::{Value, json};
 
 use crate::decode::draco::{DRACO, draco_primitives};
 use crate::decode::meshopt::{MESHOPT, is_fallback, meshopt};
 use crate::json::usize_member;
+use crate::loaded::LoadedBuffers;
 
 /// For the pass-through writer: every view of `json` (the output document) that carries
 /// EXT_meshopt_compression is given its decoded bytes (`source_buffers`, decoded at load)
@@ -22,7 +22,7 @@ use crate::json::usize_member;
 /// sentence for the save report, or `None` when nothing was compressed.
 pub(crate) fn uncompress_views(
     json: &mut Value,
-    source_buffers: &[Bytes],
+    source_buffers: &LoadedBuffers,
     path: &Path,
     mut append: impl FnMut(Vec<u8>) -> usize,
 ) -> Option<String> {
@@ -37,8 +37,7 @@ pub(crate) fn uncompress_views(
         let length = usize_member(view, "byteLength").unwrap_or(0);
         // Decoded and checked at load: the bytes are there.
         let bytes = usize_member(view, "buffer")
-            .and_then(|b| source_buffers.get(b))
-            .and_then(|b| b.get(offset..offset + length))
+            .and_then(|b| source_buffers.get(b, offset..offset + length))
             .map(<[u8]>::to_vec)
             .unwrap_or_default();
         let at = append(bytes);
@@ -81,7 +80,7 @@ pub(crate) fn uncompress_views(
 /// are removed (no index changes); one followed by a buffer that stays is given its bytes
 /// as a `data:` URI, so that every buffer of the output has data. Every fallback buffer
 /// left loses the extension.
-fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Bytes]) {
+fn drop_unused_fallbacks(json: &mut Value, source_buffers: &LoadedBuffers) {
     let used: std::collections::BTreeSet<usize> = json["bufferViews"]
         .as_array()
         .into_iter()
@@ -100,7 +99,8 @@ fn drop_unused_fallbacks(json: &mut Value, source_buffers: &[Bytes]) {
         }
         // Buffer 0 is written by the pass-through itself (BIN chunk or `NAME.bin`).
         if index > 0 && buffer.get("uri").is_none() {
-            let bytes = source_buffers.get(index).map_or(&[][..], |d| &d[..]);
+            let length = source_buffers.len(index);
+            let bytes = source_buffers.get(index, 0..length).unwrap_or_default();
             buffer["uri"] =
                 json!(format!("data:application/octet-stream;base64,{}", base64::encode(bytes)));
         }

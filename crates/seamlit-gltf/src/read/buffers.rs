@@ -3,9 +3,8 @@
 //! their declared lengths, the buffer views checked against their buffers, and its images
 //! as textures (nothing decoded here).
 
-use bytes::Bytes;
-
 use super::Reader;
+use crate::loaded::LoadedBuffers;
 use crate::uri::{Resolved, resolve};
 use seamlit_asset::error::IoError;
 use seamlit_asset::error::gltf::GltfKind;
@@ -110,7 +109,7 @@ impl Reader<'_> {
     pub(super) fn images(
         &self,
         document: &gltf::Document,
-        buffers: &[Bytes],
+        buffers: &LoadedBuffers,
     ) -> Result<Vec<Texture>, IoError> {
         document
             .images()
@@ -121,11 +120,9 @@ impl Reader<'_> {
                     gltf::image::Source::View { view, mime_type } => {
                         let start = view.offset();
                         // A slice of the buffer (checked against it by `check_views`).
-                        let bytes = buffers
-                            .get(view.buffer().index())
-                            .zip(start.checked_add(view.length()))
-                            .filter(|&(b, end)| end <= b.len())
-                            .map(|(b, end)| b.slice(start..end))
+                        let bytes = start
+                            .checked_add(view.length())
+                            .and_then(|end| buffers.slice(view.buffer().index(), start..end))
                             .unwrap_or_default();
                         let source =
                             TextureSource::Embedded { mime_type: mime_type.to_owned(), bytes };
