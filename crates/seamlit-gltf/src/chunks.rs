@@ -16,11 +16,20 @@ pub(crate) fn chunked<T, E: bytemuck::Pod>(
     items: &[T],
     encode: impl Fn(&T) -> E,
 ) -> io::Result<()> {
+    each_chunk(items, encode, |bytes| out.write_all(bytes))
+}
+
+/// Gives `each` the bytes of `items` encoded as [`chunked`] writes them, a chunk at a time.
+pub(crate) fn each_chunk<T, E: bytemuck::Pod>(
+    items: &[T],
+    encode: impl Fn(&T) -> E,
+    mut each: impl FnMut(&[u8]) -> io::Result<()>,
+) -> io::Result<()> {
     let mut chunk: Vec<E> = Vec::with_capacity(items.len().min(CHUNK));
     for part in items.chunks(CHUNK) {
         chunk.clear();
         chunk.extend(part.iter().map(&encode));
-        out.write_all(bytemuck::cast_slice(&chunk))?;
+        each(bytemuck::cast_slice(&chunk))?;
     }
     Ok(())
 }

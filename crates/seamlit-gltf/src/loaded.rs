@@ -1,12 +1,18 @@
 //! A document's buffers as kept once its model is decoded: each buffer's bytes, except that
-//! buffer 0 may have given back the bytes the pass-through writer never reads again
-//! (`passthrough/unread.rs`). Whatever reads a buffer after the load (the embedded images, the
+//! buffer 0 may have given back the bytes the pass-through writer need not read from it
+//! (`passthrough/unread.rs`): those it replaces, and those the model holds bit for bit
+//! (`loaded/from_model.rs`). Whatever reads a buffer after the load (the embedded images, the
 //! pass-through writer) reads it here, by its offsets as loaded.
+
+mod from_model;
 
 use std::io::{Read, Write};
 use std::ops::Range;
 
 use bytes::Bytes;
+use seamlit_mesh::{Model, Object};
+
+pub(crate) use from_model::{Attribute, FromModel};
 
 /// The buffers of a loaded document, addressed by their offsets as loaded.
 pub(crate) struct LoadedBuffers {
@@ -16,6 +22,9 @@ pub(crate) struct LoadedBuffers {
     /// Where buffer 0 gave some of its bytes back: the ranges it kept (as loaded, in order,
     /// apart), each with where it starts now. `None`: buffer 0 as loaded.
     kept: Option<Vec<(Range<usize>, usize)>>,
+    /// The accessors given back whose elements the model holds, in the order of their bytes,
+    /// each with the hash of those bytes as loaded.
+    from_model: Vec<(FromModel, u64)>,
 }
 
 /// Kept bytes start at the offset modulo this that they had: what was aligned stays aligned.
@@ -25,13 +34,27 @@ impl LoadedBuffers {
     /// The buffers as loaded, nothing given back.
     pub(crate) fn new(buffers: Vec<Bytes>) -> Self {
         let host_length = buffers.first().map_or(0, Bytes::len);
-        Self { buffers, host_length, kept: None }
+        Self { buffers, host_length, kept: None, from_model: Vec::new() }
     }
 
     /// Buffer 0 keeps only the bytes of `ranges` (offsets as loaded; they may overlap), moved
-    /// together in place so that the rest of its memory is given back.
-    pub(crate) fn keeping_of_host(mut self, ranges: Vec<Range<usize>>) -> Self {
+    /// together in place so that the rest of its memory is given back; the bytes of
+    /// `from_model` (given back too) are written again from the model.
+    pub(crate) fn keeping_of_host(
+        mut self,
+        ranges: Vec<Range<usize>>,
+        mut from_model: Vec<FromModel>,
+    ) -> Self {
         let Some(host) = self.buffers.first_mut() else { return self };
+        from_model.retain(|f| f.bytes.end <= host.len());
+        from_model.sort_by_key(|f| f.bytes.start);
+        self.from_model = from_model
+            .into_iter()
+            .map(|f| {
+                let hash = f.hash_of(host);
+                (f, hash)
+            })
+            .collect();
         let length = self.host_length;
         let spans = ranges.into_iter().map(|r| r.start.min(length)..r.end.min(length));
         let merged = merged(spans.filter(|r| !r.is_empty()).collect());
@@ -95,12 +118,13 @@ impl LoadedBuffers {
         Some(start + (range.start - span.start)..start + (range.end - span.start))
     }
 
-    /// Writes `range` of buffer 0 (as loaded) to `out`: its bytes, and zeros for what lies
-    /// past its end or was given back (bytes only replaced data used: see
-    /// `passthrough/unread.rs`).
+    /// Writes `range` of buffer 0 (as loaded) to `out`: its bytes; where they were given
+    /// back, `model`'s elements they were, else zeros (bytes only replaced data used: see
+    /// `passthrough/unread.rs`); zeros past its end.
     pub(crate) fn write_host(
         &self,
         range: Range<usize>,
+        model: &Model,
         out: &mut dyn Write,
     ) -> std::io::Result<()> {
         let host = self.buffers.first().map_or(&[][..], |b| &b[..]);
@@ -112,11 +136,67 @@ impl LoadedBuffers {
             if from >= to {
                 continue;
             }
-            zeros(out, from - at)?;
+            self.write_given_back(at..from, model, out)?;
             out.write_all(&host[start + (from - span.start)..start + (to - span.start)])?;
             at = to;
         }
-        zeros(out, range.end.saturating_sub(at))
+        self.write_given_back(at..range.end.max(at), model, out)
+    }
+
+    /// Writes `range` of buffer 0, given back: the model's elements where they were its
+    /// accessors', zeros elsewhere.
+    fn write_given_back(
+        &self,
+        range: Range<usize>,
+        model: &Model,
+        out: &mut dyn Write,
+    ) -> std::io::Result<()> {
+        let mut at = range.start;
+        for (f, _) in &self.from_model {
+            let (from, to) = (f.bytes.start.max(at), f.bytes.end.min(range.end));
+            if from >= to {
+                continue;
+            }
+            zeros(out, from - at)?;
+            match f.objects.first().and_then(|&o| model.objects.get(o)) {
+                Some(object) => f.write(object, from..to, out)?,
+                None => zeros(out, to - from)?,
+            }
+            at = to;
+        }
+        zeros(out, range.end - at)
+    }
+
+    /// Where the model's elements stand in for given-back bytes: whether they are still the
+    /// bytes they replace (hashes equal), for every object that holds them; else why not.
+    pub(crate) fn check_model(&self, model: &Model) -> Result<(), String> {
+        for (f, hash) in &self.from_model {
+            for &o in &f.objects {
+                let object = model.objects.get(o).ok_or("an object is missing")?;
+                if f.hash_in(object) != Some(*hash) {
+                    let what = match f.attribute {
+                        Attribute::Positions => "positions",
+                        Attribute::Uvs => "texture coordinates",
+                    };
+                    return Err(format!(
+                        "object {:?}'s {what} are not those of accessor {} as loaded, whose bytes were not kept",
+                        object.name, f.accessor
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The elements of accessor `accessor` as the file's bytes, from `object`, and their
+    /// size, where its bytes were given back for the model's.
+    pub(crate) fn model_elements(
+        &self,
+        accessor: usize,
+        object: &Object,
+    ) -> Option<(Vec<u8>, usize)> {
+        let (f, _) = self.from_model.iter().find(|(f, _)| f.accessor == accessor)?;
+        Some((f.bytes_in(object)?, f.attribute.element_size()))
     }
 
     /// Buffer `buffer` as stored now (offsets as loaded only where nothing was given back).
@@ -151,7 +231,7 @@ mod tests {
     fn loaded(ranges: Vec<Range<usize>>) -> LoadedBuffers {
         let host: Vec<u8> = (0..=255).cycle().take(1000).collect();
         LoadedBuffers::new(vec![Bytes::from(host), Bytes::from_static(b"other")])
-            .keeping_of_host(ranges)
+            .keeping_of_host(ranges, Vec::new())
     }
 
     /// Kept ranges read as they were loaded, at any offset inside them; given-back ones and
@@ -189,7 +269,7 @@ mod tests {
     fn written_host_has_zeros_where_bytes_were_given_back() {
         let buffers = loaded(vec![10..20, 30..40]);
         let mut out = Vec::new();
-        buffers.write_host(5..1010, &mut out).unwrap();
+        buffers.write_host(5..1010, &Model::default(), &mut out).unwrap();
         assert_eq!(out.len(), 1005);
         for (i, &b) in out.iter().enumerate() {
             let at = i + 5;
@@ -198,7 +278,7 @@ mod tests {
         }
         let whole = LoadedBuffers::new(vec![Bytes::from_static(b"abc")]);
         let mut out = Vec::new();
-        whole.write_host(0..5, &mut out).unwrap();
+        whole.write_host(0..5, &Model::default(), &mut out).unwrap();
         assert_eq!(out, b"abc\0\0");
     }
 }

@@ -34,7 +34,7 @@ mod prune;
 mod uncompress;
 mod unread;
 
-pub(crate) use unread::kept_ranges;
+pub(crate) use unread::unread;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -47,7 +47,7 @@ use crate::json::{
     UNSIGNED_SHORT, array_member, integer, usize_member,
 };
 use crate::source::{GltfSource, Instance, Source};
-use accessors::read_elements;
+use accessors::{Elements, read_elements};
 use encode::{Layout, Recompression};
 use piece::Piece;
 use prune::KeptBytes;
@@ -71,7 +71,7 @@ pub(crate) fn save(
     for object in &asset.model.objects {
         check_object(object, path)?;
     }
-    let mut out = OutputDocument::new(&source.0, path, binary);
+    let mut out = OutputDocument::new(&source.0, &asset.model, path, binary);
     if keep_compression {
         out.keep_compression()?;
     } else {
@@ -201,6 +201,8 @@ fn same_morph_deltas(a: &Object, b: &Object) -> bool {
 /// The document being written and the bytes appended to buffer 0.
 struct OutputDocument<'a> {
     source: &'a Source,
+    /// The model written (buffer 0's bytes given back at load are its elements).
+    model: &'a Model,
     /// The output document: the input's, changed in place.
     json: Value,
     /// Where appended data starts in buffer 0: its input length (or, once pruned, its kept
@@ -222,11 +224,12 @@ struct OutputDocument<'a> {
 }
 
 impl<'a> OutputDocument<'a> {
-    fn new(source: &'a Source, path: &'a Path, binary: bool) -> Self {
+    fn new(source: &'a Source, model: &'a Model, path: &'a Path, binary: bool) -> Self {
         let host =
             source.json["buffers"].get(0).and_then(|b| usize_member(b, "byteLength")).unwrap_or(0);
         Self {
             source,
+            model,
             json: source.json.clone(),
             base: host.next_multiple_of(4),
             kept: None,
@@ -633,7 +636,10 @@ impl<'a> OutputDocument<'a> {
                 },
             ));
         };
-        let elements = read_elements(source, index, object.input_vertex_count())?;
+        let elements = match source.buffers.model_elements(index, object) {
+            Some((bytes, size)) => Elements { bytes, size },
+            None => read_elements(source, index, object.input_vertex_count())?,
+        };
         let size = elements.size;
         let stride = size.next_multiple_of(4);
         let mut bytes = Vec::with_capacity(stride * object.vertex_count());

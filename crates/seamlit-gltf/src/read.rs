@@ -16,9 +16,9 @@
 //!   `decode/meshopt.rs`), and so are Draco-compressed primitives with the `draco` feature
 //!   (`decode/draco.rs`); without it such a primitive is refused, naming it and a command
 //!   that decompresses it;
-//! - once the model is decoded, buffer 0 keeps only the bytes the pass-through writer reads
-//!   again: not those of the normals, tangents and indices it writes from the model
-//!   (`passthrough/unread.rs`, `loaded.rs`).
+//! - once the model is decoded, buffer 0 keeps only the bytes the pass-through writer needs
+//!   from it: not those of the normals, tangents and indices it writes from the model, nor
+//!   the positions and UVs the model holds bit for bit (`passthrough/unread.rs`, `loaded.rs`).
 //!
 //! Every primitive of every mesh instance in the default scene (or the first scene; in a file
 //! without scenes, under the nodes that are no node's child) becomes an object, its
@@ -164,9 +164,9 @@ fn read(
     )?;
     // Every accessor is decoded: buffer 0 keeps only what the pass-through writer reads again.
     let buffers = LoadedBuffers::new(buffers);
-    let kept = give_back.then(|| crate::passthrough::kept_ranges(&json, &instances)).flatten();
-    let buffers = match kept {
-        Some(kept) => buffers.keeping_of_host(kept),
+    let unread = give_back.then(|| crate::passthrough::unread(&json, &instances)).flatten();
+    let buffers = match unread {
+        Some(unread) => buffers.keeping_of_host(unread.kept, unread.from_model),
         None => buffers,
     };
     // The embedded images are slices of their buffer, not copies of it.

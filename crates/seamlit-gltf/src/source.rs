@@ -122,7 +122,7 @@ impl GltfSource {
                 ));
             }
         }
-        Ok(())
+        source.buffers.check_model(model)
     }
 }
 

@@ -188,12 +188,12 @@ impl OutputDocument<'_> {
         let input_length = if self.appended > 0 { self.base } else { length };
         let input = &self.source.buffers;
         match &self.kept {
-            None => input.write_host(0..input_length, out)?,
+            None => input.write_host(0..input_length, self.model, out)?,
             Some(kept) => {
                 let mut at = 0;
                 for (range, start) in &kept.ranges {
                     zeros(out, start - at)?;
-                    input.write_host(range.clone(), out)?;
+                    input.write_host(range.clone(), self.model, out)?;
                     at = start + range.len();
                 }
                 zeros(out, input_length - at)?;

@@ -76,11 +76,13 @@ fn outputs_are_the_same_with_the_unread_bytes_given_back() {
 }
 
 /// A GLB of one quad whose POSITION, NORMAL, TANGENT, TEXCOORD_0 and indices each have a
-/// buffer view of their own.
-fn quad_glb() -> Vec<u8> {
+/// buffer view of their own, the positions' with `padding` bytes before and after them that
+/// no accessor reads.
+fn quad_glb(padding: [usize; 2]) -> Vec<u8> {
     let floats = |values: &[f32]| values.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>();
+    let positions = floats(&[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0.]);
     let views: [Vec<u8>; 5] = [
-        floats(&[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0.]),
+        [vec![0xAB; padding[0]], positions, vec![0xCD; padding[1]]].concat(),
         floats(&[0., 0., 1.].repeat(4)),
         floats(&[1., 0., 0., 1.].repeat(4)),
         floats(&[0., 1., 1., 1., 1., 0., 0., 0.]),
@@ -97,6 +99,9 @@ fn quad_glb() -> Vec<u8> {
     }
     let accessor = |view: usize, kind: &str, component: u32, count: usize| serde_json::json!({ "bufferView": view, "componentType": component, "count": count, "type": kind });
     let mut position = accessor(0, "VEC3", 5126, 4);
+    if padding[0] > 0 {
+        position["byteOffset"] = serde_json::json!(padding[0]);
+    }
     position["min"] = serde_json::json!([0., 0., 0.]);
     position["max"] = serde_json::json!([1., 1., 0.]);
     let json = serde_json::json!({
@@ -114,24 +119,66 @@ fn quad_glb() -> Vec<u8> {
     seamlit_testkit::glb(&json, &bin)
 }
 
+/// `quad_glb` loaded from a file.
+fn load_quad(keep_all: bool, padding: [usize; 2]) -> Asset {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("seamlit-give-back-{}-{call}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("quad.glb");
+    std::fs::write(&file, quad_glb(padding)).unwrap();
+    let options = LoadOptions::FIX;
+    let asset = if keep_all { load_whole(&file, &options) } else { load(&file, &options) };
+    std::fs::remove_dir_all(&dir).unwrap();
+    asset.unwrap()
+}
+
+/// Positions or UVs changed after a load that gave their bytes back (their views are
+/// written from the model) are not written among the input's other data by the
+/// pass-through: the generic writer writes the model, and the save says why.
+#[test]
+fn changed_positions_or_uvs_are_written_by_the_generic_writer() {
+    for (what, change) in [
+        ("positions", (|a: &mut Asset| a.model.objects[0].positions[2].z = 0.5) as fn(&mut Asset)),
+        ("texture coordinates", |a: &mut Asset| {
+            a.model.objects[0].uvs.as_mut().unwrap()[1].x = 0.25;
+        }),
+    ] {
+        let mut asset = load_quad(false, [0, 0]);
+        change(&mut asset);
+        let mut to = Destination::memory();
+        let warnings =
+            crate::save_to(&asset, Path::new("out.glb"), &SaveOptions::default(), &mut to).unwrap();
+        let generic =
+            warnings.iter().any(|w| w.contains("generic glTF writer") && w.contains(what));
+        assert!(generic, "{what}: {warnings:?}");
+        let back = parse(&to.into_memory()[0].1, Path::new("out.glb"), &LoadOptions::FIX).unwrap();
+        assert_eq!(back.model.objects[0].positions, asset.model.objects[0].positions);
+        assert_eq!(back.model.objects[0].uvs, asset.model.objects[0].uvs);
+    }
+    // Unchanged, or loaded whole: the pass-through, which writes the input's positions.
+    for asset in [load_quad(false, [0, 0]), load_quad(true, [0, 0])] {
+        let mut to = Destination::memory();
+        let warnings =
+            crate::save_to(&asset, Path::new("out.glb"), &SaveOptions::default(), &mut to).unwrap();
+        assert!(warnings.iter().all(|w| !w.contains("generic")), "{warnings:?}");
+    }
+}
+
 /// Where the output keeps a view whose bytes were given back, unused (the model lost its
 /// tangents, so the new views take fewer places than the old ones held), its bytes are zeros, and
 /// the file reads back as the model it was written from.
 #[test]
 fn a_view_left_unused_is_written_as_zeros() {
-    let dir = std::env::temp_dir().join(format!("seamlit-unread-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("quad.glb");
-    std::fs::write(&file, quad_glb()).unwrap();
     let options = LoadOptions::FIX;
     let without_tangents = |mut asset: Asset| {
         asset.model.objects.iter_mut().for_each(|o| o.tangents = None);
         asset
     };
-    let lean = without_tangents(load(&file, &options).unwrap());
-    let whole = without_tangents(load_whole(&file, &options).unwrap());
-    std::fs::remove_dir_all(&dir).unwrap();
-    assert!(held(&lean) < held(&whole), "the normals, tangents and indices given back");
+    let lean = without_tangents(load_quad(false, [0, 0]));
+    let whole = without_tangents(load_quad(true, [0, 0]));
+    assert_eq!(held(&lean), 0, "every view given back");
+    assert!(held(&whole) > 0);
     let (lean_out, whole_out) = (&saved(&lean, "out.glb")[0].1, &saved(&whole, "out.glb")[0].1);
     assert_eq!(lean_out.len(), whole_out.len());
     let differing: Vec<usize> =
@@ -150,4 +197,31 @@ fn a_view_left_unused_is_written_as_zeros() {
         assert_eq!(read.triangles, written.triangles);
         assert_eq!(read.tangents, None);
     }
+}
+
+/// A view that the positions do not fill (bytes before or after them that no accessor reads)
+/// is kept as read: its bytes are written as they were.
+#[test]
+fn a_view_the_positions_do_not_fill_is_kept() {
+    for padding in [[4, 0], [0, 4], [8, 12]] {
+        let (lean, whole) = (load_quad(false, padding), load_quad(true, padding));
+        assert_eq!(held(&lean), 48 + padding[0] + padding[1], "{padding:?}: the positions' view");
+        assert!(saved(&lean, "out.glb") == saved(&whole, "out.glb"), "{padding:?}");
+    }
+}
+
+/// A buffer that would give back less than a quarter of itself keeps all of it (giving back
+/// moves the bytes kept): NormalTangentTest.glb, two embedded PNGs beside a little geometry.
+/// The teapot GLB of the same test folder gives back its geometry.
+#[test]
+fn a_buffer_mostly_kept_is_kept_whole() {
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/models");
+    let file = models.join("NormalTangentTest.glb");
+    let (lean, whole) =
+        (load(&file, &LoadOptions::FIX).unwrap(), load_whole(&file, &LoadOptions::FIX).unwrap());
+    assert_eq!(held(&lean), held(&whole));
+    let file = models.join("compressed/teapot_noq.glb");
+    let (lean, whole) =
+        (load(&file, &LoadOptions::FIX).unwrap(), load_whole(&file, &LoadOptions::FIX).unwrap());
+    assert!(held(&lean) * 4 < held(&whole), "{} of {}", held(&lean), held(&whole));
 }
