@@ -78,10 +78,19 @@ pub(crate) fn unread(json: &Value, instances: &[Instance]) -> Option<Unread> {
         if !users.is_empty() && users.iter().all(|&(_, w)| w == Written::Replaced) {
             continue;
         }
-        match model_filled(json, view, users) {
+        // Every accessor written from the model names its objects (it came from their sites).
+        let filled = model_filled(json, view, users).filter(|parts| {
+            parts.iter().all(|(a, ..)| objects.get(a).is_some_and(|o| !o.is_empty()))
+        });
+        match filled {
             Some(parts) => {
                 from_model.extend(parts.into_iter().map(|(accessor, bytes, attribute)| {
-                    FromModel { accessor, bytes, attribute, objects: objects[&accessor].clone() }
+                    FromModel {
+                        accessor,
+                        bytes,
+                        attribute,
+                        objects: objects.get(&accessor).cloned().unwrap_or_default(),
+                    }
                 }));
             }
             None => kept.push(byte_range(view)),
