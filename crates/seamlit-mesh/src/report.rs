@@ -313,17 +313,24 @@ fn measure_welded(
     report
 }
 
-/// Degenerate, degenerate-UV (of objects with UVs) and mirrored triangles.
+/// Degenerate, degenerate-UV (of objects with UVs) and mirrored triangles. Each object's
+/// triangles read straight from its slices of the model-space positions and of its UVs: as
+/// [`validate::Flat::corners`] returned them, through memory, the loads of a triangle waited
+/// on the stores just made (BENCHMARKS.md).
 fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
     model
         .objects
         .par_iter()
         .enumerate()
         .map(|(o, object)| {
+            let base = flat.vertex_start[o] as usize;
+            let positions = &flat.positions[base..flat.vertex_start[o + 1] as usize];
+            let uvs = object.uvs.as_deref();
             let mut n = [0; 3];
-            for t in 0..object.triangles.len() {
-                let c = flat.corners(model, o, t);
-                count(&mut n, face_flags(c.positions, c.uvs, model.v_axis));
+            for tri in &object.triangles {
+                let p = tri.map(|i| positions[i as usize]);
+                let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
+                count(&mut n, face_flags(p, uv, model.v_axis));
             }
             n
         })
