@@ -8,7 +8,11 @@
 //! is flagged, and does not take part in tangent averaging unless no face at the vertex has
 //! usable UVs.
 
+mod lanes;
+
 use glam::{Vec2, Vec3, Vec3A, Vec4};
+
+pub(crate) use lanes::each_face_flags;
 
 use crate::VAxis;
 

@@ -11,7 +11,7 @@ use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::face::{DEGENERATE, DEGENERATE_UV, Face, add_counts, count, face, face_flags};
+use crate::face::{DEGENERATE, DEGENERATE_UV, Face, add_counts, count, each_face_flags, face};
 use crate::frame::Linear;
 use crate::skin::{self, SkinSeams};
 use crate::weld::Welded;
@@ -327,11 +327,9 @@ fn face_counts(model: &Model, flat: &validate::Flat) -> [usize; 3] {
             let positions = &flat.positions[base..flat.vertex_start[o + 1] as usize];
             let uvs = object.uvs.as_deref();
             let mut n = [0; 3];
-            for tri in &object.triangles {
-                let p = tri.map(|i| positions[i as usize]);
-                let uv = uvs.map(|uvs| tri.map(|i| uvs[i as usize]));
-                count(&mut n, face_flags(p, uv, model.v_axis));
-            }
+            each_face_flags(positions, uvs, &object.triangles, model.v_axis, |flags| {
+                count(&mut n, flags);
+            });
             n
         })
         .reduce(|| [0; 3], add_counts)
