@@ -188,7 +188,8 @@ fn view_bytes(
     let data = buffer.and_then(|b| source.buffers.get(b, offset..offset.checked_add(length)?));
     // Never a view whose bytes the load gave back: no accessor read here is replaced.
     debug_assert!(
-        data.is_some() || buffer.is_none_or(|b| offset + length > source.buffers.len(b)),
+        data.is_some()
+            || buffer.is_none_or(|b| offset.saturating_add(length) > source.buffers.len(b)),
         "buffer view {index}'s bytes were given back at load"
     );
     let Some(data) = data else {

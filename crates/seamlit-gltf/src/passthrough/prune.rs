@@ -23,7 +23,20 @@ use serde_json::{Value, json};
 
 use crate::json::index;
 use crate::loaded::merged;
-use crate::references::{accessor_sites, array, unknown_extensions, used, view_sites};
+use crate::references::{
+    accessor_sites, accessors_used, array, unknown_extensions, view_sites, views_used,
+};
+
+/// How a document names one kind of entry: which of them it names, and the JSON pointers of
+/// the places that do.
+#[derive(Clone, Copy)]
+struct Kind {
+    used: fn(&Value, usize) -> Vec<bool>,
+    sites: fn(&Value) -> Vec<String>,
+}
+
+const ACCESSORS: Kind = Kind { used: accessors_used, sites: accessor_sites };
+const VIEWS: Kind = Kind { used: views_used, sites: view_sites };
 
 /// Moves the entries of the array `key` appended after the input's `input_count` into the
 /// places of the input entries that `before` used and `after` does not, then closes the gap
@@ -33,10 +46,11 @@ fn reuse(
     key: &str,
     input_count: usize,
     before: &[bool],
-    sites: impl Fn(&Value) -> Vec<String>,
+    kind: Kind,
 ) -> Vec<usize> {
+    let Kind { used, sites } = kind;
     let total = array(document, key).len();
-    let after = used(document, &sites(document), total);
+    let after = used(document, total);
     let freed: Vec<usize> = (0..input_count.min(total))
         .filter(|&i| before.get(i) == Some(&true) && !after[i])
         .collect();
@@ -85,14 +99,14 @@ pub(crate) fn prune(input: &Value, output: &mut Value, appended_at: usize) -> Op
         return None;
     }
     let accessors = array(input, "accessors").len();
-    let before = used(input, &accessor_sites(input), accessors);
-    let freed = reuse(output, "accessors", accessors, &before, accessor_sites);
+    let before = accessors_used(input, accessors);
+    let freed = reuse(output, "accessors", accessors, &before, ACCESSORS);
     if freed.is_empty() {
         return None;
     }
     let views = array(input, "bufferViews").len();
-    let before = used(input, &view_sites(input), views);
-    let replaced = reuse(output, "bufferViews", views, &before, view_sites);
+    let before = views_used(input, views);
+    let replaced = reuse(output, "bufferViews", views, &before, VIEWS);
     let kept = compact(output, views, &replaced, appended_at);
     Some(kept)
 }

@@ -16,15 +16,17 @@
 //!   UVs were changed is written by the generic writer instead).
 //! - Every other view of buffer 0 stays as it was read.
 
-use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
+use rustc_hash::{FxHashMap, FxHashSet};
 use serde_json::Value;
 
 use crate::decode::draco::{DRACO, draco_primitives};
 use crate::json::{FLOAT, index, integer, usize_member};
 use crate::loaded::{Attribute, FromModel, merged};
-use crate::references::{accessor_sites, array, unknown_extensions, view_sites};
+use crate::references::{
+    AccessorSite, array, each_accessor_site, each_view_site, unknown_extensions,
+};
 use crate::source::Instance;
 
 /// What a load keeps of buffer 0.
@@ -62,13 +64,11 @@ pub(crate) fn unread(json: &Value, instances: &[Instance]) -> Option<Unread> {
     let views = array(json, "bufferViews");
     // Per view: how each of its users is written (a user that is no accessor: `Input`).
     let mut users: Vec<Vec<(Option<usize>, Written)>> = vec![Vec::new(); views.len()];
-    for site in view_sites(json) {
-        let Some(view) = json.pointer(&site).and_then(index).filter(|&v| v < views.len()) else {
-            continue;
-        };
-        let accessor = accessor_of(&site).filter(|&a| a < written.len());
+    each_view_site(json, |site, value| {
+        let Some(view) = index(value).filter(|&v| v < views.len()) else { return };
+        let accessor = site.accessor().filter(|&a| a < written.len());
         users[view].push((accessor, accessor.map_or(Written::Input, |a| written[a])));
-    }
+    });
     let (mut kept, mut from_model) = (Vec::new(), Vec::new());
     for (v, view) in views.iter().enumerate() {
         if usize_member(view, "buffer") != Some(0) {
@@ -113,30 +113,37 @@ const GIVE_BACK_FROM: usize = 4;
 fn written_accessors(
     json: &Value,
     instances: &[Instance],
-) -> (Vec<Written>, HashMap<usize, Vec<usize>>) {
-    // Each written primitive's sites, with how the writer writes what they name.
-    let mut sites: HashMap<String, (Written, Vec<usize>)> = HashMap::new();
+) -> (Vec<Written>, FxHashMap<usize, Vec<usize>>) {
+    // Each written primitive's objects.
+    let mut primitives: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
     for (object, i) in instances.iter().enumerate() {
-        let at = format!("/meshes/{}/primitives/{}", i.mesh, i.primitive);
-        for (member, written) in [
-            ("attributes/NORMAL", Written::Replaced),
-            ("attributes/TANGENT", Written::Replaced),
-            ("indices", Written::Replaced),
-            ("attributes/POSITION", Written::Model(Attribute::Positions)),
-            ("attributes/TEXCOORD_0", Written::Model(Attribute::Uvs)),
-        ] {
-            let entry = sites.entry(format!("{at}/{member}")).or_insert((written, Vec::new()));
-            entry.1.push(object);
-        }
+        primitives.entry((i.mesh, i.primitive)).or_default().push(object);
     }
     let count = array(json, "accessors").len();
     let mut written: Vec<Option<Written>> = vec![None; count];
-    let mut objects: HashMap<usize, Vec<usize>> = HashMap::new();
-    for site in accessor_sites(json) {
-        let Some(a) = json.pointer(&site).and_then(index).filter(|&a| a < count) else {
-            continue;
+    let mut objects: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+    each_accessor_site(json, |site, value| {
+        let Some(a) = index(value).filter(|&a| a < count) else { return };
+        let (how, of) = match site {
+            AccessorSite::Attribute { mesh, primitive, name } => (
+                match name {
+                    "NORMAL" | "TANGENT" => Written::Replaced,
+                    "POSITION" => Written::Model(Attribute::Positions),
+                    "TEXCOORD_0" => Written::Model(Attribute::Uvs),
+                    _ => Written::Input,
+                },
+                primitives.get(&(mesh, primitive)),
+            ),
+            AccessorSite::Indices { mesh, primitive } => {
+                (Written::Replaced, primitives.get(&(mesh, primitive)))
+            }
+            _ => (Written::Input, None),
         };
-        let (how, of) = sites.get(&site).map_or((Written::Input, &[][..]), |(w, o)| (*w, &o[..]));
+        // Not a written primitive's: its bytes.
+        let (how, of) = match of {
+            Some(of) if how != Written::Input => (how, &of[..]),
+            _ => (Written::Input, &[][..]),
+        };
         // Named twice in different ways (or as a model attribute it is not stored as): its bytes.
         let how = match (written[a], how) {
             (Some(before), now) if before != now => Written::Input,
@@ -147,7 +154,7 @@ fn written_accessors(
         };
         written[a] = Some(how);
         objects.entry(a).or_default().extend_from_slice(of);
-    }
+    });
     let written = written.into_iter().map(|w| w.unwrap_or(Written::Input)).collect();
     (written, objects)
 }
@@ -171,7 +178,7 @@ fn model_filled(
 ) -> Option<Vec<(usize, Range<usize>, Attribute)>> {
     let start = usize_member(view, "byteOffset").unwrap_or(0);
     let mut parts = Vec::with_capacity(users.len());
-    let mut seen = HashSet::new();
+    let mut seen = FxHashSet::default();
     for &(accessor, written) in users {
         let (Some(a), Written::Model(attribute)) = (accessor, written) else { return None };
         if !seen.insert(a) {
@@ -190,11 +197,6 @@ fn model_filled(
     let end =
         parts.iter().try_fold(start, |at, (_, bytes, _)| (bytes.start == at).then_some(bytes.end));
     (end == Some(byte_range(view).end) && !parts.is_empty()).then_some(parts)
-}
-
-/// The accessor whose member a view site (`/accessors/{a}/...`) is.
-fn accessor_of(site: &str) -> Option<usize> {
-    site.strip_prefix("/accessors/")?.split('/').next()?.parse().ok()
 }
 
 /// A buffer view's bytes in its buffer.
